@@ -1,0 +1,54 @@
+"""Compilation settings shared by every compiled kernel of clutchsim.
+
+numba's on-disk cache only checks the timestamp of the file that holds the
+cached function, not of the functions it calls.  Our integrators are cached
+specialisations that inline model kernels living in other files, so a stale
+cache could silently run old model code.  We therefore key the cache directory
+on a hash of clutchsim's own sources: any edit to any module gets a fresh cache.
+A user-provided ``NUMBA_CACHE_DIR`` is respected as is.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+import numba
+from numba import njit
+
+__all__ = ["jit", "cache_dir"]
+
+
+def _source_digest() -> str:
+    root = Path(__file__).resolve().parent
+    h = hashlib.blake2b(digest_size=8)
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def _configure_cache() -> str:
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return os.environ["NUMBA_CACHE_DIR"]
+    base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
+    path = base / "clutchsim" / "numba" / _source_digest()
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError:  # read-only home: let numba fall back to __pycache__
+        return ""
+    numba.config.CACHE_DIR = str(path)
+    return str(path)
+
+
+cache_dir = _configure_cache()
+
+
+def jit(func=None, **kwargs):
+    """``numba.njit`` with on-disk caching, used for every compiled kernel."""
+    kwargs.setdefault("cache", True)
+    kwargs.setdefault("nogil", True)
+    if func is None:
+        return njit(**kwargs)
+    return njit(**kwargs)(func)
