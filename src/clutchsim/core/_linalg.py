@@ -1,0 +1,60 @@
+"""Dense LU with partial pivoting for the small systems of the Rosenbrock stages.
+
+numba offers ``np.linalg.solve`` but no reusable factorisation; a Rodas step solves
+six systems with one matrix, so we factorise once and back-substitute six times.
+"""
+
+from __future__ import annotations
+
+from .._jit import jit
+
+
+@jit
+def lu_factor(a, piv):
+    """Factorise ``a`` in place (Doolittle, partial pivoting). Returns False if singular."""
+    n = a.shape[0]
+    for k in range(n):
+        m = k
+        big = abs(a[k, k])
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > big:
+                big = abs(a[i, k])
+                m = i
+        piv[k] = m
+        if big == 0.0 or big != big:
+            return False
+        if m != k:
+            for j in range(n):
+                tmp = a[k, j]
+                a[k, j] = a[m, j]
+                a[m, j] = tmp
+        inv = 1.0 / a[k, k]
+        for i in range(k + 1, n):
+            a[i, k] *= inv
+            f = a[i, k]
+            if f != 0.0:
+                for j in range(k + 1, n):
+                    a[i, j] -= f * a[k, j]
+    return True
+
+
+@jit
+def lu_solve(a, piv, b):
+    """Solve ``a x = b`` in place in ``b`` with the factors from :func:`lu_factor`."""
+    n = a.shape[0]
+    for k in range(n):
+        m = piv[k]
+        if m != k:
+            tmp = b[k]
+            b[k] = b[m]
+            b[m] = tmp
+    for i in range(n):
+        s = b[i]
+        for j in range(i):
+            s -= a[i, j] * b[j]
+        b[i] = s
+    for i in range(n - 1, -1, -1):
+        s = b[i]
+        for j in range(i + 1, n):
+            s -= a[i, j] * b[j]
+        b[i] = s / a[i, i]

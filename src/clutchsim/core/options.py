@@ -1,0 +1,95 @@
+"""Solver choice and options, validated on construction."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .system import closest
+
+__all__ = ["SOLVERS", "SolverOptions", "check_solver"]
+
+#: compiled methods and the scipy reference backends
+SOLVERS = {
+    "rodas4": "compiled RODAS4 (L-stable Rosenbrock 4(3), finite-difference Jacobian); default",
+    "dopri5": "compiled Dormand-Prince 5(4), explicit, for non-stiff systems",
+    "scipy-radau": "scipy solve_ivp Radau (reference backend; Python speed)",
+    "scipy-lsoda": "scipy solve_ivp LSODA (reference backend; Python speed)",
+    "scipy-rk45": "scipy solve_ivp RK45 (reference backend; Python speed)",
+}
+
+
+def check_solver(name: str) -> str:
+    """Return ``name`` if it is a known solver, else raise a ValueError listing them."""
+    if not isinstance(name, str) or name not in SOLVERS:
+        raise ValueError(f"solver = {name!r} is not known{closest(str(name), SOLVERS)}; "
+                         f"valid solvers: {', '.join(SOLVERS)}")
+    return name
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Tolerances, step limits, output grid and the guards against hangs.
+
+    Parameters
+    ----------
+    rtol, atol : float
+        Relative and absolute local error tolerances (> 0).
+    h0 : float
+        Initial step [s]; 0 chooses one automatically.
+    h_max : float
+        Largest step [s]; 0 means the whole span.
+    h_min : float
+        Smallest step [s] before the run stops as failed ("step size collapsed"); the
+        floor is never below 1e-14·max(1, |t|).
+    max_steps : int
+        Most steps (accepted + rejected) before the run stops as failed.
+    wall_time : float
+        Wall-time budget [s] for the compiled integrator; 0 means none.
+    chatter_events : int
+        Chatter detection: this many events ...
+    chatter_window : float
+        ... inside this many seconds stop the run as failed (0 events disables it).
+    event_tol : float
+        Events are located to this time tolerance [s].
+    dt_out : float
+        Output grid spacing [s] (dense output); 0 stores every accepted step.
+    max_output : int
+        Most stored output rows (a memory guard for very long runs).
+    """
+
+    rtol: float = 1e-6
+    atol: float = 1e-8
+    h0: float = 0.0
+    h_max: float = 0.0
+    h_min: float = 0.0
+    max_steps: int = 2_000_000
+    wall_time: float = 60.0
+    chatter_events: int = 100
+    chatter_window: float = 1e-6
+    event_tol: float = 1e-12
+    dt_out: float = 0.0
+    max_output: int = 5_000_000
+
+    def __post_init__(self):
+        for name in ("rtol", "atol", "h0", "h_max", "h_min", "wall_time", "chatter_window",
+                     "event_tol", "dt_out"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                    or not math.isfinite(value):
+                raise ValueError(f"SolverOptions: {name} = {value!r} must be a finite number")
+        for name in ("rtol", "atol", "event_tol"):
+            if getattr(self, name) <= 0:
+                raise ValueError(f"SolverOptions: {name} = {getattr(self, name)!r} must be > 0")
+        for name in ("h0", "h_max", "h_min", "wall_time", "chatter_window", "dt_out"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"SolverOptions: {name} = {getattr(self, name)!r} must be >= 0")
+        for name in ("max_steps", "chatter_events", "max_output"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise ValueError(f"SolverOptions: {name} = {value!r} must be an integer >= 0")
+        if self.max_steps < 1 or self.max_output < 2:
+            raise ValueError("SolverOptions: max_steps must be >= 1 and max_output >= 2")
+        if self.rtol < 1e-14:
+            raise ValueError(f"SolverOptions: rtol = {self.rtol!r} must be >= 1e-14 "
+                             "(below double-precision round-off)")

@@ -1,0 +1,181 @@
+"""Immutable simulation results: named signals with units, status, statistics."""
+
+from __future__ import annotations
+
+import html
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+
+import numpy as np
+
+__all__ = ["Result", "Stats", "Event", "atomic_write"]
+
+
+def atomic_write(path: str | Path, write) -> Path:
+    """Write a file atomically: ``write(tmp_path)`` then rename onto ``path``."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        write(Path(tmp))
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+@dataclass(frozen=True)
+class Stats:
+    """Solver statistics of one run."""
+
+    steps: int
+    rejected: int
+    rhs_evals: int
+    jacobians: int
+    lu_decompositions: int
+    events: int
+    min_step_s: float
+    wall_s: float
+
+    def as_dict(self) -> dict:
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
+@dataclass(frozen=True)
+class Event:
+    """A located event: time [s], name, and what its reset did."""
+
+    t: float
+    name: str
+    action: str
+
+
+def _key(name: str, unit: str) -> str:
+    return f"{name} [{unit}]"
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """Outcome of a simulation.
+
+    Signals are addressable by name (``res["v"]``) or by name with unit
+    (``res["v [m/s]"]``); ``res.signals`` lists them.  Arrays are read-only.
+
+    Attributes
+    ----------
+    t : ndarray
+        Output times [s].
+    status : str
+        ``"completed"``, ``"stopped"`` (a terminal event ended the run as intended) or
+        ``"failed"``.
+    message : str
+        What happened, and for a failure where and why, and what to do about it.
+    stats : Stats
+        Solver statistics.
+    events : tuple of Event
+        Every located event in order.
+    solver : str
+        The solver that produced the result.
+    """
+
+    t: np.ndarray
+    data: MappingProxyType
+    units: MappingProxyType
+    status: str
+    message: str
+    stats: Stats
+    events: tuple[Event, ...] = ()
+    solver: str = ""
+    system: str = ""
+    metadata: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
+
+    @classmethod
+    def build(cls, t, columns: list[tuple[str, str, np.ndarray]], **kw) -> "Result":
+        t = np.array(t, dtype=float)
+        t.flags.writeable = False
+        data, units = {}, {}
+        for name, unit, values in columns:
+            if name in data:
+                raise ValueError(f"duplicate signal name {name!r}")
+            arr = np.array(values, dtype=float)
+            arr.flags.writeable = False
+            data[name] = arr
+            units[name] = unit
+        meta = MappingProxyType(dict(kw.pop("metadata", {}) or {}))
+        return cls(t, MappingProxyType(data), MappingProxyType(units), metadata=meta, **kw)
+
+    @property
+    def success(self) -> bool:
+        """True unless the run failed."""
+        return self.status != "failed"
+
+    @property
+    def signals(self) -> tuple[str, ...]:
+        return tuple(self.data)
+
+    def __getitem__(self, key: str) -> np.ndarray:
+        if key in ("t", "time"):
+            return self.t
+        if key in self.data:
+            return self.data[key]
+        for name, unit in self.units.items():
+            if key == _key(name, unit):
+                return self.data[name]
+        from .system import closest
+        raise KeyError(f"no signal {key!r}{closest(key, self.data)}; "
+                       f"signals: {', '.join(self.data)}")
+
+    def unit(self, name: str) -> str:
+        return self.units[name]
+
+    def final(self, name: str) -> float:
+        """Last value of a signal."""
+        return float(self[name][-1])
+
+    def to_frame(self):
+        """A pandas DataFrame with unit-carrying column names, ``time [s]`` first."""
+        import pandas as pd
+        cols = {"time [s]": self.t}
+        cols.update({_key(n, self.units[n]): v for n, v in self.data.items()})
+        return pd.DataFrame(cols)
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write the signals as CSV (atomically)."""
+        frame = self.to_frame()
+        return atomic_write(path, lambda p: frame.to_csv(p, index=False, float_format="%.17g"))
+
+    def to_parquet(self, path: str | Path) -> Path:
+        """Write the signals as Parquet (atomically), with status and units in the metadata."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+        table = pa.Table.from_pandas(self.to_frame(), preserve_index=False)
+        meta = dict(table.schema.metadata or {})
+        meta[b"clutchsim"] = json.dumps({"status": self.status, "message": self.message,
+                                         "solver": self.solver, "system": self.system,
+                                         "stats": self.stats.as_dict()}).encode()
+        table = table.replace_schema_metadata(meta)
+        return atomic_write(path, lambda p: pq.write_table(table, p))
+
+    def summary(self) -> dict:
+        """Status, message, solver and statistics as plain data."""
+        return {"system": self.system, "status": self.status, "success": self.success,
+                "message": self.message, "solver": self.solver, "t_end_s": float(self.t[-1]),
+                "n_output": int(self.t.size), **self.stats.as_dict()}
+
+    def __repr__(self) -> str:
+        return (f"Result({self.system!r}, status={self.status!r}, t=[{self.t[0]:g}, "
+                f"{self.t[-1]:g}] s, {len(self.data)} signals, {self.stats.steps} steps, "
+                f"{self.stats.events} events, solver={self.solver!r})")
+
+    def _repr_html_(self) -> str:
+        rows = "".join(f"<tr><td>{html.escape(k)}</td><td>{html.escape(str(v))}</td></tr>"
+                       for k, v in self.summary().items())
+        sig = ", ".join(html.escape(_key(n, u)) for n, u in self.units.items())
+        return (f"<div><b>clutchsim Result</b><table>{rows}</table>"
+                f"<p>signals: {sig}</p></div>")

@@ -1,0 +1,122 @@
+"""Reference backend: the same system integrated by scipy's ``solve_ivp``.
+
+Slow (a Python call per right-hand-side evaluation) but independent of the compiled
+integrators, so tests cross-check the two.  Breakpoints split the run into pieces; events
+are scipy terminal events followed by the plant's reset map and a restart.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .result import Event, Stats
+from .signals import eval_inputs
+from .system import call_events, call_outputs, call_reset, call_rhs
+
+_METHOD = {"scipy-radau": "Radau", "scipy-lsoda": "LSODA", "scipy-rk45": "RK45"}
+_ACTIONS = {0: "recorded", 1: "reset", 2: "stop", 3: "fail"}
+
+
+def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
+    from .simulate import assemble
+
+    tag, p = system.tag, system.params
+    n_in, n_ev, n_outp = len(system.input_names), system.n_events, len(system.output_names)
+    u = np.zeros(n_in)
+    g = np.zeros(n_ev)
+    nfev = [0]
+
+    def inputs_at(t, t_ref):
+        eval_inputs(bank, t, t_ref, u)
+        return u
+
+    def record(t, y, t_ref, rows):
+        out = np.zeros(n_outp)
+        uu = inputs_at(t, t_ref).copy()
+        call_outputs(tag, t, y, uu, p, out)
+        rows.append((t, y.copy(), uu, out))
+
+    edges = np.concatenate([[t0], bps, [t1]])
+    rows: list = []
+    events: list[Event] = []
+    y = y0.copy()
+    t = t0
+    status, message = "completed", f"completed to t = {t1:.9g} s"
+    steps = 0
+    wall0 = time.perf_counter()
+    record(t, y, t + 1e-12 * max(1.0, abs(t)), rows)
+    last_event_times: list[float] = []
+    mute_until = -np.inf
+    for a, b in zip(edges[:-1], edges[1:]):
+        t_ref = 0.5 * (a + b)
+        if t >= b:
+            continue
+        while t < b:
+            def rhs(tt, yy):
+                nfev[0] += 1
+                dy = np.empty_like(yy)
+                call_rhs(tag, tt, yy, inputs_at(tt, t_ref), p, dy)
+                return dy
+
+            def make_event(k):
+                def ev(tt, yy):
+                    call_events(tag, tt, yy, inputs_at(tt, t_ref), p, g)
+                    return g[k]
+                ev.terminal = True
+                ev.direction = system.event_directions[k]
+                return ev
+
+            t_stop = b
+            evs = [make_event(k) for k in range(n_ev)] if t >= mute_until else []
+            if t < mute_until:
+                t_stop = min(b, mute_until)
+            sol = solve_ivp(rhs, (t, t_stop), y, method=_METHOD[solver], rtol=opts.rtol,
+                            atol=opts.atol, events=evs or None, dense_output=False)
+            steps += max(len(sol.t) - 1, 0)
+            for tt, yy in zip(sol.t[1:], sol.y.T[1:]):
+                record(tt, yy, t_ref, rows)
+            if sol.status == -1:
+                status, message = "failed", f"scipy {_METHOD[solver]}: {sol.message}"
+                break
+            if time.perf_counter() - wall0 > opts.wall_time > 0:
+                status = "failed"
+                message = f"wall-time budget of {opts.wall_time:g} s exhausted at t = {t:.9g} s"
+                break
+            fired = [k for k in range(len(evs)) if sol.t_events[k].size]
+            if not fired:
+                t, y = float(sol.t[-1]), sol.y[:, -1].copy()
+                continue
+            k = min(fired, key=lambda kk: sol.t_events[kk][0])
+            t, y = float(sol.t_events[k][0]), sol.y_events[k][0].copy()
+            action = int(call_reset(tag, t, y, inputs_at(t, t_ref), p, k))
+            events.append(Event(t, system.event_names[k], _ACTIONS[action]))
+            record(t, y, t_ref, rows)
+            last_event_times.append(t)
+            n_ch = opts.chatter_events
+            if n_ch and len(last_event_times) > n_ch and \
+                    t - last_event_times[-n_ch - 1] <= opts.chatter_window:
+                status = "failed"
+                message = (f"chatter detected: {n_ch} events within {opts.chatter_window:g} s, "
+                           f"the last of them '{system.event_names[k]}' at t = {t:.9g} s")
+                break
+            if action in (2, 3):
+                status = "stopped" if action == 2 else "failed"
+                message = (f"stopped by event '{system.event_names[k]}' at t = {t:.9g} s"
+                           if action == 2 else f"{system.event_names[k]} at t = {t:.9g} s")
+                break
+            # step off the root before events are armed again (scipy would re-detect it)
+            mute_until = t + 1e-10 * max(1.0, abs(t))
+        if status != "completed":
+            break
+    ts = np.array([r[0] for r in rows])
+    ys = np.array([r[1] for r in rows]).reshape(len(rows), -1)
+    us = np.array([r[2] for r in rows]).reshape(len(rows), n_in)
+    outs = np.array([r[3] for r in rows]).reshape(len(rows), n_outp)
+    dts = np.diff(ts)
+    stats = Stats(steps=steps, rejected=0, rhs_evals=nfev[0], jacobians=0, lu_decompositions=0,
+                  events=len(events), min_step_s=float(dts[dts > 0].min()) if np.any(dts > 0)
+                  else 0.0, wall_s=time.perf_counter() - wall0)
+    return assemble(system, ts, ys, us, outs, status, message, stats, tuple(events), solver)

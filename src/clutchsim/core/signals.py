@@ -1,0 +1,402 @@
+"""Input signals: constant, step, ramp, sine, pulse, piecewise-linear table, and sums.
+
+A signal is a small immutable object.  For the compiled integrators a set of
+signals (one per system input) is flattened into a :class:`SignalBank` of plain
+arrays that the kernel :func:`eval_inputs` reads.  Every signal declares its
+*breakpoints* (discontinuities of the value or of its slope); the integrators
+stop exactly on them instead of stepping over them.
+
+Discontinuous signals are evaluated on a chosen side: the integrator passes the
+time ``t`` and a reference time ``t_ref`` inside the current step; which branch
+of a discontinuity applies is decided by ``t_ref``, the smooth formula of that
+branch is evaluated at ``t``.  A step that ends exactly on a breakpoint thus
+sees the left limit at its last stage, and the next step the right limit.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from .._jit import jit
+
+__all__ = [
+    "Signal", "Constant", "Step", "Ramp", "Sine", "Pulse", "Table", "Sum",
+    "SignalBank", "as_signal", "build_bank", "eval_inputs",
+]
+
+_CONST, _STEP, _RAMP, _SINE, _PULSE, _TABLE = 0, 1, 2, 3, 4, 5
+_NPAR = 6
+
+
+def _finite(owner: str, **values: float) -> None:
+    for name, value in values.items():
+        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value):
+            raise ValueError(f"{owner}: {name} = {value!r} must be a finite number")
+
+
+@dataclass(frozen=True)
+class Signal:
+    """Abstract input signal.  Signals add: ``Constant(0.5) + Sine(0.4, 1.0)``."""
+
+    def terms(self) -> tuple["Signal", ...]:
+        return (self,)
+
+    def breakpoints(self) -> np.ndarray:
+        """Times of value or slope discontinuities [s]."""
+        raise NotImplementedError
+
+    def __add__(self, other: "Signal | float") -> "Sum":
+        return Sum(self.terms() + as_signal(other).terms())
+
+    __radd__ = __add__
+
+    def __call__(self, t) -> np.ndarray:
+        """Evaluate at times ``t`` [s] (right-continuous at jumps)."""
+        bank = build_bank([self])
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        out = np.empty_like(t)
+        u = np.zeros(1)
+        for i, ti in enumerate(t):
+            eval_inputs(bank, ti, ti, u)
+            out[i] = u[0]
+        return out
+
+    def _encode(self) -> tuple[int, list[float], np.ndarray | None, np.ndarray | None]:
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class Constant(Signal):
+    """``value`` for all t."""
+
+    value: float
+
+    def __post_init__(self):
+        _finite("Constant", value=self.value)
+
+    def breakpoints(self):
+        return np.empty(0)
+
+    def _encode(self):
+        return _CONST, [self.value], None, None
+
+
+@dataclass(frozen=True)
+class Step(Signal):
+    """``offset`` before ``time`` [s], ``offset + height`` from ``time`` on."""
+
+    time: float
+    height: float = 1.0
+    offset: float = 0.0
+
+    def __post_init__(self):
+        _finite("Step", time=self.time, height=self.height, offset=self.offset)
+
+    def breakpoints(self):
+        return np.array([self.time])
+
+    def _encode(self):
+        return _STEP, [self.time, self.height, self.offset], None, None
+
+
+@dataclass(frozen=True)
+class Ramp(Signal):
+    """``offset`` until ``start``, rising linearly by ``height`` over ``duration`` [s], then held."""
+
+    start: float
+    duration: float
+    height: float = 1.0
+    offset: float = 0.0
+
+    def __post_init__(self):
+        _finite("Ramp", start=self.start, duration=self.duration, height=self.height,
+                offset=self.offset)
+        if self.duration < 0:
+            raise ValueError(f"Ramp: duration = {self.duration} s must be >= 0")
+
+    def breakpoints(self):
+        return np.array([self.start, self.start + self.duration])
+
+    def _encode(self):
+        return _RAMP, [self.start, self.duration, self.height, self.offset], None, None
+
+
+@dataclass(frozen=True)
+class Sine(Signal):
+    """``offset + amplitude·sin(2π·freq·(t − start) + phase)`` from ``start`` on, ``offset`` before.
+
+    Parameters follow Modelica's ``Sine`` block: ``freq`` in Hz, ``phase`` in rad.
+    """
+
+    amplitude: float
+    freq: float
+    phase: float = 0.0
+    offset: float = 0.0
+    start: float = 0.0
+
+    def __post_init__(self):
+        _finite("Sine", amplitude=self.amplitude, freq=self.freq, phase=self.phase,
+                offset=self.offset, start=self.start)
+        if self.freq < 0:
+            raise ValueError(f"Sine: freq = {self.freq} Hz must be >= 0")
+
+    def breakpoints(self):
+        return np.array([self.start])
+
+    def _encode(self):
+        return _SINE, [self.amplitude, self.freq, self.phase, self.offset, self.start], None, None
+
+
+@dataclass(frozen=True)
+class Pulse(Signal):
+    """Rectangular pulse train (Modelica ``Pulse``): ``offset + amplitude`` during the first
+    ``width`` percent of each ``period`` [s] from ``start`` on, ``offset`` otherwise.
+
+    ``horizon`` [s] bounds the breakpoints that are declared (edges after it are not listed).
+    """
+
+    amplitude: float
+    width: float
+    period: float
+    offset: float = 0.0
+    start: float = 0.0
+    horizon: float = 1e4
+
+    def __post_init__(self):
+        _finite("Pulse", amplitude=self.amplitude, width=self.width, period=self.period,
+                offset=self.offset, start=self.start)
+        if self.period <= 0:
+            raise ValueError(f"Pulse: period = {self.period} s must be > 0")
+        if not 0 < self.width <= 100:
+            raise ValueError(f"Pulse: width = {self.width} % must be in (0, 100]")
+
+    def breakpoints(self):
+        n = int(min((self.horizon - self.start) / self.period + 1, 1e6))
+        starts = self.start + self.period * np.arange(max(n, 1))
+        return np.sort(np.concatenate([starts, starts + self.width / 100 * self.period]))
+
+    def _encode(self):
+        return _PULSE, [self.amplitude, self.width / 100, self.period, self.offset,
+                        self.start], None, None
+
+
+@dataclass(frozen=True, eq=False)
+class Table(Signal):
+    """Piecewise-linear table: linear between points, held constant before the first and
+    after the last point.  Repeated times make a jump (left value, then right value).
+
+    Parameters
+    ----------
+    times : array_like
+        Non-decreasing sample times [s]; each time may appear at most twice.
+    values : array_like
+        Values at ``times`` (finite).
+    hit_knots : bool
+        Declare every interior time as a breakpoint (exact for the slope changes of the
+        table); set False for long measured records where every sample would be a stop.
+    """
+
+    times: np.ndarray
+    values: np.ndarray
+    hit_knots: bool = True
+    source: str = field(default="", compare=False)
+
+    def __post_init__(self):
+        t = np.asarray(self.times, dtype=float).ravel()
+        v = np.asarray(self.values, dtype=float).ravel()
+        where = f" ({self.source})" if self.source else ""
+        if t.size == 0 or t.size != v.size:
+            raise ValueError(f"Table{where}: times and values must be non-empty and of equal "
+                             f"length (got {t.size} and {v.size})")
+        bad = np.flatnonzero(~np.isfinite(t) | ~np.isfinite(v))
+        if bad.size:
+            raise ValueError(f"Table{where}: non-finite value at row {bad[0] + 1} "
+                             f"(time {t[bad[0]]!r}, value {v[bad[0]]!r})")
+        back = np.flatnonzero(np.diff(t) < 0)
+        if back.size:
+            i = back[0]
+            raise ValueError(f"Table{where}: time must be non-decreasing, but row {i + 2} has "
+                             f"t = {t[i + 1]} after t = {t[i]}")
+        if t.size > 2 and np.any((t[2:] == t[:-2])):
+            raise ValueError(f"Table{where}: a time may appear at most twice (a jump)")
+        object.__setattr__(self, "times", t)
+        object.__setattr__(self, "values", v)
+
+    @classmethod
+    def from_csv(cls, path: str | Path, *, hit_knots: bool = True) -> "Table":
+        """Read a two-column CSV (a header row, then time [s], value).
+
+        Errors name the file and the row.
+        """
+        path = Path(path)
+        try:
+            text = path.read_text()
+        except OSError as exc:
+            raise ValueError(f"{path}: cannot read input table ({exc.strerror})") from None
+        rows = list(csv.reader(text.splitlines()))
+        if len(rows) < 2:
+            raise ValueError(f"{path}: expected a header row and at least one data row")
+        times, values = [], []
+        for lineno, row in enumerate(rows[1:], start=2):
+            if not row or all(not c.strip() for c in row):
+                raise ValueError(f"{path}:{lineno}: empty row (gaps are not allowed)")
+            if len(row) != 2:
+                raise ValueError(f"{path}:{lineno}: expected 2 columns (time, value), "
+                                 f"found {len(row)}")
+            try:
+                t, v = float(row[0]), float(row[1])
+            except ValueError:
+                raise ValueError(f"{path}:{lineno}: not a number: {row!r}") from None
+            times.append(t)
+            values.append(v)
+        try:
+            return cls(np.array(times), np.array(values), hit_knots=hit_knots, source=str(path))
+        except ValueError as exc:
+            msg = str(exc)
+            raise ValueError(msg.replace(f"Table ({path})", str(path))) from None
+
+    def breakpoints(self):
+        if self.hit_knots:
+            return self.times.copy()
+        jumps = self.times[1:][np.diff(self.times) == 0]
+        return jumps
+
+    def _encode(self):
+        return _TABLE, [1.0 if self.hit_knots else 0.0], self.times, self.values
+
+
+@dataclass(frozen=True)
+class Sum(Signal):
+    """Sum of signals (built with ``+``)."""
+
+    parts: tuple[Signal, ...]
+
+    def terms(self):
+        return self.parts
+
+    def breakpoints(self):
+        if not self.parts:
+            return np.empty(0)
+        return np.unique(np.concatenate([s.breakpoints() for s in self.parts]))
+
+    def _encode(self):  # pragma: no cover - a Sum is flattened into its terms
+        raise TypeError("Sum is flattened by build_bank")
+
+
+def as_signal(x) -> Signal:
+    """A number becomes a :class:`Constant`; a :class:`Signal` passes through."""
+    if isinstance(x, Signal):
+        return x
+    if isinstance(x, (int, float, np.floating, np.integer)) and not isinstance(x, bool):
+        return Constant(float(x))
+    raise TypeError(f"expected a Signal or a number, got {type(x).__name__}: {x!r}")
+
+
+class SignalBank(NamedTuple):
+    """Flat array form of a list of input channels, read by :func:`eval_inputs`."""
+
+    channel: np.ndarray   # int64 [n_terms]
+    kind: np.ndarray      # int64 [n_terms]
+    par: np.ndarray       # float64 [n_terms, 6]
+    tab_start: np.ndarray  # int64 [n_terms]
+    tab_len: np.ndarray   # int64 [n_terms]
+    tab_t: np.ndarray     # float64 [total table length]
+    tab_v: np.ndarray     # float64
+    n_channels: int
+
+
+def build_bank(channels: list[Signal]) -> SignalBank:
+    """Flatten one signal per input channel into a :class:`SignalBank`."""
+    ch, kind, par, start, length = [], [], [], [], []
+    tab_t, tab_v, offset = [], [], 0
+    for c, sig in enumerate(channels):
+        for term in as_signal(sig).terms():
+            k, pars, tt, vv = term._encode()
+            ch.append(c)
+            kind.append(k)
+            par.append(list(pars) + [0.0] * (_NPAR - len(pars)))
+            if tt is None:
+                start.append(0)
+                length.append(0)
+            else:
+                start.append(offset)
+                length.append(len(tt))
+                tab_t.append(tt)
+                tab_v.append(vv)
+                offset += len(tt)
+    return SignalBank(
+        np.array(ch, dtype=np.int64), np.array(kind, dtype=np.int64),
+        np.array(par, dtype=np.float64).reshape(-1, _NPAR),
+        np.array(start, dtype=np.int64), np.array(length, dtype=np.int64),
+        np.concatenate(tab_t) if tab_t else np.zeros(1),
+        np.concatenate(tab_v) if tab_v else np.zeros(1),
+        len(channels),
+    )
+
+
+@jit
+def _table_value(tt, vv, hit_knots, t, t_ref):
+    n = tt.shape[0]
+    key = t_ref if hit_knots else t
+    if key < tt[0] or n == 1:
+        return vv[0]
+    if key >= tt[n - 1]:
+        return vv[n - 1]
+    lo, hi = 0, n - 1           # invariant: tt[lo] <= key < tt[hi]
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if tt[mid] <= key:
+            lo = mid
+        else:
+            hi = mid
+    dt = tt[hi] - tt[lo]
+    if dt <= 0.0:
+        return vv[hi]
+    return vv[lo] + (vv[hi] - vv[lo]) * (t - tt[lo]) / dt
+
+
+@jit
+def eval_inputs(bank, t, t_ref, u):
+    """Write the value of every input channel at time ``t`` into ``u``.
+
+    ``t_ref`` selects the branch at discontinuities (see the module docstring).
+    """
+    for c in range(u.shape[0]):
+        u[c] = 0.0
+    for i in range(bank.kind.shape[0]):
+        k = bank.kind[i]
+        q = bank.par[i]
+        if k == 0:
+            val = q[0]
+        elif k == 1:
+            val = q[2] + (q[1] if t_ref >= q[0] else 0.0)
+        elif k == 2:
+            if t_ref < q[0]:
+                val = q[3]
+            elif t_ref >= q[0] + q[1]:
+                val = q[3] + q[2]
+            else:
+                val = q[3] + q[2] * (t - q[0]) / q[1]
+        elif k == 3:
+            if t_ref < q[4]:
+                val = q[3]
+            else:
+                val = q[3] + q[0] * math.sin(2.0 * math.pi * q[1] * (t - q[4]) + q[2])
+        elif k == 4:
+            if t_ref < q[4]:
+                val = q[3]
+            else:
+                phase = (t_ref - q[4]) / q[2]
+                frac = phase - math.floor(phase)
+                val = q[3] + (q[0] if frac < q[1] else 0.0)
+        else:
+            s = bank.tab_start[i]
+            n = bank.tab_len[i]
+            val = _table_value(bank.tab_t[s:s + n], bank.tab_v[s:s + n], q[0] != 0.0, t, t_ref)
+        u[bank.channel[i]] += val

@@ -1,0 +1,187 @@
+"""``simulate``: one entry point for the compiled integrators and the scipy reference."""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping
+
+import numpy as np
+
+from . import _driver as drv
+from .options import SolverOptions, check_solver
+from .result import Event, Result, Stats
+from .signals import Signal, as_signal, build_bank
+from .system import System, closest
+
+__all__ = ["simulate", "resolve_inputs"]
+
+_ACTIONS = {0: "recorded", 1: "reset", 2: "stop", 3: "fail"}
+
+
+def _check_span(t_span) -> tuple[float, float]:
+    try:
+        t0, t1 = (float(x) for x in t_span)
+    except (TypeError, ValueError):
+        raise TypeError(f"t_span = {t_span!r} must be a pair of numbers (t_start, t_end) "
+                        "in seconds") from None
+    if not (math.isfinite(t0) and math.isfinite(t1)):
+        raise ValueError(f"t_span = {t_span!r} must be finite")
+    if t1 <= t0:
+        raise ValueError(f"t_span = {t_span!r}: t_end = {t1} s must be > t_start = {t0} s")
+    return t0, t1
+
+
+def resolve_inputs(system: System, inputs) -> list[Signal]:
+    """One signal per input channel of ``system``, from a mapping name -> signal/number."""
+    names = system.input_names
+    if inputs is None:
+        inputs = {}
+    if not isinstance(inputs, Mapping):
+        raise TypeError(f"inputs must be a mapping of input name to signal, got "
+                        f"{type(inputs).__name__}")
+    for key in inputs:
+        if key not in names:
+            raise ValueError(f"{system.name}: unknown input {key!r}{closest(key, names)}; "
+                             f"inputs: {', '.join(names) or '(none)'}")
+    missing = [n for n in names if n not in inputs]
+    if missing:
+        raise ValueError(f"{system.name}: no signal given for input(s) {', '.join(missing)}")
+    return [as_signal(inputs[n]) for n in names]
+
+
+def _breakpoints(signals: list[Signal], t0: float, t1: float) -> np.ndarray:
+    if not signals:
+        return np.empty(0)
+    bps = np.unique(np.concatenate([s.breakpoints() for s in signals] + [np.empty(0)]))
+    return bps[(bps > t0) & (bps < t1)].astype(np.float64)
+
+
+def _failure_message(code: int, t: float, k: int, i: int, system: System, opts: SolverOptions,
+                     solver: str) -> tuple[str, str]:
+    ev = system.event_names[k] if 0 <= k < system.n_events else "?"
+    state = (f"'{system.state_names[i]} [{system.state_units[i]}]'"
+             if 0 <= i < system.n_states else "(unknown)")
+    if code == drv.DONE:
+        return "completed", f"completed to t = {t:.9g} s"
+    if code == drv.EVENT_STOP:
+        return "stopped", f"stopped by event '{ev}' at t = {t:.9g} s"
+    if code == drv.EVENT_FAIL:
+        return "failed", f"{ev} at t = {t:.9g} s"
+    if code == drv.MAX_STEPS:
+        return "failed", (f"step budget exhausted: {opts.max_steps} steps reached at "
+                          f"t = {t:.9g} s; raise SolverOptions.max_steps, or if the system is "
+                          "stiff use solver='rodas4'")
+    if code == drv.WALL_TIME:
+        return "failed", (f"wall-time budget of {opts.wall_time:g} s exhausted at t = {t:.9g} s;"
+                          " raise SolverOptions.wall_time, or use solver='rodas4' if the "
+                          "system is stiff")
+    if code == drv.STEP_COLLAPSE:
+        return "failed", (f"step size collapsed at t = {t:.9g} s ({solver}): the right-hand "
+                          "side is discontinuous (or violently stiff) there. A switching law "
+                          "acting at this point, e.g. a naive stick/slip friction model at "
+                          "lock-up, must be declared as an event, or replaced by a hybrid "
+                          "(coulomb-robust) or dynamic friction model (e.g. mykhailevych2020)")
+    if code == drv.CHATTER:
+        return "failed", (f"chatter detected: {opts.chatter_events} events within "
+                          f"{opts.chatter_window:g} s, the last of them '{ev}' at t = {t:.9g} s."
+                          " The event re-fires as soon as it is crossed (a sliding mode): "
+                          "typically a discontinuous switching law at zero slip, such as a "
+                          "naive stick/slip friction model at lock-up. Use a hybrid stick/slip "
+                          "model (coulomb-robust) or a dynamic friction model (e.g. "
+                          "mykhailevych2020)")
+    if code == drv.NON_FINITE:
+        return "failed", (f"non-finite value (NaN or inf) in state {state} at t = {t:.9g} s: "
+                          "the right-hand side produced it; check parameters and inputs")
+    raise AssertionError(f"unknown status code {code}")
+
+
+def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
+             solver: str = "rodas4", options: SolverOptions | None = None) -> Result:
+    """Integrate a plant over ``t_span`` and return a :class:`Result`.
+
+    Parameters
+    ----------
+    system : System
+        The plant (see :mod:`clutchsim.core.system`).
+    t_span : (float, float)
+        Start and end time [s]; the end must be later than the start.
+    inputs : mapping of str to Signal or float, optional
+        One signal per input of the system, by input name.
+    y0 : array_like, optional
+        Initial state; defaults to ``system.y0``.
+    solver : str
+        ``"rodas4"`` (compiled, stiff; default), ``"dopri5"`` (compiled, explicit), or a
+        scipy reference backend: ``"scipy-radau"``, ``"scipy-lsoda"``, ``"scipy-rk45"``.
+    options : SolverOptions, optional
+        Tolerances, budgets, chatter detection, output grid.
+
+    Returns
+    -------
+    Result
+        States, inputs and outputs by name with units; ``status`` and ``message`` say how
+        the run ended.  A failed run is returned, not raised.
+    """
+    if not isinstance(system, System):
+        raise TypeError(f"system must be a clutchsim System, got {type(system).__name__}")
+    check_solver(solver)
+    opts = options if options is not None else SolverOptions()
+    if not isinstance(opts, SolverOptions):
+        raise TypeError(f"options must be SolverOptions, got {type(opts).__name__}")
+    t0, t1 = _check_span(t_span)
+    y_init = system.y0 if y0 is None else np.asarray(y0, dtype=float).ravel()
+    if y_init.size != system.n_states:
+        raise ValueError(f"{system.name}: y0 has {y_init.size} entries, the system has "
+                         f"{system.n_states} states ({', '.join(system.state_names)})")
+    bad = np.flatnonzero(~np.isfinite(y_init))
+    if bad.size:
+        i = bad[0]
+        raise ValueError(f"{system.name}: initial state {system.state_names[i]} = "
+                         f"{y_init[i]!r} must be finite")
+    bad = np.flatnonzero(~np.isfinite(system.params))
+    if bad.size:
+        raise ValueError(f"{system.name}: parameter vector entry {bad[0]} = "
+                         f"{system.params[bad[0]]!r} must be finite")
+    signals = resolve_inputs(system, inputs)
+    bps = _breakpoints(signals, t0, t1)
+    bank = build_bank(signals)
+    if solver.startswith("scipy-"):
+        from .scipy_backend import simulate_scipy
+        return simulate_scipy(system, t0, t1, y_init, signals, bank, bps, solver, opts)
+
+    method = drv.DOPRI5 if solver == "dopri5" else drv.RODAS4
+    fopt = np.zeros(drv.N_FOPT)
+    fopt[drv.O_RTOL], fopt[drv.O_ATOL] = opts.rtol, opts.atol
+    fopt[drv.O_H0], fopt[drv.O_HMAX], fopt[drv.O_HMIN] = opts.h0, opts.h_max, opts.h_min
+    fopt[drv.O_WALL] = opts.wall_time
+    fopt[drv.O_CHATTER_WINDOW] = opts.chatter_window
+    fopt[drv.O_DT_OUT] = opts.dt_out
+    fopt[drv.O_EVENT_TOL] = opts.event_tol
+    iopt = np.array([opts.max_steps, opts.chatter_events, opts.max_output], dtype=np.int64)
+    ev_dir = np.array(system.event_directions, dtype=np.int64)
+    wall0 = time.perf_counter()
+    (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small) = drv.integrate(
+        system.tag, method, t0, t1, y_init, system.params, bank, bps, ev_dir,
+        len(system.output_names), fopt, iopt)
+    wall = time.perf_counter() - wall0
+    status, message = _failure_message(int(code), float(t_end), int(k), int(i), system, opts,
+                                       solver)
+    stats = Stats(steps=int(st[drv.S_STEPS]), rejected=int(st[drv.S_REJECTED]),
+                  rhs_evals=int(st[drv.S_RHS]), jacobians=int(st[drv.S_JAC]),
+                  lu_decompositions=int(st[drv.S_LU]), events=int(st[drv.S_EVENTS]),
+                  min_step_s=float(h_small) if math.isfinite(h_small) else 0.0, wall_s=wall)
+    events = tuple(Event(float(te), system.event_names[int(ke)], _ACTIONS[int(a)])
+                   for te, ke, a in zip(ev_t, ev_k, ev_a))
+    return assemble(system, ts, ys, us, outs, status, message, stats, events, solver)
+
+
+def assemble(system, ts, ys, us, outs, status, message, stats, events, solver) -> Result:
+    """Build a :class:`Result` from raw output arrays (shared by all backends)."""
+    cols = [(n, u, ys[:, j]) for j, (n, u) in enumerate(zip(system.state_names,
+                                                             system.state_units))]
+    cols += [(n, u, us[:, j]) for j, (n, u) in enumerate(zip(system.input_names,
+                                                              system.input_units))]
+    cols += [(n, u, outs[:, j]) for j, (n, u) in enumerate(zip(system.output_names,
+                                                                system.output_units))]
+    return Result.build(ts, cols, status=status, message=message, stats=stats, events=events,
+                        solver=solver, system=system.name, metadata=system.metadata)

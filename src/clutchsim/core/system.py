@@ -1,0 +1,266 @@
+"""What the integrators integrate: a compiled right-hand side with events, resets and outputs.
+
+A plant (a friction test rig, a driveline, ...) defines four compiled functions
+
+``rhs(t, y, u, p, dy)``
+    writes the state derivatives ``dy``;
+``events(t, y, u, p, g)``
+    writes the event-function values ``g`` (an event fires when ``g[k]`` crosses zero in
+    its declared direction);
+``reset(t, y, u, p, k) -> action``
+    called at the located event ``k``; may change ``y`` in place (a *reset map*) and returns
+    one of :data:`CONTINUE`, :data:`STATE_CHANGED`, :data:`STOP`, :data:`FAIL`;
+``outputs(t, y, u, p, out)``
+    writes algebraic output signals (forces, powers, ...),
+
+where ``t`` is time [s], ``y`` the state vector, ``u`` the input vector and ``p`` a float
+parameter vector.  It registers them under a *tag type* (a ``NamedTuple`` subclass) with
+:func:`register_system`.  The integrators are compiled once per tag type and reach the
+plant's functions through numba overloads on the tag, which keeps every specialisation
+cacheable on disk (functions passed as values are not).  The core knows nothing of
+friction: only these four functions.
+"""
+
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+from numba import types
+from numba.extending import overload
+
+from .._jit import jit
+
+__all__ = [
+    "CONTINUE", "STATE_CHANGED", "STOP", "FAIL", "System", "register_system",
+    "system_rhs", "system_events", "system_reset", "system_outputs", "closest",
+]
+
+#: reset action: the event is recorded, the state is unchanged
+CONTINUE = 0
+#: reset action: the reset map changed the state; integration restarts from it
+STATE_CHANGED = 1
+#: reset action: stop the run successfully (a terminal event)
+STOP = 2
+#: reset action: stop the run as failed (e.g. the engine stalled)
+FAIL = 3
+
+
+class _Functions(NamedTuple):
+    rhs: object
+    events: object
+    reset: object
+    outputs: object
+
+
+_REGISTRY: dict[type, _Functions] = {}
+
+
+@jit
+def _no_events(t, y, u, p, g):
+    pass
+
+
+@jit
+def _no_reset(t, y, u, p, k):
+    return 0
+
+
+@jit
+def _no_outputs(t, y, u, p, out):
+    pass
+
+
+def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None) -> type:
+    """Register the compiled functions of a plant under the ``NamedTuple`` type ``tag``."""
+    if not (isinstance(tag, type) and issubclass(tag, tuple) and hasattr(tag, "_fields")):
+        raise TypeError(f"tag must be a NamedTuple class, got {tag!r}")
+    _REGISTRY[tag] = _Functions(rhs, events or _no_events, reset or _no_reset,
+                                outputs or _no_outputs)
+    return tag
+
+
+def _functions(tag_type):
+    if isinstance(tag_type, types.BaseNamedTuple):
+        return _REGISTRY.get(tag_type.instance_class)
+    return None
+
+
+def system_rhs(tag, t, y, u, p, dy):
+    """Compiled-only: the plant's right-hand side."""
+    raise NotImplementedError("system_rhs is only callable from compiled code")
+
+
+def system_events(tag, t, y, u, p, g):
+    """Compiled-only: the plant's event functions."""
+    raise NotImplementedError("system_events is only callable from compiled code")
+
+
+def system_reset(tag, t, y, u, p, k):
+    """Compiled-only: the plant's reset map."""
+    raise NotImplementedError("system_reset is only callable from compiled code")
+
+
+def system_outputs(tag, t, y, u, p, out):
+    """Compiled-only: the plant's algebraic outputs."""
+    raise NotImplementedError("system_outputs is only callable from compiled code")
+
+
+@overload(system_rhs, jit_options={"cache": True})
+def _ol_rhs(tag, t, y, u, p, dy):
+    fns = _functions(tag)
+    if fns is not None:
+        f = fns.rhs
+
+        def impl(tag, t, y, u, p, dy):
+            f(t, y, u, p, dy)
+        return impl
+
+
+@overload(system_events, jit_options={"cache": True})
+def _ol_events(tag, t, y, u, p, g):
+    fns = _functions(tag)
+    if fns is not None:
+        f = fns.events
+
+        def impl(tag, t, y, u, p, g):
+            f(t, y, u, p, g)
+        return impl
+
+
+@overload(system_reset, jit_options={"cache": True})
+def _ol_reset(tag, t, y, u, p, k):
+    fns = _functions(tag)
+    if fns is not None:
+        f = fns.reset
+
+        def impl(tag, t, y, u, p, k):
+            return f(t, y, u, p, k)
+        return impl
+
+
+@overload(system_outputs, jit_options={"cache": True})
+def _ol_outputs(tag, t, y, u, p, out):
+    fns = _functions(tag)
+    if fns is not None:
+        f = fns.outputs
+
+        def impl(tag, t, y, u, p, out):
+            f(t, y, u, p, out)
+        return impl
+
+
+# Python-callable entry points (used by the scipy reference backend and by tests).
+@jit
+def call_rhs(tag, t, y, u, p, dy):
+    system_rhs(tag, t, y, u, p, dy)
+
+
+@jit
+def call_events(tag, t, y, u, p, g):
+    system_events(tag, t, y, u, p, g)
+
+
+@jit
+def call_reset(tag, t, y, u, p, k):
+    return system_reset(tag, t, y, u, p, k)
+
+
+@jit
+def call_outputs(tag, t, y, u, p, out):
+    system_outputs(tag, t, y, u, p, out)
+
+
+def closest(name: str, valid) -> str:
+    """`` (did you mean 'x'?)`` for the closest valid name, or an empty string."""
+    match = difflib.get_close_matches(str(name), list(valid), n=1, cutoff=0.5)
+    return f" (did you mean {match[0]!r}?)" if match else ""
+
+
+def _names(value, what: str) -> tuple[str, ...]:
+    out = tuple(value)
+    if not all(isinstance(x, str) for x in out):
+        raise TypeError(f"{what} must be strings, got {out!r}")
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class System:
+    """A plant ready to simulate: its tag, parameter vector and named, unit-carrying signals.
+
+    Parameters
+    ----------
+    tag : NamedTuple
+        Instance of a tag type registered with :func:`register_system`.
+    params : ndarray
+        Float parameter vector ``p`` passed to every compiled function.
+    y0 : ndarray
+        Default initial state.
+    state_names, state_units : sequence of str
+        One per state.
+    input_names, input_units : sequence of str
+        One per input channel ``u``.
+    output_names, output_units : sequence of str
+        One per algebraic output.
+    event_names : sequence of str
+        One per event function.
+    event_directions : sequence of int
+        −1 (falling), +1 (rising) or 0 (both), one per event function.
+    name : str
+        Human-readable name used in messages.
+    metadata : dict
+        Free-form description kept with results (scenario, model, parameter set, ...).
+    """
+
+    tag: tuple
+    params: np.ndarray
+    y0: np.ndarray
+    state_names: tuple[str, ...]
+    state_units: tuple[str, ...]
+    input_names: tuple[str, ...] = ()
+    input_units: tuple[str, ...] = ()
+    output_names: tuple[str, ...] = ()
+    output_units: tuple[str, ...] = ()
+    event_names: tuple[str, ...] = ()
+    event_directions: tuple[int, ...] = ()
+    name: str = "system"
+    metadata: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        if type(self.tag) not in _REGISTRY:
+            raise TypeError(f"{self.name}: tag type {type(self.tag).__name__} is not registered "
+                            "(call register_system first)")
+        p = np.ascontiguousarray(self.params, dtype=np.float64).ravel()
+        y0 = np.ascontiguousarray(self.y0, dtype=np.float64).ravel()
+        object.__setattr__(self, "params", p)
+        object.__setattr__(self, "y0", y0)
+        for attr in ("state_names", "state_units", "input_names", "input_units",
+                     "output_names", "output_units", "event_names"):
+            object.__setattr__(self, attr, _names(getattr(self, attr), attr))
+        object.__setattr__(self, "event_directions", tuple(int(d) for d in self.event_directions))
+        pairs = [("state_names", "state_units"), ("input_names", "input_units"),
+                 ("output_names", "output_units"), ("event_names", "event_directions")]
+        for a, b in pairs:
+            if len(getattr(self, a)) != len(getattr(self, b)):
+                raise ValueError(f"{self.name}: {a} and {b} differ in length")
+        if len(self.state_names) != y0.size:
+            raise ValueError(f"{self.name}: y0 has {y0.size} entries for "
+                             f"{len(self.state_names)} states")
+        if any(d not in (-1, 0, 1) for d in self.event_directions):
+            raise ValueError(f"{self.name}: event directions must be -1, 0 or +1, "
+                             f"got {self.event_directions}")
+
+    @property
+    def n_states(self) -> int:
+        return len(self.state_names)
+
+    @property
+    def n_events(self) -> int:
+        return len(self.event_names)
+
+    def with_params(self, params: np.ndarray) -> "System":
+        """The same plant with another parameter vector (same layout)."""
+        from dataclasses import replace
+        return replace(self, params=params)
