@@ -293,7 +293,13 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
     h_old = h
     first = True
     last_nonfinite = -1
+    # A directional event whose function starts on its post-crossing side fires once at t0
+    # (e.g. a stuck friction element loaded beyond its capacity from the start).
     check_jump = False
+    for k in range(n_ev):
+        if (ev_dir[k] == -1 and g_old[k] < 0.0) or (ev_dir[k] == 1 and g_old[k] > 0.0):
+            g_old[k] = -g_old[k]
+            check_jump = True
 
     while True:
         # ---- events caused by a jump of the inputs at a breakpoint (or by a reset) ----

@@ -6,7 +6,8 @@ A plant (a friction test rig, a driveline, ...) defines four compiled functions
     writes the state derivatives ``dy``;
 ``events(t, y, u, p, g)``
     writes the event-function values ``g`` (an event fires when ``g[k]`` crosses zero in
-    its declared direction);
+    its declared direction; a directional event whose function *starts* on its
+    post-crossing side fires once at the initial time);
 ``reset(t, y, u, p, k) -> action``
     called at the located event ``k``; may change ``y`` in place (a *reset map*) and returns
     one of :data:`CONTINUE`, :data:`STATE_CHANGED`, :data:`STOP`, :data:`FAIL`;

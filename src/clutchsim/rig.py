@@ -1,0 +1,226 @@
+"""The friction test rig: a mass (or an inertia) on a friction contact.
+
+The body is driven either by a force/torque input ``F_app(t)`` or by an imposed velocity
+``v(t)``.  In the force-driven rig it can also be tied by a spring ``k`` to a point that
+moves at ``pull_speed`` (the classic stick-slip set-up: ``y(t) = y0 + V·t``)::
+
+    m·dv/dt = F_app(t) + k·(y(t) − x) − F,      dx/dt = v
+
+where ``F`` is the friction force of any model of :mod:`clutchsim.friction` (the contact
+transmits ``F`` in the direction of the slip ``v``; the body sees ``−F``).  The rotational
+twin is the same equations with an inertia, a torque and angles.
+
+The rig is a *plant*; the benchmark protocols of :mod:`clutchsim.benchmarks` are input
+signals applied to it.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from ._jit import jit
+from .core import Signal, SolverOptions, System, register_system, simulate
+from .friction import friction_events, friction_force, friction_reset
+from .friction.base import FrictionModel
+
+__all__ = ["make_rig", "run_rig", "RIG_HEADER"]
+
+# parameter-vector layout
+_DRIVE, _MASS, _K, _V_PULL, _Y0, _CODE, _NZ, _NEV = range(8)
+RIG_HEADER = 8
+_FORCE, _VELOCITY = 0.0, 1.0
+
+
+class FrictionRig(NamedTuple):
+    """Tag type of the rig plant."""
+
+    k: int = 0
+
+
+@jit
+def _rig_forces(t, y, u, p, dz):
+    """Friction force F, external force F_ext and spring force; writes dz."""
+    nz = int(p[_NZ])
+    code = int(p[_CODE])
+    pf = p[RIG_HEADER:]
+    scale = u[1]
+    if p[_DRIVE] == _FORCE:
+        x, v, z = y[0], y[1], y[2:2 + nz]
+        spring = p[_K] * (p[_Y0] + p[_V_PULL] * t - x) if p[_K] != 0.0 else 0.0
+        f_ext = u[0] + spring
+    else:
+        x, v, z = y[0], u[0], y[1:1 + nz]
+        spring = 0.0
+        f_ext = 0.0
+    f = friction_force(code, pf, z, v, f_ext, scale, dz)
+    return f, f_ext, spring
+
+
+@jit
+def _rig_rhs(t, y, u, p, dy):
+    nz = int(p[_NZ])
+    if p[_DRIVE] == _FORCE:
+        f, f_ext, _ = _rig_forces(t, y, u, p, dy[2:2 + nz])
+        dy[0] = y[1]
+        dy[1] = (f_ext - f) / p[_MASS]
+    else:
+        _rig_forces(t, y, u, p, dy[1:1 + nz])
+        dy[0] = u[0]
+
+
+@jit
+def _rig_events(t, y, u, p, g):
+    nz = int(p[_NZ])
+    pf = p[RIG_HEADER:]
+    if p[_DRIVE] == _FORCE:
+        spring = p[_K] * (p[_Y0] + p[_V_PULL] * t - y[0]) if p[_K] != 0.0 else 0.0
+        friction_events(int(p[_CODE]), pf, y[2:2 + nz], y[1], u[0] + spring, u[1], g)
+    else:
+        friction_events(int(p[_CODE]), pf, y[1:1 + nz], u[0], 0.0, u[1], g)
+
+
+@jit
+def _rig_reset(t, y, u, p, k):
+    nz = int(p[_NZ])
+    pf = p[RIG_HEADER:]
+    if p[_DRIVE] == _FORCE:
+        spring = p[_K] * (p[_Y0] + p[_V_PULL] * t - y[0]) if p[_K] != 0.0 else 0.0
+        action = friction_reset(int(p[_CODE]), pf, y[2:2 + nz], y[1], u[0] + spring, u[1], k)
+        if action == 2:
+            y[1] = 0.0   # stuck: the body's slip velocity is exactly zero
+    else:
+        action = friction_reset(int(p[_CODE]), pf, y[1:1 + nz], u[0], 0.0, u[1], k)
+    return 1 if action != 0 else 0
+
+
+@jit
+def _rig_outputs(t, y, u, p, out):
+    nz = int(p[_NZ])
+    dz = np.empty(nz)
+    f, f_ext, spring = _rig_forces(t, y, u, p, dz)
+    v = y[1] if p[_DRIVE] == _FORCE else u[0]
+    out[0] = f
+    out[1] = f_ext
+    out[2] = spring
+    out[3] = f * v
+
+
+register_system(FrictionRig, rhs=_rig_rhs, events=_rig_events, reset=_rig_reset,
+                outputs=_rig_outputs)
+
+_UNITS = {
+    "translational": {"x": ("x", "m"), "v": ("v", "m/s"), "F": ("F", "N"), "m": "kg",
+                      "power": "W", "k": "N/m"},
+    "rotational": {"x": ("phi", "rad"), "v": ("omega", "rad/s"), "F": ("T", "N·m"),
+                   "m": "kg·m²", "power": "W", "k": "N·m/rad"},
+}
+
+
+def make_rig(model: FrictionModel, *, domain: str = "translational", drive: str = "force",
+             mass: float = 1.0, spring: float = 0.0, pull_speed: float = 0.0,
+             spring_offset: float = 0.0, x0: float = 0.0, v0: float = 0.0,
+             z0=None) -> System:
+    """Build the rig plant around a friction model.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        Any model of :mod:`clutchsim.friction`.
+    domain : {"translational", "rotational"}
+        Units of the signals (m, m/s, N or rad, rad/s, N·m).
+    drive : {"force", "velocity"}
+        Force/torque input ``force`` [N or N·m], or imposed velocity input ``v``.
+    mass : float
+        Mass [kg] or inertia [kg·m²] (> 0; force drive only).
+    spring : float
+        Spring stiffness k [N/m or N·m/rad] to the moving point (>= 0; 0: no spring).
+    pull_speed : float
+        Speed V of the spring's free end [m/s or rad/s].
+    spring_offset : float
+        Position y0 of the spring's free end at t = 0 [m or rad].
+    x0, v0 : float
+        Initial position and velocity (v0 only for the force drive).
+    z0 : array_like, optional
+        Initial friction states (default: the model's ``initial_state()``).
+
+    Returns
+    -------
+    System
+        Inputs ``force`` (or ``v``) and ``scale`` (capacity multiplier, usually 1);
+        outputs the friction force, the external force, the spring force and the
+        friction power.
+    """
+    if not isinstance(model, FrictionModel):
+        raise TypeError(f"model must be a clutchsim friction model, got {type(model).__name__}")
+    if domain not in _UNITS:
+        raise ValueError(f"domain = {domain!r} must be 'translational' or 'rotational'")
+    if drive not in ("force", "velocity"):
+        raise ValueError(f"drive = {drive!r} must be 'force' or 'velocity'")
+    for name, value in (("mass", mass), ("spring", spring), ("pull_speed", pull_speed),
+                        ("spring_offset", spring_offset), ("x0", x0), ("v0", v0)):
+        if not np.isfinite(value):
+            raise ValueError(f"rig: {name} = {value!r} must be finite")
+    if mass <= 0:
+        raise ValueError(f"rig: mass = {mass!r} {_UNITS[domain]['m']} must be > 0")
+    if spring < 0:
+        raise ValueError(f"rig: spring = {spring!r} {_UNITS[domain]['k']} must be >= 0")
+    if drive == "velocity" and (spring or pull_speed):
+        raise ValueError("rig: a spring is only available with the force drive")
+    units = _UNITS[domain]
+    z_init = model.initial_state() if z0 is None else np.asarray(z0, dtype=float).ravel()
+    if z_init.size != model.n_states:
+        raise ValueError(f"rig: z0 has {z_init.size} entries; {model.name} has "
+                         f"{model.n_states} states ({', '.join(model.state_names())})")
+    header = np.zeros(RIG_HEADER)
+    header[_DRIVE] = _FORCE if drive == "force" else _VELOCITY
+    header[[_MASS, _K, _V_PULL, _Y0]] = mass, spring, pull_speed, spring_offset
+    header[[_CODE, _NZ, _NEV]] = model.code, model.n_states, model.n_events
+    p = np.concatenate([header, model.pack()])
+    x_name, x_unit = units["x"]
+    v_name, v_unit = units["v"]
+    f_name, f_unit = units["F"]
+    z_names = tuple(model.state_names())
+    z_units = tuple(model.state_units(domain))
+    if drive == "force":
+        states = (x_name, v_name) + z_names
+        sunits = (x_unit, v_unit) + z_units
+        y0 = np.concatenate([[x0, v0], z_init])
+        inputs, iunits = ("force" if domain == "translational" else "torque", "scale"), \
+            (f_unit, "-")
+    else:
+        states = (x_name,) + z_names
+        sunits = (x_unit,) + z_units
+        y0 = np.concatenate([[x0], z_init])
+        inputs, iunits = (v_name, "scale"), (v_unit, "-")
+    return System(
+        FrictionRig(), p, y0, states, sunits, input_names=inputs, input_units=iunits,
+        output_names=(f_name, f"{f_name}_ext", f"{f_name}_spring", "friction power"),
+        output_units=(f_unit, f_unit, f_unit, units["power"]),
+        event_names=tuple(f"{model.name}: {e}" for e in model.event_names()),
+        event_directions=tuple(int(d) for d in model.event_directions()),
+        name=f"{domain} rig with {model.name}",
+        metadata={"model": model.name, "domain": domain, "drive": drive, "mass": mass,
+                  "spring": spring, "pull_speed": pull_speed},
+    )
+
+
+def run_rig(model: FrictionModel, t_end: float, *, force: Signal | float | None = None,
+            velocity: Signal | float | None = None, scale: Signal | float = 1.0,
+            domain: str = "translational", mass: float = 1.0, spring: float = 0.0,
+            pull_speed: float = 0.0, solver: str = "rodas4",
+            options: SolverOptions | None = None, **rig_kw):
+    """Build the rig for ``model`` and simulate it from 0 to ``t_end`` [s].
+
+    Give exactly one of ``force`` (force/torque drive; 0 is allowed with a spring) or
+    ``velocity`` (imposed velocity).  Returns a :class:`~clutchsim.core.Result`.
+    """
+    if (force is None) == (velocity is None):
+        raise ValueError("run_rig: give exactly one of force= or velocity=")
+    drive = "force" if force is not None else "velocity"
+    system = make_rig(model, domain=domain, drive=drive, mass=mass, spring=spring,
+                      pull_speed=pull_speed, **rig_kw)
+    signal = force if force is not None else velocity
+    return simulate(system, (0.0, t_end), {system.input_names[0]: signal, "scale": scale},
+                    solver=solver, options=options)
