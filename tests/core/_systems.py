@@ -70,3 +70,97 @@ def ball_bounce_times(g, e, h0, n):
         t += 2 * v / g
         out.append(t)
     return np.array(out)
+
+
+class VanDerPol(NamedTuple):
+    k: int = 0
+
+
+@jit
+def _vdp_rhs(t, y, u, p, dy):
+    dy[0] = y[1]
+    dy[1] = p[0] * (1.0 - y[0] * y[0]) * y[1] - y[0]
+
+
+register_system(VanDerPol, rhs=_vdp_rhs)
+
+
+def van_der_pol(mu=100.0):
+    return System(VanDerPol(), np.array([mu]), np.array([2.0, 0.0]), ("x", "y"), ("-", "-"),
+                  name="van der Pol")
+
+
+class SignSwitch(NamedTuple):
+    """x' = u - c·sign(x): a naive Coulomb block.  With c > |u| it sticks at x = 0 in a
+    sliding mode that a switching law cannot represent (chatter)."""
+
+    k: int = 0
+
+
+@jit
+def _sign_rhs(t, y, u, p, dy):
+    s = 1.0 if y[0] > 0.0 else (-1.0 if y[0] < 0.0 else 0.0)
+    dy[0] = u[0] - p[0] * s
+    dy[1] = 1.0
+
+
+@jit
+def _sign_events(t, y, u, p, g):
+    g[0] = y[0]
+
+
+register_system(SignSwitch, rhs=_sign_rhs, events=_sign_events)
+
+
+def sign_switch(c=1.0, x0=1.0, monitored=True):
+    names = ("sign change of x",) if monitored else ()
+    dirs = (0,) if monitored else ()
+    tag = SignSwitch() if monitored else SignSwitchNoEvents()
+    return System(tag, np.array([c]), np.array([x0, 0.0]), ("x", "clock"), ("m", "s"),
+                  input_names=("u",), input_units=("m/s",), event_names=names,
+                  event_directions=dirs, name="naive sign switch")
+
+
+class SignSwitchNoEvents(NamedTuple):
+    k: int = 0
+
+
+register_system(SignSwitchNoEvents, rhs=_sign_rhs)
+
+
+class Poison(NamedTuple):
+    """Produces NaN in its second state once t > p[0]."""
+
+    k: int = 0
+
+
+@jit
+def _poison_rhs(t, y, u, p, dy):
+    dy[0] = 1.0
+    dy[1] = math.sqrt(p[0] - t)
+
+
+register_system(Poison, rhs=_poison_rhs)
+
+
+def poison(t_nan=0.5):
+    return System(Poison(), np.array([t_nan]), np.zeros(2), ("a", "b"), ("-", "-"),
+                  name="poison")
+
+
+class Riccati(NamedTuple):
+    """y' = -2 t y², y(0) = 1: exact solution 1 / (1 + t²)."""
+
+    k: int = 0
+
+
+@jit
+def _riccati_rhs(t, y, u, p, dy):
+    dy[0] = -2.0 * t * y[0] * y[0]
+
+
+register_system(Riccati, rhs=_riccati_rhs)
+
+
+def riccati():
+    return System(Riccati(), np.zeros(1), np.ones(1), ("y",), ("-",), name="riccati")

@@ -182,7 +182,7 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
     """Integrate the plant ``tag`` from ``t0`` to ``t1``.  See ``simulate`` for the meaning.
 
     Returns (status, t_end, info_k, info_i, ts, ys, us, outs, ev_t, ev_k, ev_a, stats,
-    h_smallest)."""
+    h_smallest, wall_seconds)."""
     n = y0.shape[0]
     n_in = bank.n_channels
     n_ev = ev_dir.shape[0]
@@ -235,7 +235,7 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
     info_k = -1
     info_i = -1
     h_smallest = np.inf
-    t_wall0 = _now() if wall > 0 else 0.0
+    t_wall0 = _now()
 
     ib = 0
     while ib < bps.shape[0] and bps[ib] <= t0:
@@ -256,7 +256,8 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         i_bad = _first_nonfinite(y)
         ts, ys, us, outs = buf
         return (NON_FINITE, t, -1, i_bad if i_bad >= 0 else bad, ts[:n_out], ys[:n_out],
-                us[:n_out], outs[:n_out], ev_t[:0], ev_k[:0], ev_a[:0], stats, h_smallest)
+                us[:n_out], outs[:n_out], ev_t[:0], ev_k[:0], ev_a[:0], stats, h_smallest,
+                _now() - t_wall0)
 
     # initial step (Hairer, Norsett & Wanner, Solving ODEs I, II.4)
     h = fopt[O_H0]
@@ -405,7 +406,20 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
             if bad < 0:
                 bad = _first_nonfinite(err)
             if bad >= 0:
-                last_nonfinite = bad
+                # name the state whose derivative went bad (a linear solve spreads a NaN
+                # over every component, so the first bad entry of y_new may be innocent)
+                eval_inputs(bank, t + h, t_ref, u)
+                system_rhs(tag, t + h, y, u, p, ftmp)
+                stats[S_RHS] += 1
+                culprit = _first_nonfinite(ftmp)
+                if culprit < 0 and method == RODAS4:
+                    culprit = _first_nonfinite(dfdt)
+                    for i in range(n):
+                        if culprit >= 0:
+                            break
+                        if _first_nonfinite(J[i]) >= 0:
+                            culprit = i
+                last_nonfinite = culprit if culprit >= 0 else bad
                 ok = False
         if not ok:
             stats[S_REJECTED] += 1
@@ -571,4 +585,4 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
     ts, ys, us, outs = buf
     ev_t, ev_k, ev_a = log
     return (status, t, info_k, info_i, ts[:n_out], ys[:n_out], us[:n_out], outs[:n_out],
-            ev_t[:ne], ev_k[:ne], ev_a[:ne], stats, h_smallest)
+            ev_t[:ne], ev_k[:ne], ev_a[:ne], stats, h_smallest, _now() - t_wall0)

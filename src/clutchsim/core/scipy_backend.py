@@ -73,11 +73,18 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
             evs = [make_event(k) for k in range(n_ev)] if t >= mute_until else []
             if t < mute_until:
                 t_stop = min(b, mute_until)
+            t_eval = None
+            if opts.dt_out > 0:
+                k0 = np.floor((t - t0) / opts.dt_out) + 1
+                k1 = np.floor((t_stop - t0) / opts.dt_out + 1e-9)
+                t_eval = np.append(t0 + np.arange(k0, k1 + 1) * opts.dt_out, t_stop)
+                t_eval = np.unique(np.clip(t_eval, t, t_stop))
             sol = solve_ivp(rhs, (t, t_stop), y, method=_METHOD[solver], rtol=opts.rtol,
-                            atol=opts.atol, events=evs or None, dense_output=False)
+                            atol=opts.atol, events=evs or None, t_eval=t_eval)
             steps += max(len(sol.t) - 1, 0)
-            for tt, yy in zip(sol.t[1:], sol.y.T[1:]):
-                record(tt, yy, t_ref, rows)
+            for tt, yy in zip(sol.t, sol.y.T):
+                if tt > t:
+                    record(tt, yy, t_ref, rows)
             if sol.status == -1:
                 status, message = "failed", f"scipy {_METHOD[solver]}: {sol.message}"
                 break

@@ -176,7 +176,12 @@ def call_outputs(tag, t, y, u, p, out):
 
 def closest(name: str, valid) -> str:
     """`` (did you mean 'x'?)`` for the closest valid name, or an empty string."""
-    match = difflib.get_close_matches(str(name), list(valid), n=1, cutoff=0.5)
+    valid = [str(v) for v in valid]
+    match = difflib.get_close_matches(str(name), valid, n=1, cutoff=0.5)
+    if not match:  # abbreviations and case: 'Force' -> 'F', 'LUGRE' -> 'lugre'
+        low = str(name).lower()
+        match = [v for v in valid if v.lower() == low] or \
+            [v for v in valid if low.startswith(v.lower()) or v.lower().startswith(low)]
     return f" (did you mean {match[0]!r}?)" if match else ""
 
 

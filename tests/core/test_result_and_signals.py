@@ -1,0 +1,92 @@
+"""Results are immutable and carry units; signals evaluate, declare breakpoints, and reject
+bad tables with the file and row."""
+
+import dataclasses
+
+import numpy as np
+import pandas as pd
+import pyarrow.parquet as pq
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from _systems import oscillator
+from clutchsim.core import Constant, Pulse, Ramp, Sine, SolverOptions, Step, Table, simulate
+
+
+@pytest.fixture(scope="module")
+def res():
+    return simulate(oscillator(), (0.0, 2.0), {"F": Sine(1.0, 1.0)},
+                    options=SolverOptions(dt_out=0.1))
+
+
+def test_result_is_immutable(res):
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        res.status = "completed"
+    with pytest.raises(ValueError):
+        res["x"][0] = 1.0
+    with pytest.raises(TypeError):
+        res.data["x"] = np.zeros(3)
+
+
+def test_signals_by_name_and_with_units(res):
+    assert np.array_equal(res["x"], res["x [m]"])
+    assert res.unit("v") == "m/s"
+    with pytest.raises(KeyError, match="did you mean 'x'"):
+        res["xx"]
+    assert res.success and res.stats.steps > 0 and res.stats.rhs_evals > res.stats.steps
+
+
+def test_frame_csv_and_parquet_round_trip_keep_units(res, tmp_path):
+    frame = res.to_frame()
+    assert list(frame.columns) == ["time [s]", "x [m]", "v [m/s]", "F [N]"]
+    back = pd.read_csv(res.to_csv(tmp_path / "r.csv"))
+    assert np.array_equal(back["x [m]"].to_numpy(), res["x"])
+    table = pq.read_table(res.to_parquet(tmp_path / "r.parquet"))
+    assert table.column_names == list(frame.columns)
+    assert b"clutchsim" in table.schema.metadata
+    assert not list(tmp_path.glob("*.tmp"))
+
+
+def test_signal_values_and_breakpoints():
+    assert Constant(2.5)(3.0)[0] == 2.5
+    s = Step(1.0, height=2.0, offset=-1.0)
+    assert list(s([0.5, 1.0, 2.0])) == [-1.0, 1.0, 1.0]
+    r = Ramp(1.0, 2.0, height=4.0)
+    assert list(r([0.0, 2.0, 5.0])) == [0.0, 2.0, 4.0]
+    assert list(r.breakpoints()) == [1.0, 3.0]
+    assert Sine(2.0, 0.25, start=1.0)([0.5, 2.0]) == pytest.approx([0.0, 2.0])
+    p = Pulse(1.0, 50.0, 2.0, start=0.5, horizon=5.0)
+    assert list(p([0.4, 0.6, 1.6, 2.6])) == [0.0, 1.0, 0.0, 1.0]
+    total = Constant(0.5) + Sine(0.4, 1.0)
+    assert total([0.25])[0] == pytest.approx(0.9)
+
+
+def test_table_jump_and_hold():
+    t = Table([0.0, 1.0, 1.0, 2.0], [0.0, 1.0, 3.0, 3.0])
+    assert list(t([-1.0, 0.5, 1.0, 5.0])) == [0.0, 0.5, 3.0, 3.0]
+    assert 1.0 in t.breakpoints()
+
+
+@pytest.mark.parametrize("text, fragment", [
+    ("t,v\n0,1\n,\n2,3\n", ":3: empty row"),
+    ("t,v\n0,1\n2\n", ":3: expected 2 columns"),
+    ("t,v\n0,1\n2,abc\n", ":3: not a number"),
+    ("t,v\n0,1\n2,nan\n", "row 2"),
+    ("t,v\n0,1\n2,2\n1,3\n", "non-decreasing"),
+])
+def test_bad_csv_tables_name_file_and_row(tmp_path, text, fragment):
+    path = tmp_path / "input.csv"
+    path.write_text(text)
+    with pytest.raises(ValueError) as info:
+        Table.from_csv(path)
+    assert str(path) in str(info.value) and fragment in str(info.value)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.lists(st.floats(-1e3, 1e3), min_size=2, max_size=20),
+       st.floats(-10.0, 30.0))
+def test_table_interpolation_stays_within_its_values(values, t):
+    times = np.linspace(0.0, 20.0, len(values))
+    v = Table(times, values)(t)[0]
+    assert min(values) - 1e-9 <= v <= max(values) + 1e-9
