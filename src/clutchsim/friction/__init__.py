@@ -1,0 +1,51 @@
+"""Friction models of clutchsim: classes, registry and compiled dispatchers.
+
+Every model is a frozen dataclass of SI parameters (see
+:mod:`clutchsim.friction.base` for the sign, unit and ``scale`` conventions)
+whose compiled kernels are reached through :func:`friction_force`,
+:func:`friction_events` and :func:`friction_reset` with the model's integer
+``code`` and packed parameters ``model.pack()``.
+"""
+
+from .base import FrictionModel, SelfExcitedWarning
+from .coulomb_naive import CoulombNaive
+from .coulomb_robust import CoulombRobust
+from .dahl import Dahl
+from .elastoplastic import ElastoPlastic
+from .gms import GMS
+from .karnopp import Karnopp
+from .kernels import friction_events, friction_force, friction_reset
+from .lugre import LuGre
+from .mykhailevych2020 import RESET_POLICIES, Mykhailevych2020
+from .params import ParameterSet, list_parameter_sets, load_parameter_set
+from .registry import MODELS, describe_models, get_model_class, make_model
+from .rotational_friction import RotationalFriction
+from .stribeck import StribeckFriction
+from .tanh import TanhFriction
+
+__all__ = [
+    "GMS",
+    "MODELS",
+    "RESET_POLICIES",
+    "CoulombNaive",
+    "CoulombRobust",
+    "Dahl",
+    "ElastoPlastic",
+    "FrictionModel",
+    "Karnopp",
+    "LuGre",
+    "Mykhailevych2020",
+    "ParameterSet",
+    "RotationalFriction",
+    "SelfExcitedWarning",
+    "StribeckFriction",
+    "TanhFriction",
+    "describe_models",
+    "friction_events",
+    "friction_force",
+    "friction_reset",
+    "get_model_class",
+    "list_parameter_sets",
+    "load_parameter_set",
+    "make_model",
+]

@@ -1,0 +1,258 @@
+"""Abstract base of every friction model of clutchsim.
+
+Conventions shared by all models
+--------------------------------
+Sign
+    ``v`` is the relative slip velocity. The friction force ``F`` returned by a
+    model is the force transmitted in the direction of ``v``: it resists
+    sliding, so the sliding body sees ``-F`` and steady sliding has
+    ``sign(F) == sign(v)``.
+Units
+    Parameters are stored in translational SI units (N, m, m/s). The very same
+    object is used for rotation, where the numbers are read as N·m, rad and
+    rad/s (:meth:`FrictionModel.unit_of` gives the unit in either domain).
+Capacity ``scale``
+    Every kernel takes a capacity multiplier ``scale >= 0`` (normalised normal
+    force, or the clutch command COM). Every force term of every model is
+    proportional to ``scale`` (Coulomb and static levels, viscous terms,
+    bristle forces, ``T_stat`` of model (6)). State dynamics are written in
+    normalised form (they use the nominal, ``scale = 1`` curves), so they stay
+    well posed when ``scale = 0``. ``scale = 0`` is a free, open element: the
+    force is exactly zero whatever the state.
+Stick force ``F_e``
+    The friction force that would keep the relative acceleration exactly zero,
+    computed by the plant (``F_e = u`` for a mass pushed by ``u``). Only the
+    switching models (coulomb-naive, coulomb-robust, karnopp) read it.
+Events
+    Models that need the integrator to locate something declare event
+    functions ``g_k``; an event fires when ``g_k`` crosses zero in the declared
+    direction (-1 falling, +1 rising, 0 both). At a located event the
+    integrator calls the model's reset, which returns 0 (nothing changed,
+    monitoring event), 1 (states changed), 2 (states changed and the element
+    is now stuck: the plant sets the relative velocity to exactly zero,
+    conserving momentum) or 3 (the element has just left the stuck mode).
+"""
+
+from __future__ import annotations
+
+import abc
+import dataclasses
+import math
+from typing import Any, ClassVar
+
+import numpy as np
+
+__all__ = ["DOMAINS", "UNIT_KINDS", "FrictionModel", "SelfExcitedWarning"]
+
+DOMAINS = ("translational", "rotational")
+
+#: Unit strings of each parameter kind, per domain.
+UNIT_KINDS: dict[str, tuple[str, str]] = {
+    "force": ("N", "N·m"),
+    "velocity": ("m/s", "rad/s"),
+    "displacement": ("m", "rad"),
+    "force/velocity": ("N·s/m", "N·m·s/rad"),
+    "force/displacement": ("N/m", "N·m/rad"),
+    "force/time": ("N/s", "N·m/s"),
+    "1": ("-", "-"),
+}
+
+
+class SelfExcitedWarning(UserWarning):
+    """The locked (stuck) state of a model is self-excited (negative damping)."""
+
+
+def _domain_index(domain: str) -> int:
+    if domain not in DOMAINS:
+        raise ValueError(f"domain = {domain!r} must be one of {', '.join(DOMAINS)}")
+    return DOMAINS.index(domain)
+
+
+class FrictionModel(abc.ABC):
+    """Abstract friction model: parameters plus compiled kernels.
+
+    Concrete models are final frozen dataclasses whose fields are the physical
+    parameters (translational SI units). They declare, as class variables,
+    ``name`` (registry name), ``code`` (integer used by the compiled
+    dispatchers), ``citation``, ``parameter_info`` (``{parameter: (unit kind,
+    description)}``), ``phenomena`` (the expected entries of the phenomena
+    matrix), ``default_parameter_set`` and ``event_spec`` (``((name,
+    direction), ...)``). They implement five small hooks: ``_check`` (model
+    specific validation), ``_pack`` (private parameter layout read by the
+    kernels), ``_state_spec`` (state names and unit kinds) and ``_steady``
+    (steady sliding force at ``scale = 1``) and ``_sliding_state`` (states in
+    steady sliding).
+    """
+
+    name: ClassVar[str]
+    code: ClassVar[int]
+    citation: ClassVar[str]
+    parameter_info: ClassVar[dict[str, tuple[str, str]]]
+    phenomena: ClassVar[dict[str, str]]
+    default_parameter_set: ClassVar[str]
+    event_spec: ClassVar[tuple[tuple[str, int], ...]] = ()
+
+    # ------------------------------------------------------------------ hooks
+    @abc.abstractmethod
+    def _check(self) -> None:
+        """Model-specific validation; raise ValueError via :meth:`_require`."""
+
+    @abc.abstractmethod
+    def _pack(self) -> list[float]:
+        """Parameters in the private layout read by the kernels."""
+
+    @abc.abstractmethod
+    def _state_spec(self) -> tuple[tuple[str, str], ...]:
+        """``((state name, unit kind), ...)``; unit kind in UNIT_KINDS."""
+
+    @abc.abstractmethod
+    def _steady(self, v: np.ndarray) -> np.ndarray:
+        """Steady sliding force at ``scale = 1`` for the velocities ``v``."""
+
+    @abc.abstractmethod
+    def _sliding_state(self, v: float) -> list[float]:
+        """States in steady sliding at velocity ``v`` (``v != 0``)."""
+
+    # ------------------------------------------------------------ validation
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):  # type: ignore[arg-type]
+            value = getattr(self, f.name)
+            if f.type in ("str", str):  # option fields (e.g. a reset policy)
+                if not isinstance(value, str):
+                    raise ValueError(
+                        f"{type(self).__name__}: {f.name} = {value!r} must be a string"
+                    )
+                continue
+            if isinstance(value, (list, tuple, np.ndarray)):
+                items = tuple(self._as_float(f.name, x) for x in value)
+                object.__setattr__(self, f.name, items)
+            else:
+                object.__setattr__(self, f.name, self._as_float(f.name, value))
+        self._check()
+
+    def _as_float(self, param: str, value: Any) -> float:
+        cls = type(self).__name__
+        if isinstance(value, bool):
+            # contract: every bad parameter raises ValueError
+            raise ValueError(f"{cls}: {param} = {value!r} must be a number, not a bool")  # noqa: TRY004
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            raise ValueError(f"{cls}: {param} = {value!r} must be a real number") from None
+        if not math.isfinite(x):
+            raise ValueError(f"{cls}: {param} = {x} must be finite (no NaN or inf)")
+        return x
+
+    def _fmt(self, param: str) -> str:
+        value = getattr(self, param)
+        kind = self.parameter_info[param][0]
+        unit = UNIT_KINDS[kind][0]
+        if isinstance(value, str):
+            shown = repr(value)
+        elif isinstance(value, tuple):
+            shown = "(" + ", ".join(f"{x:g}" for x in value) + ")"
+        else:
+            shown = f"{value:g}"
+        return f"{param} = {shown}" + ("" if unit == "-" else f" {unit}")
+
+    def _require(self, ok: bool, param: str, rule: str) -> None:
+        """Raise ``ValueError('<Model>: <param> = <value> <unit> must be <rule>')``."""
+        if not ok:
+            raise ValueError(f"{type(self).__name__}: {self._fmt(param)} must be {rule}")
+
+    # ------------------------------------------------------------ states
+    @property
+    def n_states(self) -> int:
+        """Number of internal states of the model."""
+        return len(self._state_spec())
+
+    def state_names(self) -> tuple[str, ...]:
+        """Names of the internal states, in storage order."""
+        return tuple(name for name, _ in self._state_spec())
+
+    def state_units(self, domain: str = "translational") -> tuple[str, ...]:
+        """Units of the internal states in ``domain`` ("translational"/"rotational")."""
+        i = _domain_index(domain)
+        return tuple(UNIT_KINDS[kind][i] for _, kind in self._state_spec())
+
+    def initial_state(self) -> np.ndarray:
+        """State at rest and unloaded (all zeros; coulomb-robust: stuck)."""
+        return np.zeros(self.n_states, dtype=np.float64)
+
+    def sliding_state(self, v: float) -> np.ndarray:
+        """States in steady sliding at slip velocity ``v != 0``.
+
+        With these states the compiled kernel returns ``steady_state_force(v)``
+        and (except for switching artefacts) zero state derivatives.
+        """
+        v = float(v)
+        if v == 0.0 or not math.isfinite(v):
+            raise ValueError(f"v = {v} must be finite and non-zero for steady sliding")
+        return np.asarray(self._sliding_state(v), dtype=np.float64).reshape(self.n_states)
+
+    # ------------------------------------------------------------ events
+    @property
+    def n_events(self) -> int:
+        """Number of event functions the integrator must watch."""
+        return len(self.event_spec)
+
+    def event_names(self) -> tuple[str, ...]:
+        """Names of the event functions."""
+        return tuple(name for name, _ in self.event_spec)
+
+    def event_directions(self) -> np.ndarray:
+        """Crossing direction of each event: -1 falling, +1 rising, 0 both."""
+        return np.array([d for _, d in self.event_spec], dtype=np.int64)
+
+    # ------------------------------------------------------------ numbers
+    def pack(self) -> np.ndarray:
+        """Parameters as a 1-D float64 array in the model's private layout."""
+        return np.ascontiguousarray(self._pack(), dtype=np.float64)
+
+    def steady_state_force(self, v: Any, scale: float = 1.0) -> np.ndarray:
+        """Steady sliding friction force for slip velocity ``v``.
+
+        Parameters
+        ----------
+        v : array_like
+            Slip velocity [m/s or rad/s].
+        scale : float, optional
+            Capacity multiplier (>= 0), default 1.
+
+        Returns
+        -------
+        numpy.ndarray
+            Friction force [N or N·m] in the direction of ``v``.
+        """
+        if not (math.isfinite(scale) and scale >= 0.0):
+            raise ValueError(f"scale = {scale} must be finite and >= 0")
+        v = np.asarray(v, dtype=np.float64)
+        return scale * self._steady(v)
+
+    # ------------------------------------------------------------ helpers
+    def with_(self, **changes: Any) -> FrictionModel:
+        """Copy with some parameters changed (validated like the constructor)."""
+        return dataclasses.replace(self, **changes)  # type: ignore[type-var]
+
+    @classmethod
+    def from_parameters(cls, set_name: str) -> FrictionModel:
+        """Build the model from a literature parameter set (TOML data file)."""
+        from .params import load_parameter_set
+
+        pset = load_parameter_set(set_name)
+        if cls.name not in pset.models:
+            raise ValueError(
+                f"parameter set {set_name!r} is for model(s) {', '.join(pset.models)}, "
+                f"not {cls.name!r}"
+            )
+        return cls(**pset.parameters)
+
+    @classmethod
+    def unit_of(cls, param: str, domain: str = "translational") -> str:
+        """Unit of parameter ``param`` in ``domain``."""
+        i = _domain_index(domain)
+        if param not in cls.parameter_info:
+            raise ValueError(
+                f"{cls.__name__} has no parameter {param!r}; valid: {', '.join(cls.parameter_info)}"
+            )
+        return UNIT_KINDS[cls.parameter_info[param][0]][i]

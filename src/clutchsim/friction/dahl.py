@@ -1,0 +1,94 @@
+"""Dahl (1968) friction model."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from .._jit import jit
+from ._common import sgn
+from .base import FrictionModel
+
+__all__ = ["Dahl", "dahl_force"]
+
+
+@dataclass(frozen=True)
+class Dahl(FrictionModel):
+    """Dahl's solid friction model in bristle form (state ``z``)::
+
+        r     = 1 - sigma0·z·sign(v)/F_c
+        dz/dt = v·|r|^alpha·sign(r)          (alpha = 1: dz/dt = v - sigma0·|v|·z/F_c)
+        F     = scale·sigma0·z
+
+    Steady sliding: ``z = sign(v)·F_c/sigma0`` and ``F = scale·F_c·sign(v)``.
+    Rate-independent pre-sliding hysteresis; no stiction, no Stribeck; drifts
+    under a biased oscillating force.
+
+    Parameters
+    ----------
+    F_c : float
+        Coulomb level [N or N·m], > 0.
+    sigma0 : float
+        Rest stiffness [N/m or N·m/rad], > 0.
+    alpha : float, optional
+        Shape exponent [-], > 0, default 1.
+
+    References
+    ----------
+    Dahl P.R., "A solid friction model", The Aerospace Corporation,
+    TOR-0158(3107-18)-1, 1968.
+    """
+
+    F_c: float
+    sigma0: float
+    alpha: float = 1.0
+
+    name: ClassVar[str] = "dahl"
+    code: ClassVar[int] = 7
+    citation: ClassVar[str] = (
+        "Dahl P.R., A solid friction model, The Aerospace Corporation, El Segundo, CA, "
+        "Technical Report TOR-0158(3107-18)-1, 1968."
+    )
+    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
+        "F_c": ("force", "Coulomb friction level"),
+        "sigma0": ("force/displacement", "rest stiffness"),
+        "alpha": ("1", "shape exponent of the Dahl curve"),
+    }
+    phenomena: ClassVar[dict[str, str]] = {
+        "stiction": "no",
+        "stribeck": "no",
+        "presliding": "yes",
+        "frictional_lag": "no",
+        "varying_breakaway": "no",
+        "no_drift": "no (16.7 µm/cycle in drift test D1)",
+    }
+    default_parameter_set: ClassVar[str] = "dahl_d1"
+
+    def _check(self) -> None:
+        self._require(self.F_c > 0.0, "F_c", "> 0")
+        self._require(self.sigma0 > 0.0, "sigma0", "> 0")
+        self._require(self.alpha > 0.0, "alpha", "> 0")
+
+    def _pack(self) -> list[float]:
+        return [self.F_c, self.sigma0, self.alpha]
+
+    def _state_spec(self) -> tuple[tuple[str, str], ...]:
+        return (("z", "displacement"),)
+
+    def _steady(self, v: np.ndarray) -> np.ndarray:
+        return self.F_c * np.sign(v)
+
+    def _sliding_state(self, v: float) -> list[float]:
+        return [float(np.sign(v)) * self.F_c / self.sigma0]
+
+
+@jit
+def dahl_force(p, z, v, F_e, scale, dz):
+    r = 1.0 - p[1] * z[0] * sgn(v) / p[0]
+    if p[2] == 1.0:
+        dz[0] = v * r
+    else:
+        dz[0] = v * abs(r) ** p[2] * sgn(r)
+    return scale * p[1] * z[0]

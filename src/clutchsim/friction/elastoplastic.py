@@ -1,0 +1,134 @@
+"""Elasto-plastic friction model (Dupont, Hayward, Armstrong, Altpeter 2002)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from .._jit import jit
+from ._common import sgn, stribeck_level
+from .base import FrictionModel
+
+__all__ = ["ElastoPlastic", "elastoplastic_force"]
+
+
+@dataclass(frozen=True)
+class ElastoPlastic(FrictionModel):
+    """Single-state elasto-plastic model (LuGre with a true elastic zone)::
+
+        g(v)   = F_c + (F_s - F_c)·exp(-|v/v_s|^delta),   z_max(v) = g(v)/sigma0
+        dz/dt  = v·(1 - alpha(z, v)·z/z_ss(v)) = v - alpha·sigma0·|v|·z/g(v)
+        F      = scale·(sigma0·z + sigma1·dz/dt + sigma2·v)
+
+        alpha = 0                                        if sign(v) != sign(z)
+              = 0                                        if |z| <= z_ba
+              = (1 + sin(pi·(|z| - (z_max + z_ba)/2)/(z_max - z_ba)))/2
+                                                         if z_ba < |z| < z_max
+              = 1                                        if |z| >= z_max
+
+    The sine uses ``|z|`` and unloading (``sign(v) != sign(z)``) is purely
+    elastic. Requires ``0 < z_ba < F_c/sigma0`` so that ``z_ba < z_max(v)``.
+    No drift while ``|z| <= z_ba``.
+
+    Parameters
+    ----------
+    F_c, F_s, v_s, sigma0, sigma1, sigma2, delta
+        As in :class:`~clutchsim.friction.LuGre`.
+    z_ba : float
+        Break-away displacement [m or rad], ``0 < z_ba < F_c/sigma0``.
+
+    References
+    ----------
+    Dupont P., Hayward V., Armstrong B., Altpeter F., "Single state
+    elastoplastic friction models", IEEE Trans. Automatic Control
+    47(5):787-792, 2002, doi:10.1109/TAC.2002.1000274.
+    """
+
+    F_c: float
+    F_s: float
+    v_s: float
+    sigma0: float
+    sigma1: float
+    sigma2: float
+    z_ba: float
+    delta: float = 2.0
+
+    name: ClassVar[str] = "elastoplastic"
+    code: ClassVar[int] = 9
+    citation: ClassVar[str] = (
+        "Dupont P., Hayward V., Armstrong B., Altpeter F., Single state elastoplastic friction "
+        "models, IEEE Transactions on Automatic Control 47(5):787-792, 2002, "
+        "doi:10.1109/TAC.2002.1000274."
+    )
+    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
+        "F_c": ("force", "Coulomb friction level"),
+        "F_s": ("force", "static friction level"),
+        "v_s": ("velocity", "Stribeck velocity"),
+        "sigma0": ("force/displacement", "bristle stiffness"),
+        "sigma1": ("force/velocity", "bristle damping"),
+        "sigma2": ("force/velocity", "viscous friction coefficient"),
+        "z_ba": ("displacement", "break-away displacement (end of the elastic zone)"),
+        "delta": ("1", "Stribeck exponent"),
+    }
+    phenomena: ClassVar[dict[str, str]] = {
+        "stiction": "yes",
+        "stribeck": "yes",
+        "presliding": "yes (true elastic zone)",
+        "frictional_lag": "yes",
+        "varying_breakaway": "yes",
+        "no_drift": "yes while |F| < sigma0·z_ba (0 in drift test D1 with z_ba = 0.95 F_c/sigma0)",
+    }
+    default_parameter_set: ClassVar[str] = "elastoplastic_dupont2002"
+
+    def _check(self) -> None:
+        self._require(self.F_c > 0.0, "F_c", "> 0")
+        self._require(self.F_s >= self.F_c, "F_s", f">= F_c = {self.F_c:g} N")
+        self._require(self.v_s > 0.0, "v_s", "> 0")
+        self._require(self.sigma0 > 0.0, "sigma0", "> 0")
+        self._require(self.sigma1 >= 0.0, "sigma1", ">= 0")
+        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
+        self._require(self.delta > 0.0, "delta", "> 0")
+        self._require(self.z_ba > 0.0, "z_ba", "> 0")
+        limit = self.F_c / self.sigma0
+        self._require(self.z_ba < limit, "z_ba", f"< F_c/sigma0 = {limit:g} m")
+
+    def _pack(self) -> list[float]:
+        return [
+            self.F_c, self.F_s, self.v_s, self.sigma0, self.sigma1, self.sigma2, self.delta,
+            self.z_ba,
+        ]  # fmt: skip
+
+    def _state_spec(self) -> tuple[tuple[str, str], ...]:
+        return (("z", "displacement"),)
+
+    def _steady(self, v: np.ndarray) -> np.ndarray:
+        g = self.F_c + (self.F_s - self.F_c) * np.exp(-(np.abs(v / self.v_s) ** self.delta))
+        return np.sign(v) * g + self.sigma2 * v
+
+    def _sliding_state(self, v: float) -> list[float]:
+        g = self.F_c + (self.F_s - self.F_c) * np.exp(-(abs(v / self.v_s) ** self.delta))
+        return [float(np.sign(v) * g / self.sigma0)]
+
+
+@jit
+def elastoplastic_alpha(z, v, z_ba, z_max):
+    """Elasto-plastic blending factor alpha(z, v) in [0, 1]."""
+    if sgn(v) != sgn(z):
+        return 0.0
+    a = abs(z)
+    if a <= z_ba:
+        return 0.0
+    if a >= z_max:
+        return 1.0
+    return 0.5 * math.sin(math.pi * (a - 0.5 * (z_max + z_ba)) / (z_max - z_ba)) + 0.5
+
+
+@jit
+def elastoplastic_force(p, z, v, F_e, scale, dz):
+    g = stribeck_level(v, p[0], p[1], p[2], p[6])
+    alpha = elastoplastic_alpha(z[0], v, p[7], g / p[3])
+    dz[0] = v - alpha * p[3] * abs(v) * z[0] / g
+    return scale * (p[3] * z[0] + p[4] * dz[0] + p[5] * v)

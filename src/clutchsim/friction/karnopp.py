@@ -1,0 +1,96 @@
+"""Karnopp (1985) friction: a velocity window treated as zero velocity."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from .._jit import jit
+from ._common import clip, sgn
+from .base import FrictionModel
+
+__all__ = ["Karnopp", "karnopp_force"]
+
+
+@dataclass(frozen=True)
+class Karnopp(FrictionModel):
+    """Karnopp stick/slip friction without events.
+
+    Inside the window ``|v| < DV`` the velocity is treated as zero and the
+    friction balances the stick force::
+
+        |v| <  DV:  F = clip(F_e, ±scale·F_s)
+        |v| >= DV:  F = scale·(F_c·sign(v) + sigma2·v)
+
+    No states, no events; results depend on ``DV`` (a numerical parameter).
+
+    Parameters
+    ----------
+    F_c : float
+        Coulomb level [N or N·m], >= 0.
+    F_s : float
+        Static level [N or N·m], >= F_c.
+    DV : float
+        Half-width of the zero-velocity window [m/s or rad/s], > 0.
+    sigma2 : float, optional
+        Viscous coefficient [N·s/m or N·m·s/rad], >= 0, default 0.
+
+    References
+    ----------
+    Karnopp D., "Computer simulation of stick-slip friction in mechanical
+    dynamic systems", ASME J. Dyn. Syst. Meas. Control 107(1):100-103, 1985.
+    """
+
+    F_c: float
+    F_s: float
+    DV: float
+    sigma2: float = 0.0
+
+    name: ClassVar[str] = "karnopp"
+    code: ClassVar[int] = 3
+    citation: ClassVar[str] = (
+        "Karnopp D., Computer simulation of stick-slip friction in mechanical dynamic systems, "
+        "ASME Journal of Dynamic Systems, Measurement, and Control 107(1):100-103, 1985."
+    )
+    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
+        "F_c": ("force", "Coulomb friction level"),
+        "F_s": ("force", "static friction level"),
+        "DV": ("velocity", "half-width of the velocity window treated as zero"),
+        "sigma2": ("force/velocity", "viscous friction coefficient"),
+    }
+    phenomena: ClassVar[dict[str, str]] = {
+        "stiction": "yes",
+        "stribeck": "no",
+        "presliding": "no",
+        "frictional_lag": "no",
+        "varying_breakaway": "no",
+        "no_drift": "yes (within the window the body is held)",
+    }
+    default_parameter_set: ClassVar[str] = "karnopp"
+
+    def _check(self) -> None:
+        self._require(self.F_c >= 0.0, "F_c", ">= 0")
+        self._require(self.F_s >= self.F_c, "F_s", f">= F_c = {self.F_c:g} N")
+        self._require(self.DV > 0.0, "DV", "> 0")
+        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
+
+    def _pack(self) -> list[float]:
+        return [self.F_c, self.F_s, self.DV, self.sigma2]
+
+    def _state_spec(self) -> tuple[tuple[str, str], ...]:
+        return ()
+
+    def _steady(self, v: np.ndarray) -> np.ndarray:
+        return self.F_c * np.sign(v) + self.sigma2 * v
+
+    def _sliding_state(self, v: float) -> list[float]:
+        return []
+
+
+@jit
+def karnopp_force(p, z, v, F_e, scale, dz):
+    if abs(v) < p[2]:
+        return clip(F_e, scale * p[1])
+    return scale * (p[0] * sgn(v) + p[3] * v)

@@ -1,0 +1,80 @@
+"""Compiled dispatchers over all friction models (plain if/elif on ``code``).
+
+The integer codes are the ``code`` class variables of the model classes:
+1 coulomb-naive, 2 coulomb-robust, 3 karnopp, 4 tanh, 5 stribeck,
+6 rotational-friction, 7 dahl, 8 lugre, 9 elastoplastic, 10 gms,
+11 mykhailevych2020. See :mod:`clutchsim.friction.base` for the meaning of
+the arguments.
+"""
+
+from __future__ import annotations
+
+from .._jit import jit
+from .coulomb_naive import coulomb_naive_events, coulomb_naive_force, coulomb_naive_reset
+from .coulomb_robust import coulomb_robust_events, coulomb_robust_force, coulomb_robust_reset
+from .dahl import dahl_force
+from .elastoplastic import elastoplastic_force
+from .gms import gms_force
+from .karnopp import karnopp_force
+from .lugre import lugre_force
+from .mykhailevych2020 import (
+    mykhailevych2020_events,
+    mykhailevych2020_force,
+    mykhailevych2020_reset,
+)
+from .rotational_friction import rotational_friction_force
+from .stribeck import stribeck_force
+from .tanh import tanh_force
+
+__all__ = ["friction_events", "friction_force", "friction_reset"]
+
+
+@jit
+def friction_force(code, p, z, v, F_e, scale, dz):
+    """Friction force of model ``code``; writes the state derivatives into ``dz``."""
+    if code == 8:
+        return lugre_force(p, z, v, F_e, scale, dz)
+    elif code == 11:
+        return mykhailevych2020_force(p, z, v, F_e, scale, dz)
+    elif code == 9:
+        return elastoplastic_force(p, z, v, F_e, scale, dz)
+    elif code == 10:
+        return gms_force(p, z, v, F_e, scale, dz)
+    elif code == 7:
+        return dahl_force(p, z, v, F_e, scale, dz)
+    elif code == 1:
+        return coulomb_naive_force(p, z, v, F_e, scale, dz)
+    elif code == 2:
+        return coulomb_robust_force(p, z, v, F_e, scale, dz)
+    elif code == 3:
+        return karnopp_force(p, z, v, F_e, scale, dz)
+    elif code == 4:
+        return tanh_force(p, z, v, F_e, scale, dz)
+    elif code == 5:
+        return stribeck_force(p, z, v, F_e, scale, dz)
+    elif code == 6:
+        return rotational_friction_force(p, z, v, F_e, scale, dz)
+    return 0.0
+
+
+@jit
+def friction_events(code, p, z, v, F_e, scale, g):
+    """Event-function values of model ``code`` into ``g`` (no-op without events)."""
+    if code == 11:
+        mykhailevych2020_events(p, z, v, F_e, scale, g)
+    elif code == 2:
+        coulomb_robust_events(p, z, v, F_e, scale, g)
+    elif code == 1:
+        coulomb_naive_events(p, z, v, F_e, scale, g)
+
+
+@jit
+def friction_reset(code, p, z, v, F_e, scale, k):
+    """Apply the reset of event ``k`` of model ``code``; see base for the return codes."""
+    if code == 11:
+        return mykhailevych2020_reset(p, z, v, F_e, scale, k)
+    elif code == 2:
+        return coulomb_robust_reset(p, z, v, F_e, scale, k)
+    elif code == 1:
+        return coulomb_naive_reset(p, z, v, F_e, scale, k)
+    return 0

@@ -1,0 +1,227 @@
+"""The seed's single-state clutch friction model, system (6) (Mykhailevych 2020)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from .._jit import jit
+from ._common import sgn
+from .base import FrictionModel, SelfExcitedWarning
+
+__all__ = [
+    "RESET_POLICIES",
+    "Mykhailevych2020",
+    "mykhailevych2020_events",
+    "mykhailevych2020_force",
+    "mykhailevych2020_reset",
+]
+
+#: Reset policies of the integrator phi at a zero crossing of v, and their codes.
+RESET_POLICIES: dict[str, int] = {
+    "clamp": 0,
+    "zero": 1,
+    "plus_phi0": 2,
+    "minus_phi0": 3,
+    "none": 4,
+}
+
+
+@dataclass(frozen=True)
+class Mykhailevych2020(FrictionModel):
+    """Model (6) of Mykhailevych (2020): elastic tanh term plus Stribeck drop.
+
+    One state, the integrated slip ``phi`` (m or rad)::
+
+        T      = scale·[ T_stat·tanh(phi/phi0) + k_v·v
+                         - sign(v)·(T_stat - T_din)·(1 - exp(-|v/omega0|^p)) ]
+        T_din  = k_din·T_stat
+        dphi/dt = v
+
+    ``T_stat`` is the capacity at ``scale = 1`` (for a clutch ``F_n·mu·R_f·i``;
+    the driveline passes ``scale = F_n(t)·mu·R_f·i/T_stat`` or the command COM).
+
+    Event ``g = v`` (both directions). At each zero crossing of ``v`` the
+    integrator state is re-initialised by the policy ``reset``:
+
+    ``clamp`` (default)  ``phi := sign(phi)·min(|phi|, reset_c·phi0)``
+    ``zero``             ``phi := 0`` (the seed's words, "zeroing")
+    ``plus_phi0``        ``phi := +sign(phi)·phi0``
+    ``minus_phi0``       ``phi := -sign(phi)·phi0`` (the seed's formula line)
+    ``none``             no change
+
+    The reset returns 1 when ``phi`` changed, else 0.
+
+    Properties (between resets): the largest force held in stick is
+    ``T_stat``; the pre-sliding stiffness at ``phi = 0`` is ``T_stat/phi0``; a
+    constant load ``T < T_stat`` is held at ``phi* = phi0·atanh(T/T_stat)``.
+    Steady sliding (``|phi| >> phi0``, tanh = sign(v))::
+
+        T_ss(v) = sign(v)·[T_din + (T_stat - T_din)·exp(-|v/omega0|^p)] + k_v·v,
+
+    which is ``T_stat`` as ``v -> 0+`` and ``T_din + k_v·v`` for ``v >> omega0``.
+
+    Small-slip damping. Hold ``phi`` fixed and expand the velocity-dependent
+    part ``D(v) = k_v·v - sign(v)·dT·(1 - exp(-|v/omega0|^p))``,
+    ``dT = T_stat - T_din``, about ``v = 0``. With ``1 - exp(-x) = x + O(x^2)``:
+
+    * ``p = 1``: ``sign(v)·|v|/omega0 = v/omega0``, so ``D(v) = (k_v -
+      dT/omega0)·v + O(v^2)`` and ``c_eff = k_v - (T_stat - T_din)/omega0``;
+    * ``p = 2``: ``sign(v)·v^2/omega0^2 = v·|v|/omega0^2`` is second order, so
+      ``c_eff = k_v``.
+
+    The locked state is an inertia on the elastic spring ``T_stat/phi0`` with
+    the damper ``c_eff`` (scaled by ``scale``, which does not change its
+    sign); ``c_eff < 0`` makes it self-excited, and the constructor then
+    emits a :class:`~clutchsim.friction.SelfExcitedWarning`.
+
+    Parameters
+    ----------
+    T_stat : float
+        Static capacity at scale 1 [N or N·m], > 0.
+    k_din : float
+        Ratio T_din/T_stat [-], 0 <= k_din <= 1.
+    phi0 : float
+        Elastic slip scale [m or rad], > 0.
+    omega0 : float
+        Velocity separating static and dynamic regimes [m/s or rad/s], > 0.
+    k_v : float
+        Internal (viscous) friction coefficient [N·s/m or N·m·s/rad], >= 0.
+    p : float, optional
+        Exponent of the Stribeck term, 1 or 2 (default 2).
+    reset : str, optional
+        Reset policy, one of ``RESET_POLICIES`` (default ``"clamp"``).
+    reset_c : float, optional
+        Clamp factor c of the ``clamp`` policy [-], > 0, default 2.
+
+    References
+    ----------
+    Mykhailevych M.G., "Model of friction for dry friction clutch working
+    process simulation", Avtomobil i elektronika. Suchasni tekhnolohii 18
+    (2020), system (6). Reset policy ``clamp`` is clutchsim's addition.
+    """
+
+    T_stat: float
+    k_din: float
+    phi0: float
+    omega0: float
+    k_v: float
+    p: float = 2.0
+    reset: str = "clamp"
+    reset_c: float = 2.0
+
+    name: ClassVar[str] = "mykhailevych2020"
+    code: ClassVar[int] = 11
+    citation: ClassVar[str] = (
+        "Mykhailevych M.G., Model of friction for dry friction clutch working process "
+        "simulation, Avtomobil i elektronika. Suchasni tekhnolohii (Automobile and "
+        "Electronics. Modern Technologies), no. 18, 2020, system (6); Kharkiv National "
+        "Automobile and Highway University."
+    )
+    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
+        "T_stat": ("force", "static capacity at scale 1 (F_n·mu·R_f·i for a clutch)"),
+        "k_din": ("1", "ratio of dynamic to static capacity T_din/T_stat"),
+        "phi0": ("displacement", "slip within which the contact deforms elastically"),
+        "omega0": ("velocity", "slip velocity separating static and dynamic regimes"),
+        "k_v": ("force/velocity", "internal (viscous) friction coefficient"),
+        "p": ("1", "exponent of the Stribeck term (1 or 2)"),
+        "reset": ("1", "reset policy of phi at v = 0: " + ", ".join(RESET_POLICIES)),
+        "reset_c": ("1", "clamp factor c of the clamp policy (|phi| <= c·phi0)"),
+    }
+    phenomena: ClassVar[dict[str, str]] = {
+        "stiction": "yes (capacity T_stat)",
+        "stribeck": "yes",
+        "presliding": "yes (tanh spring)",
+        "frictional_lag": "via k_v only",
+        "varying_breakaway": "no",
+        "no_drift": "only with a clamp-type reset",
+    }
+    default_parameter_set: ClassVar[str] = "mykhailevych2020_translational"
+    event_spec: ClassVar[tuple[tuple[str, int], ...]] = (("velocity_zero_crossing", 0),)
+
+    @property
+    def T_din(self) -> float:
+        """Dynamic capacity ``k_din·T_stat`` at scale 1 [N or N·m]."""
+        return self.k_din * self.T_stat
+
+    @property
+    def c_eff(self) -> float:
+        """Linearised small-slip damping at v = 0 and scale 1 [N·s/m or N·m·s/rad]."""
+        if self.p == 1.0:
+            return self.k_v - (self.T_stat - self.T_din) / self.omega0
+        return self.k_v
+
+    def _check(self) -> None:
+        self._require(self.T_stat > 0.0, "T_stat", "> 0")
+        self._require(0.0 <= self.k_din <= 1.0, "k_din", "in [0, 1] (T_din <= T_stat)")
+        self._require(self.phi0 > 0.0, "phi0", "> 0")
+        self._require(self.omega0 > 0.0, "omega0", "> 0")
+        self._require(self.k_v >= 0.0, "k_v", ">= 0")
+        self._require(self.p in (1.0, 2.0), "p", "1 or 2")
+        self._require(self.reset in RESET_POLICIES, "reset", "one of " + ", ".join(RESET_POLICIES))
+        self._require(self.reset_c > 0.0, "reset_c", "> 0")
+        if self.c_eff < 0.0:
+            warnings.warn(
+                f"Mykhailevych2020: small-slip damping c_eff = {self.c_eff:g} N·s/m < 0 "
+                f"(p = {self.p:g}, k_v = {self.k_v:g}, (T_stat - T_din)/omega0 = "
+                f"{(self.T_stat - self.T_din) / self.omega0:g}): the locked state is "
+                "self-excited; increase k_v or omega0, or use p = 2",
+                SelfExcitedWarning,
+                stacklevel=4,
+            )
+
+    def _pack(self) -> list[float]:
+        return [
+            self.T_stat, self.k_din, self.phi0, self.omega0, self.k_v, self.p,
+            float(RESET_POLICIES[self.reset]), self.reset_c,
+        ]  # fmt: skip
+
+    def _state_spec(self) -> tuple[tuple[str, str], ...]:
+        return (("phi", "displacement"),)
+
+    def _steady(self, v: np.ndarray) -> np.ndarray:
+        drop = (self.T_stat - self.T_din) * np.exp(-(np.abs(v / self.omega0) ** self.p))
+        return np.sign(v) * (self.T_din + drop) + self.k_v * v
+
+    def _sliding_state(self, v: float) -> list[float]:
+        # In steady sliding phi grows without bound; 50·phi0 already gives
+        # tanh(phi/phi0) == sign(v) exactly in double precision.
+        return [math.copysign(50.0 * self.phi0, v)]
+
+
+@jit
+def mykhailevych2020_force(p, z, v, F_e, scale, dz):
+    T_stat = p[0]
+    dz[0] = v
+    drop = (T_stat - p[1] * T_stat) * (1.0 - math.exp(-(abs(v / p[3]) ** p[5])))
+    return scale * (T_stat * math.tanh(z[0] / p[2]) + p[4] * v - sgn(v) * drop)
+
+
+@jit
+def mykhailevych2020_events(p, z, v, F_e, scale, g):
+    g[0] = v
+
+
+@jit
+def mykhailevych2020_reset(p, z, v, F_e, scale, k):
+    phi = z[0]
+    policy = int(p[6])
+    phi0 = p[2]
+    if policy == 0:
+        new = sgn(phi) * min(abs(phi), p[7] * phi0)
+    elif policy == 1:
+        new = 0.0
+    elif policy == 2:
+        new = sgn(phi) * phi0
+    elif policy == 3:
+        new = -sgn(phi) * phi0
+    else:
+        new = phi
+    if new == phi:
+        return 0
+    z[0] = new
+    return 1

@@ -1,0 +1,69 @@
+"""Loader of the literature parameter sets shipped as TOML data files.
+
+Each set is ``clutchsim/params/friction/<name>.toml`` with a ``[meta]`` table
+(``model``: registry name or list of names, ``source``, ``notes``,
+``domain``) and a ``[parameters]`` table (keyword arguments of the model).
+"""
+
+from __future__ import annotations
+
+import difflib
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from typing import Any
+
+__all__ = ["ParameterSet", "list_parameter_sets", "load_parameter_set"]
+
+
+@dataclass(frozen=True)
+class ParameterSet:
+    """A named parameter set: which models it is for, its values and provenance."""
+
+    name: str
+    models: tuple[str, ...]
+    parameters: dict[str, Any] = field(repr=False)
+    meta: dict[str, Any] = field(repr=False)
+
+
+def _directory():
+    return resources.files("clutchsim") / "params" / "friction"
+
+
+def _all_names() -> list[str]:
+    return sorted(
+        p.name[: -len(".toml")] for p in _directory().iterdir() if p.name.endswith(".toml")
+    )
+
+
+def load_parameter_set(name: str) -> ParameterSet:
+    """Load the parameter set ``name``.
+
+    Raises
+    ------
+    ValueError
+        If there is no such set; the message lists the valid names and the
+        closest match.
+    """
+    names = _all_names()
+    if name not in names:
+        close = difflib.get_close_matches(name, names, n=1)
+        hint = f" Did you mean {close[0]!r}?" if close else ""
+        raise ValueError(
+            f"unknown friction parameter set {name!r}.{hint} Valid sets: {', '.join(names)}"
+        )
+    data = tomllib.loads((_directory() / f"{name}.toml").read_text(encoding="utf-8"))
+    meta = dict(data.get("meta", {}))
+    model = meta.get("model")
+    models = (model,) if isinstance(model, str) else tuple(model or ())
+    if not models:
+        raise ValueError(f"parameter set {name!r}: [meta] has no 'model'")
+    return ParameterSet(name, models, dict(data.get("parameters", {})), meta)
+
+
+def list_parameter_sets(model: str | None = None) -> list[str]:
+    """Names of the available parameter sets, optionally only those for ``model``."""
+    names = _all_names()
+    if model is None:
+        return names
+    return [n for n in names if model in load_parameter_set(n).models]

@@ -1,0 +1,107 @@
+"""Static exponential Stribeck curve (seed eq. 5)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from .._jit import jit
+from ._common import stribeck_level
+from .base import FrictionModel
+
+__all__ = ["StribeckFriction", "stribeck_force"]
+
+
+@dataclass(frozen=True)
+class StribeckFriction(FrictionModel):
+    """Static Stribeck friction, smoothed through zero velocity by tanh::
+
+        F = scale·([F_c + (F_s - F_c)·exp(-|v/v_s|^delta)]·tanh(v/v_t) + sigma2·v)
+
+    This is our reading of the seed's eq. (5) (tanh instead of sign, so the
+    curve is continuous). No states; creeps under sub-break-away loads.
+
+    Parameters
+    ----------
+    F_c : float
+        Coulomb level [N or N·m], >= 0.
+    F_s : float
+        Static (Stribeck peak) level [N or N·m], >= F_c.
+    v_s : float
+        Stribeck velocity [m/s or rad/s], > 0.
+    delta : float, optional
+        Stribeck exponent, 1 or 2 (default 2).
+    v_t : float, optional
+        tanh regularisation velocity [m/s or rad/s], > 0, default 1e-5.
+    sigma2 : float, optional
+        Viscous coefficient [N·s/m or N·m·s/rad], >= 0, default 0.
+
+    References
+    ----------
+    Mykhailevych M.G. (2020), eq. (5); Armstrong-Hélouvry B., Dupont P.,
+    Canudas de Wit C., "A survey of models, analysis tools and compensation
+    methods for the control of machines with friction", Automatica
+    30(7):1083-1138, 1994.
+    """
+
+    F_c: float
+    F_s: float
+    v_s: float
+    delta: float = 2.0
+    v_t: float = 1e-5
+    sigma2: float = 0.0
+
+    name: ClassVar[str] = "stribeck"
+    code: ClassVar[int] = 5
+    citation: ClassVar[str] = (
+        "Armstrong-Hélouvry B., Dupont P., Canudas de Wit C., A survey of models, analysis "
+        "tools and compensation methods for the control of machines with friction, "
+        "Automatica 30(7):1083-1138, 1994; Mykhailevych M.G., 2020, eq. (5)."
+    )
+    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
+        "F_c": ("force", "Coulomb friction level"),
+        "F_s": ("force", "static (Stribeck peak) friction level"),
+        "v_s": ("velocity", "Stribeck velocity"),
+        "delta": ("1", "Stribeck exponent (1 or 2)"),
+        "v_t": ("velocity", "tanh regularisation velocity"),
+        "sigma2": ("force/velocity", "viscous friction coefficient"),
+    }
+    phenomena: ClassVar[dict[str, str]] = {
+        "stiction": "no (creep; needs a switch)",
+        "stribeck": "yes",
+        "presliding": "no",
+        "frictional_lag": "no",
+        "varying_breakaway": "no",
+        "no_drift": "no",
+    }
+    default_parameter_set: ClassVar[str] = "stribeck"
+
+    def _check(self) -> None:
+        self._require(self.F_c >= 0.0, "F_c", ">= 0")
+        self._require(self.F_s >= self.F_c, "F_s", f">= F_c = {self.F_c:g} N")
+        self._require(self.v_s > 0.0, "v_s", "> 0")
+        self._require(self.delta in (1.0, 2.0), "delta", "1 or 2")
+        self._require(self.v_t > 0.0, "v_t", "> 0")
+        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
+
+    def _pack(self) -> list[float]:
+        return [self.F_c, self.F_s, self.v_s, self.delta, self.v_t, self.sigma2]
+
+    def _state_spec(self) -> tuple[tuple[str, str], ...]:
+        return ()
+
+    def _steady(self, v: np.ndarray) -> np.ndarray:
+        level = self.F_c + (self.F_s - self.F_c) * np.exp(-(np.abs(v / self.v_s) ** self.delta))
+        return level * np.tanh(v / self.v_t) + self.sigma2 * v
+
+    def _sliding_state(self, v: float) -> list[float]:
+        return []
+
+
+@jit
+def stribeck_force(p, z, v, F_e, scale, dz):
+    level = stribeck_level(v, p[0], p[1], p[2], p[3])
+    return scale * (level * math.tanh(v / p[4]) + p[5] * v)

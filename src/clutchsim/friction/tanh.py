@@ -1,0 +1,84 @@
+"""tanh-regularised Coulomb friction (seed eq. 4)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from .._jit import jit
+from .base import FrictionModel
+
+__all__ = ["TanhFriction", "tanh_force"]
+
+
+@dataclass(frozen=True)
+class TanhFriction(FrictionModel):
+    """Coulomb friction smoothed by tanh::
+
+        F = scale·(F_c·tanh(v/v_t) + sigma2·v)
+
+    No true stiction: under a constant force below ``F_c`` the body creeps.
+
+    Parameters
+    ----------
+    F_c : float
+        Coulomb level [N or N·m], >= 0.
+    v_t : float
+        Regularisation velocity [m/s or rad/s], > 0.
+    sigma2 : float, optional
+        Viscous coefficient [N·s/m or N·m·s/rad], >= 0, default 0.
+
+    References
+    ----------
+    Mykhailevych M.G. (2020), eq. (4); MathWorks Powertrain Blockset, Disc Clutch.
+    """
+
+    F_c: float
+    v_t: float
+    sigma2: float = 0.0
+
+    name: ClassVar[str] = "tanh"
+    code: ClassVar[int] = 4
+    citation: ClassVar[str] = (
+        "Mykhailevych M.G., Model of friction for dry friction clutch working process "
+        "simulation, Avtomobil i elektronika. Suchasni tekhnolohii, no. 18, 2020, eq. (4)."
+    )
+    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
+        "F_c": ("force", "Coulomb friction level"),
+        "v_t": ("velocity", "tanh regularisation velocity"),
+        "sigma2": ("force/velocity", "viscous friction coefficient"),
+    }
+    phenomena: ClassVar[dict[str, str]] = {
+        "stiction": "no (creep)",
+        "stribeck": "no",
+        "presliding": "no",
+        "frictional_lag": "no",
+        "varying_breakaway": "no",
+        "no_drift": "no",
+    }
+    default_parameter_set: ClassVar[str] = "tanh"
+
+    def _check(self) -> None:
+        self._require(self.F_c >= 0.0, "F_c", ">= 0")
+        self._require(self.v_t > 0.0, "v_t", "> 0")
+        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
+
+    def _pack(self) -> list[float]:
+        return [self.F_c, self.v_t, self.sigma2]
+
+    def _state_spec(self) -> tuple[tuple[str, str], ...]:
+        return ()
+
+    def _steady(self, v: np.ndarray) -> np.ndarray:
+        return self.F_c * np.tanh(v / self.v_t) + self.sigma2 * v
+
+    def _sliding_state(self, v: float) -> list[float]:
+        return []
+
+
+@jit
+def tanh_force(p, z, v, F_e, scale, dz):
+    return scale * (p[0] * math.tanh(v / p[1]) + p[2] * v)

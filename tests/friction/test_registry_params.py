@@ -1,0 +1,159 @@
+"""Registry, parameter sets and the meta-test over every registered model."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from clutchsim import friction
+from clutchsim.friction import (
+    MODELS,
+    FrictionModel,
+    describe_models,
+    get_model_class,
+    list_parameter_sets,
+    load_parameter_set,
+    make_model,
+)
+from clutchsim.friction.base import UNIT_KINDS
+
+REPO = Path(__file__).resolve().parents[2]
+
+EXPECTED_NAMES = [
+    "coulomb-naive", "coulomb-robust", "karnopp", "tanh", "stribeck", "rotational-friction",
+    "dahl", "lugre", "elastoplastic", "gms", "mykhailevych2020",
+]  # fmt: skip
+
+EXPECTED_SETS = {
+    "lugre_canudas1995", "dahl_d1", "elastoplastic_dupont2002", "gms_illustrative", "coulomb",
+    "karnopp", "tanh", "stribeck", "rotational_friction", "mykhailevych2020_translational",
+    "mykhailevych2020_clutch",
+}  # fmt: skip
+
+
+def test_registry_names_exact():
+    assert list(MODELS) == EXPECTED_NAMES
+
+
+def test_codes_unique_and_classes_final():
+    codes = [cls.code for cls in MODELS.values()]
+    assert len(set(codes)) == len(codes)
+    for cls in MODELS.values():
+        assert issubclass(cls, FrictionModel)
+        assert cls.__dataclass_params__.frozen  # type: ignore[attr-defined]
+        assert not cls.__abstractmethods__
+
+
+def test_unknown_model_lists_valid_names_and_closest():
+    with pytest.raises(ValueError, match=r"unknown friction model 'luger'.*'lugre'") as info:
+        get_model_class("luger")
+    for name in EXPECTED_NAMES:
+        assert name in str(info.value)
+
+
+def test_unknown_parameter_set_lists_valid_names_and_closest():
+    with pytest.raises(ValueError, match=r"'lugre_canudas1996'.*'lugre_canudas1995'") as info:
+        load_parameter_set("lugre_canudas1996")
+    assert "dahl_d1" in str(info.value)
+
+
+def test_all_expected_sets_present_and_load():
+    assert EXPECTED_SETS <= set(list_parameter_sets())
+    for name in list_parameter_sets():
+        pset = load_parameter_set(name)
+        assert {"source", "notes", "domain"} <= set(pset.meta)
+        assert pset.meta["domain"] in ("translational", "rotational")
+        for model_name in pset.models:
+            model = get_model_class(model_name).from_parameters(name)
+            assert set(pset.parameters) <= {f for f in model.parameter_info}
+
+
+def test_set_for_wrong_model_rejected():
+    with pytest.raises(ValueError, match="is for model"):
+        get_model_class("lugre").from_parameters("dahl_d1")
+
+
+def test_list_sets_by_model():
+    assert list_parameter_sets("mykhailevych2020") == [
+        "mykhailevych2020_clutch",
+        "mykhailevych2020_translational",
+    ]
+    assert "coulomb" in list_parameter_sets("coulomb-naive")
+    assert "coulomb" in list_parameter_sets("coulomb-robust")
+
+
+def test_parameter_files_ship_inside_the_package():
+    import clutchsim
+
+    pkg = Path(clutchsim.__file__).parent / "params" / "friction"
+    assert {p.stem for p in pkg.glob("*.toml")} >= EXPECTED_SETS
+
+
+def test_make_model_overrides():
+    model = make_model("lugre", sigma2=0.0)
+    assert model.sigma2 == 0.0 and model.sigma0 == 1e5
+    assert make_model("elastoplastic").z_ba == pytest.approx(0.95 * 1.0 / 1e5)
+
+
+def test_meta_every_model_complete(model_name):
+    """Default set loads, docs page exists, describe_models has units for every parameter."""
+    cls = get_model_class(model_name)
+    model = make_model(model_name)
+    assert isinstance(model, cls)
+    assert cls.default_parameter_set in list_parameter_sets(model_name)
+    page = REPO / "docs" / "models" / f"{model_name}.md"
+    assert page.is_file(), page
+    text = page.read_text(encoding="utf-8")
+    for param in cls.parameter_info:
+        assert f"`{param}`" in text, (model_name, param)
+    entry = next(d for d in describe_models() if d["name"] == model_name)
+    assert entry["citation"] == cls.citation and len(cls.citation) > 30
+    assert entry["states"] == list(model.state_names())
+    assert [p["name"] for p in entry["parameters"]] == list(cls.parameter_info)
+    for p in entry["parameters"]:
+        assert p["unit"] and p["description"]
+    for param, (kind, description) in cls.parameter_info.items():
+        assert kind in UNIT_KINDS and description
+        assert hasattr(model, param)
+    assert set(cls.phenomena) == {
+        "stiction", "stribeck", "presliding", "frictional_lag", "varying_breakaway", "no_drift",
+    }  # fmt: skip
+    # every dataclass field is documented
+    assert {f.name for f in dataclasses.fields(model)} == set(cls.parameter_info)
+    # states, units and events are consistent
+    assert len(model.state_units("translational")) == model.n_states
+    assert len(model.state_units("rotational")) == model.n_states
+    assert model.initial_state().shape == (model.n_states,)
+    assert model.event_directions().shape == (model.n_events,)
+    assert set(model.event_directions().tolist()) <= {-1, 0, 1}
+    p = model.pack()
+    assert p.dtype == np.float64 and p.ndim == 1 and p.flags.c_contiguous
+
+
+def test_describe_models_is_json_serialisable():
+    data = {"models": describe_models()}
+    back = json.loads(json.dumps(data))
+    assert [m["name"] for m in back["models"]] == EXPECTED_NAMES
+    rot = describe_models("rotational")
+    lugre = next(d for d in rot if d["name"] == "lugre")
+    assert {p["name"]: p["unit"] for p in lugre["parameters"]}["sigma0"] == "N·m/rad"
+
+
+def test_unit_of_domains():
+    cls = get_model_class("lugre")
+    assert cls.unit_of("sigma1") == "N·s/m"
+    assert cls.unit_of("sigma1", "rotational") == "N·m·s/rad"
+    with pytest.raises(ValueError, match="domain"):
+        cls.unit_of("sigma1", "angular")
+    with pytest.raises(ValueError, match="no parameter 'sigma3'"):
+        cls.unit_of("sigma3")
+
+
+def test_public_api_exports():
+    for name in friction.__all__:
+        assert hasattr(friction, name)
+    assert issubclass(friction.SelfExcitedWarning, UserWarning)
