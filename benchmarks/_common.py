@@ -1,0 +1,34 @@
+"""Shared timing helpers for the benchmark scripts (not part of the test suite)."""
+
+from __future__ import annotations
+
+import json
+import statistics
+import subprocess
+import sys
+import time
+
+
+def median_ms(fn, repeats: int = 5, warmup: int = 1) -> tuple[float, object]:
+    """Median wall time of ``fn()`` in milliseconds over ``repeats`` runs after warm-up."""
+    out = None
+    for _ in range(warmup):
+        out = fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append((time.perf_counter() - t0) * 1e3)
+    return statistics.median(times), out
+
+
+def fresh_process_seconds(code: str) -> float:
+    """Run ``code`` in a new interpreter; it must print the seconds it measured last."""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    return float(done.stdout.strip().splitlines()[-1])
+
+
+def emit(result: dict) -> None:
+    """The machine-readable result: one JSON object on the last line of stdout."""
+    print(json.dumps(result))
