@@ -1,0 +1,89 @@
+"""``clutchsim run``: simulate a driveline scenario with one or several friction models."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import shutil
+from pathlib import Path
+
+from ..cli import SimulationFailed, UserError, emit_json
+
+log = logging.getLogger("clutchsim")
+
+HELP = """\
+examples:
+  clutchsim run --out launch/                          # the default passenger-car launch
+  clutchsim run examples/hill_start.toml --out hill/ --json
+  clutchsim run examples/launch.toml --model coulomb-robust --model coulomb-naive --out cmp/
+  clutchsim run examples/launch.toml --set vehicle.grade=12 --out steep/
+
+outputs in DIR: timeseries.csv and timeseries.parquet (first model; one file per model with
+several), summary.json {"models": {NAME: {metric: value}}}, launch_<model>.png and, with
+several models, comparison.png.  DIR is written as DIR.partial and renamed when complete.
+"""
+
+
+def register(sub, common):
+    p = sub.add_parser("run", parents=[common], help="simulate a driveline scenario",
+                       description="Simulate a driveline scenario (TOML) and write time "
+                       "series, metrics and figures.", epilog=HELP,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+    p.add_argument("--model", action="append", default=None,
+                   help="friction model of the clutch element (repeatable)")
+    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
+                   help="override a scenario key, e.g. vehicle.grade=12")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--no-plots", action="store_true", help="skip the figures")
+    p.add_argument("--json", action="store_true", help="print summary.json on stdout")
+
+
+def run(args) -> int:
+    import json
+
+    from ..core.result import atomic_write
+    from ..driveline.run import run_scenario
+    from ..scenario import load_scenario
+    sc = load_scenario(args.scenario, overrides=args.set)
+    models = args.model or list(sc.models) or [None]
+    out = Path(args.out)
+    part = Path(str(out) + ".partial")
+    if part.exists():
+        shutil.rmtree(part)
+    part.mkdir(parents=True)
+    summary: dict = {"scenario": sc.name, "file": sc.file, "models": {}}
+    runs = {}
+    for m in models:
+        log.info("running %s with %s ...", sc.name, m or "its own model")
+        lr = run_scenario(sc, m)
+        runs[lr.model] = lr.result
+        summary["models"][lr.model] = lr.metrics
+        suffix = "" if len(models) == 1 else f"_{lr.model}"
+        lr.result.to_csv(part / f"timeseries{suffix}.csv")
+        lr.result.to_parquet(part / f"timeseries{suffix}.parquet")
+        log.info("  %s: %s", lr.model, lr.metrics["message"])
+    atomic_write(part / "summary.json",
+                 lambda p: Path(p).write_text(json.dumps(summary, indent=2, allow_nan=False,
+                                                         default=float)))
+    if not args.no_plots:
+        from ..plot._style import save_png
+        from ..plot.launch import plot_comparison, plot_launch
+        for name, res in runs.items():
+            fig, _ = plot_launch(res, clutch=sc.clutch)
+            save_png(fig, part / f"launch_{name}.png")
+        if len(runs) > 1:
+            fig, _ = plot_comparison(runs, clutch=sc.clutch)
+            save_png(fig, part / "comparison.png")
+    if out.exists():
+        shutil.rmtree(out)
+    part.rename(out)
+    if args.json:
+        emit_json(summary)
+    failed = [n for n, m in summary["models"].items() if not m["completed"]]
+    if failed and len(models) == 1:
+        raise SimulationFailed(summary["models"][failed[0]]["message"])
+    return 0
+
+
+__all__ = ["register", "run", "UserError"]

@@ -1,0 +1,392 @@
+"""Assemble components into the compiled chain plant (:mod:`clutchsim.driveline.plant`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from ..core import System, register_system
+from . import plant as P
+from .components import (Brake, Engine, FrictionElement, Gear, Gearbox, Inertia, SpringDamper,
+                         ThermalNode, Vehicle, static_capacity)
+
+__all__ = ["Chain", "ChainPlant", "ENERGY_STATES"]
+
+#: energy-account states (integrals) [J]
+ENERGY_STATES = ("W_in", "W_friction", "W_damping", "W_road", "E_grade", "W_sync")
+
+_SWITCHING = ("coulomb-robust",)
+
+
+class ChainPlant(NamedTuple):
+    """Tag type of the driveline chain plant."""
+
+    k: int = 0
+
+
+register_system(ChainPlant, rhs=P.chain_rhs, events=P.chain_events, reset=P.chain_reset,
+                outputs=P.chain_outputs)
+
+
+@dataclass(frozen=True)
+class Chain:
+    """Inertias in series joined by couplings, with brakes, an engine, a vehicle and heat.
+
+    Parameters
+    ----------
+    inertias : tuple of Inertia
+        The nodes, in order (engine side first).
+    couplings : tuple
+        ``len(inertias) - 1`` couplings: :class:`Gear`, :class:`Gearbox`,
+        :class:`SpringDamper` or :class:`FrictionElement`; coupling k joins inertia k to k+1.
+    brakes : tuple of Brake
+        Friction elements to ground.
+    engine : Engine, optional
+    vehicle : Vehicle, optional
+        Attached to the last inertia.
+    thermal : tuple of ThermalNode
+    name : str
+    """
+
+    inertias: tuple
+    couplings: tuple
+    brakes: tuple = ()
+    engine: Engine | None = None
+    vehicle: Vehicle | None = None
+    thermal: tuple = ()
+    name: str = "driveline"
+    metadata: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        object.__setattr__(self, "inertias", tuple(self.inertias))
+        object.__setattr__(self, "couplings", tuple(self.couplings))
+        object.__setattr__(self, "brakes", tuple(self.brakes))
+        object.__setattr__(self, "thermal", tuple(self.thermal))
+        if not self.inertias or not all(isinstance(i, Inertia) for i in self.inertias):
+            raise ValueError("chain: needs at least one Inertia (and only Inertia objects)")
+        if len(self.couplings) != len(self.inertias) - 1:
+            raise ValueError(f"chain: {len(self.inertias)} inertias need "
+                             f"{len(self.inertias) - 1} couplings, got {len(self.couplings)}")
+        for c in self.couplings:
+            if not isinstance(c, (Gear, Gearbox, SpringDamper, FrictionElement)) or \
+                    isinstance(c, Brake):
+                raise ValueError(f"chain: {c!r} is not a coupling")
+        names = [x.name for x in (*self.inertias, *self.couplings, *self.brakes)]
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise ValueError(f"chain: duplicate component names {sorted(dup)}")
+        nodes = self.node_names
+        for b in self.brakes:
+            if b.node not in nodes:
+                raise ValueError(f"brake {b.name!r}: node {b.node!r} is not an inertia "
+                                 f"(inertias: {', '.join(nodes)})")
+        if self.engine is not None and self.engine.node not in nodes:
+            raise ValueError(f"engine: node {self.engine.node!r} is not an inertia "
+                             f"(inertias: {', '.join(nodes)})")
+        th = [t.name for t in self.thermal]
+        for fe in self.friction_elements:
+            for n, _ in fe.heat:
+                if n not in th:
+                    raise ValueError(f"friction element {fe.name!r}: heat goes to thermal node "
+                                     f"{n!r}, which does not exist (nodes: {', '.join(th)})")
+            if fe.mu_temperature is not None and not fe.heat:
+                raise ValueError(f"friction element {fe.name!r}: mu_temperature needs a "
+                                 "thermal node (heat)")
+
+    @property
+    def node_names(self) -> tuple[str, ...]:
+        return tuple(i.name for i in self.inertias)
+
+    @property
+    def friction_elements(self) -> tuple:
+        return tuple(c for c in self.couplings if isinstance(c, FrictionElement)) + self.brakes
+
+    def input_names(self) -> tuple[str, ...]:
+        """Input signals the plant reads, in channel order."""
+        names: list[str] = []
+        for i in self.inertias:
+            if i.load and i.load not in names:
+                names.append(i.load)
+        if self.engine is not None and self.engine.throttle not in names:
+            names.append(self.engine.throttle)
+        for fe in self.friction_elements:
+            if fe.command not in names:
+                names.append(fe.command)
+        return tuple(names)
+
+    def _omega0(self) -> np.ndarray:
+        return np.array([i.omega0 for i in self.inertias])
+
+    def build(self, inputs0: dict | None = None) -> System:
+        """The compiled :class:`~clutchsim.core.System` of this chain.
+
+        ``inputs0`` (input name -> value at the start time) lets switching friction
+        elements with zero slip start free when their command is 0 (else they start
+        locked).
+        """
+        self_inputs0 = dict(inputs0 or {})
+        inertias, couplings = self.inertias, self.couplings
+        n = len(inertias)
+        fes = self.friction_elements
+        fe_index = {fe.name: e for e, fe in enumerate(fes)}
+        inputs = self.input_names()
+        chan = {name: i for i, name in enumerate(inputs)}
+        th_index = {t.name: i for i, t in enumerate(self.thermal)}
+        omega0 = self._omega0()
+        # ---- state layout
+        snames = [f"omega_{i.name}" for i in inertias]
+        sunits = ["rad/s"] * n
+        y0 = list(omega0)
+        y_twist = len(y0)
+        twist_idx = {}
+        for k, c in enumerate(couplings):
+            if isinstance(c, SpringDamper):
+                twist_idx[k] = len(y0)
+                snames.append(f"phi_{c.name}")
+                sunits.append("rad")
+                y0.append(c.phi0)
+            elif isinstance(c, Gearbox):
+                twist_idx[k] = len(y0)
+                snames.append(f"ratio_{c.name}")
+                sunits.append("-")
+                y0.append(c.ratio(c.gear))
+        # initial speeds must satisfy the rigid gears
+        ratios = []
+        for k, c in enumerate(couplings):
+            r = c.ratio(c.gear) if isinstance(c, Gearbox) else c.ratio
+            ratios.append(r)
+            if isinstance(c, (Gear, Gearbox)) and \
+                    not np.isclose(omega0[k + 1], omega0[k] / r, rtol=1e-12, atol=1e-12):
+                raise ValueError(f"{type(c).__name__.lower()} {c.name!r}: initial speeds "
+                                 f"violate the ratio: omega0 of {inertias[k + 1].name!r} = "
+                                 f"{omega0[k + 1]:g} rad/s, but omega0 of "
+                                 f"{inertias[k].name!r} / {r:g} = {omega0[k] / r:g} rad/s")
+        y_z = len(y0)
+        z_idx = []
+        for fe in fes:
+            z_idx.append(len(y0))
+            z0 = self._z0(fe, omega0, ratios, self_inputs0)
+            for s_name, s_unit, v in zip(fe.model.state_names(), fe.model.state_units("rotational"),
+                                         z0):
+                snames.append(f"{fe.name}.{s_name}")
+                sunits.append(s_unit)
+                y0.append(v)
+        y_lock = len(y0)
+        for fe in fes:
+            snames.append(f"{fe.name}.locked")
+            sunits.append("-")
+            y0.append(1.0 if self._locked0(fe, omega0, ratios, self_inputs0) else 0.0)
+        y_th = len(y0)
+        for t in self.thermal:
+            snames.append(f"theta_{t.name}")
+            sunits.append("°C")
+            y0.append(t.theta0)
+        y_gov = len(y0)
+        if self.engine is not None and self.engine.idle_speed > 0:
+            snames.append("engine.governor_integral")
+            sunits.append("rad")
+            y0.append(0.0)
+        y_en = len(y0)
+        for e_name in ENERGY_STATES:
+            snames.append(e_name)
+            sunits.append("J")
+            y0.append(0.0)
+        # ---- events
+        ev_names, ev_dirs = [], []
+        ev_off = []
+        for fe in fes:
+            ev_off.append(len(ev_names))
+            ev_names += [f"{fe.name}: {e}" for e in fe.model.event_names()]
+            ev_dirs += [int(d) for d in fe.model.event_directions()]
+        ev_stall = len(ev_names)
+        if self.engine is not None:
+            ev_names.append(f"engine stalled (speed fell below {self.engine.stall_speed:g} "
+                            f"rad/s = {self.engine.stall_speed * 30 / np.pi:.0f} rpm)")
+            ev_dirs.append(-1)
+        # ---- parameter vector
+        head = np.zeros(P.HEADER)
+        data: list[float] = []
+
+        def block(width):
+            off = P.HEADER + len(data)
+            data.extend([0.0] * width)
+            return off
+
+        def put(off, idx, value):
+            data[off - P.HEADER + idx] = float(value)
+
+        def table(xs, ys):
+            off = P.HEADER + len(data)
+            data.extend(float(x) for x in xs)
+            data.extend(float(v) for v in ys)
+            return off
+
+        head[P.H_N], head[P.H_NF], head[P.H_NTH] = n, len(fes), len(self.thermal)
+        head[P.H_ENG] = 1.0 if self.engine is not None else 0.0
+        head[P.H_VEH] = 1.0 if self.vehicle is not None else 0.0
+        head[P.H_YTW], head[P.H_YZ], head[P.H_YLK] = y_twist, y_z, y_lock
+        head[P.H_YTH], head[P.H_YGOV], head[P.H_YEN] = y_th, y_gov, y_en
+        head[P.H_EVSTALL] = ev_stall
+        node_off = [block(P.NODE_W) for _ in range(n)]
+        head[P.H_NODE] = node_off[0]
+        for j, i in enumerate(inertias):
+            J = i.J + (self.vehicle.equivalent_inertia if self.vehicle and j == n - 1 else 0.0)
+            put(node_off[j], P.N_J, J)
+            put(node_off[j], P.N_D, i.bearing_damping)
+            put(node_off[j], P.N_LOAD, chan[i.load] if i.load else -1)
+        cpl_off = [block(P.CPL_W) for _ in range(max(n - 1, 1))]
+        head[P.H_CPL] = cpl_off[0]
+        shift_pending = []
+        for k, c in enumerate(couplings):
+            o = cpl_off[k]
+            put(o, P.C_RATIO, ratios[k])
+            put(o, P.C_FE, -1)
+            if isinstance(c, Gear):
+                put(o, P.C_KIND, P.GEAR)
+            elif isinstance(c, Gearbox):
+                put(o, P.C_KIND, P.SHIFT_GEAR)
+                put(o, P.C_Y, twist_idx[k])
+                shift_pending.append((k, c))
+            elif isinstance(c, SpringDamper):
+                put(o, P.C_KIND, P.SPRING)
+                put(o, P.C_Y, twist_idx[k])
+                for idx, v in ((P.C_C1, c.c), (P.C_D, c.d), (P.C_KNEE, c.knee), (P.C_C2, c.c2)):
+                    put(o, idx, v)
+            else:
+                put(o, P.C_KIND, P.FRICTION)
+                put(o, P.C_FE, fe_index[c.name])
+        # shifts: times, new ratios, first event index
+        for k, gb in shift_pending:
+            put(cpl_off[k], P.C_NSH, len(gb.shifts))
+            off = P.HEADER + len(data)
+            data.extend(float(t) for t, _ in gb.shifts)
+            data.extend(gb.ratio(g) for _, g in gb.shifts)
+            data.append(float(len(ev_names)))
+            put(cpl_off[k], P.C_SHOFF, off)
+            for t, g in gb.shifts:
+                ev_names.append(f"{gb.name}: shift to gear {g} at {t:g} s")
+                ev_dirs.append(1)
+        fe_off = [block(P.FE_W) for _ in range(max(len(fes), 1))]
+        head[P.H_FE] = fe_off[0]
+        nodes = self.node_names
+        for e, fe in enumerate(fes):
+            o = fe_off[e]
+            if isinstance(fe, Brake):
+                put(o, P.F_LOC, P.LOC_BRAKE)
+                put(o, P.F_IDX, nodes.index(fe.node))
+            else:
+                put(o, P.F_LOC, P.LOC_COUPLING)
+                put(o, P.F_IDX, couplings.index(fe))
+            put(o, P.F_CODE, fe.model.code)
+            put(o, P.F_NZ, fe.model.n_states)
+            put(o, P.F_YZ, z_idx[e])
+            put(o, P.F_YLK, y_lock + e)
+            put(o, P.F_EV, ev_off[e])
+            put(o, P.F_NEV, fe.model.n_events)
+            put(o, P.F_IN, chan[fe.command])
+            put(o, P.F_DRAG, fe.drag)
+            put(o, P.F_CAP, static_capacity(fe.model))
+            put(o, P.F_THA, -1)
+            put(o, P.F_THB, -1)
+            for slot, (tn, share) in zip(((P.F_THA, P.F_SHA), (P.F_THB, P.F_SHB)), fe.heat):
+                put(o, slot[0], th_index[tn])
+                put(o, slot[1], share)
+            for key, (i_off, i_n) in (("clamp_table", (P.F_ACT, P.F_NACT)),
+                                      ("mu_temperature", (P.F_MUT, P.F_NMUT)),
+                                      ("mu_slip", (P.F_MUS, P.F_NMUS))):
+                tab = getattr(fe, key)
+                if tab is not None:
+                    put(o, i_off, table(*tab))
+                    put(o, i_n, len(tab[0]))
+        for e, fe in enumerate(fes):   # model parameters last: kernels read p[off:]
+            off = P.HEADER + len(data)
+            data.extend(fe.model.pack().tolist())
+            put(fe_off[e], P.F_PAR, off)
+        th_off = [block(P.TH_W) for _ in range(max(len(self.thermal), 1))]
+        head[P.H_TH] = th_off[0]
+        for i, t in enumerate(self.thermal):
+            put(th_off[i], P.T_C, t.capacity)
+            put(th_off[i], P.T_HA, t.conductance)
+            put(th_off[i], P.T_AMB, t.ambient)
+        if self.engine is not None:
+            eng = self.engine
+            o = block(P.ENG_W)
+            head[P.H_ENGB] = o
+            put(o, P.E_NODE, nodes.index(eng.node))
+            put(o, P.E_TAB, table(eng.speeds, eng.torques))
+            put(o, P.E_NTAB, len(eng.speeds))
+            put(o, P.E_IN, chan[eng.throttle])
+            for idx, v in ((P.E_D0, eng.drag0), (P.E_D1, eng.drag1), (P.E_IDLE, eng.idle_speed),
+                           (P.E_KP, eng.kp), (P.E_KI, eng.ki), (P.E_STALL, eng.stall_speed)):
+                put(o, idx, v)
+            put(o, P.E_GOV, 1.0 if eng.idle_speed > 0 else 0.0)
+        if self.vehicle is not None:
+            v = self.vehicle
+            o = block(P.VEH_W)
+            head[P.H_VEHB] = o
+            put(o, P.V_NODE, n - 1)
+            put(o, P.V_MASS, v.mass)
+            put(o, P.V_R, v.tyre_radius)
+            put(o, P.V_GRADE, np.arctan(v.grade / 100.0))
+            put(o, P.V_FR, v.rolling)
+            put(o, P.V_CA, 0.5 * v.air_density * v.cd_area)
+            put(o, P.V_G, v.gravity)
+            put(o, P.V_EPS, v.v_eps)
+        head[P.H_NEV] = len(ev_names)
+        params = np.concatenate([head, np.array(data, dtype=float)])
+        # ---- outputs
+        onames, ounits = [], []
+        for c in couplings:
+            onames.append(f"T_{c.name}")
+            ounits.append("N·m")
+        for fe in fes:
+            # a coupling's torque is already T_<name>; a brake's is listed here
+            t_name = f"T_{fe.name}" if isinstance(fe, Brake) else f"T_friction_{fe.name}"
+            onames += [t_name, f"w_slip_{fe.name}", f"capacity_{fe.name}",
+                       f"T_stick_{fe.name}", f"P_{fe.name}"]
+            ounits += ["N·m", "rad/s", "N·m", "N·m", "W"]
+        if self.engine is not None:
+            onames.append("T_engine")
+            ounits.append("N·m")
+        if self.vehicle is not None:
+            onames += ["v_vehicle", "a_vehicle"]
+            ounits += ["m/s", "m/s²"]
+        onames += ["E_kinetic", "E_spring"]
+        ounits += ["J", "J"]
+        meta = dict(self.metadata)
+        meta.update({"models": {fe.name: fe.model.name for fe in fes},
+                     "nodes": list(nodes)})
+        return System(ChainPlant(), params, np.array(y0, dtype=float), tuple(snames),
+                      tuple(sunits), input_names=inputs,
+                      input_units=tuple("-" for _ in inputs), output_names=tuple(onames),
+                      output_units=tuple(ounits), event_names=tuple(ev_names),
+                      event_directions=tuple(ev_dirs), name=self.name, metadata=meta)
+
+    # -------------------------------------------------------------- helpers
+    def _slip0(self, fe, omega0, ratios) -> float:
+        if isinstance(fe, Brake):
+            return float(omega0[self.node_names.index(fe.node)])
+        k = self.couplings.index(fe)
+        return float(omega0[k + 1] - omega0[k] / ratios[k])
+
+    def _locked0(self, fe, omega0, ratios, inputs0) -> bool:
+        if fe.model.name not in _SWITCHING:
+            return False
+        if fe.locked0 is not None:
+            return bool(fe.locked0)
+        return self._slip0(fe, omega0, ratios) == 0.0 and inputs0.get(fe.command, 1.0) > 0.0
+
+    def _z0(self, fe, omega0, ratios, inputs0) -> np.ndarray:
+        if fe.z0 is not None:
+            return np.asarray(fe.z0, dtype=float)
+        z = fe.model.initial_state()
+        if fe.model.name in _SWITCHING and not self._locked0(fe, omega0, ratios, inputs0):
+            w = self._slip0(fe, omega0, ratios)
+            if w != 0.0:
+                z = np.array([np.sign(w)])
+            # w == 0 with zero command: the model's stuck mode, but not locked by the plant
+            # (its force clip(F_e, 0) is 0); the break-away event frees it as soon as a
+            # torque appears.
+        return z

@@ -1,0 +1,424 @@
+"""Driveline components: immutable, validated on construction, SI units.
+
+Each component owns its states (named in :meth:`Chain.build`): an inertia its speed, a
+spring-damper its twist, a friction element its model states and its lock flag, a thermal
+node its temperature, the engine its idle-governor integrator, a shiftable gearbox its
+current ratio.  :class:`Chain` assembles them into one compiled plant
+(:mod:`clutchsim.driveline.plant`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..friction.base import FrictionModel
+
+__all__ = ["Inertia", "Gear", "Gearbox", "SpringDamper", "FrictionElement", "Brake", "Engine",
+           "Vehicle", "ThermalNode", "static_capacity"]
+
+
+def _num(owner: str, name: str, value, *, low=None, high=None, strict=False, unit=""):
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise ValueError(f"{owner}: {name} = {value!r} must be a number")
+    x = float(value)
+    u = f" {unit}" if unit else ""
+    if not math.isfinite(x):
+        raise ValueError(f"{owner}: {name} = {x}{u} must be finite")
+    if low is not None and (x <= low if strict else x < low):
+        raise ValueError(f"{owner}: {name} = {x:g}{u} must be {'>' if strict else '>='} "
+                         f"{low:g}{u}")
+    if high is not None and x > high:
+        raise ValueError(f"{owner}: {name} = {x:g}{u} must be <= {high:g}{u}")
+    return x
+
+
+def _table(owner: str, name: str, xs, ys, *, increasing=True):
+    if xs is None and ys is None:
+        return None
+    x = np.asarray(xs, dtype=float).ravel()
+    v = np.asarray(ys, dtype=float).ravel()
+    if x.size < 2 or x.size != v.size:
+        raise ValueError(f"{owner}: {name} needs at least 2 points and equal lengths "
+                         f"(got {x.size} and {v.size})")
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+        raise ValueError(f"{owner}: {name} has non-finite entries")
+    if increasing and np.any(np.diff(x) <= 0):
+        raise ValueError(f"{owner}: {name} breakpoints must be strictly increasing")
+    return (tuple(x), tuple(v))
+
+
+@dataclass(frozen=True)
+class Inertia:
+    """A rotating inertia (a node of the chain).
+
+    Parameters
+    ----------
+    name : str
+        Unique name; its speed state is ``omega_<name>`` [rad/s].
+    J : float
+        Inertia [kg·m²] (> 0).
+    omega0 : float
+        Initial speed [rad/s].
+    bearing_damping : float
+        Viscous bearing loss to ground [N·m·s/rad] (>= 0).
+    load : str, optional
+        Name of an input signal applied as a torque on this inertia [N·m].
+    """
+
+    name: str
+    J: float
+    omega0: float = 0.0
+    bearing_damping: float = 0.0
+    load: str | None = None
+
+    def __post_init__(self):
+        o = f"inertia {self.name!r}"
+        object.__setattr__(self, "J", _num(o, "J", self.J, low=0.0, strict=True, unit="kg·m²"))
+        object.__setattr__(self, "omega0", _num(o, "omega0", self.omega0, unit="rad/s"))
+        object.__setattr__(self, "bearing_damping",
+                           _num(o, "bearing_damping", self.bearing_damping, low=0.0,
+                                unit="N·m·s/rad"))
+
+
+@dataclass(frozen=True)
+class Gear:
+    """Ideal rigid gear between two inertias: ``omega_b = omega_a / ratio``.
+
+    Parameters
+    ----------
+    name : str
+    ratio : float
+        Speed ratio [-] (non-zero); the downstream inertia is reflected as ``J·ratio²``.
+    """
+
+    name: str
+    ratio: float = 1.0
+
+    def __post_init__(self):
+        r = _num(f"gear {self.name!r}", "ratio", self.ratio)
+        if r == 0.0:
+            raise ValueError(f"gear {self.name!r}: ratio must be non-zero")
+        object.__setattr__(self, "ratio", r)
+
+
+@dataclass(frozen=True)
+class Gearbox:
+    """A gearbox with selectable ratios and final drive, rigid, ideal (no losses).
+
+    Parameters
+    ----------
+    name : str
+    ratios : tuple of float
+        Gear ratios [-], gear 1 first.
+    gear : int
+        Selected gear at the start (1-based).
+    final_drive : float
+        Final drive ratio [-] multiplied into every gear.
+    shifts : tuple of (float, int)
+        ``(time [s], new gear)``: at each time the ratio changes; an ideal synchroniser
+        brings the input side to the new speed (the kinetic energy it removes is booked
+        as ``W_sync``).  Open the clutch around a shift.
+    """
+
+    name: str
+    ratios: tuple
+    gear: int = 1
+    final_drive: float = 1.0
+    shifts: tuple = ()
+
+    def __post_init__(self):
+        o = f"gearbox {self.name!r}"
+        rs = tuple(_num(o, "ratios", r, low=0.0, strict=True) for r in self.ratios)
+        if not rs:
+            raise ValueError(f"{o}: ratios must list at least one gear")
+        object.__setattr__(self, "ratios", rs)
+        object.__setattr__(self, "final_drive",
+                           _num(o, "final_drive", self.final_drive, low=0.0, strict=True))
+        self._check_gear(self.gear, "gear")
+        sh = []
+        for t, g in self.shifts:
+            self._check_gear(g, "shifts")
+            sh.append((_num(o, "shift time", t, low=0.0, strict=True, unit="s"), int(g)))
+        object.__setattr__(self, "shifts", tuple(sorted(sh)))
+
+    def _check_gear(self, g, key):
+        if isinstance(g, bool) or not isinstance(g, (int, np.integer)) or \
+                not 1 <= g <= len(self.ratios):
+            raise ValueError(f"gearbox {self.name!r}: {key}: gear {g!r} does not exist; "
+                             f"this gearbox has {len(self.ratios)} gears "
+                             f"(1..{len(self.ratios)})")
+
+    def ratio(self, gear: int) -> float:
+        """Overall ratio of ``gear`` including the final drive [-]."""
+        return self.ratios[gear - 1] * self.final_drive
+
+
+@dataclass(frozen=True)
+class SpringDamper:
+    """Torsional spring-damper (optionally two-stage), e.g. a disc damper or a driveshaft.
+
+    Parameters
+    ----------
+    name : str
+    c : float
+        Stiffness [N·m/rad] (> 0) of the first stage.
+    d : float
+        Viscous damping [N·m·s/rad] (>= 0).
+    knee : float
+        Twist [rad] where the second stage starts (0: single stage).
+    c2 : float
+        Second-stage stiffness [N·m/rad].
+    phi0 : float
+        Initial twist [rad].
+    ratio : float
+        Ideal ratio on its input side [-].
+    """
+
+    name: str
+    c: float
+    d: float = 0.0
+    knee: float = 0.0
+    c2: float = 0.0
+    phi0: float = 0.0
+    ratio: float = 1.0
+
+    def __post_init__(self):
+        o = f"spring-damper {self.name!r}"
+        object.__setattr__(self, "c", _num(o, "c", self.c, low=0.0, strict=True,
+                                           unit="N·m/rad"))
+        object.__setattr__(self, "d", _num(o, "d", self.d, low=0.0, unit="N·m·s/rad"))
+        object.__setattr__(self, "knee", _num(o, "knee", self.knee, low=0.0, unit="rad"))
+        object.__setattr__(self, "c2", _num(o, "c2", self.c2, low=0.0, unit="N·m/rad"))
+        object.__setattr__(self, "phi0", _num(o, "phi0", self.phi0, unit="rad"))
+        object.__setattr__(self, "ratio", _num(o, "ratio", self.ratio))
+        if self.knee > 0 and self.c2 <= 0:
+            raise ValueError(f"{o}: a two-stage spring (knee > 0) needs c2 > 0")
+
+
+@dataclass(frozen=True)
+class FrictionElement:
+    """A friction element between two inertias (clutch) - any friction model.
+
+    The model's force parameters are the capacity at full actuation (``scale = 1``).
+    ``scale`` = actuation × mu(theta)/mu_ref × mu(|w|)/mu_ref, where the actuation is the
+    input signal ``command`` (COM in [0, 1], seed eqs. 1-2) or, with ``clamp_table``, the
+    normalised clamp force F_n(x)/F_n,ref of a diaphragm-spring characteristic at the
+    pedal/actuator position ``x`` given by the input.
+
+    Parameters
+    ----------
+    name : str
+    model : FrictionModel
+    command : str
+        Name of the actuation input signal.
+    clamp_table : (positions, normalised forces), optional
+        Diaphragm-spring characteristic F_n/F_n,ref [-] against position [-].
+    mu_temperature : (theta [°C], factor [-]), optional
+        mu(theta)/mu_ref read at the first thermal node's temperature.
+    mu_slip : (|w| [rad/s], factor [-]), optional
+        mu(slip)/mu_ref.
+    heat : tuple of (node name, share)
+        Where the friction power |tau·w| goes (shares in [0, 1], sum <= 1).
+    drag : float
+        Drag torque of the open element [N·m] (``drag·tanh(w / 1 rad/s)``).
+    ratio : float
+        Ideal ratio on its input side [-].
+    locked0 : bool, optional
+        Start locked (switching models only); default: locked if the slip is zero.
+    """
+
+    name: str
+    model: FrictionModel
+    command: str
+    clamp_table: tuple | None = None
+    mu_temperature: tuple | None = None
+    mu_slip: tuple | None = None
+    heat: tuple = ()
+    drag: float = 0.0
+    ratio: float = 1.0
+    locked0: bool | None = None
+    z0: tuple | None = field(default=None)
+
+    def __post_init__(self):
+        o = f"friction element {self.name!r}"
+        if not isinstance(self.model, FrictionModel):
+            raise TypeError(f"{o}: model must be a clutchsim friction model")
+        for key in ("clamp_table", "mu_temperature", "mu_slip"):
+            tab = getattr(self, key)
+            if tab is not None:
+                object.__setattr__(self, key, _table(o, key, tab[0], tab[1]))
+        object.__setattr__(self, "drag", _num(o, "drag", self.drag, low=0.0, unit="N·m"))
+        object.__setattr__(self, "ratio", _num(o, "ratio", self.ratio))
+        heat = tuple((str(n), _num(o, "heat share", s, low=0.0, high=1.0)) for n, s in self.heat)
+        if len(heat) > 2:
+            raise ValueError(f"{o}: heat goes to at most 2 thermal nodes")
+        if sum(s for _, s in heat) > 1.0 + 1e-12:
+            raise ValueError(f"{o}: heat shares sum to {sum(s for _, s in heat):g} > 1")
+        object.__setattr__(self, "heat", heat)
+
+
+@dataclass(frozen=True)
+class Brake(FrictionElement):
+    """A friction element from an inertia to ground (``node`` = inertia name).
+
+    Parameters are those of :class:`FrictionElement`, plus ``node``.
+    """
+
+    node: str = ""
+
+
+@dataclass(frozen=True)
+class Engine:
+    """Combustion engine torque source on an inertia.
+
+    ``T = x·T_max(omega) - (drag0·tanh(omega/1 rad/s) + drag1·omega)``, where
+    ``x = clip(throttle + clip(kp·e + ki·I, 0, 1 - throttle), 0, 1)``, ``e = omega_idle -
+    omega``, ``dI/dt = e + (gov - raw)/(ki·0.1 s)`` (back-calculation anti-windup, which
+    keeps the right-hand side continuous).  The PI idle governor
+    is therefore limited by the available torque ``T_max(omega)``.  The engine stalls
+    (the run fails and says so) when its speed falls below ``stall_speed``.
+
+    Parameters
+    ----------
+    node : str
+        Inertia the engine drives (crankshaft + flywheel).
+    speeds, torques : sequence of float
+        Full-load curve T_max [N·m] against speed [rad/s].
+    throttle : str
+        Name of the throttle input signal [-], 0..1.
+    drag0 : float
+        Friction torque [N·m]; ``drag1``: pumping loss coefficient [N·m·s/rad].
+    idle_speed : float
+        Idle target [rad/s] (0 disables the governor).
+    kp, ki : float
+        Governor gains [1/(rad/s)], [1/rad].
+    stall_speed : float
+        Stall threshold [rad/s].
+    """
+
+    node: str
+    speeds: tuple
+    torques: tuple
+    throttle: str = "throttle"
+    drag0: float = 0.0
+    drag1: float = 0.0
+    idle_speed: float = 0.0
+    kp: float = 0.0
+    ki: float = 0.0
+    stall_speed: float = 0.0
+
+    def __post_init__(self):
+        o = "engine"
+        tab = _table(o, "full-load curve (speeds, torques)", self.speeds, self.torques)
+        object.__setattr__(self, "speeds", tab[0])
+        object.__setattr__(self, "torques", tab[1])
+        for key, unit in (("drag0", "N·m"), ("drag1", "N·m·s/rad"), ("idle_speed", "rad/s"),
+                          ("kp", "1/(rad/s)"), ("ki", "1/rad"), ("stall_speed", "rad/s")):
+            object.__setattr__(self, key, _num(o, key, getattr(self, key), low=0.0, unit=unit))
+        if self.idle_speed and self.stall_speed >= self.idle_speed:
+            raise ValueError(f"engine: stall_speed = {self.stall_speed:g} rad/s must be below "
+                             f"idle_speed = {self.idle_speed:g} rad/s")
+
+
+@dataclass(frozen=True)
+class Vehicle:
+    """Vehicle on the last inertia (the wheels): mass, tyre, grade, road load.
+
+    The vehicle mass appears at the wheels as the inertia ``m·r²``; the road load
+    ``[m·g·(f_r·cos(a)·tanh(v/v_eps) + sin(a)) + ½·rho·c_d·A·v·|v|]·r`` brakes the wheels.
+
+    Parameters
+    ----------
+    mass : float
+        [kg] (> 0).
+    tyre_radius : float
+        Dynamic rolling radius [m] (> 0).
+    grade : float
+        Road grade [%] (rise/run·100; positive uphill).
+    rolling : float
+        Rolling-resistance coefficient f_r [-].
+    cd_area : float
+        Drag area c_d·A [m²].
+    air_density : float
+        [kg/m³].
+    v_eps : float
+        Speed [m/s] over which rolling resistance builds up (regularisation at rest).
+    """
+
+    mass: float
+    tyre_radius: float
+    grade: float = 0.0
+    rolling: float = 0.0
+    cd_area: float = 0.0
+    air_density: float = 1.2
+    v_eps: float = 0.05
+    gravity: float = 9.81
+
+    def __post_init__(self):
+        o = "vehicle"
+        object.__setattr__(self, "mass", _num(o, "mass", self.mass, low=0.0, strict=True,
+                                              unit="kg"))
+        object.__setattr__(self, "tyre_radius", _num(o, "tyre_radius", self.tyre_radius,
+                                                     low=0.0, strict=True, unit="m"))
+        object.__setattr__(self, "grade", _num(o, "grade", self.grade, low=-100, high=100,
+                                               unit="%"))
+        object.__setattr__(self, "rolling", _num(o, "rolling", self.rolling, low=0.0, high=0.5))
+        object.__setattr__(self, "cd_area", _num(o, "cd_area", self.cd_area, low=0.0,
+                                                 unit="m²"))
+        object.__setattr__(self, "air_density", _num(o, "air_density", self.air_density,
+                                                     low=0.0, unit="kg/m³"))
+        object.__setattr__(self, "v_eps", _num(o, "v_eps", self.v_eps, low=0.0, strict=True,
+                                               unit="m/s"))
+
+    @property
+    def equivalent_inertia(self) -> float:
+        """``m·r²`` [kg·m²]."""
+        return self.mass * self.tyre_radius ** 2
+
+
+@dataclass(frozen=True)
+class ThermalNode:
+    """Lumped thermal node (e.g. pressure plate, flywheel).
+
+    ``C·dtheta/dt = sum(share·|tau·w|) - hA·(theta - ambient)``
+
+    Parameters
+    ----------
+    name : str
+    capacity : float
+        Heat capacity C = m·c_p [J/K] (> 0).
+    conductance : float
+        Convection hA to ambient [W/K] (>= 0; 0: adiabatic).
+    ambient : float
+        Ambient temperature [°C].
+    theta0 : float
+        Initial temperature [°C].
+    """
+
+    name: str
+    capacity: float
+    conductance: float = 0.0
+    ambient: float = 20.0
+    theta0: float = 20.0
+
+    def __post_init__(self):
+        o = f"thermal node {self.name!r}"
+        object.__setattr__(self, "capacity", _num(o, "capacity", self.capacity, low=0.0,
+                                                  strict=True, unit="J/K"))
+        object.__setattr__(self, "conductance", _num(o, "conductance", self.conductance,
+                                                     low=0.0, unit="W/K"))
+        object.__setattr__(self, "ambient", _num(o, "ambient", self.ambient, low=-273.15,
+                                                 unit="°C"))
+        object.__setattr__(self, "theta0", _num(o, "theta0", self.theta0, low=-273.15,
+                                                unit="°C"))
+
+
+def static_capacity(model: FrictionModel) -> float:
+    """Largest stick torque of ``model`` at scale 1 [N·m] (T_stat, F_s or F_c)."""
+    for attr in ("T_stat", "F_s", "F_c"):
+        if hasattr(model, attr):
+            return float(getattr(model, attr))
+    return float("nan")

@@ -1,0 +1,8 @@
+"""Scenario files: TOML schema, loader and errors (file, key path, line)."""
+
+from .errors import ScenarioError
+from .loader import Scenario, apply_overrides, default_scenario_text, load_scenario
+from .schema import reference_markdown
+
+__all__ = ["Scenario", "ScenarioError", "load_scenario", "apply_overrides",
+           "default_scenario_text", "reference_markdown"]

@@ -1,0 +1,255 @@
+"""The scenario file schema: every table and key, its type, unit, range and meaning.
+
+The same tables drive validation (:func:`check_table`) and the generated reference
+``docs/scenario-reference.md`` (:func:`reference_markdown`).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass
+
+__all__ = ["Key", "SECTIONS", "COUPLING_TYPES", "check_table", "reference_markdown"]
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key of a scenario table."""
+
+    name: str
+    kind: str            # number, int, str, bool, numbers, strs, table, tables, signal
+    doc: str
+    unit: str = ""
+    required: bool = False
+    low: float | None = None
+    high: float | None = None
+    strict: bool = False   # low is exclusive
+
+
+def _n(name, doc, unit="", **kw):
+    return Key(name, "number", doc, unit, **kw)
+
+
+SCENARIO = (
+    Key("name", "str", "Short name of the scenario.", required=True),
+    Key("description", "str", "What the scenario shows."),
+    _n("t_end", "End time of the run.", "s", required=True, low=0.0, strict=True),
+    Key("models", "strs", "Friction models to run for the element named by `clutch` "
+        "(default: the element's own model)."),
+    Key("clutch", "str", "Name of the friction element the models replace and the launch "
+        "metrics refer to (default `clutch`)."),
+)
+SOLVER = (
+    Key("method", "str", "rodas4 (default), dopri5, scipy-radau, scipy-lsoda, scipy-rk45."),
+    _n("rtol", "Relative tolerance.", low=1e-14),
+    _n("atol", "Absolute tolerance.", low=0.0, strict=True),
+    _n("h_max", "Largest step (0: none).", "s", low=0.0),
+    _n("dt_out", "Output grid spacing (0: every step).", "s", low=0.0),
+    Key("max_steps", "int", "Step budget.", low=1),
+    _n("wall_time", "Wall-time budget of one run.", "s", low=0.0),
+    Key("chatter_events", "int", "Chatter detection: this many events ...", low=0),
+    _n("chatter_window", "... within this time stop the run.", "s", low=0.0),
+)
+INERTIA = (
+    Key("name", "str", "Unique name; state `omega_<name>` [rad/s].", required=True),
+    _n("J", "Inertia.", "kg·m²", required=True, low=0.0, strict=True),
+    _n("omega0", "Initial speed.", "rad/s"),
+    _n("bearing_damping", "Viscous bearing loss to ground.", "N·m·s/rad", low=0.0),
+    Key("load", "str", "Input signal applied as a torque on this inertia [N·m]."),
+)
+FRICTION = (
+    Key("model", "str", "Friction model name (`clutchsim models`).", required=True),
+    Key("parameter_set", "str", "Parameter set (default: the model's own)."),
+    Key("overrides", "table", "Model parameters replacing those of the set (SI; rotational "
+        "units N·m, rad, rad/s)."),
+    Key("alternatives", "table", "Parameters per model name, used when `--model` selects "
+        "another model for this element: `{coulomb-robust = {F_c = .., F_s = ..}}`."),
+)
+CLUTCH = (
+    Key("name", "str", "Unique name.", required=True),
+    Key("type", "str", "clutch | spring_damper | gear | gearbox.", required=True),
+    Key("command", "str", "Actuation input: COM in [0, 1] (seed eqs. 1-2), or the pedal / "
+        "actuator position read through `clamp_table`.", required=True),
+    Key("friction", "table", "Friction model of the element (see [friction]).", required=True),
+    Key("clamp_table", "table", "Diaphragm-spring characteristic `{position = [...], force = "
+        "[...]}`: clamp force normalised by the force at which the model's capacity is given "
+        "[-] against position [-]."),
+    Key("mu_temperature", "table", "`{theta = [°C ...], factor = [...]}`: mu(theta)/mu_ref at the "
+        "first heat node."),
+    Key("mu_slip", "table", "`{slip = [rad/s ...], factor = [...]}`: mu(|w|)/mu_ref."),
+    Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
+        "friction power |T·w| goes."),
+    _n("drag", "Drag torque of the open element.", "N·m", low=0.0),
+    _n("ratio", "Ideal ratio on the input side.", "-"),
+)
+SPRING = (
+    Key("name", "str", "Unique name; state `phi_<name>` [rad].", required=True),
+    Key("type", "str", "spring_damper.", required=True),
+    _n("c", "Stiffness (first stage).", "N·m/rad", required=True, low=0.0, strict=True),
+    _n("d", "Damping.", "N·m·s/rad", low=0.0),
+    _n("knee", "Twist where the second stage starts (0: single stage).", "rad", low=0.0),
+    _n("c2", "Second-stage stiffness.", "N·m/rad", low=0.0),
+    _n("phi0", "Initial twist.", "rad"),
+    _n("ratio", "Ideal ratio on the input side.", "-"),
+)
+GEAR = (
+    Key("name", "str", "Unique name.", required=True),
+    Key("type", "str", "gear.", required=True),
+    _n("ratio", "Speed ratio omega_in/omega_out.", "-", required=True),
+)
+GEARBOX = (
+    Key("name", "str", "Unique name; state `ratio_<name>`.", required=True),
+    Key("type", "str", "gearbox.", required=True),
+    Key("ratios", "numbers", "Gear ratios, gear 1 first.", required=True),
+    Key("gear", "int", "Selected gear (1-based).", required=True, low=1),
+    _n("final_drive", "Final drive ratio.", "-", low=0.0, strict=True),
+    Key("shifts", "tables", "`[{time = 3.0, gear = 2}]`: ratio changes (ideal synchroniser)."),
+)
+BRAKE = (
+    Key("name", "str", "Unique name.", required=True),
+    Key("node", "str", "Inertia the brake acts on.", required=True),
+    Key("command", "str", "Actuation input (0 released .. 1 full capacity).", required=True),
+    Key("friction", "table", "Friction model of the brake (see [friction]).", required=True),
+    _n("drag", "Drag torque of the released brake.", "N·m", low=0.0),
+)
+ENGINE = (
+    Key("node", "str", "Inertia the engine drives.", required=True),
+    Key("full_load", "table", "`{speed = [rad/s ...], torque = [N·m ...]}` full-load curve.",
+        required=True),
+    Key("throttle", "str", "Throttle input signal [-] 0..1.", required=True),
+    _n("drag0", "Friction torque.", "N·m", low=0.0),
+    _n("drag1", "Pumping loss coefficient.", "N·m·s/rad", low=0.0),
+    _n("idle_speed", "Idle governor target (0: no governor).", "rad/s", low=0.0),
+    _n("kp", "Governor proportional gain.", "1/(rad/s)", low=0.0),
+    _n("ki", "Governor integral gain.", "1/rad", low=0.0),
+    _n("stall_speed", "Stall threshold: the run fails below it.", "rad/s", low=0.0),
+)
+VEHICLE = (
+    _n("mass", "Vehicle mass.", "kg", required=True, low=0.0, strict=True),
+    _n("tyre_radius", "Dynamic tyre radius.", "m", required=True, low=0.0, strict=True),
+    _n("grade", "Road grade (positive uphill).", "%", low=-100.0, high=100.0),
+    _n("rolling", "Rolling-resistance coefficient.", "-", low=0.0, high=0.5),
+    _n("cd_area", "Drag area c_d·A.", "m²", low=0.0),
+    _n("air_density", "Air density.", "kg/m³", low=0.0),
+    _n("v_eps", "Regularisation speed of rolling resistance at rest.", "m/s", low=0.0,
+       strict=True),
+)
+THERMAL = (
+    Key("name", "str", "Unique name; state `theta_<name>` [°C].", required=True),
+    _n("capacity", "Heat capacity m·c_p.", "J/K", required=True, low=0.0, strict=True),
+    _n("conductance", "Convection hA to ambient (0: adiabatic).", "W/K", low=0.0),
+    _n("ambient", "Ambient temperature.", "°C", low=-273.15),
+    _n("theta0", "Initial temperature.", "°C", low=-273.15),
+)
+
+COUPLING_TYPES = {"clutch": CLUTCH, "spring_damper": SPRING, "gear": GEAR, "gearbox": GEARBOX}
+
+#: top-level tables: name -> (keys, kind) with kind "table" or "tables" (array of tables)
+SECTIONS = {
+    "scenario": (SCENARIO, "table"),
+    "solver": (SOLVER, "table"),
+    "inputs": ((), "map"),
+    "inertia": (INERTIA, "tables"),
+    "coupling": (None, "tables"),
+    "brake": (BRAKE, "tables"),
+    "engine": (ENGINE, "table"),
+    "vehicle": (VEHICLE, "table"),
+    "thermal": (THERMAL, "tables"),
+}
+
+
+def suggest(name: str, valid) -> str:
+    m = difflib.get_close_matches(str(name), list(valid), n=1, cutoff=0.5)
+    return f"; did you mean {m[0]!r}?" if m else ""
+
+
+def check_table(table: dict, keys: tuple, path: str, fail) -> None:
+    """Check one table against its keys; ``fail(problem, key_path)`` raises."""
+    known = {k.name: k for k in keys}
+    for name in table:
+        if name not in known:
+            fail(f"unknown key {name!r}{suggest(name, known)} (valid keys: "
+                 f"{', '.join(known)})", f"{path}.{name}")
+    for k in keys:
+        kp = f"{path}.{k.name}"
+        if k.name not in table:
+            if k.required:
+                fail(f"missing required key {k.name!r} ({k.doc})", path)
+            continue
+        v = table[k.name]
+        if k.kind in ("number", "int"):
+            if isinstance(v, str):
+                fail(f"must be a number in {k.unit or 'SI units'}, got the string {v!r} "
+                     "(scenario values are plain SI numbers; the unit is fixed by the key)", kp)
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                fail(f"must be a number, got {type(v).__name__} {v!r}", kp)
+            if k.kind == "int" and not isinstance(v, int):
+                fail(f"must be an integer, got {v!r}", kp)
+            if not math.isfinite(v):
+                fail(f"must be finite, got {v!r}", kp)
+            u = f" {k.unit}" if k.unit and k.unit != "-" else ""
+            if k.low is not None and (v <= k.low if k.strict else v < k.low):
+                fail(f"= {v!r}{u} is out of range: must be {'>' if k.strict else '>='} "
+                     f"{k.low:g}{u}", kp)
+            if k.high is not None and v > k.high:
+                fail(f"= {v!r}{u} is out of range: must be <= {k.high:g}{u}", kp)
+        elif k.kind == "str" and not isinstance(v, str):
+            fail(f"must be a string, got {v!r}", kp)
+        elif k.kind == "numbers":
+            if not isinstance(v, list) or not all(
+                    isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
+                fail(f"must be a list of numbers, got {v!r}", kp)
+        elif k.kind == "strs":
+            if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
+                fail(f"must be a list of strings, got {v!r}", kp)
+        elif k.kind == "table" and not isinstance(v, dict):
+            fail(f"must be a table {{...}}, got {v!r}", kp)
+        elif k.kind == "tables" and not (isinstance(v, list) and
+                                         all(isinstance(x, dict) for x in v)):
+            fail(f"must be a list of tables [{{...}}, ...], got {v!r}", kp)
+
+
+def _rows(keys):
+    out = ["| key | type | unit | required | range | meaning |", "|---|---|---|---|---|---|"]
+    for k in keys:
+        rng = ""
+        if k.low is not None:
+            rng = f"{'>' if k.strict else '≥'} {k.low:g}"
+        if k.high is not None:
+            rng += (", " if rng else "") + f"≤ {k.high:g}"
+        out.append(f"| `{k.name}` | {k.kind} | {k.unit} | {'yes' if k.required else ''} | "
+                   f"{rng} | {k.doc} |")
+    return out
+
+
+def reference_markdown() -> str:
+    """The scenario file reference (``docs/scenario-reference.md``), generated from SECTIONS."""
+    out = ["# Scenario file reference", "",
+           "Generated by `clutchsim.scenario.schema.reference_markdown()`; do not edit by hand "
+           "(a test compares this file with the generated text).", "",
+           "A scenario is a TOML file. All values are plain SI numbers; the unit is fixed by "
+           "the key (listed below). Unknown keys are errors (the closest valid key is "
+           "suggested); every error names the file, the key path and the line.", "",
+           "Input signals (`[inputs]`, name = signal) are a formula string such as "
+           "`\"ramp(0.5, 1.5, 1.0)\"` or `\"0.5 + sine(0.4, 1)\"`, a CSV path (header row, then "
+           "`time [s], value`; relative to the scenario file; gaps are errors), or a table "
+           "`{type = \"ramp\", start = .., duration = .., height = .., offset = ..}`, "
+           "`{type = \"step\", time = .., height = .., offset = ..}`, "
+           "`{type = \"table\", time = [...], value = [...]}`, `{type = \"const\", value = ..}`, "
+           "`{type = \"sine\", amplitude = .., freq = .., phase = .., offset = ..}`.", ""]
+    for name, (keys, kind) in SECTIONS.items():
+        header = f"[[{name}]]" if kind == "tables" else f"[{name}]"
+        out += [f"## `{header}`", ""]
+        if name == "inputs":
+            out += ["Free-form: `input_name = signal` (see above).", ""]
+            continue
+        if name == "coupling":
+            out += ["Coupling k joins inertia k and inertia k+1; there is one coupling fewer "
+                    "than inertias. The keys depend on `type`.", ""]
+            for t, tkeys in COUPLING_TYPES.items():
+                out += [f"### `type = \"{t}\"`", ""] + _rows(tkeys) + [""]
+            out += ["### `friction` (of a clutch or a brake)", ""] + _rows(FRICTION) + [""]
+            continue
+        out += _rows(keys) + [""]
+    return "\n".join(out)
