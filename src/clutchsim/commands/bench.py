@@ -1,0 +1,109 @@
+"""``clutchsim bench``: run a friction benchmark, write its figure, traces and metrics."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import os
+import shutil
+from pathlib import Path
+
+from ..cli import SimulationFailed, UserError, emit_json
+
+log = logging.getLogger("clutchsim")
+
+HELP = """\
+examples:
+  clutchsim bench drift --json                       # default models, metrics on stdout
+  clutchsim bench drift --model lugre --model elastoplastic --out drift/
+  clutchsim bench stick-slip --model lugre --out ss/ --json
+  clutchsim bench drift --model "mykhailevych2020,reset=zero"
+
+benchmarks: curves, drift, hysteresis, presliding, lag, breakaway, stick-slip,
+coulomb-analytic.  A model is NAME[:PARAMETER_SET][,key=value...].
+--out DIR receives <name>.png, <name>_traces.csv and bench.json; the directory is
+built as DIR.partial and renamed when complete.
+"""
+
+
+def register(sub, common):
+    p = sub.add_parser("bench", parents=[common], help="run a friction benchmark",
+                       description="Run a friction benchmark protocol on one or more "
+                       "models and report its metrics.", epilog=HELP,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("name", help="benchmark name")
+    p.add_argument("--model", action="append", metavar="M",
+                   help="model (repeatable; default: every applicable model)")
+    p.add_argument("--out", metavar="DIR", help="write PNG, CSV traces and bench.json")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+
+
+def traces_frame(result):
+    """All runs in one long table: model, run, then the signals with units."""
+    import pandas as pd
+    frames = []
+    for label, runs in result.runs.items():
+        for run_name, res in runs.items():
+            frame = res.to_frame()
+            frame.insert(0, "run", run_name)
+            frame.insert(0, "model", label)
+            frames.append(frame)
+    return pd.concat(frames, ignore_index=True, sort=False)
+
+
+def write_outputs(result, out: Path) -> None:
+    """Write ``<name>.png``, ``<name>_traces.csv`` and ``bench.json`` into ``out``.
+
+    Everything goes to ``out.partial`` first, which is renamed onto ``out`` at the end:
+    an interrupted run never leaves a complete-looking directory.
+    """
+    from ..plot._style import save_png
+    from ..plot.benchmarks import plot_benchmark
+    partial = out.with_name(out.name + ".partial")
+    if partial.exists():
+        shutil.rmtree(partial)
+    partial.mkdir(parents=True)
+    fig, _ = plot_benchmark(result)
+    save_png(fig, partial / f"{result.benchmark}.png")
+    traces_frame(result).to_csv(partial / f"{result.benchmark}_traces.csv", index=False,
+                                float_format="%.12g")
+    doc = {**result.metrics_json(), "protocol": result.protocol, "models": dict(result.models)}
+    (partial / "bench.json").write_text(json.dumps(doc, indent=2, allow_nan=False))
+    if out.exists():
+        old = out.with_name(out.name + ".old")
+        if old.exists():
+            shutil.rmtree(old)
+        os.replace(out, old)
+        os.replace(partial, out)
+        shutil.rmtree(old)
+    else:
+        os.replace(partial, out)
+
+
+def run(args) -> int:
+    from ..benchmarks import get_benchmark
+    bench = get_benchmark(args.name)
+    out = Path(args.out) if args.out else None
+    if out is not None and out.exists() and not out.is_dir():
+        raise UserError(f"--out {args.out!r}: exists and is not a directory")
+    try:
+        from ..benchmarks import resolve_models
+        entries = resolve_models(args.model, bench.default_models, bench.applicable)
+    except ValueError as exc:
+        raise UserError(f"--model: {exc}") from None
+    log.info("bench %s: %s", bench.name, ", ".join(e.label for e in entries))
+    result = bench.run(args.model)
+    if out is not None:
+        write_outputs(result, out)
+        log.info("wrote %s", out)
+    if args.json:
+        emit_json(result.metrics_json())
+    else:
+        for label, metrics in result.metrics.items():
+            print(f"{label}: {json.dumps(result.metrics_json()['results'][label])}")
+    failed = [label for label, m in result.metrics.items() if m.get("status") == "failed"]
+    if failed:
+        raise SimulationFailed("; ".join(f"{label}: {result.metrics[label]['message']}"
+                                         for label in failed))
+    return 0

@@ -1,0 +1,93 @@
+"""The rig and bench subcommands run through ``python -m clutchsim`` in a subprocess."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+
+def cli(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "clutchsim", *args], capture_output=True,
+                          text=True, cwd=cwd, timeout=600)
+
+
+def test_rig_json_and_csv(tmp_path):
+    out = tmp_path / "rig.csv"
+    p = cli("rig", "--model", "lugre", "--force", "0.5 + sine(0.4, 1)", "--t-end", "2",
+            "--out", str(out), "--json")
+    assert p.returncode == 0, p.stderr
+    doc = json.loads(p.stdout)
+    assert doc["status"] == "completed"
+    assert "x [m]" in doc["final"] and "steps" in doc["stats"]
+    header = out.read_text().splitlines()[0].split(",")
+    assert header[:4] == ["time [s]", "x [m]", "v [m/s]", "F [N]"]
+    assert "z [m]" in header
+
+
+def test_rig_rotational_columns(tmp_path):
+    out = tmp_path / "rot.csv"
+    p = cli("rig", "--model", "lugre", "--domain", "rotational", "--mass", "0.2",
+            "--force", "ramp(0, 1, 1)",
+            "--t-end", "1", "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    header = out.read_text().splitlines()[0].split(",")
+    assert header[:4] == ["time [s]", "phi [rad]", "omega [rad/s]", "T [N·m]"]
+
+
+@pytest.mark.parametrize("content, needle", [
+    ("time\n0\n1\n", "bad.csv:2"),
+    ("time,value\n0,0\n2,1\n1,1\n", "non-decreasing"),
+    ("time,value\n0,0\n1,nan\n", "non-finite"),
+])
+def test_rig_bad_csv_exit_2(tmp_path, content, needle):
+    bad = tmp_path / "bad.csv"
+    bad.write_text(content)
+    out = tmp_path / "never.csv"
+    p = cli("rig", "--model", "lugre", "--force", str(bad), "--t-end", "1", "--out", str(out))
+    assert p.returncode == 2
+    assert needle in p.stderr and "bad.csv" in p.stderr
+    assert len(p.stderr.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--model", "lugr", "--force", "1"], "lugre"),
+    (["--model", "lugre", "--force", "__import__('os')"], "__import__"),
+    (["--model", "lugre", "--set", "sigma0=-1", "--force", "1"], "sigma0"),
+])
+def test_rig_bad_input_exit_2(args, needle):
+    p = cli("rig", *args, "--t-end", "1")
+    assert p.returncode == 2
+    assert needle in p.stderr
+    assert p.stdout == ""
+
+
+def test_bench_json_and_outputs(tmp_path):
+    out = tmp_path / "ss"
+    p = cli("bench", "stick-slip", "--model", "lugre", "--out", str(out), "--json")
+    assert p.returncode == 0, p.stderr
+    doc = json.loads(p.stdout)
+    assert doc["benchmark"] == "stick-slip"
+    assert doc["results"]["lugre"]["period_s"] == pytest.approx(6.3627, rel=1e-3)
+    names = sorted(f.name for f in out.iterdir())
+    assert names == ["bench.json", "stick-slip.png", "stick-slip_traces.csv"]
+    assert not (tmp_path / "ss.partial").exists()
+
+
+def test_bench_drift_json_shape():
+    p = cli("bench", "drift", "--model", "elastoplastic", "--json")
+    assert p.returncode == 0, p.stderr
+    doc = json.loads(p.stdout)
+    assert set(doc["results"]["elastoplastic"]) == {"D1", "D2"}
+
+
+def test_bench_unknown_names_exit_2(tmp_path):
+    p = cli("bench", "drfit", "--out", str(tmp_path / "x"))
+    assert p.returncode == 2
+    assert "did you mean 'drift'" in p.stderr and "coulomb-analytic" in p.stderr
+    assert not (tmp_path / "x").exists()
+    p = cli("bench", "drift", "--model", "lugr")
+    assert p.returncode == 2 and "lugre" in p.stderr
