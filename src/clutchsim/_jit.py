@@ -17,7 +17,7 @@ from pathlib import Path
 import numba
 from numba import njit
 
-__all__ = ["jit", "cache_dir"]
+__all__ = ["cache_dir", "jit"]
 
 
 def _source_digest() -> str:
@@ -43,6 +43,35 @@ def _configure_cache() -> str:
 
 
 cache_dir = _configure_cache()
+
+
+def _tolerate_foreign_index_entries() -> None:
+    """Let numba ignore cache-index entries whose types cannot be imported here.
+
+    The integrators are specialised per plant tag type, and numba keeps all
+    specialisations of one function in one index file.  An index written by a process
+    that defined its own plant (a user's script, a notebook) names that plant's class;
+    any other process that cannot import it would crash with ModuleNotFoundError when it
+    reads the index.  We treat such an index as empty instead: the cost is a recompile,
+    never a crash.  numba has no option for this, hence the narrow patch of one method.
+    """
+    from numba.core import caching
+
+    original = getattr(caching.IndexDataCacheFile, "_load_index", None)
+    if original is None or getattr(original, "_clutchsim_tolerant", False):
+        return
+
+    def _load_index(self):
+        try:
+            return original(self)
+        except (ImportError, AttributeError, EOFError, ValueError, TypeError):
+            return {}
+
+    _load_index._clutchsim_tolerant = True
+    caching.IndexDataCacheFile._load_index = _load_index
+
+
+_tolerate_foreign_index_entries()
 
 
 def jit(func=None, **kwargs):

@@ -20,7 +20,7 @@ import sys
 
 from ._version import __version__
 
-__all__ = ["main", "UserError", "SimulationFailed", "emit_json"]
+__all__ = ["SimulationFailed", "UserError", "emit_json", "main"]
 
 #: subcommand modules, in the order ``--help`` lists them
 COMMANDS = ("models", "rig", "bench", "run", "demo", "sweep", "fit", "report")

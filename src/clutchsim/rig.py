@@ -25,7 +25,7 @@ from .core import Signal, SolverOptions, System, register_system, simulate
 from .friction import friction_events, friction_force, friction_reset
 from .friction.base import FrictionModel
 
-__all__ = ["make_rig", "run_rig", "RIG_HEADER"]
+__all__ = ["RIG_HEADER", "make_rig", "run_rig"]
 
 # parameter-vector layout
 _DRIVE, _MASS, _K, _V_PULL, _Y0, _CODE, _NZ, _NEV = range(8)
@@ -113,7 +113,7 @@ register_system(FrictionRig, rhs=_rig_rhs, events=_rig_events, reset=_rig_reset,
 _UNITS = {
     "translational": {"x": ("x", "m"), "v": ("v", "m/s"), "F": ("F", "N"), "m": "kg",
                       "power": "W", "k": "N/m"},
-    "rotational": {"x": ("phi", "rad"), "v": ("omega", "rad/s"), "F": ("T", "N·m"),
+    "rotational": {"x": ("theta", "rad"), "v": ("omega", "rad/s"), "F": ("T", "N·m"),
                    "m": "kg·m²", "power": "W", "k": "N·m/rad"},
 }
 

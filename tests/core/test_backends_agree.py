@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from _systems import ball, oscillator
 from clutchsim.core import Sine, SolverOptions, Step, simulate
+from clutchsim.core.reference_problems import ball, oscillator
 
 
 @pytest.mark.parametrize("reference", ["scipy-radau", "scipy-lsoda", "scipy-rk45"])

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from _systems import oscillator
 from clutchsim.core import SolverOptions, simulate
+from clutchsim.core.reference_problems import oscillator
 
 
 def test_non_finite_initial_state_is_named():

@@ -4,8 +4,14 @@ runs which would otherwise hang."""
 import numpy as np
 import pytest
 
-from _systems import ball, ball_bounce_times, oscillator, poison, sign_switch
 from clutchsim.core import Constant, Ramp, SolverOptions, Step, simulate
+from clutchsim.core.reference_problems import (
+    ball,
+    ball_bounce_times,
+    oscillator,
+    poison,
+    sign_switch,
+)
 
 
 @pytest.mark.parametrize("solver", ["dopri5", "rodas4", "scipy-radau"])

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from _systems import oscillator, riccati, van_der_pol
 from clutchsim.core import Sine, SolverOptions, simulate
+from clutchsim.core.reference_problems import oscillator, riccati, van_der_pol
 
 TIGHT = SolverOptions(rtol=1e-10, atol=1e-12)
 

@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from _systems import oscillator
 from clutchsim.core import Constant, Pulse, Ramp, Sine, SolverOptions, Step, Table, simulate
+from clutchsim.core.reference_problems import oscillator
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,10 @@
-"""Small reference plants with known solutions, used by the core tests."""
+"""Reference problems with known solutions: the test bed of the integrators.
+
+Harmonic oscillator (exact), Riccati equation y' = -2ty² (exact 1/(1+t²)), bouncing ball
+(analytic impact times), stiff van der Pol, a naive sign() switch (chatters), and a
+right-hand side that turns NaN.  They live in the package (not in the tests) so that every
+process can import their tag types: numba's cache index records them.
+"""
 
 from __future__ import annotations
 

@@ -12,7 +12,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-__all__ = ["Result", "Stats", "Event", "atomic_write"]
+__all__ = ["Event", "Result", "Stats", "atomic_write"]
 
 
 def atomic_write(path: str | Path, write) -> Path:
@@ -96,7 +96,7 @@ class Result:
     metadata: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
 
     @classmethod
-    def build(cls, t, columns: list[tuple[str, str, np.ndarray]], **kw) -> "Result":
+    def build(cls, t, columns: list[tuple[str, str, np.ndarray]], **kw) -> Result:
         t = np.array(t, dtype=float)
         t.flags.writeable = False
         data, units = {}, {}

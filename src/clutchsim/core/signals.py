@@ -26,8 +26,18 @@ import numpy as np
 from .._jit import jit
 
 __all__ = [
-    "Signal", "Constant", "Step", "Ramp", "Sine", "Pulse", "Table", "Sum",
-    "SignalBank", "as_signal", "build_bank", "eval_inputs",
+    "Constant",
+    "Pulse",
+    "Ramp",
+    "Signal",
+    "SignalBank",
+    "Sine",
+    "Step",
+    "Sum",
+    "Table",
+    "as_signal",
+    "build_bank",
+    "eval_inputs",
 ]
 
 _CONST, _STEP, _RAMP, _SINE, _PULSE, _TABLE = 0, 1, 2, 3, 4, 5
@@ -44,14 +54,14 @@ def _finite(owner: str, **values: float) -> None:
 class Signal:
     """Abstract input signal.  Signals add: ``Constant(0.5) + Sine(0.4, 1.0)``."""
 
-    def terms(self) -> tuple["Signal", ...]:
+    def terms(self) -> tuple[Signal, ...]:
         return (self,)
 
     def breakpoints(self) -> np.ndarray:
         """Times of value or slope discontinuities [s]."""
         raise NotImplementedError
 
-    def __add__(self, other: "Signal | float") -> "Sum":
+    def __add__(self, other: Signal | float) -> Sum:
         return Sum(self.terms() + as_signal(other).terms())
 
     __radd__ = __add__
@@ -223,13 +233,13 @@ class Table(Signal):
             i = back[0]
             raise ValueError(f"Table{where}: time must be non-decreasing, but row {i + 2} has "
                              f"t = {t[i + 1]} after t = {t[i]}")
-        if t.size > 2 and np.any((t[2:] == t[:-2])):
+        if t.size > 2 and np.any(t[2:] == t[:-2]):
             raise ValueError(f"Table{where}: a time may appear at most twice (a jump)")
         object.__setattr__(self, "times", t)
         object.__setattr__(self, "values", v)
 
     @classmethod
-    def from_csv(cls, path: str | Path, *, hit_knots: bool = True) -> "Table":
+    def from_csv(cls, path: str | Path, *, hit_knots: bool = True) -> Table:
         """Read a two-column CSV (a header row, then time [s], value).
 
         Errors name the file and the row.

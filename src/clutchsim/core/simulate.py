@@ -13,7 +13,7 @@ from .result import Event, Result, Stats
 from .signals import Signal, as_signal, build_bank
 from .system import System, closest
 
-__all__ = ["simulate", "resolve_inputs"]
+__all__ = ["resolve_inputs", "simulate"]
 
 _ACTIONS = {0: "recorded", 1: "reset", 2: "stop", 3: "fail"}
 

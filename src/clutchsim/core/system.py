@@ -35,8 +35,17 @@ from numba.extending import overload
 from .._jit import jit
 
 __all__ = [
-    "CONTINUE", "STATE_CHANGED", "STOP", "FAIL", "System", "register_system",
-    "system_rhs", "system_events", "system_reset", "system_outputs", "closest",
+    "CONTINUE",
+    "FAIL",
+    "STATE_CHANGED",
+    "STOP",
+    "System",
+    "closest",
+    "register_system",
+    "system_events",
+    "system_outputs",
+    "system_reset",
+    "system_rhs",
 ]
 
 #: reset action: the event is recorded, the state is unchanged
@@ -266,7 +275,7 @@ class System:
     def n_events(self) -> int:
         return len(self.event_names)
 
-    def with_params(self, params: np.ndarray) -> "System":
+    def with_params(self, params: np.ndarray) -> System:
         """The same plant with another parameter vector (same layout)."""
         from dataclasses import replace
         return replace(self, params=params)

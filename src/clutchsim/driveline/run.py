@@ -79,7 +79,7 @@ def energy_balance(res: Result) -> dict:
 
 def _first_lock(res: Result, clutch: str) -> float | None:
     lk = f"{clutch}.locked"
-    if lk in res.signals:   # a switching model: the first lock after the start
+    if lk in res.signals and np.any(res[lk] > 0.5):   # a switching model: the first lock
         idx = np.flatnonzero((res[lk] > 0.5) & (res.t > 0))
         return float(res.t[idx[0]]) if idx.size else None
     name = f"w_slip_{clutch}"
