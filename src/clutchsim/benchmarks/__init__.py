@@ -21,8 +21,8 @@ coulomb-analytic two-mass Coulomb problem with an analytic stick time (T9)
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from ..core.system import closest
 from . import breakaway, coulomb_analytic, curves, drift, hysteresis, lag, presliding, stick_slip
@@ -33,14 +33,29 @@ from .curves import run_curves
 from .drift import run_drift
 from .hysteresis import run_hysteresis
 from .lag import run_lag
+from .outputs import traces_frame, write_outputs
 from .presliding import run_presliding
 from .stick_slip import run_stick_slip
 
 __all__ = [
-    "BENCHMARKS", "Benchmark", "BenchmarkResult", "ModelEntry", "run_benchmark",
-    "get_benchmark", "entry_from_spec", "resolve_models", "run_curves", "run_drift",
-    "run_hysteresis", "run_presliding", "run_lag", "run_breakaway", "run_stick_slip",
+    "BENCHMARKS",
+    "Benchmark",
+    "BenchmarkResult",
+    "ModelEntry",
+    "entry_from_spec",
+    "get_benchmark",
+    "resolve_models",
+    "run_benchmark",
+    "run_breakaway",
     "run_coulomb_analytic",
+    "run_curves",
+    "run_drift",
+    "run_hysteresis",
+    "run_lag",
+    "run_presliding",
+    "run_stick_slip",
+    "traces_frame",
+    "write_outputs",
 ]
 
 

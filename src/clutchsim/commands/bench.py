@@ -5,8 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-import os
-import shutil
 from pathlib import Path
 
 from ..cli import SimulationFailed, UserError, emit_json
@@ -39,48 +37,6 @@ def register(sub, common):
     p.add_argument("--json", action="store_true", help="print one JSON document")
 
 
-def traces_frame(result):
-    """All runs in one long table: model, run, then the signals with units."""
-    import pandas as pd
-    frames = []
-    for label, runs in result.runs.items():
-        for run_name, res in runs.items():
-            frame = res.to_frame()
-            frame.insert(0, "run", run_name)
-            frame.insert(0, "model", label)
-            frames.append(frame)
-    return pd.concat(frames, ignore_index=True, sort=False)
-
-
-def write_outputs(result, out: Path) -> None:
-    """Write ``<name>.png``, ``<name>_traces.csv`` and ``bench.json`` into ``out``.
-
-    Everything goes to ``out.partial`` first, which is renamed onto ``out`` at the end:
-    an interrupted run never leaves a complete-looking directory.
-    """
-    from ..plot._style import save_png
-    from ..plot.benchmarks import plot_benchmark
-    partial = out.with_name(out.name + ".partial")
-    if partial.exists():
-        shutil.rmtree(partial)
-    partial.mkdir(parents=True)
-    fig, _ = plot_benchmark(result)
-    save_png(fig, partial / f"{result.benchmark}.png")
-    traces_frame(result).to_csv(partial / f"{result.benchmark}_traces.csv", index=False,
-                                float_format="%.12g")
-    doc = {**result.metrics_json(), "protocol": result.protocol, "models": dict(result.models)}
-    (partial / "bench.json").write_text(json.dumps(doc, indent=2, allow_nan=False))
-    if out.exists():
-        old = out.with_name(out.name + ".old")
-        if old.exists():
-            shutil.rmtree(old)
-        os.replace(out, old)
-        os.replace(partial, out)
-        shutil.rmtree(old)
-    else:
-        os.replace(partial, out)
-
-
 def run(args) -> int:
     from ..benchmarks import get_benchmark
     bench = get_benchmark(args.name)
@@ -95,7 +51,10 @@ def run(args) -> int:
     log.info("bench %s: %s", bench.name, ", ".join(e.label for e in entries))
     result = bench.run(args.model)
     if out is not None:
-        write_outputs(result, out)
+        from ..benchmarks import write_outputs
+        from ..core.result import atomic_directory
+        with atomic_directory(out) as part:
+            write_outputs(result, part)
         log.info("wrote %s", out)
     if args.json:
         emit_json(result.metrics_json())

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import shutil
-from pathlib import Path
 
 from ..cli import SimulationFailed, UserError, emit_json
 
@@ -40,44 +38,13 @@ def register(sub, common):
 
 
 def run(args) -> int:
-    import json
-
-    from ..core.result import atomic_write
-    from ..driveline.run import run_scenario
+    from ..core.result import atomic_directory
+    from ..driveline.outputs import write_runs
     from ..scenario import load_scenario
     sc = load_scenario(args.scenario, overrides=args.set)
     models = args.model or list(sc.models) or [None]
-    out = Path(args.out)
-    part = Path(str(out) + ".partial")
-    if part.exists():
-        shutil.rmtree(part)
-    part.mkdir(parents=True)
-    summary: dict = {"scenario": sc.name, "file": sc.file, "models": {}}
-    runs = {}
-    for m in models:
-        log.info("running %s with %s ...", sc.name, m or "its own model")
-        lr = run_scenario(sc, m)
-        runs[lr.model] = lr.result
-        summary["models"][lr.model] = lr.metrics
-        suffix = "" if len(models) == 1 else f"_{lr.model}"
-        lr.result.to_csv(part / f"timeseries{suffix}.csv")
-        lr.result.to_parquet(part / f"timeseries{suffix}.parquet")
-        log.info("  %s: %s", lr.model, lr.metrics["message"])
-    atomic_write(part / "summary.json",
-                 lambda p: Path(p).write_text(json.dumps(summary, indent=2, allow_nan=False,
-                                                         default=float)))
-    if not args.no_plots:
-        from ..plot._style import save_png
-        from ..plot.launch import plot_comparison, plot_launch
-        for name, res in runs.items():
-            fig, _ = plot_launch(res, clutch=sc.clutch)
-            save_png(fig, part / f"launch_{name}.png")
-        if len(runs) > 1:
-            fig, _ = plot_comparison(runs, clutch=sc.clutch)
-            save_png(fig, part / "comparison.png")
-    if out.exists():
-        shutil.rmtree(out)
-    part.rename(out)
+    with atomic_directory(args.out) as part:
+        summary = write_runs(sc, models, part, plots=not args.no_plots)
     if args.json:
         emit_json(summary)
     failed = [n for n, m in summary["models"].items() if not m["completed"]]
@@ -86,4 +53,4 @@ def run(args) -> int:
     return 0
 
 
-__all__ = ["register", "run", "UserError"]
+__all__ = ["UserError", "register", "run"]

@@ -1,0 +1,55 @@
+"""Write the outputs of scenario runs: time series, summary.json, figures."""
+
+from __future__ import annotations
+
+import json
+import logging
+from pathlib import Path
+
+from ..core.result import atomic_write
+
+__all__ = ["write_runs"]
+
+log = logging.getLogger("clutchsim")
+
+
+def write_runs(scenario, models, directory: str | Path, *, plots: bool = True) -> dict:
+    """Run ``scenario`` once per friction model and write the results into ``directory``.
+
+    Writes ``timeseries[_MODEL].csv`` / ``.parquet`` (units in the column names),
+    ``summary.json`` (``{"scenario", "file", "models": {MODEL: metrics}}``), a copy of the
+    scenario text as ``scenario.toml``, and with ``plots`` one ``launch_MODEL.png`` per model
+    and, for several models, ``comparison.png``.  Returns the summary.  The caller makes
+    the directory atomic (see :func:`clutchsim.core.result.atomic_directory`).
+    """
+    from .run import run_scenario
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    models = list(models) or [None]
+    summary: dict = {"kind": "run", "scenario": scenario.name, "file": scenario.file,
+                     "models": {}}
+    runs = {}
+    for m in models:
+        log.info("running %s with %s ...", scenario.name, m or "its own model")
+        lr = run_scenario(scenario, m)
+        runs[lr.model] = lr.result
+        summary["models"][lr.model] = lr.metrics
+        suffix = "" if len(models) == 1 else f"_{lr.model}"
+        lr.result.to_csv(directory / f"timeseries{suffix}.csv")
+        lr.result.to_parquet(directory / f"timeseries{suffix}.parquet")
+        log.info("  %s: %s", lr.model, lr.metrics["message"])
+    atomic_write(directory / "summary.json",
+                 lambda p: Path(p).write_text(json.dumps(summary, indent=2, allow_nan=False,
+                                                         default=float)))
+    if getattr(scenario, "text", None):
+        atomic_write(directory / "scenario.toml", lambda p: Path(p).write_text(scenario.text))
+    if plots:
+        from ..plot._style import save_png
+        from ..plot.launch import plot_comparison, plot_launch
+        for name, res in runs.items():
+            fig, _ = plot_launch(res, clutch=scenario.clutch)
+            save_png(fig, directory / f"launch_{name}.png")
+        if len(runs) > 1:
+            fig, _ = plot_comparison(runs, clutch=scenario.clutch)
+            save_png(fig, directory / "comparison.png")
+    return summary
