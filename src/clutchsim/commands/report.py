@@ -1,0 +1,48 @@
+"""``clutchsim report DIR``: (re)build the self-contained HTML report of an output directory."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..cli import UserError, emit_json
+
+HELP = """\
+examples:
+  clutchsim report launch/                     # rebuild launch/report.html, print its path
+  clutchsim report drift/ --title "Drift, 3 models" --json    # {"report": "drift/report.html"}
+
+The report is one HTML file (figures embedded, no network access, opens from disk) with the
+status and warnings, metrics, parameters, scenario, solver statistics, figures and a list
+of the data files of DIR.  See docs/report.md.
+"""
+
+
+def register(sub, common):
+    p = sub.add_parser("report", parents=[common], help="rebuild the HTML report of a directory",
+                       description="Write DIR/report.html from the JSON, TOML, PNG and data "
+                       "files in an output directory.", epilog=HELP,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("dir", metavar="DIR", help="output directory of run/bench/sweep/fit")
+    p.add_argument("--title", help="page title (default: from the directory kind)")
+    p.add_argument("--json", action="store_true", help='print {"report": PATH}')
+
+
+def run(args) -> int:
+    from ..report import build_report
+    from ..report.gather import report_inputs
+    d = Path(args.dir)
+    if not d.exists():
+        raise UserError(f"DIR {args.dir!r} does not exist (give an output directory of "
+                        "clutchsim run/bench/sweep/fit)")
+    if not d.is_dir():
+        raise UserError(f"DIR {args.dir!r} is a file, not an output directory")
+    if not report_inputs(d):
+        raise UserError(f"DIR {args.dir!r} is empty: nothing to report (run clutchsim "
+                        "run/bench/fit with --out first)")
+    path = build_report(d, title=args.title)
+    if args.json:
+        emit_json({"report": str(path)})
+    else:
+        print(path)
+    return 0
