@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import sys
 from pathlib import Path
 
 from ..cli import SimulationFailed, UserError, emit_json
@@ -53,8 +54,11 @@ def run(args) -> int:
     if out is not None:
         from ..benchmarks import write_outputs
         from ..core.result import atomic_directory
+        from ..report import build_report
         with atomic_directory(out) as part:
             write_outputs(result, part)
+            (part / "command.txt").write_text(" ".join(["clutchsim", *sys.argv[1:]]) + "\n")
+            build_report(part)
         log.info("wrote %s", out)
     if args.json:
         emit_json(result.metrics_json())

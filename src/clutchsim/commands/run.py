@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import sys
 
 from ..cli import SimulationFailed, UserError, emit_json
 
@@ -40,11 +41,14 @@ def register(sub, common):
 def run(args) -> int:
     from ..core.result import atomic_directory
     from ..driveline.outputs import write_runs
+    from ..report import build_report
     from ..scenario import load_scenario
     sc = load_scenario(args.scenario, overrides=args.set)
     models = args.model or list(sc.models) or [None]
     with atomic_directory(args.out) as part:
         summary = write_runs(sc, models, part, plots=not args.no_plots)
+        (part / "command.txt").write_text(" ".join(["clutchsim", *sys.argv[1:]]) + "\n")
+        build_report(part)
     if args.json:
         emit_json(summary)
     failed = [n for n, m in summary["models"].items() if not m["completed"]]

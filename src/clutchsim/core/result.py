@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import contextlib
-import html
 import json
 import os
 import shutil
@@ -207,8 +206,5 @@ class Result:
                 f"{self.stats.events} events, solver={self.solver!r})")
 
     def _repr_html_(self) -> str:
-        rows = "".join(f"<tr><td>{html.escape(k)}</td><td>{html.escape(str(v))}</td></tr>"
-                       for k, v in self.summary().items())
-        sig = ", ".join(html.escape(_key(n, u)) for n, u in self.units.items())
-        return (f"<div><b>clutchsim Result</b><table>{rows}</table>"
-                f"<p>signals: {sig}</p></div>")
+        from ..report import result_html
+        return result_html(self)
