@@ -8,13 +8,26 @@ from pathlib import Path
 __all__ = ["traces_frame", "write_outputs"]
 
 
-def traces_frame(result):
-    """All runs in one long table: model, run, then the signals with units."""
+#: rows kept per run in the written traces (the plots and metrics use the full results)
+MAX_ROWS_PER_RUN = 5000
+
+
+def traces_frame(result, max_rows: int = MAX_ROWS_PER_RUN):
+    """All runs in one long table: model, run, then the signals with units.
+
+    Runs longer than ``max_rows`` are decimated uniformly (first and last rows kept), so
+    that a benchmark's CSV stays a few MB; the full-resolution results are in
+    ``result.runs``.
+    """
+    import numpy as np
     import pandas as pd
     frames = []
     for label, runs in result.runs.items():
         for run_name, res in runs.items():
             frame = res.to_frame()
+            if len(frame) > max_rows:
+                keep = np.unique(np.linspace(0, len(frame) - 1, max_rows).round().astype(int))
+                frame = frame.iloc[keep]
             frame.insert(0, "run", run_name)
             frame.insert(0, "model", label)
             frames.append(frame)

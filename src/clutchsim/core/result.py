@@ -16,6 +16,15 @@ import numpy as np
 __all__ = ["Event", "Result", "Stats", "atomic_write"]
 
 
+def _current_umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+_UMASK = _current_umask()
+
+
 def atomic_write(path: str | Path, write) -> Path:
     """Write a file atomically: ``write(tmp_path)`` then rename onto ``path``."""
     path = Path(path)
@@ -24,6 +33,7 @@ def atomic_write(path: str | Path, write) -> Path:
     os.close(fd)
     try:
         write(Path(tmp))
+        os.chmod(tmp, 0o666 & ~_UMASK)   # mkstemp creates 0600; outputs are shared files
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

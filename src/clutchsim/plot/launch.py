@@ -26,7 +26,9 @@ def plot_launch(result, *, clutch: str = "clutch", title: str = "", **kw):
     a.set_title("engine, disc and wheel speeds")
     a = ax[0, 1]
     if f"T_{clutch}" in result.signals:
-        a.plot(t, result[f"T_{clutch}"], label="clutch torque")
+        # the plant reports the torque with Modelica's sign (on the driven flange); drawn
+        # here as the torque the engine side transmits to the disc, against the capacity
+        a.plot(t, -result[f"T_{clutch}"], label="clutch torque, engine → disc")
         a.plot(t, result[f"capacity_{clutch}"], "--", label="capacity (static)")
     if "T_engine" in result.signals:
         a.plot(t, result["T_engine"], ":", label="engine torque")
@@ -75,7 +77,7 @@ def plot_comparison(runs: dict, *, clutch: str = "clutch", **kw):
         a.legend(loc="best", fontsize=8)
         a = ax[i, 1]
         if f"T_{clutch}" in res.signals:
-            a.plot(t, res[f"T_{clutch}"], label="clutch torque")
+            a.plot(t, -res[f"T_{clutch}"], label="clutch torque, engine → disc")
             a.plot(t, res[f"capacity_{clutch}"], "--", label="capacity")
         a.set_ylabel("torque [N·m]")
         a.set_title(f"{model}: clutch torque", fontsize=10)
