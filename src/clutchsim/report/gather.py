@@ -107,17 +107,23 @@ def gather(directory: str | Path, *, title: str | None = None) -> ReportData:
     entries = report_inputs(d)
     if not entries:
         raise ValueError(f"output directory {str(d)!r} is empty: nothing to report")
-    data = ReportData(directory=d, title="", kind="output", version=__version__,
+    # a directory being built atomically (DIR.partial) is reported under its final name
+    shown = d.with_name(d.name[:-len(".partial")]) if d.name.endswith(".partial") else d
+    data = ReportData(directory=shown, title="", kind="output", version=__version__,
                       created=_dt.datetime.now().astimezone().isoformat(timespec="seconds"))
     docs = _read_json(d, entries, data)
     _from_documents(docs, data)
-    data.title = title or _title(d, docs, data.kind)
+    data.title = title or _title(shown, docs, data.kind)
     cmd = d / "command.txt"
     if cmd.is_file():
         data.command = cmd.read_text(encoding="utf-8", errors="replace").strip()
     data.scenarios = [(p.name, p.read_text(encoding="utf-8", errors="replace"))
                       for p in entries if p.suffix.lower() == ".toml" and p.is_file()]
     data.figures = _figures(d, entries, docs.get("figures.json"), data)
+    # figures of immediate sub-directories (e.g. the demo's launch/ and drift/) follow
+    for sub in entries:
+        if sub.is_dir():
+            data.figures += _figures(sub, report_inputs(sub), None, data, prefix=f"{sub.name}/")
     data.files = _files(entries)
     return data
 
@@ -181,7 +187,7 @@ def _title(d: Path, docs: dict, kind: str) -> str:
     return f"clutchsim {kind} report: {subject}"
 
 
-def _figures(d: Path, entries, captions, data: ReportData) -> list[Figure]:
+def _figures(d: Path, entries, captions, data: ReportData, prefix: str = "") -> list[Figure]:
     captions = captions if isinstance(captions, dict) else {}
     figs = []
     for p in entries:
@@ -190,11 +196,12 @@ def _figures(d: Path, entries, captions, data: ReportData) -> list[Figure]:
         raw = p.read_bytes()
         size = png_size(raw)
         if size is None:
-            data.problems.append(f"{p.name} is not a readable PNG image and was not embedded")
+            data.problems.append(f"{prefix}{p.name} is not a readable PNG image and was not "
+                                 "embedded")
             continue
         cap = captions.get(p.name)
-        cap = str(cap) if cap else p.stem.replace("_", " ").replace("-", " ")
-        figs.append(Figure(p.name, cap, raw, *size))
+        cap = str(cap) if cap else prefix + p.stem.replace("_", " ").replace("-", " ")
+        figs.append(Figure(prefix + p.name, cap, raw, *size))
     return figs
 
 
