@@ -82,7 +82,11 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
             sol = solve_ivp(rhs, (t, t_stop), y, method=_METHOD[solver], rtol=opts.rtol,
                             atol=opts.atol, events=evs or None, t_eval=t_eval)
             steps += max(len(sol.t) - 1, 0)
-            for tt, yy in zip(sol.t, sol.y.T):
+            # with t_eval, an event before the first output time leaves scipy's y an empty
+            # list rather than an (n, 0) array
+            sol_t = np.atleast_1d(np.asarray(sol.t, dtype=float))
+            sol_y = np.asarray(sol.y, dtype=float).reshape(len(y), sol_t.size)
+            for tt, yy in zip(sol_t, sol_y.T):
                 if tt > t:
                     record(tt, yy, t_ref, rows)
             if sol.status == -1:
@@ -94,7 +98,7 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
                 break
             fired = [k for k in range(len(evs)) if sol.t_events[k].size]
             if not fired:
-                t, y = float(sol.t[-1]), sol.y[:, -1].copy()
+                t, y = float(sol_t[-1]), sol_y[:, -1].copy()
                 continue
             k = min(fired, key=lambda kk: sol.t_events[kk][0])
             t, y = float(sol.t_events[k][0]), sol.y_events[k][0].copy()

@@ -379,34 +379,37 @@ def eval_inputs(bank, t, t_ref, u):
     """
     for c in range(u.shape[0]):
         u[c] = 0.0
+    par = bank.par
     for i in range(bank.kind.shape[0]):
         k = bank.kind[i]
-        q = bank.par[i]
+        # parameters are read by index: a row view per term would cost a reference count
         if k == 0:
-            val = q[0]
+            val = par[i, 0]
         elif k == 1:
-            val = q[2] + (q[1] if t_ref >= q[0] else 0.0)
+            val = par[i, 2] + (par[i, 1] if t_ref >= par[i, 0] else 0.0)
         elif k == 2:
-            if t_ref < q[0]:
-                val = q[3]
-            elif t_ref >= q[0] + q[1]:
-                val = q[3] + q[2]
+            if t_ref < par[i, 0]:
+                val = par[i, 3]
+            elif t_ref >= par[i, 0] + par[i, 1]:
+                val = par[i, 3] + par[i, 2]
             else:
-                val = q[3] + q[2] * (t - q[0]) / q[1]
+                val = par[i, 3] + par[i, 2] * (t - par[i, 0]) / par[i, 1]
         elif k == 3:
-            if t_ref < q[4]:
-                val = q[3]
+            if t_ref < par[i, 4]:
+                val = par[i, 3]
             else:
-                val = q[3] + q[0] * math.sin(2.0 * math.pi * q[1] * (t - q[4]) + q[2])
+                val = par[i, 3] + par[i, 0] * math.sin(2.0 * math.pi * par[i, 1]
+                                                       * (t - par[i, 4]) + par[i, 2])
         elif k == 4:
-            if t_ref < q[4]:
-                val = q[3]
+            if t_ref < par[i, 4]:
+                val = par[i, 3]
             else:
-                phase = (t_ref - q[4]) / q[2]
+                phase = (t_ref - par[i, 4]) / par[i, 2]
                 frac = phase - math.floor(phase)
-                val = q[3] + (q[0] if frac < q[1] else 0.0)
+                val = par[i, 3] + (par[i, 0] if frac < par[i, 1] else 0.0)
         else:
             s = bank.tab_start[i]
             n = bank.tab_len[i]
-            val = _table_value(bank.tab_t[s:s + n], bank.tab_v[s:s + n], q[0] != 0.0, t, t_ref)
+            val = _table_value(bank.tab_t[s:s + n], bank.tab_v[s:s + n], par[i, 0] != 0.0, t,
+                               t_ref)
         u[bank.channel[i]] += val

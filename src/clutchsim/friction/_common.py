@@ -35,4 +35,12 @@ def clip(x, bound):
 @jit
 def stribeck_level(v, F_c, F_s, v_s, delta):
     """Stribeck magnitude ``F_c + (F_s - F_c)·exp(-|v/v_s|^delta)`` (``v_s > 0``)."""
-    return F_c + (F_s - F_c) * math.exp(-(abs(v / v_s) ** delta))
+    x = abs(v / v_s)
+    # the usual exponents without a call to pow (this runs in every right-hand side)
+    if delta == 2.0:
+        e = x * x
+    elif delta == 1.0:
+        e = x
+    else:
+        e = x ** delta
+    return F_c + (F_s - F_c) * math.exp(-e)
