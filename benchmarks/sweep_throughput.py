@@ -1,0 +1,89 @@
+"""Throughput of ``clutchsim.sweep`` on launch variants (metrics only).
+
+Problem: the packaged default launch with model (6) (examples/launch.toml, 0–4 s, rodas4,
+rtol = atol = 1e-8), seeded Monte Carlo over vehicle mass (uniform 1100–1500 kg) and road
+grade (uniform 0–8 %).  Measured:
+
+* ``runs`` variants in-process on all cores (threads; the compiled integrator releases the
+  GIL): ``wall_s``, ``runs_per_s``, ``peak_rss_mb`` (this process, ru_maxrss);
+* ``--scaling-runs`` variants on 1 and on 2 threads: ``runs_per_s_1_worker``,
+  ``runs_per_s_2_workers`` and their ratio;
+* the same variants on a Dask LocalCluster (2 worker processes, 1 thread each), cluster
+  start-up excluded (``dask_local_runs_per_s``) and included (``dask_local_incl_startup_runs_per_s``).
+
+Also ``setup_ms_per_run``: the Python time per run outside the integrator (overrides, parse,
+parameter packing, metrics) = wall per run on 1 thread minus the integrator's own wall time.
+Issue 7 asks for 10,000 runs (the default); on a 2-core machine at ~0.3 s per launch that
+takes ~25 min, so ``--runs`` sets a smaller count (the result says which was used).
+
+Prints one JSON object on the last stdout line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import sys
+import tempfile
+import time
+
+from _common import emit
+
+VARY = {"vehicle.mass": "uniform(1100, 1500)", "vehicle.grade": "uniform(0, 8)"}
+
+
+def run(out, n, **kw):
+    from clutchsim.sweep import sweep
+    t0 = time.perf_counter()
+    res = sweep(None, VARY, samples=n, seed=1, out=out, load=False, **kw)
+    return time.perf_counter() - t0, res
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=10_000)
+    ap.add_argument("--scaling-runs", type=int, default=200)
+    ap.add_argument("--no-dask", action="store_true")
+    a = ap.parse_args()
+    import pyarrow.parquet as pq
+    tmp = tempfile.TemporaryDirectory(prefix="clutchsim-bench-")
+    d = tmp.name
+    run(os.path.join(d, "warm"), 2, workers=1)          # compile / load the numba cache
+    wall, res = run(os.path.join(d, "main"), a.runs)
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    out = {"runs": a.runs, "wall_s": wall, "runs_per_s": a.runs / wall, "peak_rss_mb": rss,
+           "status_counts": res.status_counts, "workers": os.cpu_count()}
+    w1, r1 = run(os.path.join(d, "w1"), a.scaling_runs, workers=1, metrics=["wall_s"])
+    integ = pq.read_table(r1.path / "results.parquet", columns=["wall_s"])["wall_s"]
+    integ_s = sum(v for v in integ.to_pylist() if v is not None)
+    w2, _ = run(os.path.join(d, "w2"), a.scaling_runs, workers=2)
+    out.update(scaling_runs=a.scaling_runs, runs_per_s_1_worker=a.scaling_runs / w1,
+               runs_per_s_2_workers=a.scaling_runs / w2, speedup_1_to_2=w1 / w2,
+               setup_ms_per_run=(w1 - integ_s) / a.scaling_runs * 1e3,
+               integrator_ms_per_run=integ_s / a.scaling_runs * 1e3)
+    if not a.no_dask:
+        from distributed import Client, LocalCluster
+        t0 = time.perf_counter()
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+        client = Client(cluster)
+        client.run(lambda: __import__("clutchsim.sweep.runner"))
+        startup = time.perf_counter() - t0
+        run(os.path.join(d, "dwarm"), 2, backend=client)    # workers load the numba cache
+        wd, _ = run(os.path.join(d, "dask"), a.scaling_runs, backend=client)
+        client.close()
+        cluster.close()
+        out.update(dask_local_runs_per_s=a.scaling_runs / wd,
+                   dask_local_incl_startup_runs_per_s=a.scaling_runs / (wd + startup),
+                   dask_startup_s=startup,
+                   dask_vs_in_process=(a.scaling_runs / w2) / (a.scaling_runs / wd))
+    else:
+        out["dask_local_runs_per_s"] = None
+    tmp.cleanup()
+    print(f"{out['runs']} runs at {out['runs_per_s']:.2f} runs/s", file=sys.stderr)
+    emit(out)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,117 @@
+"""``clutchsim sweep``: a scenario over a grid or seeded samples of its parameters."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+import time
+
+from ..cli import UserError, emit_json
+
+log = logging.getLogger("clutchsim")
+
+HELP = """\
+examples:
+  clutchsim sweep examples/launch.toml --vary vehicle.mass=1100:1700:7 \\
+      --vary vehicle.grade=0:12:5 --out mass_grade/
+  clutchsim sweep examples/launch.toml --vary vehicle.mass='uniform(1100,1700)' \\
+      --vary 'coupling[0].friction.overrides.phi0=normal(0.2,0.01)' --samples 2000 --seed 1 \\
+      --metrics lockup_time_s,slip_energy_J --out mc/
+  clutchsim sweep examples/launch.toml --vary vehicle.mass=1100:1700:50 --out big/ \\
+      --dask tcp://scheduler:8786
+
+KEY is a scenario key as in --set (clutchsim run); SPEC is LO:HI:N (grid, N >= 1),
+V1,V2,... (values), uniform(A,B), loguniform(A,B) or normal(MU,SIGMA) (random, needs
+--samples and --seed).  Grid keys form the full product.
+
+outputs in DIR: results.parquet (one row per run: run, the varied keys, status, message,
+metrics; units in the Parquet field metadata), sweep.json, chunks/ (finished chunks; an
+interrupted sweep re-run with the same command resumes from them), figures (heat maps for
+a 2-D grid, histograms and scatter otherwise), traces/ with --keep-traces.
+exit status: 0 (also when some runs failed: they are rows with their status), 2 bad input.
+"""
+
+
+def register(sub, common):
+    p = sub.add_parser("sweep", parents=[common], help="run a scenario over many parameter "
+                       "values", description="Run a scenario over a grid or seeded random "
+                       "samples of its parameters; one row of metrics per run.", epilog=HELP,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+    p.add_argument("--vary", action="append", default=[], metavar="KEY=SPEC", required=True,
+                   help="a key to vary (repeatable)")
+    p.add_argument("--samples", type=int, metavar="N", help="random samples")
+    p.add_argument("--seed", type=int, metavar="S", help="seed of the random samples")
+    p.add_argument("--metrics", metavar="M1,M2", help="metric columns (default: all but "
+                   "wall_s)")
+    p.add_argument("--model", help="friction model of the clutch (default: the scenario's "
+                   "first)")
+    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
+                   help="override a key of the base scenario")
+    p.add_argument("--keep-traces", action="store_true", help="also write every run's time "
+                   "series (traces/)")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--dask", metavar="local|tcp://HOST:PORT", help="run on Dask: a "
+                   "LocalCluster or an existing scheduler")
+    p.add_argument("--workers", type=int, metavar="N", help="threads (in-process) or Dask "
+                   "workers of a local cluster (default: all cores)")
+    p.add_argument("--connect-timeout", type=float, default=10.0, metavar="S",
+                   help="seconds to wait for a Dask scheduler (default 10)")
+    p.add_argument("--chunk-size", type=int, metavar="N", help="runs per chunk")
+    p.add_argument("--no-plots", action="store_true", help="skip the figures")
+    p.add_argument("--json", action="store_true", help="print a summary on stdout")
+
+
+class _Progress:
+    """One stderr line with percentage and ETA, redrawn in place (TTY only)."""
+
+    def __init__(self):
+        self.t0 = time.perf_counter()
+        self.first = None
+
+    def __call__(self, done, total):
+        now = time.perf_counter()
+        if self.first is None:
+            self.first = (now, done)
+        t1, d1 = self.first
+        rate = (done - d1) / (now - t1) if now > t1 and done > d1 else 0.0
+        eta = f"{(total - done) / rate:5.0f} s" if rate > 0 else "    ?"
+        width = 30
+        fill = int(width * done / max(total, 1))
+        sys.stderr.write(f"\r[{'#' * fill}{'.' * (width - fill)}] {done}/{total} runs "
+                         f"{rate:6.1f}/s ETA {eta}")
+        if done >= total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def run(args) -> int:
+    from ..sweep import sweep
+    if args.workers is not None and args.workers < 1:
+        raise UserError(f"--workers {args.workers}: must be >= 1")
+    if args.chunk_size is not None and args.chunk_size < 1:
+        raise UserError(f"--chunk-size {args.chunk_size}: must be >= 1")
+    metrics = [m.strip() for m in args.metrics.split(",") if m.strip()] \
+        if args.metrics else None
+    show = not args.quiet and sys.stderr.isatty()
+    backend = "dask" if args.dask else "threads"
+    res = sweep(args.scenario, args.vary, samples=args.samples, seed=args.seed,
+                metrics=metrics, model=args.model, overrides=args.set, out=args.out,
+                backend=backend, workers=args.workers, address=args.dask or "local",
+                connect_timeout=args.connect_timeout, chunk_size=args.chunk_size,
+                keep_traces=args.keep_traces, plots=not args.no_plots, load=not args.no_plots,
+                progress=_Progress() if show else None)
+    bad = {k: v for k, v in res.status_counts.items() if k != "completed"}
+    log.info("sweep: %d runs (%d chunks, %d resumed) in %.1f s -> %s%s", res.runs,
+             res.chunks, res.chunks_skipped, res.wall_s, res.path / "results.parquet",
+             f"; did not complete: {bad}" if bad else "")
+    if args.json:
+        emit_json({"results": str(res.path / "results.parquet"), "runs": res.runs,
+                   "chunks": res.chunks, "chunks_resumed": res.chunks_skipped,
+                   "wall_s": res.wall_s, "status_counts": res.status_counts,
+                   "sweep_id": res.manifest["sweep_id"]})
+    return 0
+
+
+__all__ = ["register", "run"]

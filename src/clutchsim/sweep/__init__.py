@@ -1,0 +1,49 @@
+"""Batch sweeps: grids and seeded random samples of a scenario, in-process or on Dask.
+
+>>> from clutchsim.sweep import sweep
+>>> res = sweep(None, {"vehicle.mass": "1100:1500:3"}, out="mass_sweep/")  # doctest: +SKIP
+>>> res.table[["vehicle.mass", "status", "lockup_time_s"]]                   # doctest: +SKIP
+"""
+
+from .api import SweepResult, sweep
+from .design import (
+    Grid,
+    LogUniform,
+    Normal,
+    SweepError,
+    Uniform,
+    Values,
+    make_design,
+    parse_spec,
+    parse_vary,
+)
+from .runner import DEFAULT_METRICS, METRICS
+from .store import read_results
+
+__all__ = [
+    "DEFAULT_METRICS",
+    "METRICS",
+    "Grid",
+    "LogUniform",
+    "Normal",
+    "SweepError",
+    "SweepResult",
+    "Uniform",
+    "Values",
+    "make_design",
+    "parse_spec",
+    "parse_vary",
+    "read_results",
+    "sweep",
+]
+
+
+class _CallableModule(__import__("types").ModuleType):
+    """``clutchsim.sweep(...)`` calls :func:`sweep` while ``clutchsim.sweep`` stays the
+    subpackage (``from clutchsim.sweep import read_results`` keeps working)."""
+
+    def __call__(self, *args, **kwargs):
+        return sweep(*args, **kwargs)
+
+
+__import__("sys").modules[__name__].__class__ = _CallableModule

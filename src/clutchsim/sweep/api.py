@@ -1,0 +1,257 @@
+"""``clutchsim.sweep``: run a scenario over a grid or random samples of its parameters."""
+
+from __future__ import annotations
+
+import logging
+import math
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .backends import DEFAULT_CONNECT_TIMEOUT, dask_client, run_dask, run_threads
+from .design import Grid, Normal, SweepError, Uniform, Values, key_unit, make_design, parse_vary
+from .runner import DEFAULT_METRICS, METRICS
+from .store import FORMAT, SweepStore, chunk_id, digest, read_results
+
+__all__ = ["SweepResult", "sweep"]
+
+log = logging.getLogger("clutchsim")
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """What a sweep did: the table (one row per run) and where it was written."""
+
+    table: object = field(repr=False)    # pandas DataFrame, or None with load=False
+    path: Path | None
+    runs: int
+    chunks: int
+    chunks_skipped: int
+    wall_s: float
+    status_counts: dict
+    manifest: dict = field(repr=False)
+
+
+def _default_chunk_size(n: int) -> int:
+    # depends on the number of runs only (never on the backend), so every backend and
+    # every resume cuts the same chunks; ~100 chunks, 8..1000 runs each
+    return int(min(1000, max(8, math.ceil(n / 100))))
+
+
+def _probe_values(spec) -> list[float]:
+    if isinstance(spec, Grid):
+        return [spec.lo, spec.hi]
+    if isinstance(spec, Values):
+        return [min(spec.items), max(spec.items)]
+    if isinstance(spec, Uniform):
+        return [spec.a, spec.b]
+    if isinstance(spec, Normal):
+        return [spec.mu]
+    return [spec.a, spec.b]
+
+
+def _check_keys(sc, vary, model) -> None:
+    """Every key must be a scenario key the loader accepts (unknown: suggest the closest)."""
+    from ..scenario import ScenarioError
+    from ..scenario.loader import apply_overrides, parse_scenario
+    from .design import toml_value
+    for key, spec in vary.items():
+        for v in _probe_values(spec):
+            try:
+                data = apply_overrides(sc.data, [f"{key}={toml_value(v)}"], sc.file)
+                parse_scenario(data, text=sc.text, file=sc.file).chain(model)
+            except (ScenarioError, ValueError, KeyError, TypeError) as exc:
+                raise SweepError(f"--vary {key}: {exc}") from None
+
+
+def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | None = None,
+          metrics=None, model: str | None = None, overrides=None, out=None,
+          backend="threads", workers: int | None = None, address: str = "local",
+          connect_timeout: float = DEFAULT_CONNECT_TIMEOUT, chunk_size: int | None = None,
+          keep_traces: bool = False, plots: bool = False, load: bool = True,
+          progress=None) -> SweepResult:
+    """Simulate ``scenario`` once per variant and collect the launch metrics in a table.
+
+    Parameters
+    ----------
+    scenario : Scenario, str, Path or None
+        The base scenario (``None``: the packaged default launch).
+    vary : mapping or sequence of str
+        ``{"vehicle.mass": "1100:1500:5", "vehicle.grade": "uniform(0, 10)"}`` or the CLI
+        form ``["vehicle.mass=1100:1500:5", ...]``.  Grid axes (``LO:HI:N``, value lists)
+        form the full product; distributions (``uniform(a,b)``, ``loguniform(a,b)``,
+        ``normal(mu,sigma)``) are drawn ``samples`` times with ``seed``.
+    samples, seed : int, optional
+        Number of random samples and the seed (the same seed gives the same table on every
+        backend).
+    metrics : sequence of str, optional
+        Columns to keep (default: all of :data:`~clutchsim.sweep.METRICS` but ``wall_s``).
+    model : str, optional
+        Friction model of the clutch (default: the scenario's first).
+    overrides : sequence of str, optional
+        ``key.path=value`` applied to the base scenario before the sweep.
+    out : str or Path, optional
+        Output directory (results.parquet, chunk files, sweep.json).  Re-running the same
+        sweep on it resumes; a directory holding another sweep is refused.  Default: a
+        temporary directory, removed afterwards.
+    backend : "threads", "dask" or a distributed.Client
+        ``threads``: this process, ``workers`` threads (default: all cores).  ``dask``: a
+        LocalCluster (``address="local"``) or the scheduler at ``address``.
+    connect_timeout : float
+        Seconds to wait for a Dask scheduler before giving up with an error.
+    chunk_size : int, optional
+        Runs per chunk (the unit of streaming and resume; default from the number of runs).
+    keep_traces : bool
+        Also write each run's time series to ``out/traces/run-NNNNNNN.parquet``.
+    plots : bool
+        Write figures (heat map for 2-D grids, histograms and scatter for samples).
+    load : bool
+        Read the results table back into ``SweepResult.table``.
+    progress : callable, optional
+        ``progress(done_runs, total_runs)`` after each chunk.
+
+    Returns
+    -------
+    SweepResult
+    """
+    from .. import __version__
+    from ..scenario import Scenario, load_scenario
+    from ..scenario.loader import apply_overrides, parse_scenario
+    if not isinstance(scenario, Scenario):
+        scenario = load_scenario(scenario, overrides=overrides)
+    elif overrides:
+        scenario = parse_scenario(apply_overrides(scenario.data, overrides, scenario.file),
+                                  text=scenario.text, file=scenario.file)
+    if model is None and scenario.models:
+        model = scenario.models[0]
+    vary = parse_vary(vary if vary is not None else {})
+    metrics = tuple(DEFAULT_METRICS if metrics is None else metrics)
+    for m in metrics:
+        if m not in METRICS:
+            from ..scenario.schema import suggest
+            raise SweepError(f"metric {m!r} is not known{suggest(m, METRICS)} (metrics: "
+                             f"{', '.join(METRICS)})")
+    if len(set(metrics)) != len(metrics):
+        raise SweepError(f"metrics listed twice: {', '.join(metrics)}")
+    design = make_design(vary, samples, seed)
+    _check_keys(scenario, vary, model)
+    spec_texts = {k: s.text() for k, s in vary.items()}
+    identity = {"format": FORMAT, "scenario": scenario.data, "model": model,
+                "vary": spec_texts, "samples": samples if design.random_keys else None,
+                "seed": seed if design.random_keys else None, "metrics": list(metrics),
+                "keep_traces": bool(keep_traces)}
+    sweep_id = digest(identity)
+    units = {k: key_unit(scenario.data, k) for k in design.keys}
+    manifest = {"format": FORMAT, "sweep_id": sweep_id, "scenario_name": scenario.name,
+                "scenario_file": scenario.file, "scenario_sha": digest(scenario.data),
+                "model": model, "vary": spec_texts, "keys": list(design.keys),
+                "grid_keys": list(design.grid_keys), "random_keys": list(design.random_keys),
+                "samples": identity["samples"], "seed": identity["seed"],
+                "metrics": list(metrics), "keep_traces": bool(keep_traces), "units": units,
+                "runs": design.n, "chunk_size": chunk_size or _default_chunk_size(design.n),
+                "clutchsim": __version__}
+    tmp = None
+    if out is None:
+        tmp = tempfile.TemporaryDirectory(prefix="clutchsim-sweep-")
+        path = Path(tmp.name) / "sweep"
+    else:
+        path = Path(out)
+    try:
+        _resume_chunk_size(path, manifest)
+        store = SweepStore(path, manifest)
+        store.open()
+        result = _execute(store, scenario, design, manifest, backend, workers, address,
+                          connect_timeout, progress, keep_traces)
+        table = read_results(path) if (load or plots or tmp is not None) else None
+        if plots:
+            from ..plot.sweep import write_figures
+            write_figures(path, table, manifest)
+        return SweepResult(table=table, path=None if tmp else path, manifest=manifest,
+                           **result)
+    finally:
+        if tmp is not None:
+            tmp.cleanup()
+
+
+def _resume_chunk_size(path: Path, manifest: dict) -> None:
+    """On resume, cut the chunks as the first attempt did."""
+    import json
+    mf = path / "sweep.json"
+    if mf.exists():
+        try:
+            old = json.loads(mf.read_text(encoding="utf-8"))
+        except ValueError:
+            return
+        if old.get("sweep_id") == manifest["sweep_id"]:
+            manifest["chunk_size"] = old.get("chunk_size", manifest["chunk_size"])
+
+
+def _execute(store, scenario, design, manifest, backend, workers, address,
+             connect_timeout, progress, keep_traces) -> dict:
+    t0 = time.perf_counter()
+    size = manifest["chunk_size"]
+    n_chunks = math.ceil(design.n / size)
+    sid = manifest["sweep_id"]
+
+    def chunk(index):
+        lo = index * size
+        return [(i, design.row(i)) for i in range(lo, min(lo + size, design.n))]
+
+    ids, todo, done_runs = [], [], 0
+    for index in range(n_chunks):
+        runs = chunk(index)
+        cid = chunk_id(sid, runs)
+        ids.append((index, cid))
+        if store.has_chunk(index, cid):
+            done_runs += len(runs)
+        else:
+            todo.append(index)
+    skipped = n_chunks - len(todo)
+    log.info("sweep: %d runs in %d chunks of <= %d%s", design.n, n_chunks, size,
+             f" ({skipped} chunks already done, resuming)" if skipped else "")
+    job = {"sweep_id": sid, "data": scenario.data, "text": scenario.text,
+           "file": scenario.file, "model": manifest["model"], "keys": design.keys,
+           "metrics": tuple(manifest["metrics"]), "keep_traces": bool(keep_traces)}
+    counts: dict = {}
+    state = {"done": done_runs}
+
+    def done(index, out):
+        store.write_chunk(index, ids[index][1], out)
+        for row in out["rows"]:
+            counts[row["status"]] = counts.get(row["status"], 0) + 1
+        state["done"] += len(out["rows"])
+        if progress is not None:
+            progress(state["done"], design.n)
+
+    items = ((index, chunk(index)) for index in todo)
+    if todo:
+        if backend == "threads":
+            run_threads(job, items, done, workers)
+        elif backend == "dask" or hasattr(backend, "submit"):
+            client, owned = (backend, False) if hasattr(backend, "submit") else \
+                dask_client(address, workers, connect_timeout)
+            try:
+                run_dask(job, items, done, client, workers if owned else None)
+            finally:
+                if owned:
+                    cluster = client.cluster if address == "local" else None
+                    client.close()
+                    if cluster is not None:
+                        cluster.close()
+        else:
+            raise SweepError(f"backend {backend!r}: expected 'threads', 'dask' or a "
+                             "distributed.Client")
+    store.assemble(ids)
+    if skipped:
+        counts = _count_statuses(store.path)
+    return {"runs": design.n, "chunks": n_chunks, "chunks_skipped": skipped,
+            "wall_s": time.perf_counter() - t0, "status_counts": counts}
+
+
+def _count_statuses(path: Path) -> dict:
+    import pyarrow.compute as pc
+    import pyarrow.parquet as pq
+    col = pq.read_table(path / "results.parquet", columns=["status"])["status"]
+    vc = pc.value_counts(col).to_pylist()
+    return {d["values"]: d["counts"] for d in vc}

@@ -1,0 +1,73 @@
+"""Run one chunk of variants (the unit of work of every backend; picklable, module level)."""
+
+from __future__ import annotations
+
+import math
+
+from .design import toml_value
+
+__all__ = ["DEFAULT_METRICS", "METRICS", "run_chunk", "run_variant"]
+
+#: metric -> (unit, kind) ; kind: float, int or bool
+METRICS = {
+    "lockup_time_s": ("s", "float"),
+    "slip_energy_J": ("J", "float"),
+    "peak_lining_temp_C": ("°C", "float"),
+    "max_jerk_mps3": ("m/s³", "float"),
+    "engine_speed_min_rpm": ("rpm", "float"),
+    "engine_stalled": ("-", "bool"),
+    "energy_balance_rel": ("-", "float"),
+    "steps": ("-", "int"),
+    "rhs_evals": ("-", "int"),
+    "events": ("-", "int"),
+    "min_step_s": ("s", "float"),
+    "wall_s": ("s", "float"),
+}
+#: everything but ``wall_s``, which differs between runs of the same variant
+DEFAULT_METRICS = tuple(m for m in METRICS if m != "wall_s")
+
+
+def run_variant(job: dict, values: tuple) -> tuple[dict, object]:
+    """One run: ``(row, frame)``; ``frame`` is the time series (only with keep_traces).
+
+    A run that fails (stall, NaN, budget) or whose parameters are invalid becomes a row
+    with its status and message; this function does not raise for those.
+    """
+    from ..driveline.run import run_scenario
+    from ..scenario.loader import apply_overrides, parse_scenario
+    row: dict = {"status": "error", "message": ""}
+    frame = None
+    try:
+        overrides = [f"{k}={toml_value(v)}" for k, v in zip(job["keys"], values)]
+        data = apply_overrides(job["data"], overrides, job["file"])
+        sc = parse_scenario(data, text=job["text"], file=job["file"])
+        lr = run_scenario(sc, job["model"])
+    except (ValueError, ArithmeticError, KeyError, TypeError) as exc:
+        row["message"] = f"{type(exc).__name__}: {exc}"
+        return row, frame
+    row["status"] = lr.result.status
+    row["message"] = lr.metrics["message"]
+    for m in job["metrics"]:
+        v = lr.metrics.get(m)
+        if isinstance(v, float) and not math.isfinite(v):
+            v = None
+        row[m] = v
+    if job["keep_traces"]:
+        frame = lr.result.to_frame()
+    return row, frame
+
+
+def run_chunk(job: dict, runs: list) -> dict:
+    """Run ``runs`` = ``[(run_id, values), ...]`` one after the other.
+
+    Returns ``{"rows": [...], "traces": {run_id: DataFrame}}``.
+    """
+    rows, traces = [], {}
+    for run_id, values in runs:
+        row, frame = run_variant(job, values)
+        row["run"] = run_id
+        row.update(zip(job["keys"], values))
+        rows.append(row)
+        if frame is not None:
+            traces[run_id] = frame
+    return {"rows": rows, "traces": traces}

@@ -1,0 +1,62 @@
+"""``clutchsim sweep``: table on disk, JSON summary, resume, bad input (exit 2)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from clutchsim.cli import main
+from clutchsim.sweep import read_results
+
+BASE = ["--set", "scenario.t_end=1.3", "--set", "solver.dt_out=0.005", "-q"]
+
+
+def test_sweep_writes_the_table_and_resumes(tmp_path, capsys):
+    argv = ["sweep", "--vary", "vehicle.mass=uniform(1100,1500)", "--samples", "3",
+            "--seed", "5", "--metrics", "lockup_time_s,slip_energy_J", "--out",
+            str(tmp_path / "mc"), "--json", "--no-plots", *BASE]
+    assert main(argv) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["runs"] == 3 and doc["status_counts"] == {"completed": 3}
+    t = read_results(tmp_path / "mc")
+    assert list(t.columns) == ["run", "vehicle.mass", "status", "message", "lockup_time_s",
+                               "slip_energy_J"]
+    assert main(argv) == 0
+    again = json.loads(capsys.readouterr().out)
+    assert again["chunks_resumed"] == again["chunks"]
+    assert read_results(tmp_path / "mc").equals(t)
+
+
+@pytest.mark.parametrize("vary, words", [
+    ("vehicle.mass=1500:1100:3", "LO > HI"),
+    ("vehicle.mass=1100:1500:0", "N must be an integer >= 1"),
+    ("vehicle.mas=1100:1500:2", "did you mean 'mass'"),
+])
+def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, vary, words):
+    assert main(["sweep", "--vary", vary, "--out", str(tmp_path / "s"), *BASE]) == 2
+    err = capsys.readouterr().err
+    assert words in err and err.count("\n") == 1
+
+
+def test_a_directory_of_another_sweep_is_refused(tmp_path, capsys):
+    out = str(tmp_path / "s")
+    assert main(["sweep", "--vary", "vehicle.mass=1300", "--out", out, "--no-plots",
+                 *BASE]) == 0
+    assert main(["sweep", "--vary", "vehicle.mass=1400", "--out", out, *BASE]) == 2
+    assert "holds a different sweep" in capsys.readouterr().err
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "notes.txt").write_text("x")
+    assert main(["sweep", "--vary", "vehicle.mass=1400", "--out", str(tmp_path / "other"),
+                 *BASE]) == 2
+    assert "not a sweep directory" in capsys.readouterr().err
+
+
+def test_unreachable_dask_scheduler_is_exit_2(tmp_path, capsys):
+    import socket
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    assert main(["sweep", "--vary", "vehicle.mass=1300", "--out", str(tmp_path / "s"),
+                 "--dask", f"tcp://127.0.0.1:{port}", "--connect-timeout", "1", *BASE]) == 2
+    assert "no Dask scheduler answered" in capsys.readouterr().err
