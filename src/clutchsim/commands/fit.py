@@ -1,0 +1,270 @@
+"""``clutchsim fit``: identify friction parameters from measured data (or a TOML fit spec)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import math
+from pathlib import Path
+
+from ..cli import SimulationFailed, UserError, emit_json
+
+log = logging.getLogger("clutchsim")
+
+HELP = """\
+examples:
+  clutchsim fit examples/fit_emps.toml --model lugre --out emps_lugre/ --json
+  clutchsim fit examples/fit_emps.toml --model tanh --params F_c,sigma2,M,offset --out cv/
+  clutchsim fit test.npz --model lugre --plant rig-velocity --input v --output F \\
+      --column v=v --column F=F --scale v=0.0254 --scale F=4448.222 \\
+      --params F_c,F_s,sigma0 --bounds sigma0=1e4:1e8 --validate other.npz --out brfd/
+
+DATA is a CSV/TXT, NPZ or MAT file, or a TOML fit specification (see
+docs/identification.md); command-line options override the specification.
+Writes DIR/fit.json, DIR/fit.png (measured vs simulated), DIR/residuals.png,
+DIR/traces.csv and DIR/report.md.  --json prints one document:
+{"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation"}.
+"""
+
+
+def register(sub, common):
+    p = sub.add_parser("fit", parents=[common], help="fit friction parameters to measured data",
+                       description="Output-error fit of a friction model (and plant "
+                       "parameters) to a measured record.", epilog=HELP,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("data", metavar="DATA_OR_SPEC", help="data file or TOML fit specification")
+    p.add_argument("--model", help="friction model (default: the spec's [fit] model)")
+    p.add_argument("--input", help="measured input column")
+    p.add_argument("--output", help="measured output column")
+    p.add_argument("--params", help="parameters to fit, comma separated")
+    p.add_argument("--bounds", action="append", default=[], metavar="NAME=LO:HI",
+                   help="bounds of a fitted parameter (repeatable)")
+    p.add_argument("--fixed", action="append", default=[], metavar="NAME=VALUE",
+                   help="hold a parameter at a value (repeatable)")
+    p.add_argument("--start", action="append", default=[], metavar="NAME=VALUE",
+                   help="start value of a model or plant parameter (repeatable)")
+    p.add_argument("--validate", action="append", default=[], metavar="OTHER_DATA",
+                   help="validation record, read with the same column mapping (repeatable)")
+    p.add_argument("--plant", help="rig-force, rig-velocity or emps (default rig-force)")
+    p.add_argument("--plant-option", action="append", default=[], metavar="KEY=VALUE",
+                   help="plant option, e.g. mass=2 or scale=N (repeatable)")
+    p.add_argument("--column", action="append", default=[], metavar="NAME=FILECOLUMN",
+                   help="column mapping for a data file (repeatable; default: all columns)")
+    p.add_argument("--time", default=None, help="time column of a data file (default t)")
+    p.add_argument("--scale", action="append", default=[], metavar="NAME=FACTOR",
+                   help="unit factor of a column (repeatable)")
+    p.add_argument("--nan", choices=("error", "drop", "interpolate"), default=None,
+                   help="NaN samples: error (default), drop the rows, or interpolate")
+    p.add_argument("--window", metavar="T0:T1", help="time window of the fitting data [s]")
+    p.add_argument("--starts", type=int, default=None, help="number of starts (default 1)")
+    p.add_argument("--seed", type=int, default=None, help="seed of the random starts")
+    p.add_argument("--solver", default=None, help="integrator (default rodas4)")
+    p.add_argument("--rtol", type=float, default=None, help="relative tolerance (default 1e-8)")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+
+
+def _pairs(items, what, convert=float):
+    out = {}
+    for item in items:
+        if "=" not in item:
+            raise UserError(f"--{what} {item!r}: expected NAME=VALUE")
+        key, value = item.split("=", 1)
+        try:
+            out[key.strip()] = convert(value.strip())
+        except ValueError:
+            raise UserError(f"--{what} {item!r}: {value!r} is not a valid value") from None
+    return out
+
+
+def _bounds(items):
+    out = {}
+    for item in items:
+        name, sep, rng = item.partition("=")
+        lo, sep2, hi = rng.partition(":")
+        if not sep or not sep2:
+            raise UserError(f"--bounds {item!r}: expected NAME=LO:HI, e.g. sigma0=1e4:1e8")
+        try:
+            a, b = float(lo), float(hi)
+        except ValueError:
+            raise UserError(f"--bounds {item!r}: LO and HI must be numbers") from None
+        if not (math.isfinite(a) and math.isfinite(b)):
+            raise UserError(f"--bounds {item!r}: LO and HI must be finite")
+        if a >= b:
+            raise UserError(f"--bounds {item!r}: lo = {a:g} must be < hi = {b:g}")
+        out[name.strip()] = (a, b)
+    return out
+
+
+def _auto(value: str):
+    try:
+        return float(value)
+    except ValueError:
+        if value.lower() in ("true", "false"):
+            return value.lower() == "true"
+        return value
+
+
+def _window(text):
+    if text is None:
+        return None
+    a, sep, b = text.partition(":")
+    if not sep:
+        raise UserError(f"--window {text!r}: expected T0:T1 (either may be empty)")
+    try:
+        return (float(a) if a else None, float(b) if b else None)
+    except ValueError:
+        raise UserError(f"--window {text!r}: T0 and T1 must be numbers") from None
+
+
+def _from_spec(args):
+    from ..identify import load_spec
+    spec = load_spec(args.data)
+    model, entry = spec.model_entry(args.model)
+    data = spec.read(window=_window(args.window))
+    validate = spec.validation_data() + [spec.read(f) for f in args.validate]
+    f = spec.fit
+    params = args.params.split(",") if args.params else list(entry.get("params", []))
+    if not params:
+        raise UserError(f"{spec.path}: no parameters to fit for {model.name}: give --params "
+                        f"or [models.{model.name}] params")
+    bounds = {k: tuple(v) for k, v in entry.get("bounds", {}).items() if k in params}
+    bounds.update(_bounds(args.bounds))
+    fixed = {k: v for k, v in entry.get("fixed", {}).items() if k not in params}
+    fixed.update(_pairs(args.fixed, "fixed"))
+    options = dict(spec.plant.options)
+    options.update({k: v for k, v in entry["plant_start"].items()})
+    starts = _pairs(args.start, "start")
+    model_starts = {k: v for k, v in starts.items() if k in type(model).parameter_info}
+    model = model.with_(**model_starts) if model_starts else model
+    options.update({k: v for k, v in starts.items() if k not in model_starts})
+    options.update(_pairs(args.plant_option, "plant-option", _auto))
+    kw = dict(input=args.input or f["input"], output=args.output or f["output"],
+              params=params, bounds=bounds, fixed=fixed, plant=args.plant or spec.plant.kind,
+              plant_options=options, signal=f.get("signal"),
+              starts=args.starts or int(f.get("starts", 1)),
+              seed=args.seed if args.seed is not None else int(f.get("seed", 0)),
+              solver=args.solver or f.get("solver", "rodas4"),
+              rtol=args.rtol or float(f.get("rtol", 1e-8)))
+    for key in ("atol", "max_nfev", "diff_step", "wall_time", "tol"):
+        if key in f:
+            kw[key] = f[key]
+    return model, data, validate, kw
+
+
+def _from_data(args):
+    from ..data import read_measurements
+    from ..friction import make_model
+    if not args.model:
+        raise UserError("--model is required with a data file")
+    missing = [o for o, v in (("--input", args.input), ("--output", args.output),
+                              ("--params", args.params)) if not v]
+    if missing:
+        raise UserError(f"{', '.join(missing)} required with a data file (or use a TOML spec)")
+    columns = _pairs(args.column, "column", str) or None
+    read = dict(time=args.time or "t", columns=columns, scale=_pairs(args.scale, "scale"),
+                nan=args.nan or "error")
+    data = read_measurements(args.data, **read)
+    window = _window(args.window)
+    if window:
+        data = data.window(*window)
+    validate = [read_measurements(f, **read) for f in args.validate]
+    starts = _pairs(args.start, "start")
+    from ..friction import get_model_class
+    cls = get_model_class(args.model)
+    model = make_model(args.model, **{k: v for k, v in starts.items()
+                                      if k in cls.parameter_info})
+    options = {k: v for k, v in starts.items() if k not in cls.parameter_info}
+    options.update(_pairs(args.plant_option, "plant-option", _auto))
+    kw = dict(input=args.input, output=args.output, params=args.params.split(","),
+              bounds=_bounds(args.bounds), fixed=_pairs(args.fixed, "fixed"),
+              plant=args.plant or "rig-force", plant_options=options,
+              starts=args.starts or 1, seed=args.seed or 0, solver=args.solver or "rodas4",
+              rtol=args.rtol or 1e-8)
+    return model, data, validate, kw
+
+
+def write_outputs(result, out: Path, *, plots: bool = True, unit: str = "") -> dict[str, Path]:
+    """fit.json, traces.csv, report.md and (optionally) the two figures in ``out``.
+
+    ``unit`` labels the output axis of the figures.
+    """
+    import numpy as np
+
+    from ..core.result import atomic_write
+    out.mkdir(parents=True, exist_ok=True)
+    files = {}
+    doc = result.as_dict()
+    files["fit.json"] = atomic_write(out / "fit.json", lambda p: p.write_text(
+        json.dumps(doc, indent=2, allow_nan=False)))
+    tr = result.fit_trace
+    table = np.column_stack([tr.t, tr.measured, tr.simulated, tr.residual])
+    files["traces.csv"] = atomic_write(out / "traces.csv", lambda p: np.savetxt(
+        p, table, delimiter=",", header="t,measured,simulated,residual", comments=""))
+    files["report.md"] = atomic_write(out / "report.md", lambda p: p.write_text(
+        report_markdown(result)))
+    if plots:
+        from ..plot._style import save_png
+        from ..plot.fit import plot_fit, plot_residuals
+        fig, _, _ = plot_fit(result, unit=unit)
+        files["fit.png"] = save_png(fig, out / "fit.png")
+        fig, _, _ = plot_residuals(result, unit=unit)
+        files["residuals.png"] = save_png(fig, out / "residuals.png")
+    return files
+
+
+def report_markdown(result) -> str:
+    """A short Markdown report of a fit."""
+    lines = [f"# Fit of {result.model_name} ({result.plant} plant)", "",
+             (f"Data: `{result.fit_trace.source}`; input `{result.input}`, output "
+              f"`{result.output}` (simulated `{result.signal}`)."), "",
+             "| parameter | value | std. error | bounds |", "|---|---|---|---|"]
+    for name, value in result.parameters.items():
+        lo, hi = result.bounds[name]
+        se = result.stderr.get(name)
+        flag = " (at bound)" if name in result.at_bound else ""
+        shown = "undetermined" if se is None else f"{se:.2g}"
+        lines.append(f"| {name} | {value:.6g}{flag} | {shown} | {lo:g} … {hi:g} |")
+    lines += ["", "| record | NRMSE | R² | other |", "|---|---|---|---|"]
+    for what, tr in [("fit", result.fit_trace)] + [(f"validation {k + 1}", v) for k, v in
+                                                    enumerate(result.validation)]:
+        other = ", ".join(f"{k} = {v:.4g}" for k, v in tr.metrics.items())
+        lines.append(f"| {what}: `{Path(tr.source).name}` | {tr.nrmse:.4g} | {tr.r2:.4g} | "
+                     f"{other} |")
+    lines += ["", (f"{result.evaluations} simulations ({result.failed_evaluations} failed), "
+                   f"{len(result.starts)} start(s), wall time {result.wall_time:.1f} s; "
+                   f"optimiser: {result.message}"), ""]
+    return "\n".join(lines)
+
+
+def run(args) -> int:
+    from ..identify import fit
+    path = Path(args.data)
+    if path.suffix.lower() == ".toml":
+        model, data, validate, kw = _from_spec(args)
+    else:
+        model, data, validate, kw = _from_data(args)
+    log.info("fitting %s (%s) to %s: %s", model.name, kw["plant"], data.source,
+             ", ".join(kw["params"]))
+    try:
+        result = fit(model, data, validate=validate or None, **kw)
+    except RuntimeError as exc:
+        raise SimulationFailed(str(exc)) from None
+    files = write_outputs(result, Path(args.out), plots=not args.no_plots,
+                          unit=data.units.get(kw["output"], ""))
+    log.info("NRMSE fit %.4g%s; wall time %.1f s; wrote %s", result.nrmse_fit,
+             "" if result.nrmse_validation is None
+             else f", validation {result.nrmse_validation:.4g}", result.wall_time,
+             ", ".join(str(p) for p in files.values()))
+    if args.json:
+        emit_json(result.summary())
+    else:
+        for name, value in result.parameters.items():
+            se = result.stderr.get(name)
+            print(f"{name:>10} = {value:.6g} ± " + ("undetermined" if se is None else f"{se:.2g}"))
+        print(f"NRMSE fit = {result.nrmse_fit:.4g}"
+              + ("" if result.nrmse_validation is None
+                 else f", validation = {result.nrmse_validation:.4g}"))
+    return 0

@@ -1,0 +1,26 @@
+"""Parameter identification: fit friction and plant parameters to measured records.
+
+:func:`fit` is an output-error fit (simulate the plant driven by the measured input, compare
+the simulated with the measured output) on compiled simulations; :mod:`.plants` holds the
+plants it can drive (friction rig, EMPS closed loop) and :mod:`.spec` reads TOML fit
+specifications.
+"""
+
+from .emps import EMPSPlant, make_emps
+from .fit import FitResult, Trace, evaluate, fit, nrmse
+from .plants import PLANTS, PlantSpec
+from .spec import FitSpec, load_spec
+
+__all__ = [
+           "PLANTS",
+           "EMPSPlant",
+           "FitResult",
+           "FitSpec",
+           "PlantSpec",
+           "Trace",
+           "evaluate",
+           "fit",
+           "load_spec",
+           "make_emps",
+           "nrmse",
+]

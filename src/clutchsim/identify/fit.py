@@ -1,0 +1,576 @@
+"""Output-error identification of friction (and plant) parameters from measured records.
+
+The plant is driven by the measured input, and the residual is the simulated output minus
+the measured output on the measurement grid.  ``scipy.optimize.least_squares`` (trust-region
+reflective, bounds) minimises it from one or more starts, with finite-difference Jacobians.
+Every simulation reuses one compiled system (:meth:`System.with_params`) and runs at a tight
+tolerance (rtol 1e-8 by default), because finite differences of a loosely integrated
+trajectory are dominated by the integrator's error.
+
+Error measures: ``NRMSE = ||y_sim − y|| / ||y − mean(y)||`` and ``R² = 1 − NRMSE²``.  For
+the EMPS plant the denominator is the measured tracking error ``q − q_ref`` (minus its mean),
+because the position itself follows the reference to 1e-4 and any simulation would look
+perfect against it; the benchmark's own measure ``100·||q_sim − q||/||q||`` [%] is reported
+as ``metrics["position_error_pct"]``.
+
+Standard errors come from the Jacobian at the optimum, ``(JᵀJ)⁻¹·s²`` with
+``s² = ||r||²/(m − n)``.  They assume independent residuals; measured residuals are strongly
+correlated in time, so read them as a lower bound and as a conditioning diagnostic.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import threading
+import time
+from collections.abc import Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from functools import lru_cache
+from types import MappingProxyType
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..core import SolverOptions, simulate
+from ..core.system import closest
+from ..data import Measurement, read_measurements
+from ..friction import make_model
+from ..friction.base import FrictionModel
+from .parameters import ParameterSpace, apply_to_model, model_parameter_names, model_value
+from .plants import PlantSpec, Setup, build_setup
+
+__all__ = ["FitResult", "Trace", "evaluate", "fit", "nrmse", "simulate_setup"]
+
+
+def nrmse(residual: np.ndarray, normaliser: np.ndarray) -> float:
+    """``||residual|| / ||normaliser||`` (normaliser: measured minus its mean)."""
+    return float(np.linalg.norm(residual) / np.linalg.norm(normaliser))
+
+
+@dataclass(frozen=True, eq=False)
+class Trace:
+    """Measured and simulated output of one record, with its error measures."""
+
+    source: str
+    t: np.ndarray
+    measured: np.ndarray
+    simulated: np.ndarray
+    nrmse: float
+    r2: float
+    metrics: Mapping[str, float] = field(default_factory=dict)
+    reference: np.ndarray | None = None
+
+    @property
+    def residual(self) -> np.ndarray:
+        return self.simulated - self.measured
+
+    def as_dict(self) -> dict:
+        return {"source": self.source, "nrmse": self.nrmse, "r2": self.r2,
+                "samples": int(self.t.size), **dict(self.metrics)}
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    """Outcome of :func:`fit` (immutable).
+
+    Attributes
+    ----------
+    model : FrictionModel
+        The friction model with the fitted (and fixed) values.
+    model_name : str
+        Registry name of the model.
+    parameters, stderr : mapping of str to float
+        Fitted values and their standard errors (physical units; see the module notes).
+        A standard error is None when the data do not determine the parameter.
+    bounds : mapping of str to (float, float)
+        Bounds used.
+    at_bound : tuple of str
+        Fitted parameters that ended within 1e-6 (scaled) of a bound.
+    fixed : mapping of str to float
+        Values held fixed (given by ``fixed=``).
+    plant : str
+        Plant kind; ``plant_parameters`` all plant parameter values used.
+    fit_trace, validation : Trace, tuple of Trace
+        Fitting record and validation records.
+    nrmse_fit, r2_fit : float
+        Error measures on the fitting record.
+    nrmse_validation : float or None
+        Mean NRMSE over the validation records (None without ``validate=``).
+    cost_history : ndarray
+        Lowest cost (½·NRMSE²) reached after each simulation, over all starts.
+    starts : tuple of dict
+        Per start: start values, final cost, evaluations, optimiser message.
+    evaluations : int
+        Simulations run; ``failed_evaluations`` those that did not complete.
+    wall_time : float
+        Wall time of the whole fit [s] (validation included).
+    signal, input, output : str
+        Simulated signal and measured columns.
+    """
+
+    model: FrictionModel
+    model_name: str
+    parameters: Mapping[str, float]
+    stderr: Mapping[str, float]
+    bounds: Mapping[str, tuple[float, float]]
+    at_bound: tuple[str, ...]
+    fixed: Mapping[str, float]
+    plant: str
+    plant_parameters: Mapping[str, float]
+    fit_trace: Trace
+    validation: tuple[Trace, ...]
+    cost_history: np.ndarray
+    starts: tuple[dict, ...]
+    evaluations: int
+    failed_evaluations: int
+    wall_time: float
+    signal: str
+    input: str
+    output: str
+    message: str
+
+    @property
+    def nrmse_fit(self) -> float:
+        return self.fit_trace.nrmse
+
+    @property
+    def r2_fit(self) -> float:
+        return self.fit_trace.r2
+
+    @property
+    def nrmse_validation(self) -> float | None:
+        if not self.validation:
+            return None
+        return float(np.mean([v.nrmse for v in self.validation]))
+
+    @property
+    def residuals(self) -> np.ndarray:
+        return self.fit_trace.residual
+
+    def summary(self) -> dict:
+        """The short document ``clutchsim fit --json`` prints."""
+        return {"model": self.model_name, "parameters": dict(self.parameters),
+                "stderr": dict(self.stderr), "nrmse_fit": self.nrmse_fit,
+                "nrmse_validation": self.nrmse_validation}
+
+    def as_dict(self) -> dict:
+        """Everything but the traces, JSON-ready (fit.json)."""
+        return {
+            **self.summary(),
+            "r2_fit": self.r2_fit,
+            "plant": self.plant, "plant_parameters": dict(self.plant_parameters),
+            "input": self.input, "output": self.output, "signal": self.signal,
+            "bounds": {k: list(v) for k, v in self.bounds.items()},
+            "at_bound": list(self.at_bound), "fixed": dict(self.fixed),
+            "model_values": {n: model_value(self.model, n)
+                             for n in model_parameter_names(self.model)},
+            "fit": self.fit_trace.as_dict(),
+            "validation": [v.as_dict() for v in self.validation],
+            "starts": list(self.starts), "evaluations": self.evaluations,
+            "failed_evaluations": self.failed_evaluations,
+            "wall_time_s": self.wall_time, "message": self.message,
+        }
+
+
+# ---------------------------------------------------------------- simulation
+def _options(setup: Setup, rtol: float, atol: float | None, wall_time: float) -> SolverOptions:
+    dt = float(np.min(np.diff(setup.t)))
+    span = float(setup.t[-1] - setup.t[0])
+    n_out = int(span / dt) + 10
+    if atol is None:
+        atol = rtol * max(float(np.max(np.abs(setup.measured))), 1e-300) * 1e-2
+    # room for the extra rows stored at located events
+    return SolverOptions(rtol=rtol, atol=atol, dt_out=dt, max_output=2 * n_out + 10_000,
+                         wall_time=wall_time, max_steps=5_000_000)
+
+
+def simulate_setup(setup: Setup, p: np.ndarray, *, solver: str, options: SolverOptions,
+                   post_offset: float = 0.0, extra: Sequence[str] = ()):
+    """Simulated signal on the measurement grid, or None if the run did not complete.
+
+    With ``extra`` signal names, returns ``(y, {name: values on the grid})``.
+    """
+    system = setup.system.with_params(p)
+    res = simulate(system, (float(setup.t[0]), float(setup.t[-1])), setup.inputs,
+                   y0=setup.y0, solver=solver, options=options)
+    if res.status != "completed" or res.t[-1] < setup.t[-1] - 1e-9 * max(1.0, abs(setup.t[-1])):
+        return None
+    y = np.interp(setup.t, res.t, res[setup.signal]) + post_offset
+    if not np.all(np.isfinite(y)):
+        return None
+    if extra:
+        return y, {n: np.interp(setup.t, res.t, res[n]) for n in extra}
+    return y
+
+
+class _Problem:
+    """Maps fitted values to parameter vectors and runs the simulations of one record."""
+
+    def __init__(self, model, setup: Setup, names, fixed_plant, solver, tolerances):
+        self.model = model
+        self.setup = setup
+        self.names = tuple(names)
+        self.fixed_plant = dict(fixed_plant)
+        self.solver = solver
+        self.tolerances = tolerances        # (rtol, atol, wall_time)
+        self.options = _options(setup, *tolerances)
+
+    def split(self, values: np.ndarray):
+        model_vals, plant_vals = {}, dict(self.setup.plant_values)
+        plant_vals.update(self.fixed_plant)
+        for name, value in zip(self.names, values):
+            if name in self.setup.plant_index:
+                plant_vals[name] = float(value)
+            else:
+                model_vals[name] = float(value)
+        return apply_to_model(self.model, model_vals), plant_vals
+
+    def vector(self, model: FrictionModel, plant_vals) -> tuple[np.ndarray, float]:
+        s = self.setup
+        p = s.system.params.copy()
+        post = 0.0
+        for name, value in plant_vals.items():
+            idx = s.plant_index[name]
+            if idx < 0:
+                post = value
+            else:
+                p[idx] = value
+        p = np.concatenate([p[:s.header], model.pack()])
+        return p, post
+
+    def run(self, values: np.ndarray, setup: Setup | None = None, extra: Sequence[str] = ()):
+        model, plant_vals = self.split(values)
+        p, post = self.vector(model, plant_vals)
+        setup = setup or self.setup
+        if setup is not self.setup:
+            p = np.concatenate([setup.system.params[:setup.header], p[self.setup.header:]])
+            for name, value in plant_vals.items():
+                if setup.plant_index[name] >= 0:
+                    p[setup.plant_index[name]] = value
+        # output grid and atol follow the record simulated (validation records differ)
+        options = self.options if setup is self.setup else _options(setup, *self.tolerances)
+        return simulate_setup(setup, p, solver=self.solver, options=options,
+                              post_offset=post, extra=extra)
+
+    def evaluate(self, values: np.ndarray, setup: Setup, source: str, plant: str) -> Trace:
+        """Simulate ``setup`` at ``values`` and measure the errors."""
+        extra = ("F_motor",) if "voltage" in setup.extras else ()
+        out = self.run(values, setup, extra)
+        if out is None:
+            raise RuntimeError(f"{source}: the simulation at the fitted parameters did not "
+                               "complete")
+        y, sig = out if extra else (out, {})
+        trace = _trace(setup, y, source, plant)
+        if extra:
+            f_meas = setup.system.params[1] * setup.extras["voltage"]
+            err = np.linalg.norm(sig["F_motor"] - f_meas) / np.linalg.norm(f_meas)
+            trace = Trace(trace.source, trace.t, trace.measured, trace.simulated, trace.nrmse,
+                          trace.r2, MappingProxyType({**trace.metrics,
+                                                      "force_error_pct": float(100 * err)}),
+                          trace.reference)
+        return trace
+
+
+def _trace(setup: Setup, y: np.ndarray, source: str, plant: str) -> Trace:
+    res = y - setup.measured
+    e = nrmse(res, setup.normaliser)
+    metrics = {}
+    if plant == "emps":
+        metrics["position_error_pct"] = float(100.0 * np.linalg.norm(res)
+                                              / np.linalg.norm(setup.measured))
+    metrics["rmse"] = float(np.sqrt(np.mean(res ** 2)))
+    return Trace(source, setup.t, setup.measured, y, e, 1.0 - e * e,
+                 MappingProxyType(metrics), setup.extras.get("q_ref"))
+
+
+@lru_cache(maxsize=4)
+def _pool(n: int) -> ThreadPoolExecutor:
+    return ThreadPoolExecutor(max_workers=min(n, os.cpu_count() or 1),
+                              thread_name_prefix="clutchsim-fit")
+
+
+# ---------------------------------------------------------------- data and names
+def _as_measurement(data, what: str) -> Measurement:
+    if isinstance(data, Measurement):
+        return data
+    if isinstance(data, Mapping):
+        if "t" not in data:
+            raise ValueError(f"{what}: a mapping of arrays needs a time column 't'; "
+                             f"columns: {', '.join(data)}")
+        return Measurement.from_arrays(data["t"], source=what,
+                                       **{k: v for k, v in data.items() if k != "t"})
+    if isinstance(data, (str, bytes)) or hasattr(data, "__fspath__"):
+        return read_measurements(data)
+    raise TypeError(f"{what} must be a Measurement, a mapping of arrays or a file path, got "
+                    f"{type(data).__name__}")
+
+
+def _check_names(names, model, plant: PlantSpec, what: str):
+    valid_model = model_parameter_names(model)
+    valid = valid_model + tuple(plant.parameters)
+    for name in names:
+        if not isinstance(name, str) or name not in valid:
+            raise ValueError(
+                f"{what}: {model.name} has no parameter {name!r}{closest(str(name), valid)}; "
+                f"model parameters: {', '.join(valid_model)}; plant {plant.kind!r} "
+                f"parameters: {', '.join(plant.parameters) or '(none)'}")
+
+
+def _start_values(model, setup: Setup, names, fixed_plant) -> dict:
+    out = {}
+    for name in names:
+        if name in setup.plant_index:
+            out[name] = fixed_plant.get(name, setup.plant_values[name])
+        else:
+            out[name] = model_value(model, name)
+    return out
+
+
+def _default_bounds(plant: PlantSpec, setup: Setup, names) -> dict:
+    out = {}
+    for name in names:
+        if name in plant.parameters:
+            b = plant.parameters[name]
+            if b is None and name == "offset":
+                amp = float(np.max(np.abs(setup.measured)))
+                b = (-amp, amp)
+            out[name] = b
+    return out
+
+
+def _standard_errors(jac, den, residual, space: ParameterSpace, x, params) -> dict:
+    """Standard errors of the physical parameters; None where the data do not determine one.
+
+    The covariance is formed in the scaled coordinates (well conditioned) from the SVD of the
+    Jacobian and then mapped to physical units.  A parameter with a component along a
+    direction of (numerically) zero singular value, e.g. a Stribeck level repaired onto the
+    Coulomb level, is undetermined.
+    """
+    m, n = residual.size, len(params)
+    if jac is None or m <= n:
+        return {}
+    J = np.asarray(jac) * den                      # data units per scaled unit
+    s2 = float(np.sum(residual ** 2)) / (m - n)
+    _, sv, vt = np.linalg.svd(J, full_matrices=False)
+    keep = sv > 1e-8 * sv[0] if sv.size and sv[0] > 0 else np.zeros(sv.size, dtype=bool)
+    cov = (vt[keep].T / sv[keep] ** 2) @ vt[keep] * s2
+    null = vt[~keep]
+    deriv = space.derivative(x)
+    out = {}
+    for j, name in enumerate(params):
+        if null.size and np.max(np.abs(null[:, j])) > 1e-3:
+            out[name] = None
+        else:
+            out[name] = float(abs(deriv[j]) * math.sqrt(max(cov[j, j], 0.0)))
+    return out
+
+
+# ---------------------------------------------------------------- evaluate
+def evaluate(model: FrictionModel | str, data, *, input: str, output: str,
+             plant: str | PlantSpec = "rig-force", plant_options: Mapping | None = None,
+             signal: str | None = None, solver: str = "rodas4", rtol: float = 1e-8,
+             atol: float | None = None, wall_time: float = 60.0) -> Trace:
+    """Simulate a plant with given parameters against a record (no fitting).
+
+    Same arguments as :func:`fit`; returns the :class:`Trace` with its error measures.
+    Raises RuntimeError if the simulation does not complete.
+    """
+    model = make_model(model) if isinstance(model, str) else model
+    spec = plant if isinstance(plant, PlantSpec) else PlantSpec(plant, dict(plant_options or {}))
+    meas = _as_measurement(data, "data")
+    setup = build_setup(spec, model, meas, input=input, output=output, signal=signal)
+    problem = _Problem(model, setup, (), {}, solver, (rtol, atol, wall_time))
+    return problem.evaluate(np.empty(0), setup, meas.source, spec.kind)
+
+
+# ---------------------------------------------------------------- fit
+def fit(model: FrictionModel | str, data, *, input: str, output: str,
+        params: Sequence[str], bounds: Mapping[str, tuple[float, float]] | None = None,
+        fixed: Mapping[str, float] | None = None, starts: int | Sequence[Mapping] = 1,
+        plant: str | PlantSpec = "rig-force", plant_options: Mapping | None = None,
+        signal: str | None = None, seed: int = 0, validate=None,
+        solver: str = "rodas4", rtol: float = 1e-8, atol: float | None = None,
+        diff_step: float = 1e-5, max_nfev: int = 200, wall_time: float = 30.0,
+        max_workers: int = 2, tol: float = 1e-8,
+        t_span: tuple[float | None, float | None] | None = None) -> FitResult:
+    """Fit friction (and plant) parameters to a measured record by output error.
+
+    Parameters
+    ----------
+    model : FrictionModel or str
+        Model with the start values (a name uses its default parameter set).
+    data : Measurement, mapping of arrays (with ``"t"``) or path
+        Fitting record.
+    input, output : str
+        Measured columns: the plant's driving input and the compared output.
+    params : sequence of str
+        Parameters to fit: model fields (``"k[0]"`` for tuple elements) or plant parameters.
+    bounds : mapping of str to (lo, hi), optional
+        Per fitted parameter; default ``start/100 ... start·100`` (plant parameters have
+        their own defaults).  ``lo < hi`` is required.
+    fixed : mapping of str to float, optional
+        Values set before fitting and held (model fields or plant parameters).
+    starts : int or sequence of mappings
+        Number of starts (the first is the model's values, the others uniform in the scaled
+        box from ``seed``), or explicit start points (partial mappings name -> value).
+    plant : str or PlantSpec
+        ``"rig-force"``, ``"rig-velocity"`` or ``"emps"`` (see :mod:`.plants`).
+    plant_options : mapping, optional
+        Plant options when ``plant`` is a string.
+    signal : str, optional
+        Simulated signal compared with ``output`` (default per plant: x, F, q).
+    seed : int
+        Seed of the random starts (the fit is deterministic for a seed).
+    validate : data or sequence of data, optional
+        Records simulated with the fitted values (not used for fitting).
+    solver, rtol, atol : str, float, float
+        Integrator and tolerances of every simulation (atol default from the output scale).
+    diff_step : float
+        Finite-difference step in scaled coordinates.
+    max_nfev : int
+        Most residual evaluations per start (Jacobian columns not counted).
+    max_workers : int
+        Threads that simulate Jacobian columns in parallel (1: serial).
+    tol : float
+        ``ftol`` and ``xtol`` of ``least_squares`` (relative change of cost and of the
+        scaled parameters that ends a start).
+    wall_time : float
+        Wall-time budget of one simulation [s].
+    t_span : (float or None, float or None), optional
+        Window of the data used (validation records are used whole).
+
+    Returns
+    -------
+    FitResult
+    """
+    wall0 = time.perf_counter()
+    model = make_model(model) if isinstance(model, str) else model
+    if not isinstance(model, FrictionModel):
+        raise TypeError(f"model must be a friction model or a model name, got "
+                        f"{type(model).__name__}")
+    spec = plant if isinstance(plant, PlantSpec) else PlantSpec(plant, dict(plant_options or {}))
+    meas = _as_measurement(data, "data")
+    if t_span is not None:
+        meas = meas.window(*t_span)
+    params = list(params)
+    if not params:
+        raise ValueError("params: give at least one parameter to fit")
+    if len(set(params)) != len(params):
+        raise ValueError(f"params: repeated names in {params}")
+    _check_names(params, model, spec, "params")
+    fixed = dict(fixed or {})
+    _check_names(fixed, model, spec, "fixed")
+    both = [n for n in fixed if n in params]
+    if both:
+        raise ValueError(f"parameter(s) {', '.join(both)} are both fitted and fixed")
+    fixed_plant = {n: float(v) for n, v in fixed.items() if n in spec.parameters}
+    model = apply_to_model(model, {n: v for n, v in fixed.items() if n not in spec.parameters})
+    setup = build_setup(spec, model, meas, input=input, output=output, signal=signal)
+    start = _start_values(model, setup, params, fixed_plant)
+    space = ParameterSpace.build(params, start, bounds, _default_bounds(spec, setup, params))
+    problem = _Problem(model, setup, params, fixed_plant, solver, (rtol, atol, wall_time))
+    den = float(np.linalg.norm(setup.normaliser))
+    penalty = 3.0 * setup.normaliser / den      # a failed run counts as NRMSE = 3
+    counters = {"n": 0, "failed": 0, "best": math.inf}
+    history: list[float] = []
+
+    lock = threading.Lock()
+    last: dict = {}
+
+    def evaluate(x):
+        try:
+            y = problem.run(space.to_physical(x))
+        except ValueError:      # a model constraint the repairs do not cover
+            y = None
+        with lock:
+            counters["n"] += 1
+            if y is None:
+                counters["failed"] += 1
+        return penalty if y is None else (y - setup.measured) / den
+
+    def residual(x):
+        r = evaluate(x)
+        last["x"], last["r"] = x.copy(), r
+        cost = 0.5 * float(r @ r)
+        counters["best"] = min(counters["best"], cost)
+        history.append(counters["best"])
+        return r
+
+    _, hi_s = space.scaled_bounds
+
+    def jacobian(x):
+        """Forward differences, columns in parallel threads (the integrator releases the GIL)."""
+        r0 = last["r"] if "x" in last and np.array_equal(last["x"], x) else residual(x)
+        steps = diff_step * np.maximum(1.0, np.abs(x))
+        steps = np.where(x + steps > hi_s, -steps, steps)
+
+        def column(j):
+            xj = x.copy()
+            xj[j] += steps[j]
+            return (evaluate(xj) - r0) / steps[j]
+
+        cols = list(_pool(len(x)).map(column, range(len(x)))) if workers > 1 \
+            else [column(j) for j in range(len(x))]
+        return np.column_stack(cols)
+
+    workers = max(1, min(len(params), os.cpu_count() or 1, max_workers))
+    rng = np.random.default_rng(seed)
+    x_first = space.clip_inside(space.to_scaled(np.array([start[n] for n in params])))
+    if isinstance(starts, (int, np.integer)) and not isinstance(starts, bool):
+        if starts < 1:
+            raise ValueError(f"starts = {starts} must be >= 1")
+        points = [x_first] + [space.clip_inside(space.random(rng)) for _ in range(starts - 1)]
+    else:
+        points = []
+        for k, pt in enumerate(starts):
+            _check_names(pt, model, spec, f"starts[{k}]")
+            bad = [n for n in pt if n not in params]
+            if bad:
+                raise ValueError(f"starts[{k}]: {', '.join(bad)} not fitted")
+            vals = np.array([float(pt.get(n, start[n])) for n in params])
+            points.append(space.clip_inside(space.to_scaled(vals)))
+        if not points:
+            raise ValueError("starts: give at least one start point")
+    best = None
+    records = []
+    for x0 in points:
+        n0 = counters["n"]
+        sol = least_squares(residual, x0, jac=jacobian, bounds=space.scaled_bounds,
+                            method="trf", max_nfev=max_nfev, x_scale=1.0, ftol=tol,
+                            xtol=tol)
+        records.append({"start": dict(zip(params, space.to_physical(x0).tolist())),
+                        "cost": float(sol.cost), "evaluations": counters["n"] - n0,
+                        "message": str(sol.message)})
+        if best is None or sol.cost < best.cost:
+            best = sol
+    assert best is not None
+    values = space.to_physical(best.x)
+    fitted_model, plant_vals = problem.split(values)
+    # report the values actually simulated (after order-constraint repairs)
+    reported = {n: (plant_vals[n] if n in setup.plant_index else model_value(fitted_model, n))
+                for n in params}
+    trace = problem.evaluate(values, setup, meas.source, spec.kind)
+    stderr = _standard_errors(best.jac, den, trace.residual, space, best.x, params)
+    lo, hi = space.scaled_bounds
+    at_bound = tuple(name for name, x, a, b in zip(params, best.x, lo, hi)
+                     if min(x - a, b - x) <= 1e-6 * (b - a) * 1.01)
+    val_traces = []
+    if validate is not None:
+        items = validate if isinstance(validate, (list, tuple)) else [validate]
+        for k, item in enumerate(items):
+            vm = _as_measurement(item, f"validate[{k}]")
+            vs = build_setup(spec, fitted_model, vm, input=input, output=output, signal=signal)
+            val_traces.append(problem.evaluate(values, vs, vm.source, spec.kind))
+    return FitResult(
+        model=fitted_model, model_name=fitted_model.name,
+        parameters=MappingProxyType(reported), stderr=MappingProxyType(stderr),
+        bounds=MappingProxyType({n: (float(a), float(b)) for n, a, b in
+                                 zip(params, space.lower, space.upper)}),
+        at_bound=at_bound, fixed=MappingProxyType(fixed), plant=spec.kind,
+        plant_parameters=MappingProxyType(plant_vals), fit_trace=trace,
+        validation=tuple(val_traces), cost_history=np.array(history),
+        starts=tuple(records), evaluations=counters["n"],
+        failed_evaluations=counters["failed"], wall_time=time.perf_counter() - wall0,
+        signal=setup.signal, input=input, output=output, message=str(best.message))

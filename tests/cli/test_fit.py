@@ -1,0 +1,111 @@
+"""``clutchsim fit``: JSON document, output files, and exit status 2 on bad input."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from clutchsim.cli import main
+from clutchsim.core import SolverOptions, Table, simulate
+from clutchsim.data import shared_dir
+from clutchsim.friction import make_model
+from clutchsim.rig import make_rig
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def record(tmp_path_factory) -> Path:
+    """A synthetic CSV: tanh friction (F_c = 1 N, sigma2 = 3 N·s/m) under a sine velocity."""
+    t = np.linspace(0.0, 2.0, 1001)
+    v = 0.05 * np.sin(2 * np.pi * t)
+    model = make_model("tanh", F_c=1.0, v_t=1e-2, sigma2=3.0)
+    res = simulate(make_rig(model, drive="velocity"), (0.0, 2.0),
+                   {"v": Table(t, v, hit_knots=False), "scale": 1.0},
+                   options=SolverOptions(rtol=1e-10, atol=1e-12, dt_out=0.002))
+    F = np.interp(t, res.t, res["F"]) + np.random.default_rng(0).normal(0, 0.01, t.size)
+    path = tmp_path_factory.mktemp("cli") / "rec.csv"
+    np.savetxt(path, np.column_stack([t, v * 1e3, F]), delimiter=",",
+               header="time,v_mm_s,force", comments="")
+    return path
+
+
+def _args(record, out, *extra):
+    return ["fit", str(record), "--model", "tanh", "--plant", "rig-velocity",
+            "--time", "time", "--column", "v=v_mm_s", "--column", "F=force",
+            "--scale", "v=1e-3", "--input", "v", "--output", "F", "--start", "F_c=2",
+            "--start", "v_t=1e-2", "--start", "sigma2=1", "--out", str(out), *extra]
+
+
+def test_json_document_and_output_files(record, tmp_path, capsys):
+    out = tmp_path / "fit"
+    code = main(_args(record, out, "--params", "F_c,sigma2", "--bounds", "sigma2=0.1:10",
+                      "--validate", str(record), "--json", "--quiet"))
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    doc = json.loads(captured.out)
+    assert set(doc) == {"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation"}
+    assert doc["model"] == "tanh"
+    assert doc["parameters"]["F_c"] == pytest.approx(1.0, rel=0.02)
+    assert doc["parameters"]["sigma2"] == pytest.approx(3.0, rel=0.05)
+    assert set(doc["stderr"]) == {"F_c", "sigma2"}
+    assert doc["nrmse_validation"] == pytest.approx(doc["nrmse_fit"])
+    for name in ("fit.json", "fit.png", "residuals.png", "traces.csv", "report.md"):
+        assert (out / name).is_file(), name
+    full = json.loads((out / "fit.json").read_text())
+    assert full["bounds"]["sigma2"] == [0.1, 10.0] and full["plant"] == "rig-velocity"
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--params", "F_c", "--bounds", "F_c=2:1"], "lo = 2 must be < hi = 1"),
+    (["--params", "F_c,sigma9"], "tanh has no parameter 'sigma9'"),
+    (["--params", "F_c", "--bounds", "F_c=abc"], "expected NAME=LO:HI"),
+    (["--params", "F_c", "--column", "v=speed"], "missing column(s) 'speed'"),
+])
+def test_bad_input_exits_2_with_one_line(record, tmp_path, capsys, extra, message):
+    code = main(_args(record, tmp_path / "o", *extra, "--quiet"))
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert len(err) == 1 and message in err[0], err
+
+
+def test_bad_files_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t,v,F\n0,1,1\n0.2,1,2\n0.1,1,3\n")
+    code = main(["fit", str(bad), "--model", "tanh", "--input", "v", "--output", "F",
+                 "--params", "F_c", "--out", str(tmp_path / "o")])
+    assert code == 2 and "must increase strictly" in capsys.readouterr().err
+    gap = tmp_path / "gap.csv"
+    gap.write_text("t,v,F\n0,1,1\n0.1,,2\n0.2,1,3\n")
+    code = main(["fit", str(gap), "--model", "tanh", "--input", "v", "--output", "F",
+                 "--params", "F_c", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and "column 'v' has 1 NaN/inf value(s) at row 1" in err
+    assert "nan='drop'" in err
+
+
+def test_entry_point_exit_status_in_subprocess(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "clutchsim", "fit", str(tmp_path / "no.csv"),
+                           "--model", "lugre", "--input", "v", "--output", "F", "--params",
+                           "F_c", "--out", str(tmp_path / "o")],
+                          capture_output=True, text=True, timeout=120, check=False)
+    assert proc.returncode == 2
+    assert "no such data file" in proc.stderr and proc.stdout == ""
+
+
+def test_emps_spec_runs_from_the_command_line(tmp_path, capsys):
+    if not (shared_dir() / "data" / "emps" / "DATA_EMPS.mat").is_file():
+        pytest.skip(f"shared data not available under {shared_dir()} (set CLUTCHSIM_SHARED)")
+    code = main(["fit", str(ROOT / "examples" / "fit_emps.toml"), "--model", "tanh",
+                 "--params", "F_c,sigma2", "--window", "0:4", "--out", str(tmp_path / "e"),
+                 "--json", "--quiet", "--no-plots"])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    doc = json.loads(captured.out)
+    assert doc["model"] == "tanh" and doc["nrmse_validation"] is None
+    assert 5.0 < doc["parameters"]["F_c"] < 50.0
