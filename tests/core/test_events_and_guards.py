@@ -105,3 +105,11 @@ def test_nan_from_the_right_hand_side_is_a_failed_result_naming_state_and_time(s
     assert "non-finite" in res.message and "'b [-]'" in res.message
     t_fail = float(res.message.split("at t = ")[1].split()[0])
     assert 0.45 < t_fail <= 0.5
+
+
+def test_truncated_output_is_said_in_the_message():
+    res = simulate(oscillator(omega=50.0), (0.0, 10.0), {"F": 0.0}, solver="dopri5",
+                   options=SolverOptions(max_output=50))
+    assert res.status == "completed"
+    assert res.t.size == 50 and res.t[-1] < 10.0
+    assert "output stopped after 50 rows" in res.message and "max_output" in res.message

@@ -164,6 +164,9 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
         len(system.output_names), fopt, iopt)
     status, message = _failure_message(int(code), float(t_end), int(k), int(i), system, opts,
                                        solver)
+    if ts.shape[0] >= opts.max_output and ts[-1] < t_end:
+        message += (f"; output stopped after {opts.max_output} rows at t = {ts[-1]:.9g} s "
+                    "(raise SolverOptions.max_output or set dt_out)")
     stats = Stats(steps=int(st[drv.S_STEPS]), rejected=int(st[drv.S_REJECTED]),
                   rhs_evals=int(st[drv.S_RHS]), jacobians=int(st[drv.S_JAC]),
                   lu_decompositions=int(st[drv.S_LU]), events=int(st[drv.S_EVENTS]),

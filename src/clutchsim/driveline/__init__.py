@@ -1,8 +1,11 @@
 """Driveline: components, the compiled chain plant, scenarios and launch metrics."""
 
+from ..scenario import load_scenario
 from .chain import ENERGY_STATES, Chain
 from .components import (Brake, Engine, FrictionElement, Gear, Gearbox, Inertia, SpringDamper,
                          ThermalNode, Vehicle)
+from .run import LaunchResult, energy_balance, launch_metrics, run_scenario
 
 __all__ = ["Chain", "ENERGY_STATES", "Brake", "Engine", "FrictionElement", "Gear", "Gearbox",
-           "Inertia", "SpringDamper", "ThermalNode", "Vehicle"]
+           "Inertia", "SpringDamper", "ThermalNode", "Vehicle", "LaunchResult",
+           "energy_balance", "launch_metrics", "load_scenario", "run_scenario"]
