@@ -80,6 +80,13 @@ def build_parser(mods=None) -> argparse.ArgumentParser:
         prog="clutchsim", formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Dry friction clutch and driveline simulation.", epilog=EPILOG)
     parser.add_argument("--version", action="version", version=f"clutchsim {__version__}")
+    # the output flags work before the subcommand too (own dests: a subparser's defaults
+    # would otherwise overwrite them)
+    parser.add_argument("-q", "--quiet", dest="g_quiet", action="store_true",
+                        help=argparse.SUPPRESS)
+    parser.add_argument("-v", "--verbose", dest="g_verbose", action="store_true",
+                        help=argparse.SUPPRESS)
+    parser.add_argument("--debug", dest="g_debug", action="store_true", help=argparse.SUPPRESS)
     common = argparse.ArgumentParser(add_help=False)
     g = common.add_argument_group("output")
     g.add_argument("-q", "--quiet", action="store_true", help="no progress, warnings only")
@@ -98,6 +105,8 @@ def main(argv=None) -> int:
     if not args.command:
         parser.print_help(sys.stderr)
         return 2
+    for flag in ("quiet", "verbose", "debug"):
+        setattr(args, flag, getattr(args, flag, False) or getattr(args, f"g_{flag}", False))
     level = logging.WARNING if args.quiet else (logging.DEBUG if args.verbose else logging.INFO)
     logging.basicConfig(level=level, format="%(message)s", stream=sys.stderr, force=True)
     try:

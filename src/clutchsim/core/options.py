@@ -48,8 +48,10 @@ class SolverOptions:
         Wall-time budget [s] for the compiled integrator; 0 means none.
     chatter_events : int
         Chatter detection: this many events ...
-    chatter_window : float
+    chatter_window : float or None
         ... inside this many seconds stop the run as failed (0 events disables it).
+        ``None`` (default) uses 1e-4 of the simulated time span: a hundred events in
+        0.4 ms of a 4 s launch is a sliding mode, not physics.
     event_tol : float
         Events are located to this time tolerance [s].
     dt_out : float
@@ -66,7 +68,7 @@ class SolverOptions:
     max_steps: int = 2_000_000
     wall_time: float = 60.0
     chatter_events: int = 100
-    chatter_window: float = 1e-6
+    chatter_window: float | None = None
     event_tol: float = 1e-12
     dt_out: float = 0.0
     max_output: int = 5_000_000
@@ -74,6 +76,8 @@ class SolverOptions:
     def __post_init__(self):
         for name in ("rtol", "atol", "h0", "h_max", "h_min", "wall_time", "chatter_window",
                      "event_tol", "dt_out"):
+            if name == "chatter_window" and self.chatter_window is None:
+                continue
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) \
                     or not math.isfinite(value):
@@ -82,7 +86,7 @@ class SolverOptions:
             if getattr(self, name) <= 0:
                 raise ValueError(f"SolverOptions: {name} = {getattr(self, name)!r} must be > 0")
         for name in ("h0", "h_max", "h_min", "wall_time", "chatter_window", "dt_out"):
-            if getattr(self, name) < 0:
+            if getattr(self, name) is not None and getattr(self, name) < 0:
                 raise ValueError(f"SolverOptions: {name} = {getattr(self, name)!r} must be >= 0")
         for name in ("max_steps", "chatter_events", "max_output"):
             value = getattr(self, name)
@@ -93,3 +97,7 @@ class SolverOptions:
         if self.rtol < 1e-14:
             raise ValueError(f"SolverOptions: rtol = {self.rtol!r} must be >= 1e-14 "
                              "(below double-precision round-off)")
+
+    def chatter_window_for(self, span: float) -> float:
+        """The chatter window [s] for a run over ``span`` seconds."""
+        return self.chatter_window if self.chatter_window is not None else 1e-4 * span

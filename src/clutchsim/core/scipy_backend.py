@@ -108,9 +108,10 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
             last_event_times.append(t)
             n_ch = opts.chatter_events
             if n_ch and len(last_event_times) > n_ch and \
-                    t - last_event_times[-n_ch - 1] <= opts.chatter_window:
+                    t - last_event_times[-n_ch - 1] <= opts.chatter_window_for(t1 - t0):
                 status = "failed"
-                message = (f"chatter detected: {n_ch} events within {opts.chatter_window:g} s, "
+                message = (f"chatter detected: {n_ch} events within "
+                           f"{opts.chatter_window_for(t1 - t0):g} s, "
                            f"the last of them '{system.event_names[k]}' at t = {t:.9g} s")
                 break
             if action in (2, 3):

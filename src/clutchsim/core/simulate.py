@@ -57,7 +57,7 @@ def _breakpoints(signals: list[Signal], t0: float, t1: float) -> np.ndarray:
 
 
 def _failure_message(code: int, t: float, k: int, i: int, system: System, opts: SolverOptions,
-                     solver: str) -> tuple[str, str]:
+                     solver: str, window: float) -> tuple[str, str]:
     ev = system.event_names[k] if 0 <= k < system.n_events else "?"
     state = (f"'{system.state_names[i]} [{system.state_units[i]}]'"
              if 0 <= i < system.n_states else "(unknown)")
@@ -83,7 +83,7 @@ def _failure_message(code: int, t: float, k: int, i: int, system: System, opts: 
                           "(coulomb-robust) or dynamic friction model (e.g. mykhailevych2020)")
     if code == drv.CHATTER:
         return "failed", (f"chatter detected: {opts.chatter_events} events within "
-                          f"{opts.chatter_window:g} s, the last of them '{ev}' at t = {t:.9g} s."
+                          f"{window:g} s, the last of them '{ev}' at t = {t:.9g} s."
                           " The event re-fires as soon as it is crossed (a sliding mode): "
                           "typically a discontinuous switching law at zero slip, such as a "
                           "naive stick/slip friction model at lock-up. Use a hybrid stick/slip "
@@ -153,7 +153,7 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     fopt[drv.O_RTOL], fopt[drv.O_ATOL] = opts.rtol, opts.atol
     fopt[drv.O_H0], fopt[drv.O_HMAX], fopt[drv.O_HMIN] = opts.h0, opts.h_max, opts.h_min
     fopt[drv.O_WALL] = opts.wall_time
-    fopt[drv.O_CHATTER_WINDOW] = opts.chatter_window
+    fopt[drv.O_CHATTER_WINDOW] = opts.chatter_window_for(t1 - t0)
     fopt[drv.O_DT_OUT] = opts.dt_out
     fopt[drv.O_EVENT_TOL] = opts.event_tol
     iopt = np.array([opts.max_steps, opts.chatter_events, opts.max_output], dtype=np.int64)
@@ -163,7 +163,7 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
         system.tag, method, t0, t1, y_init, system.params, bank, bps, ev_dir,
         len(system.output_names), fopt, iopt)
     status, message = _failure_message(int(code), float(t_end), int(k), int(i), system, opts,
-                                       solver)
+                                       solver, fopt[drv.O_CHATTER_WINDOW])
     if ts.shape[0] >= opts.max_output and ts[-1] < t_end:
         message += (f"; output stopped after {opts.max_output} rows at t = {ts[-1]:.9g} s "
                     "(raise SolverOptions.max_output or set dt_out)")

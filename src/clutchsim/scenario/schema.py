@@ -49,7 +49,8 @@ SOLVER = (
     Key("max_steps", "int", "Step budget.", low=1),
     _n("wall_time", "Wall-time budget of one run.", "s", low=0.0),
     Key("chatter_events", "int", "Chatter detection: this many events ...", low=0),
-    _n("chatter_window", "... within this time stop the run.", "s", low=0.0),
+    _n("chatter_window", "... within this time stop the run (default: 1e-4 of t_end).", "s",
+       low=0.0),
 )
 INERTIA = (
     Key("name", "str", "Unique name; state `omega_<name>` [rad/s].", required=True),
