@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import math
+import sys
 from pathlib import Path
 
 from ..cli import SimulationFailed, UserError, emit_json
@@ -186,59 +186,6 @@ def _from_data(args):
     return model, data, validate, kw
 
 
-def write_outputs(result, out: Path, *, plots: bool = True, unit: str = "") -> dict[str, Path]:
-    """fit.json, traces.csv, report.md and (optionally) the two figures in ``out``.
-
-    ``unit`` labels the output axis of the figures.
-    """
-    import numpy as np
-
-    from ..core.result import atomic_write
-    out.mkdir(parents=True, exist_ok=True)
-    files = {}
-    doc = result.as_dict()
-    files["fit.json"] = atomic_write(out / "fit.json", lambda p: p.write_text(
-        json.dumps(doc, indent=2, allow_nan=False)))
-    tr = result.fit_trace
-    table = np.column_stack([tr.t, tr.measured, tr.simulated, tr.residual])
-    files["traces.csv"] = atomic_write(out / "traces.csv", lambda p: np.savetxt(
-        p, table, delimiter=",", header="t,measured,simulated,residual", comments=""))
-    files["report.md"] = atomic_write(out / "report.md", lambda p: p.write_text(
-        report_markdown(result)))
-    if plots:
-        from ..plot._style import save_png
-        from ..plot.fit import plot_fit, plot_residuals
-        fig, _, _ = plot_fit(result, unit=unit)
-        files["fit.png"] = save_png(fig, out / "fit.png")
-        fig, _, _ = plot_residuals(result, unit=unit)
-        files["residuals.png"] = save_png(fig, out / "residuals.png")
-    return files
-
-
-def report_markdown(result) -> str:
-    """A short Markdown report of a fit."""
-    lines = [f"# Fit of {result.model_name} ({result.plant} plant)", "",
-             (f"Data: `{result.fit_trace.source}`; input `{result.input}`, output "
-              f"`{result.output}` (simulated `{result.signal}`)."), "",
-             "| parameter | value | std. error | bounds |", "|---|---|---|---|"]
-    for name, value in result.parameters.items():
-        lo, hi = result.bounds[name]
-        se = result.stderr.get(name)
-        flag = " (at bound)" if name in result.at_bound else ""
-        shown = "undetermined" if se is None else f"{se:.2g}"
-        lines.append(f"| {name} | {value:.6g}{flag} | {shown} | {lo:g} … {hi:g} |")
-    lines += ["", "| record | NRMSE | R² | other |", "|---|---|---|---|"]
-    for what, tr in [("fit", result.fit_trace)] + [(f"validation {k + 1}", v) for k, v in
-                                                    enumerate(result.validation)]:
-        other = ", ".join(f"{k} = {v:.4g}" for k, v in tr.metrics.items())
-        lines.append(f"| {what}: `{Path(tr.source).name}` | {tr.nrmse:.4g} | {tr.r2:.4g} | "
-                     f"{other} |")
-    lines += ["", (f"{result.evaluations} simulations ({result.failed_evaluations} failed), "
-                   f"{len(result.starts)} start(s), wall time {result.wall_time:.1f} s; "
-                   f"optimiser: {result.message}"), ""]
-    return "\n".join(lines)
-
-
 def run(args) -> int:
     from ..identify import fit
     path = Path(args.data)
@@ -252,8 +199,15 @@ def run(args) -> int:
         result = fit(model, data, validate=validate or None, **kw)
     except RuntimeError as exc:
         raise SimulationFailed(str(exc)) from None
-    files = write_outputs(result, Path(args.out), plots=not args.no_plots,
-                          unit=data.units.get(kw["output"], ""))
+    from ..core.result import atomic_directory
+    from ..identify.outputs import write_outputs
+    from ..report import build_report
+    with atomic_directory(args.out) as part:
+        files = write_outputs(result, part, plots=not args.no_plots,
+                              unit=data.units.get(kw["output"], ""))
+        (part / "command.txt").write_text(" ".join(["clutchsim", *sys.argv[1:]]) + "\n")
+        build_report(part)
+    files = {name: Path(args.out) / path.name for name, path in files.items()}
     log.info("NRMSE fit %.4g%s; wall time %.1f s; wrote %s", result.nrmse_fit,
              "" if result.nrmse_validation is None
              else f", validation {result.nrmse_validation:.4g}", result.wall_time,
