@@ -34,7 +34,7 @@ VARY = {"vehicle.mass": "uniform(1100, 1500)", "vehicle.grade": "uniform(0, 8)"}
 
 
 def run(out, n, **kw):
-    from clutchsim.sweep import sweep
+    from clutchsim.sweeps import sweep
     t0 = time.perf_counter()
     res = sweep(None, VARY, samples=n, seed=1, out=out, load=False, **kw)
     return time.perf_counter() - t0, res
@@ -68,7 +68,7 @@ def main():
         cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                dashboard_address=None)
         client = Client(cluster)
-        client.run(lambda: __import__("clutchsim.sweep.runner"))
+        client.run(lambda: __import__("clutchsim.sweeps.runner"))
         startup = time.perf_counter() - t0
         run(os.path.join(d, "dwarm"), 2, backend=client)    # workers load the numba cache
         wd, _ = run(os.path.join(d, "dask"), a.scaling_runs, backend=client)

@@ -9,8 +9,8 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-import clutchsim.sweep as S
-from clutchsim.sweep import SweepError, make_design, parse_vary, read_results, sweep
+import clutchsim.sweeps as S
+from clutchsim.sweeps import SweepError, make_design, parse_vary, read_results, sweep
 
 # a short launch (lock-up at ~1.1 s) keeps each run to a fraction of a second
 BASE = ["scenario.t_end=1.3", "solver.dt_out=0.005"]

@@ -87,7 +87,7 @@ class _Progress:
 
 
 def run(args) -> int:
-    from ..sweep import sweep
+    from ..sweeps import sweep
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers {args.workers}: must be >= 1")
     if args.chunk_size is not None and args.chunk_size < 1:

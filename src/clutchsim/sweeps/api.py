@@ -86,7 +86,7 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
         Number of random samples and the seed (the same seed gives the same table on every
         backend).
     metrics : sequence of str, optional
-        Columns to keep (default: all of :data:`~clutchsim.sweep.METRICS` but ``wall_s``).
+        Columns to keep (default: all of :data:`~clutchsim.sweeps.METRICS` but ``wall_s``).
     model : str, optional
         Friction model of the clutch (default: the scenario's first).
     overrides : sequence of str, optional

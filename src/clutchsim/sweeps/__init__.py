@@ -1,6 +1,6 @@
 """Batch sweeps: grids and seeded random samples of a scenario, in-process or on Dask.
 
->>> from clutchsim.sweep import sweep
+>>> from clutchsim import sweep
 >>> res = sweep(None, {"vehicle.mass": "1100:1500:3"}, out="mass_sweep/")  # doctest: +SKIP
 >>> res.table[["vehicle.mass", "status", "lockup_time_s"]]                   # doctest: +SKIP
 """
@@ -37,13 +37,3 @@ __all__ = [
     "sweep",
 ]
 
-
-class _CallableModule(__import__("types").ModuleType):
-    """``clutchsim.sweep(...)`` calls :func:`sweep` while ``clutchsim.sweep`` stays the
-    subpackage (``from clutchsim.sweep import read_results`` keeps working)."""
-
-    def __call__(self, *args, **kwargs):
-        return sweep(*args, **kwargs)
-
-
-__import__("sys").modules[__name__].__class__ = _CallableModule
