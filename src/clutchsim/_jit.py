@@ -78,6 +78,9 @@ def jit(func=None, **kwargs):
     """``numba.njit`` with on-disk caching, used for every compiled kernel."""
     kwargs.setdefault("cache", True)
     kwargs.setdefault("nogil", True)
+    # IEEE semantics for float division (inf/NaN, which the integrators detect and report)
+    # instead of a zero check and a Python exception inside compiled code
+    kwargs.setdefault("error_model", "numpy")
     if func is None:
         return njit(**kwargs)
     return njit(**kwargs)(func)
