@@ -22,7 +22,7 @@ import numpy as np
 
 from ._jit import jit
 from .core import Signal, SolverOptions, System, register_system, simulate
-from .friction import friction_events, friction_force, friction_reset
+from .friction import MODELS, friction_events, friction_force, friction_reset
 from .friction.base import FrictionModel
 
 __all__ = ["RIG_HEADER", "make_rig", "run_rig"]
@@ -34,16 +34,17 @@ _FORCE, _VELOCITY = 0.0, 1.0
 
 
 class FrictionRig(NamedTuple):
-    """Tag type of the rig plant."""
+    """Tag type of the rig plant; :data:`RIG_TAGS` holds one subtype per friction model."""
 
     k: int = 0
 
 
 @jit
-def _rig_forces(t, y, u, p, dz):
-    """Friction force F, external force F_ext and spring force; writes dz."""
+def _rig_forces(t, y, u, p, dz, code):
+    """Friction force F, external force F_ext and spring force; writes dz.
+
+    ``code`` is the friction model's code, a compile-time constant (see RIG_TAGS)."""
     nz = int(p[_NZ])
-    code = int(p[_CODE])
     pf = p[RIG_HEADER:]
     scale = u[1]
     if p[_DRIVE] == _FORCE:
@@ -59,47 +60,47 @@ def _rig_forces(t, y, u, p, dz):
 
 
 @jit
-def _rig_rhs(t, y, u, p, dy):
+def _rig_rhs(t, y, u, p, dy, code):
     nz = int(p[_NZ])
     if p[_DRIVE] == _FORCE:
-        f, f_ext, _ = _rig_forces(t, y, u, p, dy[2:2 + nz])
+        f, f_ext, _ = _rig_forces(t, y, u, p, dy[2:2 + nz], code)
         dy[0] = y[1]
         dy[1] = (f_ext - f) / p[_MASS]
     else:
-        _rig_forces(t, y, u, p, dy[1:1 + nz])
+        _rig_forces(t, y, u, p, dy[1:1 + nz], code)
         dy[0] = u[0]
 
 
 @jit
-def _rig_events(t, y, u, p, g):
+def _rig_events(t, y, u, p, g, code):
     nz = int(p[_NZ])
     pf = p[RIG_HEADER:]
     if p[_DRIVE] == _FORCE:
         spring = p[_K] * (p[_Y0] + p[_V_PULL] * t - y[0]) if p[_K] != 0.0 else 0.0
-        friction_events(int(p[_CODE]), pf, y[2:2 + nz], y[1], u[0] + spring, u[1], g)
+        friction_events(code, pf, y[2:2 + nz], y[1], u[0] + spring, u[1], g)
     else:
-        friction_events(int(p[_CODE]), pf, y[1:1 + nz], u[0], 0.0, u[1], g)
+        friction_events(code, pf, y[1:1 + nz], u[0], 0.0, u[1], g)
 
 
 @jit
-def _rig_reset(t, y, u, p, k):
+def _rig_reset(t, y, u, p, k, code):
     nz = int(p[_NZ])
     pf = p[RIG_HEADER:]
     if p[_DRIVE] == _FORCE:
         spring = p[_K] * (p[_Y0] + p[_V_PULL] * t - y[0]) if p[_K] != 0.0 else 0.0
-        action = friction_reset(int(p[_CODE]), pf, y[2:2 + nz], y[1], u[0] + spring, u[1], k)
+        action = friction_reset(code, pf, y[2:2 + nz], y[1], u[0] + spring, u[1], k)
         if action == 2:
             y[1] = 0.0   # stuck: the body's slip velocity is exactly zero
     else:
-        action = friction_reset(int(p[_CODE]), pf, y[1:1 + nz], u[0], 0.0, u[1], k)
+        action = friction_reset(code, pf, y[1:1 + nz], u[0], 0.0, u[1], k)
     return 1 if action != 0 else 0
 
 
 @jit
-def _rig_outputs(t, y, u, p, out):
+def _rig_outputs(t, y, u, p, out, code):
     nz = int(p[_NZ])
     dz = np.empty(nz)
-    f, f_ext, spring = _rig_forces(t, y, u, p, dz)
+    f, f_ext, spring = _rig_forces(t, y, u, p, dz, code)
     v = y[1] if p[_DRIVE] == _FORCE else u[0]
     out[0] = f
     out[1] = f_ext
@@ -107,8 +108,26 @@ def _rig_outputs(t, y, u, p, out):
     out[3] = f * v
 
 
-register_system(FrictionRig, rhs=_rig_rhs, events=_rig_events, reset=_rig_reset,
-                outputs=_rig_outputs)
+def _register_rig_tags() -> dict[int, type]:
+    """One tag type per friction model, registered with the model code as a static argument.
+
+    The integrator is then compiled per model and the friction dispatch folds to one
+    inlined kernel (measured: the LuGre rig right-hand side ~18 ns instead of ~117 ns).
+    The classes live in this module under their own names so that numba's cache can
+    refer to them."""
+    tags = {}
+    for cls in MODELS.values():
+        name = f"FrictionRig_{cls.name.replace('-', '_')}"
+        tag = type(name, (FrictionRig,), {"__module__": __name__, "__qualname__": name})
+        globals()[name] = tag
+        register_system(tag, rhs=_rig_rhs, events=_rig_events, reset=_rig_reset,
+                        outputs=_rig_outputs, static=int(cls.code))
+        tags[int(cls.code)] = tag
+    return tags
+
+
+#: tag type of the rig for each friction model code
+RIG_TAGS = _register_rig_tags()
 
 _UNITS = {
     "translational": {"x": ("x", "m"), "v": ("v", "m/s"), "F": ("F", "N"), "m": "kg",
@@ -195,7 +214,7 @@ def make_rig(model: FrictionModel, *, domain: str = "translational", drive: str 
         y0 = np.concatenate([[x0], z_init])
         inputs, iunits = (v_name, "scale"), (v_unit, "-")
     return System(
-        FrictionRig(), p, y0, states, sunits, input_names=inputs, input_units=iunits,
+        RIG_TAGS[model.code](), p, y0, states, sunits, input_names=inputs, input_units=iunits,
         output_names=(f_name, f"{f_name}_ext", f"{f_name}_spring", "friction power"),
         output_units=(f_unit, f_unit, f_unit, units["power"]),
         event_names=tuple(f"{model.name}: {e}" for e in model.event_names()),
