@@ -136,13 +136,13 @@ def _ol_rhs(tag, t, y, u, p, dy):
     fns = _functions(tag)
     if fns is None:
         return None
-    f, k = fns.rhs, fns.static
-    if k is None:
+    f, static = fns.rhs, fns.static
+    if static is None:
         def impl(tag, t, y, u, p, dy):
             f(t, y, u, p, dy)
     else:
         def impl(tag, t, y, u, p, dy):
-            f(t, y, u, p, dy, k)
+            f(t, y, u, p, dy, static)
     return impl
 
 
@@ -151,13 +151,13 @@ def _ol_events(tag, t, y, u, p, g):
     fns = _functions(tag)
     if fns is None:
         return None
-    f, k = fns.events, fns.static
-    if k is None:
+    f, static = fns.events, fns.static
+    if static is None:
         def impl(tag, t, y, u, p, g):
             f(t, y, u, p, g)
     else:
         def impl(tag, t, y, u, p, g):
-            f(t, y, u, p, g, k)
+            f(t, y, u, p, g, static)
     return impl
 
 
@@ -166,13 +166,13 @@ def _ol_reset(tag, t, y, u, p, k):
     fns = _functions(tag)
     if fns is None:
         return None
-    f, k = fns.reset, fns.static
-    if k is None:
+    f, static = fns.reset, fns.static
+    if static is None:
         def impl(tag, t, y, u, p, k):
             return f(t, y, u, p, k)
     else:
         def impl(tag, t, y, u, p, k):
-            return f(t, y, u, p, k, k)
+            return f(t, y, u, p, k, static)
     return impl
 
 
@@ -181,13 +181,13 @@ def _ol_outputs(tag, t, y, u, p, out):
     fns = _functions(tag)
     if fns is None:
         return None
-    f, k = fns.outputs, fns.static
-    if k is None:
+    f, static = fns.outputs, fns.static
+    if static is None:
         def impl(tag, t, y, u, p, out):
             f(t, y, u, p, out)
     else:
         def impl(tag, t, y, u, p, out):
-            f(t, y, u, p, out, k)
+            f(t, y, u, p, out, static)
     return impl
 
 
