@@ -196,7 +196,9 @@ def run(args) -> int:
     log.info("fitting %s (%s) to %s: %s", model.name, kw["plant"], data.source,
              ", ".join(kw["params"]))
     try:
-        result = fit(model, data, validate=validate or None, **kw)
+        from ..progress import progress_for
+        result = fit(model, data, validate=validate or None,
+                     progress=progress_for(args, "simulations"), **kw)
     except RuntimeError as exc:
         raise SimulationFailed(str(exc)) from None
     from ..core.result import atomic_directory

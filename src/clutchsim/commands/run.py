@@ -41,12 +41,14 @@ def register(sub, common):
 def run(args) -> int:
     from ..core.result import atomic_directory
     from ..driveline.outputs import write_runs
+    from ..progress import progress_for
     from ..report import build_report
     from ..scenario import load_scenario
     sc = load_scenario(args.scenario, overrides=args.set)
     models = args.model or list(sc.models) or [None]
     with atomic_directory(args.out) as part:
-        summary = write_runs(sc, models, part, plots=not args.no_plots)
+        summary = write_runs(sc, models, part, plots=not args.no_plots,
+                             progress=progress_for(args, "models"))
         (part / "command.txt").write_text(" ".join(["clutchsim", *sys.argv[1:]]) + "\n")
         build_report(part)
     if args.json:

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import sys
-import time
 
 from ..cli import UserError, emit_json
 
@@ -63,30 +61,8 @@ def register(sub, common):
     p.add_argument("--json", action="store_true", help="print a summary on stdout")
 
 
-class _Progress:
-    """One stderr line with percentage and ETA, redrawn in place (TTY only)."""
-
-    def __init__(self):
-        self.t0 = time.perf_counter()
-        self.first = None
-
-    def __call__(self, done, total):
-        now = time.perf_counter()
-        if self.first is None:
-            self.first = (now, done)
-        t1, d1 = self.first
-        rate = (done - d1) / (now - t1) if now > t1 and done > d1 else 0.0
-        eta = f"{(total - done) / rate:5.0f} s" if rate > 0 else "    ?"
-        width = 30
-        fill = int(width * done / max(total, 1))
-        sys.stderr.write(f"\r[{'#' * fill}{'.' * (width - fill)}] {done}/{total} runs "
-                         f"{rate:6.1f}/s ETA {eta}")
-        if done >= total:
-            sys.stderr.write("\n")
-        sys.stderr.flush()
-
-
 def run(args) -> int:
+    from ..progress import progress_for
     from ..sweeps import sweep
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers {args.workers}: must be >= 1")
@@ -94,14 +70,13 @@ def run(args) -> int:
         raise UserError(f"--chunk-size {args.chunk_size}: must be >= 1")
     metrics = [m.strip() for m in args.metrics.split(",") if m.strip()] \
         if args.metrics else None
-    show = not args.quiet and sys.stderr.isatty()
     backend = "dask" if args.dask else "threads"
     res = sweep(args.scenario, args.vary, samples=args.samples, seed=args.seed,
                 metrics=metrics, model=args.model, overrides=args.set, out=args.out,
                 backend=backend, workers=args.workers, address=args.dask or "local",
                 connect_timeout=args.connect_timeout, chunk_size=args.chunk_size,
                 keep_traces=args.keep_traces, plots=not args.no_plots, load=not args.no_plots,
-                progress=_Progress() if show else None)
+                progress=progress_for(args, "runs"))
     bad = {k: v for k, v in res.status_counts.items() if k != "completed"}
     log.info("sweep: %d runs (%d chunks, %d resumed) in %.1f s -> %s%s", res.runs,
              res.chunks, res.chunks_skipped, res.wall_s, res.path / "results.parquet",

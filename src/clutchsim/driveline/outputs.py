@@ -13,13 +13,15 @@ __all__ = ["write_runs"]
 log = logging.getLogger("clutchsim")
 
 
-def write_runs(scenario, models, directory: str | Path, *, plots: bool = True) -> dict:
+def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
+               progress=None) -> dict:
     """Run ``scenario`` once per friction model and write the results into ``directory``.
 
     Writes ``timeseries[_MODEL].csv`` / ``.parquet`` (units in the column names),
     ``summary.json`` (``{"scenario", "file", "models": {MODEL: metrics}}``), a copy of the
     scenario text as ``scenario.toml``, and with ``plots`` one ``launch_MODEL.png`` per model
-    and, for several models, ``comparison.png``.  Returns the summary.  The caller makes
+    and, for several models, ``comparison.png``.  Returns the summary.  ``progress``, if
+    given, is called as ``progress(done, total)`` after each model.  The caller makes
     the directory atomic (see :func:`clutchsim.core.result.atomic_directory`).
     """
     from .run import run_scenario
@@ -29,7 +31,9 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True) -
     summary: dict = {"kind": "run", "scenario": scenario.name, "file": scenario.file,
                      "models": {}}
     runs = {}
-    for m in models:
+    for i, m in enumerate(models):
+        if progress is not None:
+            progress(i, len(models))
         log.info("running %s with %s ...", scenario.name, m or "its own model")
         lr = run_scenario(scenario, m)
         runs[lr.model] = lr.result
@@ -38,6 +42,8 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True) -
         lr.result.to_csv(directory / f"timeseries{suffix}.csv")
         lr.result.to_parquet(directory / f"timeseries{suffix}.parquet")
         log.info("  %s: %s", lr.model, lr.metrics["message"])
+    if progress is not None:
+        progress(len(models), len(models))
     atomic_write(directory / "summary.json",
                  lambda p: Path(p).write_text(json.dumps(summary, indent=2, allow_nan=False,
                                                          default=float)))

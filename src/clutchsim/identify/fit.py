@@ -394,7 +394,7 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         solver: str = "rodas4", rtol: float = 1e-8, atol: float | None = None,
         diff_step: float = 1e-5, max_nfev: int = 200, wall_time: float = 30.0,
         max_workers: int = 2, tol: float = 1e-8,
-        t_span: tuple[float | None, float | None] | None = None) -> FitResult:
+        t_span: tuple[float | None, float | None] | None = None, progress=None) -> FitResult:
     """Fit friction (and plant) parameters to a measured record by output error.
 
     Parameters
@@ -429,6 +429,9 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         Integrator and tolerances of every simulation (atol default from the output scale).
     diff_step : float
         Finite-difference step in scaled coordinates.
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each simulation (``total`` is an upper
+        bound: the evaluation budget); see :mod:`clutchsim.progress`.
     max_nfev : int
         Most residual evaluations per start (Jacobian columns not counted).
     max_workers : int
@@ -488,6 +491,8 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
             counters["n"] += 1
             if y is None:
                 counters["failed"] += 1
+            if progress is not None:
+                progress(min(counters["n"], budget), budget)
         return penalty if y is None else (y - setup.measured) / den
 
     def residual(x):
@@ -533,6 +538,8 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
             points.append(space.clip_inside(space.to_scaled(vals)))
         if not points:
             raise ValueError("starts: give at least one start point")
+    # an upper bound of the simulations (each Jacobian column is one) for the progress bar
+    budget = max(1, len(points) * max_nfev * (len(params) + 1))
     best = None
     records = []
     for x0 in points:
@@ -545,6 +552,8 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
                         "message": str(sol.message)})
         if best is None or sol.cost < best.cost:
             best = sol
+    if progress is not None:
+        progress(budget, budget)
     assert best is not None
     values = space.to_physical(best.x)
     fitted_model, plant_vals = problem.split(values)
