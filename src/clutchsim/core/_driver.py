@@ -143,6 +143,24 @@ def _log_event(log, ring, ch_n, ch_window, ne, t, k, action):
 
 
 @jit
+def _apply_event(tag, t, y, u, p, k, log, ring, ch_n, ch_window, stats):
+    """Apply the reset map of event ``k`` at (t, y), log it and check for chatter.
+
+    Returns (log, action, status): ``status`` is DONE when integration goes on, else the
+    code that ends the run (CHATTER, EVENT_STOP or EVENT_FAIL)."""
+    action = system_reset(tag, t, y, u, p, k)
+    log, chatter = _log_event(log, ring, ch_n, ch_window, stats[S_EVENTS], t, k, action)
+    stats[S_EVENTS] += 1
+    if chatter:
+        return log, action, CHATTER
+    if action == 2:
+        return log, action, EVENT_STOP
+    if action == 3:
+        return log, action, EVENT_FAIL
+    return log, action, DONE
+
+
+@jit
 def _locate(tag, bank, p, method, dense, t, h, t_ref, k, ta, tb, ga, gb, tol, ytmp, u, g):
     """Time at which event ``k`` crosses zero inside [ta, tb] (Illinois regula falsi on the
     dense output).  Returns the right end of the final bracket, where g already has its new
@@ -316,15 +334,10 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
             for k in range(n_ev):
                 g_old[k] = g_new[k]
             if kk >= 0:
-                action = system_reset(tag, t, y, u, p, kk)
-                log, chatter = _log_event(log, ring, ch_n, ch_window, stats[S_EVENTS], t, kk, action)
-                stats[S_EVENTS] += 1
-                if chatter:
-                    status = CHATTER
-                    info_k = kk
-                    break
-                if action == 2 or action == 3:
-                    status = EVENT_STOP if action == 2 else EVENT_FAIL
+                log, action, ended = _apply_event(tag, t, y, u, p, kk, log, ring, ch_n,
+                                                  ch_window, stats)
+                if ended != DONE:
+                    status = ended
                     info_k = kk
                     break
                 if action == 1:
@@ -521,15 +534,10 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
             eval_inputs(bank, t, t_ref, u)
             system_outputs(tag, t, y, u, p, out)
             buf, n_out = _push(buf, n_out, t, y, u, out)
-            action = system_reset(tag, t, y, u, p, k_first)
-            log, chatter = _log_event(log, ring, ch_n, ch_window, stats[S_EVENTS], t, k_first, action)
-            stats[S_EVENTS] += 1
-            if chatter:
-                status = CHATTER
-                info_k = k_first
-                break
-            if action == 2 or action == 3:
-                status = EVENT_STOP if action == 2 else EVENT_FAIL
+            log, action, ended = _apply_event(tag, t, y, u, p, k_first, log, ring, ch_n,
+                                              ch_window, stats)
+            if ended != DONE:
+                status = ended
                 info_k = k_first
                 break
             system_events(tag, t, y, u, p, g_old)
