@@ -39,9 +39,12 @@ class FrictionRig(NamedTuple):
     k: int = 0
 
 
-@jit
+@jit(inline="always")
 def _rig_forces(t, y, u, p, dz, code):
     """Friction force F, external force F_ext and spring force; writes dz.
+
+    Inlined (like ``_rig_rhs``) so that the right-hand side is one function: every call
+    with array arguments would cost two atomic reference-count operations per array.
 
     ``code`` is the friction model's code, a compile-time constant (see RIG_TAGS)."""
     nz = int(p[_NZ])
@@ -59,7 +62,7 @@ def _rig_forces(t, y, u, p, dz, code):
     return f, f_ext, spring
 
 
-@jit
+@jit(inline="always")
 def _rig_rhs(t, y, u, p, dy, code):
     nz = int(p[_NZ])
     if p[_DRIVE] == _FORCE:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from .._jit import jit
-from ._linalg import lu_factor, lu_solve
+from ._linalg import lu_factor, lu_solve, lu_solve_row
 from .signals import eval_inputs
 from .system import system_rhs
 
@@ -79,44 +79,43 @@ def rodas4_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u, ytmp, f
         M[i, i] += inv
     if not lu_factor(M, piv):
         return False
-    k1, k2, k3, k4, k5 = K[0], K[1], K[2], K[3], K[4]
     for i in range(n):
-        k1[i] = f0[i] + h * D1 * dfdt[i]
-    lu_solve(M, piv, k1)
+        K[0, i] = f0[i] + h * D1 * dfdt[i]
+    lu_solve_row(M, piv, K, 0)
     for i in range(n):
-        ytmp[i] = y[i] + A21 * k1[i]
+        ytmp[i] = y[i] + A21 * K[0, i]
     eval_inputs(bank, t + C2 * h, t_ref, u)
     system_rhs(tag, t + C2 * h, ytmp, u, p, ftmp)
     for i in range(n):
-        k2[i] = ftmp[i] + h * D2 * dfdt[i] + C21 * k1[i] / h
-    lu_solve(M, piv, k2)
+        K[1, i] = ftmp[i] + h * D2 * dfdt[i] + C21 * K[0, i] / h
+    lu_solve_row(M, piv, K, 1)
     for i in range(n):
-        ytmp[i] = y[i] + A31 * k1[i] + A32 * k2[i]
+        ytmp[i] = y[i] + A31 * K[0, i] + A32 * K[1, i]
     eval_inputs(bank, t + C3 * h, t_ref, u)
     system_rhs(tag, t + C3 * h, ytmp, u, p, ftmp)
     for i in range(n):
-        k3[i] = ftmp[i] + h * D3 * dfdt[i] + (C31 * k1[i] + C32 * k2[i]) / h
-    lu_solve(M, piv, k3)
+        K[2, i] = ftmp[i] + h * D3 * dfdt[i] + (C31 * K[0, i] + C32 * K[1, i]) / h
+    lu_solve_row(M, piv, K, 2)
     for i in range(n):
-        ytmp[i] = y[i] + A41 * k1[i] + A42 * k2[i] + A43 * k3[i]
+        ytmp[i] = y[i] + A41 * K[0, i] + A42 * K[1, i] + A43 * K[2, i]
     eval_inputs(bank, t + C4 * h, t_ref, u)
     system_rhs(tag, t + C4 * h, ytmp, u, p, ftmp)
     for i in range(n):
-        k4[i] = ftmp[i] + h * D4 * dfdt[i] + (C41 * k1[i] + C42 * k2[i] + C43 * k3[i]) / h
-    lu_solve(M, piv, k4)
+        K[3, i] = ftmp[i] + h * D4 * dfdt[i] + (C41 * K[0, i] + C42 * K[1, i] + C43 * K[2, i]) / h
+    lu_solve_row(M, piv, K, 3)
     for i in range(n):
-        ytmp[i] = y[i] + A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]
+        ytmp[i] = y[i] + A51 * K[0, i] + A52 * K[1, i] + A53 * K[2, i] + A54 * K[3, i]
     eval_inputs(bank, t + h, t_ref, u)
     system_rhs(tag, t + h, ytmp, u, p, ftmp)
     for i in range(n):
-        k5[i] = ftmp[i] + (C51 * k1[i] + C52 * k2[i] + C53 * k3[i] + C54 * k4[i]) / h
-    lu_solve(M, piv, k5)
+        K[4, i] = ftmp[i] + (C51 * K[0, i] + C52 * K[1, i] + C53 * K[2, i] + C54 * K[3, i]) / h
+    lu_solve_row(M, piv, K, 4)
     for i in range(n):
-        ytmp[i] += k5[i]
+        ytmp[i] += K[4, i]
     system_rhs(tag, t + h, ytmp, u, p, ftmp)
     for i in range(n):
-        err[i] = ftmp[i] + (C61 * k1[i] + C62 * k2[i] + C63 * k3[i] + C64 * k4[i]
-                            + C65 * k5[i]) / h
+        err[i] = ftmp[i] + (C61 * K[0, i] + C62 * K[1, i] + C63 * K[2, i] + C64 * K[3, i]
+                            + C65 * K[4, i]) / h
     lu_solve(M, piv, err)
     for i in range(n):
         y_new[i] = ytmp[i] + err[i]

@@ -29,9 +29,12 @@ from .tanh import tanh_force
 __all__ = ["friction_events", "friction_force", "friction_reset"]
 
 
-@jit
+@jit(inline="always")
 def friction_force(code, p, z, v, F_e, scale, dz):
-    """Friction force of model ``code``; writes the state derivatives into ``dz``."""
+    """Friction force of model ``code``; writes the state derivatives into ``dz``.
+
+    Inlined into the caller: where ``code`` is a compile-time constant (the rig) the
+    dispatch folds to one kernel call, and no reference counts are taken for the arrays."""
     if code == 8:
         return lugre_force(p, z, v, F_e, scale, dz)
     elif code == 11:

@@ -7,7 +7,9 @@ Each set is ``clutchsim/params/friction/<name>.toml`` with a ``[meta]`` table
 
 from __future__ import annotations
 
+import copy
 import difflib
+import functools
 import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
@@ -36,6 +38,14 @@ def _all_names() -> list[str]:
     )
 
 
+@functools.lru_cache(maxsize=128)
+def _parse(path, stamp: int) -> dict:
+    """Parsed TOML of a parameter file, cached per (path, modification time): parsing costs
+    ~1 ms, as much as a whole rig simulation, and sweeps build models in loops.  Callers
+    get a deep copy, so the cache cannot be altered."""
+    return tomllib.loads(path.read_text(encoding="utf-8"))
+
+
 def load_parameter_set(name: str) -> ParameterSet:
     """Load the parameter set ``name``.
 
@@ -52,7 +62,12 @@ def load_parameter_set(name: str) -> ParameterSet:
         raise ValueError(
             f"unknown friction parameter set {name!r}.{hint} Valid sets: {', '.join(names)}"
         )
-    data = tomllib.loads((_directory() / f"{name}.toml").read_text(encoding="utf-8"))
+    path = _directory() / f"{name}.toml"
+    try:
+        stamp = path.stat().st_mtime_ns
+    except (AttributeError, OSError):   # not a plain file (e.g. a zipped install)
+        stamp = -1
+    data = copy.deepcopy(_parse(path, stamp))
     meta = dict(data.get("meta", {}))
     model = meta.get("model")
     models = (model,) if isinstance(model, str) else tuple(model or ())
