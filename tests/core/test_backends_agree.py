@@ -8,7 +8,7 @@ from clutchsim.core.reference_problems import ball, oscillator
 
 
 @pytest.mark.parametrize("reference", ["scipy-radau", "scipy-lsoda", "scipy-rk45"])
-@pytest.mark.parametrize("solver", ["dopri5", "rodas4"])
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2"])
 def test_forced_oscillator_agrees_with_scipy(solver, reference):
     sysm = oscillator(omega=3.0, zeta=0.1, x0=0.2, v0=0.0)
     inputs = {"F": Sine(1.0, 0.7) + Step(1.5, height=0.5)}
@@ -23,7 +23,7 @@ def test_forced_oscillator_agrees_with_scipy(solver, reference):
     assert np.abs(xa - xb).max() < 1e-6
 
 
-@pytest.mark.parametrize("solver", ["dopri5", "rodas4"])
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2"])
 def test_event_times_agree_with_scipy(solver):
     opts = SolverOptions(rtol=1e-10, atol=1e-12)
     a = simulate(ball(), (0.0, 2.5), solver=solver, options=opts)

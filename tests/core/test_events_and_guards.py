@@ -14,7 +14,7 @@ from clutchsim.core.reference_problems import (
 )
 
 
-@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "scipy-radau"])
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2", "scipy-radau"])
 def test_bouncing_ball_impact_times_are_analytic(solver):
     g, e, h0 = 9.81, 0.8, 1.0
     res = simulate(ball(g, e, h0), (0.0, 3.0), solver=solver,
@@ -39,7 +39,7 @@ def test_events_are_located_not_stepped_over_with_loose_tolerance():
     assert len(res.events) == np.sum(exact < 3.0)
 
 
-@pytest.mark.parametrize("solver", ["dopri5", "rodas4"])
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2"])
 def test_breakpoints_are_hit_exactly(solver):
     # x' = u with u a step at an awkward time: x must be exactly piecewise linear.
     t_step = 1.2345678901
@@ -98,7 +98,7 @@ def test_wall_time_budget_stops_a_long_run():
     assert res.stats.wall_s < 2.0
 
 
-@pytest.mark.parametrize("solver", ["dopri5", "rodas4"])
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2"])
 def test_nan_from_the_right_hand_side_is_a_failed_result_naming_state_and_time(solver):
     res = simulate(poison(0.5), (0.0, 1.0), solver=solver)
     assert res.status == "failed"
@@ -115,7 +115,7 @@ def test_truncated_output_is_said_in_the_message():
     assert "output stopped after 50 rows" in res.message and "max_output" in res.message
 
 
-@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "scipy-radau"])
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2", "scipy-radau"])
 def test_static_argument_and_event_index_reach_the_plant(solver):
     from clutchsim.core.reference_problems import static_probe
     res = simulate(static_probe(), (0.0, 1.0), solver=solver,

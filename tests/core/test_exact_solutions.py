@@ -12,7 +12,7 @@ from clutchsim.core.reference_problems import oscillator, riccati, van_der_pol
 TIGHT = SolverOptions(rtol=1e-10, atol=1e-12)
 
 
-@pytest.mark.parametrize("solver", ["dopri5", "rodas4"])
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2"])
 def test_harmonic_oscillator_matches_cosine(solver):
     res = simulate(oscillator(omega=2.0), (0.0, 10.0), {"F": 0.0}, solver=solver, options=TIGHT)
     assert res.status == "completed"
@@ -23,7 +23,7 @@ def test_harmonic_oscillator_matches_cosine(solver):
     assert np.ptp(energy) < 1e-8
 
 
-@pytest.mark.parametrize("solver", ["dopri5", "rodas4"])
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2"])
 def test_damped_oscillator_forced_by_sine_against_closed_form(solver):
     # x'' + 2ζω x' + ω² x = A sin(Ω t) from rest: compare with the exact solution computed
     # by superposing the particular solution and the free response.
@@ -63,7 +63,7 @@ def test_stiff_van_der_pol_matches_scipy_radau_at_tight_tolerance():
     assert implicit.stats.steps * 5 < explicit.stats.steps
 
 
-@pytest.mark.parametrize("solver, order", [("dopri5", 5), ("rodas4", 4)])
+@pytest.mark.parametrize("solver, order", [("dopri5", 5), ("rodas4", 4), ("ros34pw2", 3)])
 def test_order_of_convergence(solver, order):
     """Fixed steps (tolerances too loose to reject any step) on y' = -2ty², whose exact
     solution is 1/(1+t²): the global error must fall with the method's order."""
@@ -79,7 +79,7 @@ def test_order_of_convergence(solver, order):
     assert abs(slope - order) < 0.5, slope
 
 
-@pytest.mark.parametrize("solver", ["dopri5", "rodas4"])
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2"])
 def test_dense_output_grid_matches_exact_solution(solver):
     res = simulate(oscillator(omega=2.0), (0.0, 5.0), {"F": 0.0}, solver=solver,
                    options=SolverOptions(rtol=1e-9, atol=1e-12, dt_out=0.01))

@@ -18,12 +18,14 @@ import numpy as np
 from .._jit import jit
 from ._dopri5 import dopri5_dense, dopri5_step
 from ._rodas4 import jacobian, rodas4_dense, rodas4_step
+from ._ros34pw2 import JAC_MAX_AGE, hermite_dense, ros34pw2_step
 from .signals import eval_inputs
 from .system import system_events, system_outputs, system_reset, system_rhs
 
 # method codes
 DOPRI5 = 0
 RODAS4 = 1
+ROS34PW2 = 2
 
 # status codes (turned into words by result.py)
 DONE = 0
@@ -214,7 +216,8 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
     max_steps = iopt[I_MAX_STEPS]
     ch_n = iopt[I_CHATTER_N]
     max_output = iopt[I_MAX_OUTPUT]
-    order = 5 if method == DOPRI5 else 4
+    order = 5 if method == DOPRI5 else (4 if method == RODAS4 else 3)
+    inv_q = 1.0 / order     # exponent of the Rosenbrock step-size controller
 
     stats = np.zeros(N_STATS, dtype=np.int64)
     cap = 256
@@ -307,6 +310,7 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
 
     f0_valid = True
     jac_valid = False
+    jac_age = 0           # accepted steps since the Jacobian was formed (W-method reuse)
     rejected_last = False
     err_old = 1.0
     h_old = h
@@ -410,10 +414,16 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                                          ftmp, J, dfdt)
                 stats[S_JAC] += 1
                 jac_valid = True
-            ok = rodas4_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u, ytmp,
-                             ftmp, y_new, err)
+                jac_age = 0
+            if method == RODAS4:
+                ok = rodas4_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u,
+                                 ytmp, ftmp, y_new, err)
+                stats[S_RHS] += 5
+            else:
+                ok = ros34pw2_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u,
+                                   ytmp, ftmp, y_new, err)
+                stats[S_RHS] += 3
             stats[S_LU] += 1
-            stats[S_RHS] += 5
         if ok:
             bad = _first_nonfinite(y_new)
             if bad < 0:
@@ -425,7 +435,7 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                 system_rhs(tag, t + h, y, u, p, ftmp)
                 stats[S_RHS] += 1
                 culprit = _first_nonfinite(ftmp)
-                if culprit < 0 and method == RODAS4:
+                if culprit < 0 and method != DOPRI5:
                     culprit = _first_nonfinite(dfdt)
                     for i in range(n):
                         if culprit >= 0:
@@ -438,6 +448,8 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
             stats[S_REJECTED] += 1
             h *= 0.25
             rejected_last = True
+            if jac_age > 0:
+                jac_valid = False
             continue
         e = _norm(err, y, y_new, rtol, atol)
         if e > 1.0:
@@ -445,9 +457,26 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
             if method == DOPRI5:
                 h *= max(0.2, 0.9 * e ** (-0.2))
             else:
-                h /= max(1.0 / 6.0, min(5.0, e ** 0.25 / 0.9))
+                h /= max(1.0 / 6.0, min(5.0, e ** inv_q / 0.9))
             rejected_last = True
+            if jac_age > 0:
+                jac_valid = False   # a W-method step failed with an aged Jacobian: refresh
             continue
+
+        if method == ROS34PW2:
+            # f at the new point: the Hermite end slope and the next step's first stage.
+            # A non-finite value there rejects the step like a non-finite stage would.
+            t_end_step = t_stop if hit else t + h
+            eval_inputs(bank, t_end_step, t_ref, u)
+            system_rhs(tag, t_end_step, y_new, u, p, K[5])
+            stats[S_RHS] += 1
+            bad = _first_nonfinite(K[5])
+            if bad >= 0:
+                last_nonfinite = bad
+                stats[S_REJECTED] += 1
+                h *= 0.25
+                rejected_last = True
+                continue
 
         # ---- accepted ----
         last_nonfinite = -1
@@ -456,8 +485,11 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         t_new = t_stop if hit else t + h
         if method == DOPRI5:
             dopri5_dense(K, y, h, dense)
-        else:
+        elif method == RODAS4:
             rodas4_dense(K, y, y_new, dense)
+        else:
+            hermite_dense(y, y_new, f0, K[5], h, dense)
+            jac_age += 1
         # next step size
         if method == DOPRI5:
             fac = 10.0 if e == 0.0 else min(10.0, max(0.2, 0.9 * e ** (-0.2)))
@@ -465,9 +497,9 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                 fac = min(fac, 1.0)
             h_next = h * fac
         else:
-            fac = max(1.0 / 6.0, min(5.0, e ** 0.25 / 0.9))
+            fac = max(1.0 / 6.0, min(5.0, e ** inv_q / 0.9))
             if not first:
-                facpred = (h_old / h) * (e * e / err_old) ** 0.25 / 0.9
+                facpred = (h_old / h) * (e * e / err_old) ** inv_q / 0.9
                 fac = max(fac, max(1.0 / 6.0, min(5.0, facpred)))
             h_next = h / fac
             if rejected_last:
@@ -571,17 +603,23 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         if method == DOPRI5:
             for i in range(n):
                 f0[i] = K[6, i]
-        else:
+        elif method == RODAS4:
             eval_inputs(bank, t, t_ref, u)
             system_rhs(tag, t, y, u, p, f0)
             stats[S_RHS] += 1
-        jac_valid = False
+            jac_valid = False
+        else:
+            for i in range(n):
+                f0[i] = K[5, i]
+            if jac_age >= JAC_MAX_AGE:
+                jac_valid = False
         h = h_next
         if hit and t_stop < t1:
             ib += 1
             while ib < bps.shape[0] and bps[ib] <= t:
                 ib += 1
             f0_valid = False
+            jac_valid = False
             check_jump = True
 
     if dt_out > 0 and status == DONE and n_out < max_output and buf[0][n_out - 1] < t:

@@ -12,6 +12,7 @@ __all__ = ["SOLVERS", "SolverOptions", "check_solver"]
 #: compiled methods and the scipy reference backends
 SOLVERS = {
     "rodas4": "compiled RODAS4 (L-stable Rosenbrock 4(3), finite-difference Jacobian); default",
+    "ros34pw2": "compiled ROS34PW2 (L-stable Rosenbrock-W 3(2), Jacobian reused over steps)",
     "dopri5": "compiled Dormand-Prince 5(4), explicit, for non-stiff systems",
     "scipy-radau": "scipy solve_ivp Radau (reference backend; Python speed)",
     "scipy-lsoda": "scipy solve_ivp LSODA (reference backend; Python speed)",
