@@ -58,3 +58,99 @@ def test_chain_rejects_bad_layout():
     with pytest.raises(ValueError, match="J = 0 kg·m² must be > 0"):
         Inertia("a", 0.0)
     assert np.isfinite(Constant(1.0)(0.0)).all()
+
+
+def test_gearbox_and_ideal_lossy_gear_reflect_inertia_by_ratio_squared():
+    # gear 2 of the gearbox (1.5 × final drive 2) and an ideal lossy gear (ratio 0.5):
+    # J_eq = J_a + J_b/i1² + J_c/(i1·i2)², all rigid
+    from clutchsim.driveline import Gearbox, LossyGear
+    i1, i2 = 1.5 * 2.0, 0.5
+    chain = Chain([Inertia("a", 0.4, load="T"), Inertia("b", 0.9), Inertia("c", 1.3)],
+                  [Gearbox("gb", ratios=(3.0, 1.5), gear=2, final_drive=2.0),
+                   LossyGear("lg", i2)])
+    res = simulate(chain.build(), (0, 2.0), {"T": 3.0}, options=OPTS)
+    assert res.status == "completed"
+    j_eq = 0.4 + 0.9 / i1**2 + 1.3 / (i1 * i2) ** 2
+    assert res["omega_a"][-1] == pytest.approx(3.0 * 2.0 / j_eq, rel=1e-10)
+    assert res["omega_b"][-1] == pytest.approx(res["omega_a"][-1] / i1, rel=1e-12)
+    assert res["omega_c"][-1] == pytest.approx(res["omega_a"][-1] / (i1 * i2), rel=1e-12)
+    # the kinetic energy is the work of the torque
+    assert energy_balance(res)["energy_balance_rel"] < 1e-9
+
+
+@pytest.mark.parametrize("eta", [1.0, 0.8, 0.5])
+def test_lossy_gear_driving_forward_loses_one_minus_eta(eta):
+    # a drives b through mesh efficiency eta: J_b·dw_b/dt = r·eta·T_a, so
+    # dw_a/dt = tau / (J_a + J_b/(eta·r²)); the loss power (1-eta)·T_a·w_a is booked
+    from clutchsim.driveline import LossyGear
+    r, J_a, J_b, tau = 2.0, 0.5, 3.0, 4.0
+    table = ((0.0, eta, 0.9, 0.0, 0.0),)
+    chain = Chain([Inertia("a", J_a, omega0=1.0, load="T"), Inertia("b", J_b, omega0=0.5)],
+                  [LossyGear("g", r, table)])
+    res = simulate(chain.build(), (0, 1.5), {"T": tau}, options=OPTS)
+    assert res.status == "completed", res.message
+    alpha = tau / (J_a + J_b / (eta * r**2))
+    assert res["omega_a"][-1] == pytest.approx(1.0 + alpha * 1.5, rel=1e-10)
+    assert np.all(res["g.mode"] == 1.0)
+    t_a = tau - J_a * alpha                                   # torque into flange a
+    assert res["T_loss_g"][-1] == pytest.approx((1 - eta) * t_a, rel=1e-9, abs=1e-12)
+    eb = energy_balance(res)
+    assert eb["W_friction"] == pytest.approx((1 - eta) * t_a * (1.0 * 1.5 + alpha * 1.5**2 / 2),
+                                             rel=1e-8, abs=1e-12)
+    assert eb["energy_balance_rel"] < 1e-9
+
+
+def test_lossy_gear_sticks_until_the_load_beats_the_efficiency():
+    # drive 10 N·m at a, load at b ramping the other way: with eta = 0.5 the gear stays
+    # stuck while the load, referred to a, lies between eta·10 and 10/eta N·m
+    from clutchsim.core import Ramp
+    from clutchsim.driveline import LossyGear
+    r = 2.0
+    chain = Chain([Inertia("a", 1.0, load="Ta"), Inertia("b", 1.5, load="Tb")],
+                  [LossyGear("g", r, ((0.0, 0.5, 0.5, 0.0, 0.0),))])
+    load = Ramp(0.0, 10.0, -60.0)                            # -6 N·m/s at b
+    res = simulate(chain.build(), (0, 8.0), {"Ta": 10.0, "Tb": load}, options=OPTS)
+    assert res.status == "completed", res.message
+    t_start_back = [e.t for e in res.events if e.name == "g: breakaway" and e.t > 0]
+    # referred to a the load is 3·t N·m: forward rolling stops (the a-drive can no longer
+    # push it through eta) and it sticks; it rolls back once 3·t > 10/0.5 = 20 N·m
+    assert t_start_back and t_start_back[-1] == pytest.approx(20.0 / 3.0, abs=1e-6)
+    stuck = (res["g.locked"] > 0.5)
+    assert np.all(res["omega_a"][stuck] == 0.0)
+    assert res["omega_a"][-1] < 0.0
+
+
+def test_one_way_clutch_drives_one_way_and_freewheels_the_other():
+    from clutchsim.core import Step
+    from clutchsim.driveline import OneWayClutch
+    owc = OneWayClutch("fw", command="f", T_slide=0.0)        # a pure freewheel
+    chain = Chain([Inertia("in", 1.0, load="T"), Inertia("out", 3.0)], [owc])
+    drive = Step(1.0, -6.0, 2.0)                              # +2 N·m, then -4 N·m at 1 s
+    res = simulate(chain.build({"f": 0.0}), (0, 2.0), {"T": drive, "f": 0.0}, options=OPTS)
+    assert res.status == "completed", res.message
+    # locked at the start (zero slip): in drives out, both accelerate at 2/4 rad/s²
+    i1 = np.flatnonzero(res.t <= 1.0)[-1]
+    assert res["omega_in"][i1] == pytest.approx(0.5, rel=1e-9)
+    assert res["omega_out"][i1] == pytest.approx(0.5, rel=1e-9)
+    # the reversed torque frees it: out keeps its speed, in slows down alone
+    assert [e.name for e in res.events] == ["fw: breakaway"]
+    assert res["omega_out"][-1] == pytest.approx(0.5, rel=1e-9)
+    assert res["omega_in"][-1] == pytest.approx(0.5 - 4.0 * 1.0, rel=1e-9)
+    assert np.min(res["w_slip_fw"]) >= -1e-12                 # never backwards
+
+
+def test_linked_thermal_nodes_conserve_heat_and_equalise():
+    slip = make_model("coulomb-robust", F_c=20.0, F_s=25.0)
+    chain = Chain([Inertia("a", 1.0, omega0=50.0), Inertia("b", 3.0)],
+                  [FrictionElement("clutch", slip, "com", heat=(("surface", 1.0),))],
+                  thermal=[ThermalNode("surface", capacity=50.0, theta0=20.0, link="bulk",
+                                       link_conductance=40.0),
+                           ThermalNode("bulk", capacity=450.0, theta0=20.0)])
+    res = simulate(chain.build(), (0, 30.0), {"com": 1.0}, options=OPTS)
+    assert res.status == "completed"
+    heat = res["W_friction"][-1]
+    stored = 50.0 * (res["theta_surface"][-1] - 20.0) + 450.0 * (res["theta_bulk"][-1] - 20.0)
+    assert stored == pytest.approx(heat, rel=1e-8)
+    # the small surface node runs ahead during slip, then the link equalises them
+    assert np.max(res["theta_surface"] - res["theta_bulk"]) > 5.0
+    assert res["theta_surface"][-1] == pytest.approx(res["theta_bulk"][-1], abs=1e-6)

@@ -21,7 +21,7 @@ def test_reference_doc_is_generated_from_the_schema():
         "print(r())' > docs/scenario-reference.md"
 
 
-DRIVELINE_EXAMPLES = ("launch", "hill_start", "tip_out", "shift_1_2", "coupled_clutches")
+DRIVELINE_EXAMPLES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if p.stem != "fit_emps")
 
 
 @pytest.mark.parametrize("name", DRIVELINE_EXAMPLES)
@@ -36,8 +36,8 @@ def _write(tmp_path, text, name="s.toml"):
     return p
 
 
-def _bad(tmp_path, old, new, count=1):
-    text = (EXAMPLES / "launch.toml").read_text(encoding="utf-8")
+def _bad(tmp_path, old, new, count=1, src="launch"):
+    text = (EXAMPLES / f"{src}.toml").read_text(encoding="utf-8")
     assert old in text
     p = _write(tmp_path, text.replace(old, new, count))
     with pytest.raises(ScenarioError) as info:
@@ -98,3 +98,76 @@ def test_set_overrides(tmp_path):
     sc = load_scenario(None, overrides=["vehicle.grade=12", "scenario.t_end=1.5"])
     assert sc.data["vehicle"]["grade"] == 12 and sc.t_end == 1.5
     assert Path(sc.file).name.endswith("launch.toml>")
+
+
+def _assert_names(err, path, key, value, rule, text, needle):
+    """The message names the file, the key path, the value and the rule; the line is
+    the line of the bad entry."""
+    msg = str(err)
+    assert str(path) in msg and key in msg, msg
+    assert value in msg and rule in msg, msg
+    assert err.key == key
+    assert err.line == _line_of(text, needle)
+
+
+@pytest.mark.parametrize("old,new,key,value,rule", [
+    ("peak = 25.0", "peak = 0.5", "coupling[0].peak", "0.5", "must be >= 1"),
+    ("T_slide = 1.5 ", "T_slide = -1.5 ", "coupling[0].T_slide", "-1.5", "must be >= 0 N·m"),
+])
+def test_bad_one_way_clutch_parameters(tmp_path, old, new, key, value, rule):
+    err, p, text = _bad(tmp_path, old, new, src="one_way_clutch")
+    _assert_names(err, p, key, value, rule, text, new.strip())
+
+
+LOSS = ("loss_table = { speed = [0.0], eta_mf1 = [0.5], eta_mf2 = [0.5], tau_bf1 = [0.0], "
+        "tau_bf2 = [0.0] }")
+
+
+@pytest.mark.parametrize("new,key,value,rule", [
+    (LOSS.replace("eta_mf1 = [0.5]", "eta_mf1 = [0.0]"), "coupling[0].loss_table.eta_mf1[0]",
+     "= 0 ", "an efficiency must be in (0, 1]"),
+    (LOSS.replace("eta_mf2 = [0.5]", "eta_mf2 = [1.2]"), "coupling[0].loss_table.eta_mf2[0]",
+     "= 1.2", "an efficiency must be in (0, 1]"),
+    (LOSS.replace("tau_bf1 = [0.0]", "tau_bf1 = [-0.1]"), "coupling[0].loss_table.tau_bf1[0]",
+     "= -0.1 N·m", "must be >= 0 N·m"),
+    (LOSS.replace("speed = [0.0], eta_mf1 = [0.5], eta_mf2 = [0.5], tau_bf1 = [0.0], "
+                  "tau_bf2 = [0.0]",
+                  "speed = [0.0, 2.0, 1.0], eta_mf1 = [0.5, 0.5, 0.5], eta_mf2 = [0.5, 0.5, 0.5], "
+                  "tau_bf1 = [0.0, 0.0, 0.0], tau_bf2 = [0.0, 0.0, 0.0]"),
+     "coupling[0].loss_table.speed[2]", "= 1 rad/s", "must be greater than speed[1]"),
+    (LOSS.replace("eta_mf2 = [0.5]", "eta_mf2 = [0.5, 0.6]"), "coupling[0].loss_table.eta_mf2",
+     "has 2 entries", "one value per speed"),
+    (LOSS.replace("tau_bf2", "tau_bf3"), "coupling[0].loss_table", "tau_bf3",
+     "must be a table {speed = [...]"),
+])
+def test_bad_lossy_gear_table(tmp_path, new, key, value, rule):
+    err, p, text = _bad(tmp_path, LOSS, new, src="lossy_gear_demo1")
+    _assert_names(err, p, key, value, rule, text, "loss_table = {")
+
+
+def test_bad_lossy_gear_ratio_and_count(tmp_path):
+    err, p, text = _bad(tmp_path, "ratio = 2.0", "ratio = 0.0", src="lossy_gear_demo1")
+    _assert_names(err, p, "coupling[0].ratio", "= 0", "must be non-zero", text, "ratio = 0.0")
+    second = ('[[inertia]]\nname = "Inertia3"\nJ = 1.0\n\n[[coupling]]\nname = "gear2"\n'
+              'type = "lossy_gear"\nratio = 1.0\n' + LOSS + "\n")
+    err, p, text = _bad(tmp_path, "[[coupling]]", second + "\n[[coupling]]",
+                        src="lossy_gear_demo1")
+    assert "at most one" in str(err) and err.key == "coupling[1]"
+
+
+def test_bad_thermal_link(tmp_path):
+    err, p, text = _bad(tmp_path, 'link = "pressure_plate"', 'link = "pressure_plat"',
+                        src="ten_launches")
+    _assert_names(err, p, "thermal[0].link", "'pressure_plat'", "is not a thermal node", text,
+                  'link = "pressure_plat"')
+    assert "did you mean 'pressure_plate'" in str(err)
+    err, p, _ = _bad(tmp_path, "link_conductance = 120.0   #", "link_conductance = 0.0   #",
+                     src="ten_launches")
+    assert "thermal[0]" in str(err) and "needs link_conductance > 0 W/K" in str(err)
+
+
+def test_model_cannot_replace_a_fixed_switching_law():
+    sc = load_scenario(EXAMPLES / "one_way_clutch.toml")
+    with pytest.raises(ScenarioError, match="'lugre' cannot replace 'oneWayClutch'"):
+        sc.chain("lugre")
+    assert sc.chain(None).build().metadata["models"]["oneWayClutch"] == "one-way-clutch"

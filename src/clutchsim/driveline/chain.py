@@ -9,8 +9,8 @@ import numpy as np
 
 from ..core import System, register_system
 from . import plant as P
-from .components import (Brake, Engine, FrictionElement, Gear, Gearbox, Inertia, SpringDamper,
-                         ThermalNode, Vehicle, static_capacity)
+from .components import (Brake, Engine, FrictionElement, Gear, Gearbox, Inertia, LossyGear,
+                         OneWayClutch, SpringDamper, ThermalNode, Vehicle, static_capacity)
 
 __all__ = ["Chain", "ChainPlant", "ENERGY_STATES"]
 
@@ -39,8 +39,9 @@ class Chain:
     inertias : tuple of Inertia
         The nodes, in order (engine side first).
     couplings : tuple
-        ``len(inertias) - 1`` couplings: :class:`Gear`, :class:`Gearbox`,
-        :class:`SpringDamper` or :class:`FrictionElement`; coupling k joins inertia k to k+1.
+        ``len(inertias) - 1`` couplings: :class:`Gear`, :class:`Gearbox`, :class:`LossyGear`
+        (at most one with losses per chain), :class:`SpringDamper`, :class:`FrictionElement`
+        or :class:`OneWayClutch`; coupling k joins inertia k to k+1.
     brakes : tuple of Brake
         Friction elements to ground.
     engine : Engine, optional
@@ -70,9 +71,13 @@ class Chain:
             raise ValueError(f"chain: {len(self.inertias)} inertias need "
                              f"{len(self.inertias) - 1} couplings, got {len(self.couplings)}")
         for c in self.couplings:
-            if not isinstance(c, (Gear, Gearbox, SpringDamper, FrictionElement)) or \
-                    isinstance(c, Brake):
+            if not isinstance(c, (Gear, Gearbox, LossyGear, SpringDamper, FrictionElement,
+                                  OneWayClutch)) or isinstance(c, Brake):
                 raise ValueError(f"chain: {c!r} is not a coupling")
+        lossy = [c.name for c in self.lossy_gears]
+        if len(lossy) > 1:
+            raise ValueError(f"chain: at most one lossy gear with losses per chain (the loss "
+                             f"of a rolling gear is solved in closed form), got {lossy}")
         names = [x.name for x in (*self.inertias, *self.couplings, *self.brakes)]
         dup = {n for n in names if names.count(n) > 1}
         if dup:
@@ -86,6 +91,21 @@ class Chain:
             raise ValueError(f"engine: node {self.engine.node!r} is not an inertia "
                              f"(inertias: {', '.join(nodes)})")
         th = [t.name for t in self.thermal]
+        dup_th = {n for n in th if th.count(n) > 1}
+        if dup_th:
+            raise ValueError(f"chain: duplicate thermal node names {sorted(dup_th)}")
+        linked = set()
+        for t in self.thermal:
+            if t.link is None:
+                continue
+            if t.link not in th:
+                raise ValueError(f"thermal node {t.name!r}: link {t.link!r} is not a thermal "
+                                 f"node (nodes: {', '.join(th)})")
+            pair = frozenset((t.name, t.link))
+            if pair in linked:
+                raise ValueError(f"thermal nodes {t.name!r} and {t.link!r} are linked twice; "
+                                 "declare the link on one of them only")
+            linked.add(pair)
         for fe in self.friction_elements:
             for n, _ in fe.heat:
                 if n not in th:
@@ -101,7 +121,22 @@ class Chain:
 
     @property
     def friction_elements(self) -> tuple:
-        return tuple(c for c in self.couplings if isinstance(c, FrictionElement)) + self.brakes
+        """Clutches, one-way clutches (couplings, in chain order) and brakes."""
+        return tuple(c for c in self.couplings
+                     if isinstance(c, (FrictionElement, OneWayClutch))) + self.brakes
+
+    @property
+    def lossy_gears(self) -> tuple:
+        """Lossy gears with losses (an ideal loss table makes a plain gear)."""
+        return tuple(c for c in self.couplings if isinstance(c, LossyGear) and not c.ideal)
+
+    @property
+    def elements(self) -> tuple:
+        """Switching elements of the plant: friction couplings and lossy gears in chain
+        order, then the brakes."""
+        return tuple(c for c in self.couplings
+                     if isinstance(c, (FrictionElement, OneWayClutch))
+                     or (isinstance(c, LossyGear) and not c.ideal)) + self.brakes
 
     def input_names(self) -> tuple[str, ...]:
         """Input signals the plant reads, in channel order."""
@@ -129,7 +164,7 @@ class Chain:
         self_inputs0 = dict(inputs0 or {})
         inertias, couplings = self.inertias, self.couplings
         n = len(inertias)
-        fes = self.friction_elements
+        fes = self.elements
         fe_index = {fe.name: e for e, fe in enumerate(fes)}
         inputs = self.input_names()
         chan = {name: i for i, name in enumerate(inputs)}
@@ -157,9 +192,10 @@ class Chain:
         for k, c in enumerate(couplings):
             r = c.ratio(c.gear) if isinstance(c, Gearbox) else c.ratio
             ratios.append(r)
-            if isinstance(c, (Gear, Gearbox)) and \
+            if isinstance(c, (Gear, Gearbox, LossyGear)) and \
                     not np.isclose(omega0[k + 1], omega0[k] / r, rtol=1e-12, atol=1e-12):
-                raise ValueError(f"{type(c).__name__.lower()} {c.name!r}: initial speeds "
+                kind = {Gear: "gear", Gearbox: "gearbox", LossyGear: "lossy gear"}[type(c)]
+                raise ValueError(f"{kind} {c.name!r}: initial speeds "
                                  f"violate the ratio: omega0 of {inertias[k + 1].name!r} = "
                                  f"{omega0[k + 1]:g} rad/s, but omega0 of "
                                  f"{inertias[k].name!r} / {r:g} = {omega0[k] / r:g} rad/s")
@@ -168,8 +204,7 @@ class Chain:
         for fe in fes:
             z_idx.append(len(y0))
             z0 = self._z0(fe, omega0, ratios, self_inputs0)
-            for s_name, s_unit, v in zip(fe.model.state_names(), fe.model.state_units("rotational"),
-                                         z0):
+            for s_name, s_unit, v in zip(*self._state_spec(fe), z0):
                 snames.append(f"{fe.name}.{s_name}")
                 sunits.append(s_unit)
                 y0.append(v)
@@ -198,8 +233,12 @@ class Chain:
         ev_off = []
         for fe in fes:
             ev_off.append(len(ev_names))
-            ev_names += [f"{fe.name}: {e}" for e in fe.model.event_names()]
-            ev_dirs += [int(d) for d in fe.model.event_directions()]
+            if isinstance(fe, (LossyGear, OneWayClutch)):
+                ev_names += [f"{fe.name}: stop", f"{fe.name}: breakaway"]
+                ev_dirs += [-1, -1]
+            else:
+                ev_names += [f"{fe.name}: {e}" for e in fe.model.event_names()]
+                ev_dirs += [int(d) for d in fe.model.event_directions()]
         ev_stall = len(ev_names)
         if self.engine is not None:
             ev_names.append(f"engine stalled (speed fell below {self.engine.stall_speed:g} "
@@ -243,8 +282,11 @@ class Chain:
             o = cpl_off[k]
             put(o, P.C_RATIO, ratios[k])
             put(o, P.C_FE, -1)
-            if isinstance(c, Gear):
+            if isinstance(c, Gear) or (isinstance(c, LossyGear) and c.ideal):
                 put(o, P.C_KIND, P.GEAR)
+            elif isinstance(c, LossyGear):
+                put(o, P.C_KIND, P.LOSSY_GEAR)
+                put(o, P.C_FE, fe_index[c.name])
             elif isinstance(c, Gearbox):
                 put(o, P.C_KIND, P.SHIFT_GEAR)
                 put(o, P.C_Y, twist_idx[k])
@@ -273,23 +315,45 @@ class Chain:
         nodes = self.node_names
         for e, fe in enumerate(fes):
             o = fe_off[e]
+            put(o, P.F_YZ, z_idx[e])
+            put(o, P.F_YLK, y_lock + e)
+            put(o, P.F_EV, ev_off[e])
+            put(o, P.F_THA, -1)
+            put(o, P.F_THB, -1)
+            if isinstance(fe, LossyGear):
+                # the loss acts like a brake on the flange-a inertia of the (rigid) gear
+                put(o, P.F_KIND, P.FK_LOSSY)
+                put(o, P.F_LOC, P.LOC_BRAKE)
+                put(o, P.F_IDX, couplings.index(fe))
+                put(o, P.F_NZ, 1)
+                put(o, P.F_NEV, 2)
+                put(o, P.F_IN, -1)
+                put(o, P.F_CAP, 0.0)
+                cols = fe.columns()
+                aux = P.HEADER + len(data)
+                data.append(float(len(cols[0])))
+                for col in cols:
+                    data.extend(float(v) for v in col)
+                put(o, P.F_AUX, aux)
+                continue
             if isinstance(fe, Brake):
                 put(o, P.F_LOC, P.LOC_BRAKE)
                 put(o, P.F_IDX, nodes.index(fe.node))
             else:
                 put(o, P.F_LOC, P.LOC_COUPLING)
                 put(o, P.F_IDX, couplings.index(fe))
+            if isinstance(fe, OneWayClutch):
+                put(o, P.F_KIND, P.FK_ONE_WAY)
+                put(o, P.F_AUX, fe.free_threshold)
+                put(o, P.F_NEV, 2)
+            else:
+                put(o, P.F_KIND, P.FK_MODEL)
+                put(o, P.F_NEV, fe.model.n_events)
             put(o, P.F_CODE, fe.model.code)
             put(o, P.F_NZ, fe.model.n_states)
-            put(o, P.F_YZ, z_idx[e])
-            put(o, P.F_YLK, y_lock + e)
-            put(o, P.F_EV, ev_off[e])
-            put(o, P.F_NEV, fe.model.n_events)
             put(o, P.F_IN, chan[fe.command])
             put(o, P.F_DRAG, fe.drag)
             put(o, P.F_CAP, static_capacity(fe.model))
-            put(o, P.F_THA, -1)
-            put(o, P.F_THB, -1)
             for slot, (tn, share) in zip(((P.F_THA, P.F_SHA), (P.F_THB, P.F_SHB)), fe.heat):
                 put(o, slot[0], th_index[tn])
                 put(o, slot[1], share)
@@ -302,7 +366,8 @@ class Chain:
                     put(o, i_n, len(tab[0]))
         for e, fe in enumerate(fes):   # model parameters last: kernels read p[off:]
             off = P.HEADER + len(data)
-            data.extend(fe.model.pack().tolist())
+            if not isinstance(fe, LossyGear):
+                data.extend(fe.model.pack().tolist())
             put(fe_off[e], P.F_PAR, off)
         th_off = [block(P.TH_W) for _ in range(max(len(self.thermal), 1))]
         head[P.H_TH] = th_off[0]
@@ -310,6 +375,8 @@ class Chain:
             put(th_off[i], P.T_C, t.capacity)
             put(th_off[i], P.T_HA, t.conductance)
             put(th_off[i], P.T_AMB, t.ambient)
+            put(th_off[i], P.T_LINK, th_index[t.link] if t.link is not None else -1)
+            put(th_off[i], P.T_G, t.link_conductance)
         if self.engine is not None:
             eng = self.engine
             o = block(P.ENG_W)
@@ -343,9 +410,13 @@ class Chain:
             ounits.append("N·m")
         for fe in fes:
             # a coupling's torque is already T_<name>; a brake's is listed here
-            t_name = f"T_{fe.name}" if isinstance(fe, Brake) else f"T_friction_{fe.name}"
-            onames += [t_name, f"w_slip_{fe.name}", f"capacity_{fe.name}",
-                       f"T_stick_{fe.name}", f"P_{fe.name}"]
+            if isinstance(fe, LossyGear):
+                onames += [f"T_loss_{fe.name}", f"w_slip_{fe.name}", f"capacity_{fe.name}",
+                           f"T_stick_{fe.name}", f"P_{fe.name}"]
+            else:
+                t_name = f"T_{fe.name}" if isinstance(fe, Brake) else f"T_friction_{fe.name}"
+                onames += [t_name, f"w_slip_{fe.name}", f"capacity_{fe.name}",
+                           f"T_stick_{fe.name}", f"P_{fe.name}"]
             ounits += ["N·m", "rad/s", "N·m", "N·m", "W"]
         if self.engine is not None:
             onames.append("T_engine")
@@ -356,7 +427,7 @@ class Chain:
         onames += ["E_kinetic", "E_spring"]
         ounits += ["J", "J"]
         meta = dict(self.metadata)
-        meta.update({"models": {fe.name: fe.model.name for fe in fes},
+        meta.update({"models": {fe.name: self._model_name(fe) for fe in fes},
                      "nodes": list(nodes)})
         return System(ChainPlant(), params, np.array(y0, dtype=float), tuple(snames),
                       tuple(sunits), input_names=inputs,
@@ -365,13 +436,39 @@ class Chain:
                       event_directions=tuple(ev_dirs), name=self.name, metadata=meta)
 
     # -------------------------------------------------------------- helpers
+    @staticmethod
+    def _model_name(fe) -> str:
+        if isinstance(fe, LossyGear):
+            return "lossy-gear"
+        if isinstance(fe, OneWayClutch):
+            return "one-way-clutch"
+        return fe.model.name
+
+    @staticmethod
+    def _state_spec(fe):
+        """(state names, state units) of a switching element's own states."""
+        if isinstance(fe, LossyGear):
+            return ("mode",), ("1",)
+        return tuple(fe.model.state_names()), tuple(fe.model.state_units("rotational"))
+
     def _slip0(self, fe, omega0, ratios) -> float:
         if isinstance(fe, Brake):
             return float(omega0[self.node_names.index(fe.node)])
         k = self.couplings.index(fe)
+        if isinstance(fe, LossyGear):       # the gear's own speed at flange a
+            return float(omega0[k])
         return float(omega0[k + 1] - omega0[k] / ratios[k])
 
     def _locked0(self, fe, omega0, ratios, inputs0) -> bool:
+        if isinstance(fe, LossyGear):
+            return self._slip0(fe, omega0, ratios) == 0.0
+        if isinstance(fe, OneWayClutch):
+            w = self._slip0(fe, omega0, ratios)
+            if w < 0.0:
+                raise ValueError(f"one-way clutch {fe.name!r}: initial relative speed "
+                                 f"omega_b - omega_a/ratio = {w:g} rad/s is negative; the "
+                                 "freewheel only allows >= 0")
+            return bool(fe.locked0) if fe.locked0 is not None else w == 0.0
         if fe.model.name not in _SWITCHING:
             return False
         if fe.locked0 is not None:
@@ -379,6 +476,10 @@ class Chain:
         return self._slip0(fe, omega0, ratios) == 0.0 and inputs0.get(fe.command, 1.0) > 0.0
 
     def _z0(self, fe, omega0, ratios, inputs0) -> np.ndarray:
+        if isinstance(fe, (LossyGear, OneWayClutch)):
+            w = self._slip0(fe, omega0, ratios)
+            locked = self._locked0(fe, omega0, ratios, inputs0)
+            return np.array([0.0 if locked else (1.0 if w >= 0.0 else -1.0)])
         if fe.z0 is not None:
             return np.asarray(fe.z0, dtype=float)
         z = fe.model.initial_state()

@@ -15,9 +15,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..friction.base import FrictionModel
+from ..friction.coulomb_robust import CoulombRobust
 
-__all__ = ["Inertia", "Gear", "Gearbox", "SpringDamper", "FrictionElement", "Brake", "Engine",
-           "Vehicle", "ThermalNode", "static_capacity"]
+__all__ = ["Inertia", "Gear", "Gearbox", "LossyGear", "SpringDamper", "FrictionElement", "Brake",
+           "OneWayClutch", "Engine", "Vehicle", "ThermalNode", "static_capacity", "ONE_WAY_EPS0"]
+
+#: relative hysteresis of the one-way clutch (Modelica's ``eps0``): with the clutch open the
+#: freewheel releases once the stick torque exceeds ``ONE_WAY_EPS0·T_slide``
+ONE_WAY_EPS0 = 1.0e-4
 
 
 def _num(owner: str, name: str, value, *, low=None, high=None, strict=False, unit=""):
@@ -156,6 +161,100 @@ class Gearbox:
         return self.ratios[gear - 1] * self.final_drive
 
 
+#: columns of a lossy-gear loss table
+LOSS_COLUMNS = ("speed", "eta_mf1", "eta_mf2", "tau_bf1", "tau_bf2")
+
+
+@dataclass(frozen=True)
+class LossyGear:
+    """Gear with mesh efficiency and bearing friction that can stick (Modelica ``LossyGear``).
+
+    The gear is rigid, ``omega_b = omega_a / ratio``.  Inside it a loss torque ``L``
+    [N·m], referred to flange a, is taken out of the transmitted torque: flange a takes
+    ``T_a`` from inertia a and flange b delivers ``ratio·(T_a - L)`` to inertia b, so that
+    ``(J_a + J_b/ratio²)·dω_a/dt = τ_a + τ_b/ratio - L``.  While the gear rolls
+    (``ω_a ≠ 0``) the loss depends on the direction of the power flow, decided by the sign
+    of ``T_a ∓ τ_bf,a`` (Pelchen et al. 2002)::
+
+        forward  (ω_a > 0):  L = (1 - η1)·T_a + τ_bf1    if T_a - τ_bf,a >= 0 (a drives b)
+                              L = (1 - 1/η2)·T_a + τ_bf2  otherwise            (b drives a)
+        backward (ω_a < 0):  L = (1 - 1/η2)·T_a - τ_bf2  if T_a + τ_bf,a >= 0
+                              L = (1 - η1)·T_a - τ_bf1    otherwise
+
+    with ``τ_bf,a = (τ_bf1 - τ_bf2)/(η1 - 1/η2)`` (``τ_bf1/2`` if both efficiencies are
+    1), which makes ``L`` continuous in ``T_a``.  ``η1``, ``η2``, ``τ_bf1``, ``τ_bf2`` are
+    interpolated in ``|ω_a|`` in ``loss_table``.  At ``ω_a = 0`` the gear *sticks* (the
+    whole rigid cluster stands still) while the torque it must hold stays between the
+    backward and forward values of the laws above at ``|ω_a| = 0`` (Modelica's
+    ``tauLossMin_m``/``tauLossMax_p``); beyond them it starts rolling.  Low efficiencies
+    widen that range, so a loaded gear can stay at rest although it is driven.  The loss
+    power ``L·ω_a >= 0`` is booked in ``W_friction``.
+
+    Parameters
+    ----------
+    name : str
+    ratio : float
+        ``ω_a/ω_b`` [-] (non-zero).
+    loss_table : sequence of rows (speed, eta_mf1, eta_mf2, tau_bf1, tau_bf2)
+        ``|ω_a|`` [rad/s] (first row >= 0, strictly increasing), mesh efficiency with power
+        flowing a -> b ``η1`` [-] and b -> a ``η2`` [-] (both in (0, 1]), bearing friction
+        torques [N·m] (>= 0) for the two power-flow directions.  Held constant outside the
+        speed range.  The ideal table ``[(0, 1, 1, 0, 0)]`` makes an ideal gear.
+
+    References
+    ----------
+    Pelchen C., Schweiger C., Otter M., "Modeling and simulating the efficiency of gearboxes
+    and of planetary gearboxes", 2nd International Modelica Conference, 2002, pp. 257-266;
+    Modelica Standard Library 4.x, ``Modelica.Mechanics.Rotational.Components.LossyGear``.
+    """
+
+    name: str
+    ratio: float
+    loss_table: tuple = ((0.0, 1.0, 1.0, 0.0, 0.0),)
+
+    def __post_init__(self):
+        o = f"lossy gear {self.name!r}"
+        r = _num(o, "ratio", self.ratio)
+        if r == 0.0:
+            raise ValueError(f"{o}: ratio = 0 is not allowed: the ratio omega_a/omega_b must "
+                             "be non-zero")
+        object.__setattr__(self, "ratio", r)
+        rows = []
+        for i, row in enumerate(self.loss_table):
+            row = tuple(row)
+            if len(row) != 5:
+                raise ValueError(f"{o}: loss_table row {i} has {len(row)} entries; each row "
+                                 f"is ({', '.join(LOSS_COLUMNS)})")
+            vals = [_num(o, f"loss_table[{i}].{c}", v) for c, v in zip(LOSS_COLUMNS, row)]
+            rows.append(tuple(vals))
+        if not rows:
+            raise ValueError(f"{o}: loss_table needs at least one row")
+        for i, (w, e1, e2, b1, b2) in enumerate(rows):
+            if i == 0 and w < 0.0:
+                raise ValueError(f"{o}: loss_table[0].speed = {w:g} rad/s must be >= 0 "
+                                 "(the table is read at |omega_a|)")
+            if i > 0 and w <= rows[i - 1][0]:
+                raise ValueError(f"{o}: loss_table[{i}].speed = {w:g} rad/s must be greater "
+                                 f"than the previous row's {rows[i - 1][0]:g} rad/s")
+            for c, v in (("eta_mf1", e1), ("eta_mf2", e2)):
+                if not 0.0 < v <= 1.0:
+                    raise ValueError(f"{o}: loss_table[{i}].{c} = {v:g} must be in (0, 1] "
+                                     "(an efficiency of 0 cannot transmit power)")
+            for c, v in (("tau_bf1", b1), ("tau_bf2", b2)):
+                if v < 0.0:
+                    raise ValueError(f"{o}: loss_table[{i}].{c} = {v:g} N·m must be >= 0")
+        object.__setattr__(self, "loss_table", tuple(rows))
+
+    @property
+    def ideal(self) -> bool:
+        """True when the table has no losses (efficiency 1, no bearing friction)."""
+        return all(r[1:] == (1.0, 1.0, 0.0, 0.0) for r in self.loss_table)
+
+    def columns(self) -> tuple[tuple[float, ...], ...]:
+        """The table as five columns (speed, eta_mf1, eta_mf2, tau_bf1, tau_bf2)."""
+        return tuple(tuple(r[c] for r in self.loss_table) for c in range(5))
+
+
 @dataclass(frozen=True)
 class SpringDamper:
     """Torsional spring-damper (optionally two-stage), e.g. a disc damper or a driveshaft.
@@ -271,6 +370,91 @@ class Brake(FrictionElement):
 
 
 @dataclass(frozen=True)
+class OneWayClutch:
+    """A freewheel in parallel with a friction clutch (Modelica ``OneWayClutch``).
+
+    Coupling between two inertias with the relative speed ``w = omega_b - omega_a/ratio``.
+    The freewheel lets ``w`` be positive only: while ``w > 0`` the element slides and the
+    clutch transmits ``command·T_slide`` (0 when the command is <= 0); when ``w`` reaches 0
+    it locks and then holds any torque in the blocking direction (``T <= 0``, flange a
+    drives flange b) and up to ``command·peak·T_slide`` in the other; beyond that it slides
+    forward again.  With the clutch open the freewheel releases once the stick torque
+    exceeds ``ONE_WAY_EPS0·T_slide`` (Modelica's ``tau0_max_low``).  One constraint torque
+    covers both parts, which is why it is one element.
+
+    Internally the clutch part is a :class:`~clutchsim.friction.CoulombRobust` model with
+    ``F_c = T_slide`` and ``F_s = max(peak, 1 + ONE_WAY_EPS0)·T_slide``; its ``mode`` state
+    is +1 (sliding) or 0 (locked).
+
+    Parameters
+    ----------
+    name : str
+    command : str
+        Normalised clamp force input ``f_normalized`` [-] (0 open .. 1 full).
+    T_slide : float
+        Sliding torque of the clutch at full command, ``mu·cgeo·fn_max`` [N·m] (>= 0).
+    peak : float
+        Ratio of the static to the sliding torque [-] (>= 1).
+    heat : tuple of (node name, share)
+        Where the friction power goes (as for :class:`FrictionElement`).
+    mu_temperature : (theta [°C], factor [-]), optional
+        mu(theta)/mu_ref at the first heat node.
+    ratio : float
+        Ideal ratio on its input side [-].
+    locked0 : bool, optional
+        Start locked (default: locked when the initial relative speed is 0).
+
+    References
+    ----------
+    Modelica Standard Library 4.x, ``Modelica.Mechanics.Rotational.Components.OneWayClutch``;
+    Otter M., Elmqvist H., Mattsson S.E., "Hybrid modeling in Modelica based on the
+    synchronous data flow principle", CACSD'99, 1999.
+    """
+
+    name: str
+    command: str
+    T_slide: float
+    peak: float = 1.0
+    heat: tuple = ()
+    mu_temperature: tuple | None = None
+    ratio: float = 1.0
+    locked0: bool | None = None
+    model: FrictionModel = field(init=False, repr=False, compare=False)
+
+    #: attributes shared with :class:`FrictionElement` (not settable here)
+    clamp_table = None
+    mu_slip = None
+    drag = 0.0
+    z0 = None
+
+    def __post_init__(self):
+        o = f"one-way clutch {self.name!r}"
+        t_slide = _num(o, "T_slide", self.T_slide, low=0.0, unit="N·m")
+        peak = _num(o, "peak", self.peak, low=1.0)
+        object.__setattr__(self, "T_slide", t_slide)
+        object.__setattr__(self, "peak", peak)
+        object.__setattr__(self, "ratio", _num(o, "ratio", self.ratio))
+        if self.ratio == 0.0:
+            raise ValueError(f"{o}: ratio must be non-zero")
+        if self.mu_temperature is not None:
+            object.__setattr__(self, "mu_temperature",
+                               _table(o, "mu_temperature", *self.mu_temperature))
+        heat = tuple((str(n), _num(o, "heat share", s, low=0.0, high=1.0)) for n, s in self.heat)
+        if len(heat) > 2:
+            raise ValueError(f"{o}: heat goes to at most 2 thermal nodes")
+        if sum(s for _, s in heat) > 1.0 + 1e-12:
+            raise ValueError(f"{o}: heat shares sum to {sum(s for _, s in heat):g} > 1")
+        object.__setattr__(self, "heat", heat)
+        peak2 = max(peak, 1.0 + ONE_WAY_EPS0)
+        object.__setattr__(self, "model", CoulombRobust(F_c=t_slide, F_s=peak2 * t_slide))
+
+    @property
+    def free_threshold(self) -> float:
+        """Stick torque [N·m] above which the open freewheel releases (``eps0·T_slide``)."""
+        return ONE_WAY_EPS0 * self.T_slide
+
+
+@dataclass(frozen=True)
 class Engine:
     """Combustion engine torque source on an inertia.
 
@@ -383,7 +567,7 @@ class Vehicle:
 class ThermalNode:
     """Lumped thermal node (e.g. pressure plate, flywheel).
 
-    ``C·dtheta/dt = sum(share·|tau·w|) - hA·(theta - ambient)``
+    ``C·dtheta/dt = sum(share·|tau·w|) - hA·(theta - ambient) - G·(theta - theta_link)``
 
     Parameters
     ----------
@@ -396,6 +580,12 @@ class ThermalNode:
         Ambient temperature [°C].
     theta0 : float
         Initial temperature [°C].
+    link : str, optional
+        Another thermal node this one conducts heat to (e.g. a friction-surface layer to
+        the bulk of its plate): ``q = link_conductance·(theta - theta_link)`` leaves this
+        node and enters the other.  Declare each link once, on one of the two nodes.
+    link_conductance : float
+        Conductance of the link [W/K] (> 0 with a link).
     """
 
     name: str
@@ -403,6 +593,8 @@ class ThermalNode:
     conductance: float = 0.0
     ambient: float = 20.0
     theta0: float = 20.0
+    link: str | None = None
+    link_conductance: float = 0.0
 
     def __post_init__(self):
         o = f"thermal node {self.name!r}"
@@ -414,6 +606,18 @@ class ThermalNode:
                                                  unit="°C"))
         object.__setattr__(self, "theta0", _num(o, "theta0", self.theta0, low=-273.15,
                                                 unit="°C"))
+        object.__setattr__(self, "link_conductance",
+                           _num(o, "link_conductance", self.link_conductance, low=0.0,
+                                unit="W/K"))
+        if self.link is not None and not isinstance(self.link, str):
+            raise ValueError(f"{o}: link = {self.link!r} must be the name of a thermal node")
+        if self.link is not None and self.link_conductance <= 0.0:
+            raise ValueError(f"{o}: link to {self.link!r} needs link_conductance > 0 W/K")
+        if self.link is None and self.link_conductance > 0.0:
+            raise ValueError(f"{o}: link_conductance = {self.link_conductance:g} W/K needs a "
+                             "link (the name of the node it conducts to)")
+        if self.link == self.name:
+            raise ValueError(f"{o}: link must name another node, not the node itself")
 
 
 def static_capacity(model: FrictionModel) -> float:

@@ -14,12 +14,32 @@ convention: in the direction of ``w_k``) acts as ``+tau_k/r_k`` on node ``k`` an
 flange_b.tau``).  A brake on node ``m`` is the same element with ``w = omega_m`` against
 ground.
 
-Rigid joints (ideal gears, and friction elements in their *locked* mode) join nodes into
-clusters that move as one inertia ``sum J_j s_j²`` (``s_j`` the speed factor of node ``j``
-relative to the first node of the cluster).  The torque a locked (or hypothetically
-locked) element transmits is computed from the partial cluster downstream of it; that is
-the stick torque ``F_e`` handed to the friction kernels, so several elements can stick at
-once (Modelica's CoupledClutches).  A cluster that contains a locked brake stands still.
+Rigid joints (ideal gears, lossy gears, and friction elements in their *locked* mode) join
+nodes into clusters that move as one inertia ``sum J_j s_j²`` (``s_j`` the speed factor of
+node ``j`` relative to the first node of the cluster).  The torque a locked (or
+hypothetically locked) element transmits is computed from the partial cluster downstream
+of it; that is the stick torque ``F_e`` handed to the friction kernels, so several
+elements can stick at once (Modelica's CoupledClutches).
+
+A cluster that contains a locked *holder* (a brake, or a lossy gear in its stuck mode)
+stands still.  Several holders in one cluster share the torque by priority: brakes in
+element order each take up to their static capacity, the last holder (a stuck lossy gear
+if there is one, else the last brake) takes the rest, and breaks away when that exceeds
+its own limit.  This is one admissible split of a statically indeterminate case (Modelica's
+LossyGearDemo2 documentation says there is no unique solution).
+
+Switching elements
+------------------
+``F_KIND`` selects the element law: ``FK_MODEL`` a friction model of
+:mod:`clutchsim.friction` (its kernels decide stick and slip), ``FK_ONE_WAY`` a freewheel in
+parallel with a coulomb-robust clutch (slides only with ``w > 0``; locked it holds any
+torque ``<= 0`` and up to the clutch's static capacity above), ``FK_LOSSY`` the loss of a
+lossy gear (a brake-like element on the gear's flange-a node whose sliding torque depends
+on the transmitted torque, Modelica's ``LossyGear``).  After a structural reset (an element
+locks or frees) the plant re-checks every other switching element at the same instant
+(an event iteration): a locked element whose stick torque now exceeds its limit breaks
+away, and a sliding element whose slip was made exactly zero by the merge goes through its
+stop decision.
 """
 
 from __future__ import annotations
@@ -42,15 +62,21 @@ NODE_W = 4          # J, bearing viscous d, load input index (-1 none), spare
 
 CPL_W = 10          # kind, ratio, fe index, state index, c1, d, knee, c2, n shifts, shift off
 (C_KIND, C_RATIO, C_FE, C_Y, C_C1, C_D, C_KNEE, C_C2, C_NSH, C_SHOFF) = range(10)
-GEAR, FRICTION, SPRING, SHIFT_GEAR = 0, 1, 2, 3
+GEAR, FRICTION, SPRING, SHIFT_GEAR, LOSSY_GEAR = 0, 1, 2, 3, 4
 
-FE_W = 24
+FE_W = 26
 (F_LOC, F_IDX, F_CODE, F_NZ, F_YZ, F_YLK, F_EV, F_NEV, F_PAR, F_IN, F_ACT, F_NACT,
- F_MUT, F_NMUT, F_MUS, F_NMUS, F_THA, F_SHA, F_THB, F_SHB, F_DRAG, F_CAP, F_SHEV) = range(23)
+ F_MUT, F_NMUT, F_MUS, F_NMUS, F_THA, F_SHA, F_THB, F_SHB, F_DRAG, F_CAP, F_SHEV,
+ F_KIND, F_AUX) = range(25)
 LOC_COUPLING, LOC_BRAKE = 0, 1
+#: element kinds; F_AUX holds the one-way clutch's open release torque [N·m] or the offset
+#: of a lossy gear's loss table (n, |w| column, eta_mf1, eta_mf2, tau_bf1, tau_bf2 columns)
+FK_MODEL, FK_ONE_WAY, FK_LOSSY = 0, 1, 2
+#: the coulomb-robust model code (the switching model the plant locks and frees)
+CODE_ROBUST = 2
 
-TH_W = 4            # capacity C [J/K], conductance hA [W/K], ambient [°C]
-(T_C, T_HA, T_AMB) = range(3)
+TH_W = 6            # capacity C [J/K], conductance hA [W/K], ambient [°C], link node, G [W/K]
+(T_C, T_HA, T_AMB, T_LINK, T_G) = range(5)
 
 ENG_W = 12
 (E_NODE, E_TAB, E_NTAB, E_IN, E_D0, E_D1, E_IDLE, E_KP, E_KI, E_STALL, E_GOV) = range(11)
@@ -61,6 +87,28 @@ VEH_W = 10
 N_ENERGY = 6        # W_in, W_friction, W_damping, W_road, E_grade, W_sync
 EN_IN, EN_FRIC, EN_DAMP, EN_ROAD, EN_GRADE, EN_SYNC = range(6)
 
+NO_EVENT = 1.0
+
+
+@jit
+def _interp_xy(p, xo, yo, n, x):
+    """Linear interpolation in the table with breakpoints ``p[xo:xo+n]`` and values
+    ``p[yo:yo+n]``, held constant outside."""
+    if x <= p[xo]:
+        return p[yo]
+    if x >= p[xo + n - 1]:
+        return p[yo + n - 1]
+    lo, hi = 0, n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if p[xo + mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    x0, x1 = p[xo + lo], p[xo + hi]
+    y0, y1 = p[yo + lo], p[yo + hi]
+    return y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+
 
 @jit
 def interp(p, off, n, x):
@@ -68,20 +116,7 @@ def interp(p, off, n, x):
     ``p[off+n:off+2n]`` (y), held constant outside."""
     if n <= 0:
         return 1.0
-    if x <= p[off]:
-        return p[off + n]
-    if x >= p[off + n - 1]:
-        return p[off + 2 * n - 1]
-    lo, hi = 0, n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if p[off + mid] <= x:
-            lo = mid
-        else:
-            hi = mid
-    x0, x1 = p[off + lo], p[off + hi]
-    y0, y1 = p[off + n + lo], p[off + n + hi]
-    return y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+    return _interp_xy(p, off, off + n, n, x)
 
 
 @jit
@@ -97,7 +132,7 @@ def _is_locked(p, y, k):
     """Is coupling k rigid now (a gear, or a locked friction element)?"""
     c = int(p[H_CPL]) + k * CPL_W
     kind = p[c + C_KIND]
-    if kind == GEAR or kind == SHIFT_GEAR:
+    if kind == GEAR or kind == SHIFT_GEAR or kind == LOSSY_GEAR:
         return True
     if kind == FRICTION:
         f = int(p[H_FE]) + int(p[c + C_FE]) * FE_W
@@ -129,7 +164,8 @@ def _speed_factors(p, y, a, b, s):
 
 @jit
 def _locked_brake_node(p, y, a, b, skip):
-    """Node of the first locked brake on nodes a..b (not element ``skip``), or -1."""
+    """Node of the first locked holder (brake or stuck lossy gear) on nodes a..b (not
+    element ``skip``), or -1."""
     nf = int(p[H_NF])
     for e in range(nf):
         if e == skip:
@@ -142,46 +178,218 @@ def _locked_brake_node(p, y, a, b, skip):
     return -1
 
 
+# ------------------------------------------------------------------ lossy gear law
 @jit
-def lock_torque(p, y, e, Tn, s):
+def lossy_coeffs(p, f, w):
+    """(eta_mf1, eta_mf2, tau_bf1, tau_bf2, tau_bf_a) of the lossy element at ``p[f:]``,
+    read in its loss table at ``|w|`` [rad/s]."""
+    aux = int(p[f + F_AUX])
+    n = int(p[aux])
+    xo = aux + 1
+    x = abs(w)
+    e1 = _interp_xy(p, xo, xo + n, n, x)
+    e2 = _interp_xy(p, xo, xo + 2 * n, n, x)
+    b1 = _interp_xy(p, xo, xo + 3 * n, n, x)
+    b2 = _interp_xy(p, xo, xo + 4 * n, n, x)
+    if abs(e1 - 1.0) <= 1e-15 and abs(e2 - 1.0) <= 1e-15:
+        ba = 0.5 * b1
+    else:
+        ba = (b1 - b2) / (e1 - 1.0 / e2)
+    return e1, e2, b1, b2, ba
+
+
+@jit
+def lossy_bounds(p, f, Ta):
+    """(lower, upper) loss torque [N·m] a stuck lossy gear holds at the flange-a torque
+    ``Ta`` (Modelica ``tauLossMin_m``, ``tauLossMax_p``: the rolling laws at |w| = 0)."""
+    e1, e2, b1, b2, ba = lossy_coeffs(p, f, 0.0)
+    if Ta - ba > 0.0:
+        up = (1.0 - e1) * Ta + b1
+    else:
+        up = (1.0 - 1.0 / e2) * Ta + b2
+    if Ta + ba > 0.0:
+        lo = (1.0 - 1.0 / e2) * Ta - b2
+    else:
+        lo = (1.0 - e1) * Ta - b1
+    return lo, up
+
+
+@jit
+def lossy_solve(mode, T0, kk, e1, e2, b1, b2, ba):
+    """Loss ``L`` and flange-a torque ``T`` of a rolling lossy gear.
+
+    Solves ``L = law(T)``, ``T = T0 + kk·L`` (0 <= kk <= 1: how much of the loss comes
+    back to flange a through the accelerations or the holder of the cluster).  The law is
+    continuous and piecewise linear with slopes ``1 - eta_mf1 < 1`` and ``1 - 1/eta_mf2
+    <= 0``, so ``T - kk·law(T)`` is increasing and the solution is unique: the branch above
+    the power-flow switch point is tried first.
+    """
+    if mode > 0.0:
+        sw, cu, du, cl, dl = ba, 1.0 - e1, b1, 1.0 - 1.0 / e2, b2
+    else:
+        sw, cu, du, cl, dl = -ba, 1.0 - 1.0 / e2, -b2, 1.0 - e1, -b1
+    L = (cu * T0 + du) / (1.0 - cu * kk)
+    T = T0 + kk * L
+    if T >= sw:
+        return L, T
+    L = (cl * T0 + dl) / (1.0 - cl * kk)
+    return L, T0 + kk * L
+
+
+@jit
+def one_way_limit(p, f, scale):
+    """Largest forward stick torque of a locked one-way clutch [N·m]."""
+    if scale > 0.0:
+        return scale * p[f + F_CAP]
+    return p[f + F_AUX]
+
+
+# ------------------------------------------------------------------ holders and stick torques
+@jit
+def _hold(p, y, a, b, include, Th, s, fs, hb):
+    """Share the torque that holds the cluster a..b at rest among its holders.
+
+    Holders are the locked brake-like elements on nodes a..b plus element ``include``
+    (-1: none) whatever its lock flag.  Brakes, in element order, take up to their
+    static capacity; the last holder (a lossy gear if one is a holder, else the last
+    brake) takes the rest.  Each holder's torque goes into ``hb`` and is subtracted from
+    ``Th`` at its node.  Returns (number of holders, node of the last holder).
+    """
+    nf = int(p[H_NF])
+    F0 = int(p[H_FE])
+    last = -1
+    count = 0
+    for lossy_pass in range(2):
+        for e in range(nf):
+            f = F0 + e * FE_W
+            if p[f + F_LOC] != LOC_BRAKE:
+                continue
+            if (p[f + F_KIND] == FK_LOSSY) != (lossy_pass == 1):
+                continue
+            m = int(p[f + F_IDX])
+            if m < a or m > b:
+                continue
+            if e != include and y[int(p[f + F_YLK])] <= 0.5:
+                continue
+            last = e
+            count += 1
+    if count == 0:
+        return 0, -1
+    S = 0.0
+    for j in range(a, b + 1):
+        S += Th[j] * s[j]
+    for e in range(nf):
+        if e == last:
+            continue
+        f = F0 + e * FE_W
+        if p[f + F_LOC] != LOC_BRAKE or p[f + F_KIND] == FK_LOSSY:
+            continue
+        m = int(p[f + F_IDX])
+        if m < a or m > b:
+            continue
+        if e != include and y[int(p[f + F_YLK])] <= 0.5:
+            continue
+        cap = fs[e] * p[f + F_CAP]
+        B = max(-cap, min(cap, S / s[m]))
+        hb[e] = B
+        Th[m] -= B
+        S -= B * s[m]
+    f = F0 + last * FE_W
+    m = int(p[f + F_IDX])
+    B = S / s[m]
+    hb[last] = B
+    Th[m] -= B
+    return count, m
+
+
+@jit
+def lock_torque(p, y, e, Tn, s, fs, aux):
     """Torque friction element ``e`` transmits if it is (or were) locked.
 
     ``Tn`` holds the node torques of everything except locked elements and ``e`` itself.
+    For a lossy gear ``aux[e]`` receives its flange-a torque in that state.
     """
     f = int(p[H_FE]) + e * FE_W
     J0 = int(p[H_NODE])
+    n = int(p[H_N])
+    Th = np.empty(n)
+    hb = np.zeros(max(int(p[H_NF]), 1))
     if p[f + F_LOC] == LOC_COUPLING:
         k = int(p[f + F_IDX])
         a = _left(p, y, k)
         b = _right(p, y, k + 1)
         _speed_factors(p, y, a, b, s)
-        m = _locked_brake_node(p, y, a, b, e)
-        sum_t = 0.0
-        j_eq = 0.0
         for j in range(a, b + 1):
-            sum_t += Tn[j] * s[j]
-            j_eq += p[J0 + j * NODE_W + N_J] * s[j] * s[j]
+            Th[j] = Tn[j]
+        cnt, _m = _hold(p, y, a, b, -1, Th, s, fs, hb)
         down = 0.0
-        if m < 0:
+        if cnt == 0:
+            sum_t = 0.0
+            j_eq = 0.0
+            for j in range(a, b + 1):
+                sum_t += Tn[j] * s[j]
+                j_eq += p[J0 + j * NODE_W + N_J] * s[j] * s[j]
             alpha = sum_t / j_eq
             for j in range(k + 1, b + 1):
                 down += Tn[j] * s[j] - p[J0 + j * NODE_W + N_J] * s[j] * s[j] * alpha
         else:
             for j in range(k + 1, b + 1):
-                down += Tn[j] * s[j]
-            if m >= k + 1:
-                down -= sum_t
+                down += Th[j] * s[j]
         return down / s[k + 1]
     m0 = int(p[f + F_IDX])
     a = _left(p, y, m0)
     b = _right(p, y, m0)
-    if _locked_brake_node(p, y, a, b, e) >= 0:
-        return 0.0
     _speed_factors(p, y, a, b, s)
-    sum_t = 0.0
     for j in range(a, b + 1):
-        sum_t += Tn[j] * s[j]
-    return sum_t / s[m0]
+        Th[j] = Tn[j]
+    _hold(p, y, a, b, e, Th, s, fs, hb)
+    if p[f + F_KIND] == FK_LOSSY:
+        up = 0.0
+        for j in range(a, m0 + 1):
+            up += Th[j] * s[j]
+        aux[e] = up / s[m0] + hb[e]
+    return hb[e]
+
+
+@jit
+def lossy_rolling(p, y, e, Tn, s, fs):
+    """(loss torque, flange-a torque) of the rolling lossy element ``e``, given the node
+    torques ``Tn`` of everything else (sliding elements included, holders not)."""
+    f = int(p[H_FE]) + e * FE_W
+    J0 = int(p[H_NODE])
+    n = int(p[H_N])
+    k = int(p[f + F_IDX])
+    a = _left(p, y, k)
+    b = _right(p, y, k)
+    _speed_factors(p, y, a, b, s)
+    Th = np.empty(n)
+    hb = np.zeros(max(int(p[H_NF]), 1))
+    for j in range(a, b + 1):
+        Th[j] = Tn[j]
+    cnt, m = _hold(p, y, a, b, -1, Th, s, fs, hb)
+    up = 0.0
+    for j in range(a, k + 1):
+        up += Th[j] * s[j]
+    T0 = up / s[k]
+    if cnt == 0:
+        # moving cluster: T_a = T0_moving + (J_up/J_eq)·L
+        S = 0.0
+        j_eq = 0.0
+        j_up = 0.0
+        for j in range(a, b + 1):
+            jj = p[J0 + j * NODE_W + N_J] * s[j] * s[j]
+            S += Tn[j] * s[j]
+            j_eq += jj
+            if j <= k:
+                j_up += jj
+        T0 -= j_up * S / (j_eq * s[k])
+        kk = j_up / j_eq
+    else:
+        # held by another element: the loss comes back to flange a if that holder is on
+        # the flange-a side
+        kk = 1.0 if m <= k else 0.0
+    e1, e2, b1, b2, ba = lossy_coeffs(p, f, y[k])
+    return lossy_solve(y[int(p[f + F_YZ])], T0, kk, e1, e2, b1, b2, ba)
 
 
 @jit
@@ -208,6 +416,8 @@ def _add_element_torque(p, y, e, tau, Tn):
 def element_scale(p, y, u, e, w):
     """Capacity multiplier of element e: actuation × mu(theta) × mu(slip) (>= 0)."""
     f = int(p[H_FE]) + e * FE_W
+    if p[f + F_KIND] == FK_LOSSY:
+        return 1.0
     x = u[int(p[f + F_IN])]
     n_act = int(p[f + F_NACT])
     act = interp(p, int(p[f + F_ACT]), n_act, x) if n_act > 0 else x
@@ -264,7 +474,7 @@ def engine_torque(p, y, u, omega):
 
 
 @jit
-def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w):
+def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux):
     """All torques, stick torques and derivatives.  Writes ``dy`` completely."""
     n = int(p[H_N])
     nf = int(p[H_NF])
@@ -329,17 +539,17 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w):
             Tn[k] += tau / r
             Tn[k + 1] -= tau
             p_damp += p[c + C_D] * w * w
-    # friction elements: slip speeds and capacities
+    # switching elements: slip speeds and capacities
     for e in range(nf):
         w = rel_speed(p, y, e)
         fe_w[e] = w
         fe_scale[e] = element_scale(p, y, u, e, w)
-    # pass 1: free (unlocked) elements with F_e = 0
+    # pass 1: free (unlocked) friction elements with F_e = 0
     T1 = Tn.copy()
     F1 = np.zeros(nf)
     for e in range(nf):
         f = F0 + e * FE_W
-        if y[int(p[f + F_YLK])] > 0.5:
+        if y[int(p[f + F_YLK])] > 0.5 or p[f + F_KIND] == FK_LOSSY:
             continue
         nz = int(p[f + F_NZ])
         yz = int(p[f + F_YZ])
@@ -348,22 +558,32 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w):
         F1[e] = friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], 0.0,
                                fe_scale[e], dzt)
         _add_element_torque(p, y, e, F1[e], T1)
+    # rolling lossy gears: the loss follows from the torques of everything else
+    for e in range(nf):
+        f = F0 + e * FE_W
+        if y[int(p[f + F_YLK])] > 0.5 or p[f + F_KIND] != FK_LOSSY:
+            continue
+        F1[e], _ta = lossy_rolling(p, y, e, T1, s, fe_scale)
+        _add_element_torque(p, y, e, F1[e], T1)
     # pass 2: free elements with their stick torque
     for e in range(nf):
         f = F0 + e * FE_W
         if y[int(p[f + F_YLK])] > 0.5:
             continue
         _add_element_torque(p, y, e, -F1[e], T1)
-        fe_Fe[e] = lock_torque(p, y, e, T1, s)
+        fe_Fe[e] = lock_torque(p, y, e, T1, s, fe_scale, fe_aux)
         _add_element_torque(p, y, e, F1[e], T1)
-        nz = int(p[f + F_NZ])
-        yz = int(p[f + F_YZ])
-        pf = p[int(p[f + F_PAR]):]
-        F = friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], fe_Fe[e],
-                           fe_scale[e], dy[yz:yz + nz])
-        drag = p[f + F_DRAG]
-        if drag != 0.0:
-            F += drag * math.tanh(fe_w[e])
+        if p[f + F_KIND] == FK_LOSSY:
+            F = F1[e]
+        else:
+            nz = int(p[f + F_NZ])
+            yz = int(p[f + F_YZ])
+            pf = p[int(p[f + F_PAR]):]
+            F = friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], fe_Fe[e],
+                               fe_scale[e], dy[yz:yz + nz])
+            drag = p[f + F_DRAG]
+            if drag != 0.0:
+                F += drag * math.tanh(fe_w[e])
         fe_F[e] = F
         _add_element_torque(p, y, e, F, Tn)
     # locked elements: the constraint torque
@@ -371,12 +591,13 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w):
         f = F0 + e * FE_W
         if y[int(p[f + F_YLK])] <= 0.5:
             continue
-        fe_Fe[e] = lock_torque(p, y, e, Tn, s)
-        nz = int(p[f + F_NZ])
-        yz = int(p[f + F_YZ])
-        pf = p[int(p[f + F_PAR]):]
-        friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], fe_Fe[e],
-                       fe_scale[e], dy[yz:yz + nz])
+        fe_Fe[e] = lock_torque(p, y, e, Tn, s, fe_scale, fe_aux)
+        if p[f + F_KIND] != FK_LOSSY:
+            nz = int(p[f + F_NZ])
+            yz = int(p[f + F_YZ])
+            pf = p[int(p[f + F_PAR]):]
+            friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], fe_Fe[e],
+                           fe_scale[e], dy[yz:yz + nz])
         fe_F[e] = fe_Fe[e]
     p_fric = 0.0
     for e in range(nf):
@@ -392,12 +613,20 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w):
         tb = int(p[f + F_THB])
         if tb >= 0:
             dy[int(p[H_YTH]) + tb] += p[f + F_SHB] * heat
-    # thermal nodes: convection and capacity
+    # thermal nodes: convection, conduction links, capacity
     nth = int(p[H_NTH])
+    yth = int(p[H_YTH])
     for i in range(nth):
         tb_ = int(p[H_TH]) + i * TH_W
-        iy = int(p[H_YTH]) + i
-        dy[iy] = (dy[iy] - p[tb_ + T_HA] * (y[iy] - p[tb_ + T_AMB])) / p[tb_ + T_C]
+        iy = yth + i
+        dy[iy] -= p[tb_ + T_HA] * (y[iy] - p[tb_ + T_AMB])
+        li = int(p[tb_ + T_LINK])
+        if li >= 0:
+            q = p[tb_ + T_G] * (y[iy] - y[yth + li])
+            dy[iy] -= q
+            dy[yth + li] += q
+    for i in range(nth):
+        dy[yth + i] /= p[int(p[H_TH]) + i * TH_W + T_C]
     # accelerations, cluster by cluster
     j = 0
     while j < n:
@@ -420,22 +649,28 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w):
                 for i in range(a, b + 1):
                     dy[i] = alpha * s[i]
         j = b + 1
-    # gear torques (constraint torques of rigid gears), for output
+    # gear torques (constraint torques of rigid gears), for output: the torque the gear
+    # passes to the part of its cluster downstream of it, referred to node k+1
+    Th = np.empty(n)
+    hb = np.zeros(max(nf, 1))
     for k in range(n - 1):
         c = C0 + k * CPL_W
         kind = p[c + C_KIND]
-        if kind == GEAR or kind == SHIFT_GEAR:
-            # downstream of node k+1 inside its cluster: J·alpha - T
-            b = _right(p, y, k + 1)
-            _speed_factors(p, y, k + 1, b, s)
-            m = _locked_brake_node(p, y, k + 1, b, -1)
+        if kind == GEAR or kind == SHIFT_GEAR or kind == LOSSY_GEAR:
+            a = _left(p, y, k)
+            b = _right(p, y, k)
+            _speed_factors(p, y, a, b, s)
             down = 0.0
-            if m < 0:
+            if _locked_brake_node(p, y, a, b, -1) >= 0:
+                for i in range(a, b + 1):
+                    Th[i] = Tn[i]
+                _hold(p, y, a, b, -1, Th, s, fe_scale, hb)
+                for i in range(k + 1, b + 1):
+                    down += Th[i] * s[i]
+            else:
                 for i in range(k + 1, b + 1):
                     down += (Tn[i] - p[J0 + i * NODE_W + N_J] * dy[i]) * s[i]
-                tau_c[k] = down
-            else:
-                tau_c[k] = math.nan
+            tau_c[k] = down / s[k + 1]
     dy[yen + EN_IN] = p_in
     dy[yen + EN_FRIC] = p_fric
     dy[yen + EN_DAMP] = p_damp
@@ -448,20 +683,85 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w):
 def _work(p):
     n = int(p[H_N])
     nf = int(p[H_NF])
-    return np.zeros(max(n - 1, 1)), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf)
+    return (np.zeros(max(n - 1, 1)), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf),
+            np.zeros(nf))
 
 
 @jit
 def chain_rhs(t, y, u, p, dy):
-    tau_c, fF, fFe, fs, fw = _work(p)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw)
+    tau_c, fF, fFe, fs, fw, fa = _work(p)
+    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
+
+
+@jit
+def _switching(p, f):
+    """Does the plant lock and free this element (coulomb-robust, one-way, lossy)?"""
+    return p[f + F_KIND] != FK_MODEL or int(p[f + F_CODE]) == CODE_ROBUST
+
+
+@jit
+def _shielded(p, y, e):
+    """Is the locked brake-like element ``e`` a holder that another holder backs up (it
+    is not the last one of its cluster, see :func:`_hold`)?  Its share is clipped at its
+    capacity, so its break-away function would only touch zero, never cross it."""
+    f = int(p[H_FE]) + e * FE_W
+    if p[f + F_LOC] != LOC_BRAKE:
+        return False
+    m = int(p[f + F_IDX])
+    a = _left(p, y, m)
+    b = _right(p, y, m)
+    last = -1
+    nf = int(p[H_NF])
+    for lossy_pass in range(2):
+        for ee in range(nf):
+            ff = int(p[H_FE]) + ee * FE_W
+            if p[ff + F_LOC] != LOC_BRAKE or y[int(p[ff + F_YLK])] <= 0.5:
+                continue
+            if (p[ff + F_KIND] == FK_LOSSY) != (lossy_pass == 1):
+                continue
+            if a <= int(p[ff + F_IDX]) <= b:
+                last = ee
+    return last != e
+
+
+@jit
+def _element_events(p, y, e, fw, fFe, fs, fa, g):
+    """Event functions of element ``e`` into ``g`` (its slots)."""
+    f = int(p[H_FE]) + e * FE_W
+    nz = int(p[f + F_NZ])
+    yz = int(p[f + F_YZ])
+    kind = p[f + F_KIND]
+    locked = y[int(p[f + F_YLK])] > 0.5
+    if kind == FK_MODEL:
+        pf = p[int(p[f + F_PAR]):]
+        # a free element (scale 0) gets a vanishing capacity so that its break-away
+        # function starts strictly positive and the first torque makes it cross
+        sc = fs[e] if fs[e] > 0.0 else 1e-300
+        friction_events(int(p[f + F_CODE]), pf, y[yz:yz + nz], fw[e], fFe[e], sc, g)
+        if locked and int(p[f + F_CODE]) == CODE_ROBUST and _shielded(p, y, e):
+            g[1] = NO_EVENT
+    elif kind == FK_ONE_WAY:
+        if locked:
+            g[0] = NO_EVENT
+            g[1] = one_way_limit(p, f, fs[e]) - fFe[e]
+        else:
+            g[0] = fw[e]
+            g[1] = NO_EVENT
+    else:
+        if locked:
+            lo, up = lossy_bounds(p, f, fa[e])
+            g[0] = NO_EVENT
+            g[1] = min(up - fFe[e], fFe[e] - lo)
+        else:
+            g[0] = y[yz] * fw[e]
+            g[1] = NO_EVENT
 
 
 @jit
 def chain_events(t, y, u, p, g):
-    tau_c, fF, fFe, fs, fw = _work(p)
+    tau_c, fF, fFe, fs, fw, fa = _work(p)
     dy = np.empty(y.size)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw)
+    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
     nf = int(p[H_NF])
     for e in range(nf):
         f = int(p[H_FE]) + e * FE_W
@@ -469,14 +769,7 @@ def chain_events(t, y, u, p, g):
         if ne == 0:
             continue
         off = int(p[f + F_EV])
-        nz = int(p[f + F_NZ])
-        yz = int(p[f + F_YZ])
-        pf = p[int(p[f + F_PAR]):]
-        # a free element (scale 0) gets a vanishing capacity so that its break-away
-        # function starts strictly positive and the first torque makes it cross
-        sc = fs[e] if fs[e] > 0.0 else 1e-300
-        friction_events(int(p[f + F_CODE]), pf, y[yz:yz + nz], fw[e], fFe[e], sc,
-                        g[off:off + ne])
+        _element_events(p, y, e, fw, fFe, fs, fa, g[off:off + ne])
     if p[H_ENG] > 0.0:
         b = int(p[H_ENGB])
         g[int(p[H_EVSTALL])] = y[int(p[b + E_NODE])] - p[b + E_STALL]
@@ -523,10 +816,111 @@ def kinetic_energy(p, y):
 
 
 @jit
+def _element_reset(p, y, e, j, fw, fFe, fs, fa):
+    """Apply event ``j`` of element ``e`` to its own states.  Returns the action code of
+    :mod:`clutchsim.friction.base` (0 nothing, 1 states changed, 2 now stuck, 3 freed)."""
+    f = int(p[H_FE]) + e * FE_W
+    nz = int(p[f + F_NZ])
+    yz = int(p[f + F_YZ])
+    kind = p[f + F_KIND]
+    if kind == FK_MODEL:
+        pf = p[int(p[f + F_PAR]):]
+        return friction_reset(int(p[f + F_CODE]), pf, y[yz:yz + nz], fw[e], fFe[e], fs[e], j)
+    if kind == FK_ONE_WAY:
+        if j == 0:      # stop: the freewheel blocks unless the clutch is overloaded
+            if fFe[e] <= one_way_limit(p, f, fs[e]):
+                y[yz] = 0.0
+                return 2
+            y[yz] = 1.0
+            return 0
+        y[yz] = 1.0     # breakaway: slide forward
+        return 3
+    lo, up = lossy_bounds(p, f, fa[e])
+    if j == 0:          # stop: stick, or roll on in the direction of the torque
+        if lo <= fFe[e] <= up:
+            y[yz] = 0.0
+            return 2
+        y[yz] = 1.0 if fFe[e] > up else -1.0
+        return 1
+    # breakaway: roll towards the limit that is reached (at the located event the stick
+    # torque sits on it, within round-off)
+    y[yz] = 1.0 if up - fFe[e] <= fFe[e] - lo else -1.0
+    return 3
+
+
+@jit
+def _restructure(p, y, e, action, s):
+    """Lock (action 2, merging the cluster and booking the lost kinetic energy) or free
+    (action 3) element ``e``."""
+    f = int(p[H_FE]) + e * FE_W
+    if action == 2:
+        y[int(p[f + F_YLK])] = 1.0
+        ke0 = kinetic_energy(p, y)
+        m = int(p[f + F_IDX])
+        _merge(p, y, _left(p, y, m), _right(p, y, m), s)
+        y[int(p[H_YEN]) + EN_SYNC] += ke0 - kinetic_energy(p, y)
+    elif action == 3:
+        y[int(p[f + F_YLK])] = 0.0
+
+
+@jit
+def _settle(t, y, u, p, e0, s):
+    """Event iteration after element ``e0`` switched (-1: after a gear shift): every other
+    switching element is checked once at the same instant.  A locked one whose stick
+    torque has left its limits breaks away; a sliding one that is now at (or past) zero
+    slip - its stop coincided with ``e0``'s switch or was made exact by a merge - takes
+    its stop decision."""
+    nf = int(p[H_NF])
+    any_switching = False
+    for e in range(nf):
+        if e != e0 and _switching(p, int(p[H_FE]) + e * FE_W):
+            any_switching = True
+    if not any_switching:
+        return
+    done = np.zeros(nf)
+    if e0 >= 0:
+        done[e0] = 1.0
+    g = np.empty(4)
+    # "zero slip": within round-off of the event location (a sliding element far from
+    # zero slip, e.g. a free clutch, is left alone)
+    vmax = 0.0
+    for j in range(int(p[H_N])):
+        vmax = max(vmax, abs(y[j]))
+    w_tol = 1e-9 * (1.0 + vmax)
+    for _ in range(nf + 1):
+        tau_c, fF, fFe, fs, fw, fa = _work(p)
+        dy = np.empty(y.size)
+        evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
+        hit = -1
+        slot = -1
+        for e in range(nf):
+            f = int(p[H_FE]) + e * FE_W
+            if done[e] > 0.0 or not _switching(p, f):
+                continue
+            mode = y[int(p[f + F_YZ])]
+            if y[int(p[f + F_YLK])] > 0.5:
+                _element_events(p, y, e, fw, fFe, fs, fa, g)
+                if g[1] < 0.0:
+                    hit = e
+                    slot = 1
+                    break
+            elif mode != 0.0 and mode * fw[e] <= 0.0 and abs(fw[e]) <= w_tol:
+                hit = e
+                slot = 0
+                break
+        if hit < 0:
+            return
+        done[hit] = 1.0
+        action = _element_reset(p, y, hit, slot, fw, fFe, fs, fa)
+        if action == 2 or action == 3:
+            _restructure(p, y, hit, action, s)
+
+
+@jit
 def chain_reset(t, y, u, p, k):
-    tau_c, fF, fFe, fs, fw = _work(p)
+    tau_c, fF, fFe, fs, fw, fa = _work(p)
     dy = np.empty(y.size)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw)
+    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
     n = int(p[H_N])
     s = np.empty(n)
     nf = int(p[H_NF])
@@ -537,26 +931,12 @@ def chain_reset(t, y, u, p, k):
         off = int(p[f + F_EV])
         if ne == 0 or k < off or k >= off + ne:
             continue
-        nz = int(p[f + F_NZ])
-        yz = int(p[f + F_YZ])
-        pf = p[int(p[f + F_PAR]):]
-        action = friction_reset(int(p[f + F_CODE]), pf, y[yz:yz + nz], fw[e], fFe[e], fs[e],
-                                k - off)
-        if action == 2:
-            y[int(p[f + F_YLK])] = 1.0
-            ke0 = kinetic_energy(p, y)
-            if p[f + F_LOC] == LOC_COUPLING:
-                kk = int(p[f + F_IDX])
-                _merge(p, y, _left(p, y, kk), _right(p, y, kk), s)
-            else:
-                m = int(p[f + F_IDX])
-                _merge(p, y, _left(p, y, m), _right(p, y, m), s)
-            y[yen + EN_SYNC] += ke0 - kinetic_energy(p, y)
-            return 1
-        if action == 3:
-            y[int(p[f + F_YLK])] = 0.0
-            return 1
-        return 1 if action == 1 else 0
+        action = _element_reset(p, y, e, k - off, fw, fFe, fs, fa)
+        if action == 2 or action == 3:
+            _restructure(p, y, e, action, s)
+        if _switching(p, f) and action != 0:
+            _settle(t, y, u, p, e, s)
+        return 1 if action != 0 else 0
     if p[H_ENG] > 0.0 and k == int(p[H_EVSTALL]):
         return 3
     for kk in range(n - 1):
@@ -576,6 +956,7 @@ def chain_reset(t, y, u, p, k):
                 for i in range(a, b + 1):
                     y[i] = ref * s[i]
                 y[yen + EN_SYNC] += ke0 - kinetic_energy(p, y)
+                _settle(t, y, u, p, -1, s)
                 return 1
     return 0
 
@@ -585,9 +966,9 @@ def chain_outputs(t, y, u, p, out):
     """Coupling torques, element slip/scale/stick torque/power, engine, vehicle, energy."""
     n = int(p[H_N])
     nf = int(p[H_NF])
-    tau_c, fF, fFe, fs, fw = _work(p)
+    tau_c, fF, fFe, fs, fw, fa = _work(p)
     dy = np.empty(y.size)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw)
+    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
     i = 0
     for k in range(n - 1):
         out[i] = tau_c[k]
@@ -596,7 +977,11 @@ def chain_outputs(t, y, u, p, out):
         f = int(p[H_FE]) + e * FE_W
         out[i] = fF[e]
         out[i + 1] = fw[e]
-        out[i + 2] = fs[e] * p[f + F_CAP]
+        if p[f + F_KIND] == FK_LOSSY:
+            _lo, up = lossy_bounds(p, f, fa[e])
+            out[i + 2] = up
+        else:
+            out[i + 2] = fs[e] * p[f + F_CAP]
         out[i + 3] = fFe[e]
         out[i + 4] = fF[e] * fw[e]
         i += 5

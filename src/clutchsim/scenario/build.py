@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 
 from ..driveline.chain import Chain
-from ..driveline.components import (Brake, Engine, FrictionElement, Gear, Gearbox, Inertia,
-                                    SpringDamper, ThermalNode, Vehicle)
+from ..driveline.components import (LOSS_COLUMNS, Brake, Engine, FrictionElement, Gear,
+                                    Gearbox, Inertia, LossyGear, OneWayClutch, SpringDamper,
+                                    ThermalNode, Vehicle)
 from ..friction import get_model_class, make_model
 from ..friction.base import SelfExcitedWarning
+from .schema import suggest
 
 __all__ = ["build_chain", "friction_model"]
 
@@ -56,6 +59,52 @@ def _pairs(tab, a, b, key, fail):
     return (tab[a], tab[b])
 
 
+def _number_list(value, key, fail):
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        value = [value]
+    if not isinstance(value, list) or not value or not all(
+            isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+            for x in value):
+        fail(f"must be a non-empty list of finite numbers, got {value!r}", key)
+    return [float(x) for x in value]
+
+
+def loss_table(tab, key: str, fail) -> tuple:
+    """Rows (speed, eta_mf1, eta_mf2, tau_bf1, tau_bf2) of a lossy-gear ``loss_table``
+    table, checked column by column (errors name the entry, its value and the rule)."""
+    if tab is None:
+        return ((0.0, 1.0, 1.0, 0.0, 0.0),)
+    if not isinstance(tab, dict) or set(tab) != set(LOSS_COLUMNS):
+        got = sorted(tab) if isinstance(tab, dict) else repr(tab)
+        fail("must be a table {" + ", ".join(f"{c} = [...]" for c in LOSS_COLUMNS)
+             + f"}}, got {got}", key)
+    cols = {c: _number_list(tab[c], f"{key}.{c}", fail) for c in LOSS_COLUMNS}
+    n = len(cols["speed"])
+    for c in LOSS_COLUMNS[1:]:
+        if len(cols[c]) != n:
+            fail(f"has {len(cols[c])} entries, but speed has {n} (one value per speed)",
+                 f"{key}.{c}")
+    speed = cols["speed"]
+    for i, w in enumerate(speed):
+        if i == 0 and w < 0.0:
+            fail(f"= {w:g} rad/s is out of range: must be >= 0 (the table is read at "
+                 "|omega_a|)", f"{key}.speed[0]")
+        if i > 0 and w <= speed[i - 1]:
+            fail(f"= {w:g} rad/s must be greater than speed[{i - 1}] = {speed[i - 1]:g} rad/s "
+                 "(strictly increasing)", f"{key}.speed[{i}]")
+    for c in ("eta_mf1", "eta_mf2"):
+        for i, v in enumerate(cols[c]):
+            if not 0.0 < v <= 1.0:
+                fail(f"= {v:g} is out of range: an efficiency must be in (0, 1] (0 cannot "
+                     "transmit power)", f"{key}.{c}[{i}]")
+    for c in ("tau_bf1", "tau_bf2"):
+        for i, v in enumerate(cols[c]):
+            if v < 0.0:
+                fail(f"= {v:g} N·m is out of range: a bearing friction torque must be >= 0 "
+                     "N·m", f"{key}.{c}[{i}]")
+    return tuple(zip(*(cols[c] for c in LOSS_COLUMNS)))
+
+
 def build_chain(scenario, model: str | None = None) -> Chain:
     """Build the :class:`Chain` of ``scenario`` with ``model`` on its clutch element."""
     data = scenario.data
@@ -73,6 +122,14 @@ def build_chain(scenario, model: str | None = None) -> Chain:
         except (TypeError, ValueError) as exc:
             fail(str(exc), key)
 
+    if model is not None:
+        for i, t in enumerate(data.get("coupling", [])):
+            if t.get("name") == scenario.clutch and t.get("type") in ("one_way_clutch",
+                                                                       "lossy_gear"):
+                fail(f"model {model!r} cannot replace {t['name']!r}: a {t['type']} has a fixed "
+                     "switching law, not a friction model (run it without --model)",
+                     "scenario.clutch")
+
     inertias = []
     for i, t in enumerate(data["inertia"]):
         if t.get("load"):
@@ -85,6 +142,23 @@ def build_chain(scenario, model: str | None = None) -> Chain:
         ctype = t["type"]
         if ctype == "gear":
             couplings.append(guard(lambda kw=kw: Gear(**kw), key))
+        elif ctype == "lossy_gear":
+            if kw.get("ratio") == 0:
+                fail("= 0 is not allowed: the speed ratio omega_a/omega_b must be non-zero",
+                     f"{key}.ratio")
+            kw["loss_table"] = loss_table(kw.get("loss_table"), f"{key}.loss_table", fail)
+            lg = guard(lambda kw=kw: LossyGear(**kw), key)
+            others = [c.name for c in couplings if isinstance(c, LossyGear) and not c.ideal]
+            if others and not lg.ideal:
+                fail(f"a second lossy gear with losses ({others[0]!r} is the first): a scenario "
+                     "may hold at most one", key)
+            couplings.append(lg)
+        elif ctype == "one_way_clutch":
+            need_input(kw["command"], f"{key}.command")
+            kw["mu_temperature"] = _pairs(kw.get("mu_temperature"), "theta", "factor",
+                                          f"{key}.mu_temperature", fail)
+            kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
+            couplings.append(guard(lambda kw=kw: OneWayClutch(**kw), key))
         elif ctype == "spring_damper":
             couplings.append(guard(lambda kw=kw: SpringDamper(**kw), key))
         elif ctype == "gearbox":
@@ -112,6 +186,7 @@ def build_chain(scenario, model: str | None = None) -> Chain:
         need_input(kw["command"], f"{key}.command")
         m = model if _replaced(t, model, scenario) else None
         kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail)
+        kw["mu_slip"] = _pairs(kw.get("mu_slip"), "slip", "factor", f"{key}.mu_slip", fail)
         brakes.append(guard(lambda kw=kw: Brake(**kw), key))
     engine = None
     if "engine" in data:
@@ -122,5 +197,10 @@ def build_chain(scenario, model: str | None = None) -> Chain:
     vehicle = guard(lambda: Vehicle(**data["vehicle"]), "vehicle") if "vehicle" in data else None
     thermal = tuple(guard(lambda t=t: ThermalNode(**t), f"thermal[{i}]")
                     for i, t in enumerate(data.get("thermal", [])))
+    th_names = [t.name for t in thermal]
+    for i, t in enumerate(thermal):
+        if t.link is not None and t.link not in th_names:
+            fail(f"= {t.link!r} is not a thermal node{suggest(t.link, th_names)} (nodes: "
+                 f"{', '.join(th_names)})", f"thermal[{i}].link")
     return guard(lambda: Chain(inertias, couplings, brakes, engine, vehicle, thermal,
                                name=scenario.name), "coupling")

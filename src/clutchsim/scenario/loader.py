@@ -253,7 +253,8 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
     except ValueError as exc:
         fail(str(exc), "solver")
     clutch = sc.get("clutch", "clutch")
-    fe_names = [c["name"] for c in data.get("coupling", []) if c.get("type") == "clutch"]
+    fe_names = [c["name"] for c in data.get("coupling", [])
+                if c.get("type") in ("clutch", "one_way_clutch", "lossy_gear")]
     fe_names += [b["name"] for b in data.get("brake", [])]
     if "models" in sc or "clutch" in sc:
         if clutch not in fe_names:

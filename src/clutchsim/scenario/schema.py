@@ -69,7 +69,8 @@ FRICTION = (
 )
 CLUTCH = (
     Key("name", "str", "Unique name.", required=True),
-    Key("type", "str", "clutch | spring_damper | gear | gearbox.", required=True),
+    Key("type", "str", "clutch | one_way_clutch | spring_damper | gear | lossy_gear | gearbox.",
+        required=True),
     Key("command", "str", "Actuation input: COM in [0, 1] (seed eqs. 1-2), or the pedal / "
         "actuator position read through `clamp_table`.", required=True),
     Key("friction", "table", "Friction model of the element (see [friction]).", required=True),
@@ -99,6 +100,32 @@ GEAR = (
     Key("type", "str", "gear.", required=True),
     _n("ratio", "Speed ratio omega_in/omega_out.", "-", required=True),
 )
+LOSSY_GEAR = (
+    Key("name", "str", "Unique name; states `<name>.mode` (-1 rolling backward, 0 stuck, +1 "
+        "forward) and `<name>.locked`.", required=True),
+    Key("type", "str", "lossy_gear: rigid gear with mesh efficiency and bearing friction that "
+        "can stick (Modelica LossyGear; at most one per scenario).", required=True),
+    _n("ratio", "Speed ratio omega_a/omega_b (non-zero).", "-", required=True),
+    Key("loss_table", "table", "`{speed = [rad/s ...], eta_mf1 = [...], eta_mf2 = [...], "
+        "tau_bf1 = [N·m ...], tau_bf2 = [N·m ...]}`: mesh efficiency with power flowing a->b "
+        "(eta_mf1) and b->a (eta_mf2), in (0, 1], and bearing friction torques (>= 0), against "
+        "|omega_a| (first >= 0, increasing). Default: no losses (an ideal gear)."),
+)
+ONE_WAY_CLUTCH = (
+    Key("name", "str", "Unique name; states `<name>.mode` (+1 sliding, 0 locked) and "
+        "`<name>.locked`.", required=True),
+    Key("type", "str", "one_way_clutch: freewheel in parallel with a friction clutch (Modelica "
+        "OneWayClutch); slides only with omega_b > omega_a/ratio.", required=True),
+    Key("command", "str", "Normalised clamp force input (0 open .. 1 full).", required=True),
+    _n("T_slide", "Sliding torque of the clutch at full command (mu·cgeo·fn_max).", "N·m",
+       required=True, low=0.0),
+    _n("peak", "Static / sliding torque ratio of the clutch.", "-", low=1.0),
+    Key("mu_temperature", "table", "`{theta = [°C ...], factor = [...]}`: mu(theta)/mu_ref at the "
+        "first heat node."),
+    Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
+        "friction power goes."),
+    _n("ratio", "Ideal ratio on the input side.", "-"),
+)
 GEARBOX = (
     Key("name", "str", "Unique name; state `ratio_<name>`.", required=True),
     Key("type", "str", "gearbox.", required=True),
@@ -113,6 +140,8 @@ BRAKE = (
     Key("command", "str", "Actuation input (0 released .. 1 full capacity).", required=True),
     Key("friction", "table", "Friction model of the brake (see [friction]).", required=True),
     _n("drag", "Drag torque of the released brake.", "N·m", low=0.0),
+    Key("mu_slip", "table", "`{slip = [rad/s ...], factor = [...]}`: mu(|w|)/mu_ref (e.g. a "
+        "speed-dependent bearing friction)."),
 )
 ENGINE = (
     Key("node", "str", "Inertia the engine drives.", required=True),
@@ -142,9 +171,14 @@ THERMAL = (
     _n("conductance", "Convection hA to ambient (0: adiabatic).", "W/K", low=0.0),
     _n("ambient", "Ambient temperature.", "°C", low=-273.15),
     _n("theta0", "Initial temperature.", "°C", low=-273.15),
+    Key("link", "str", "Another thermal node this one conducts to (e.g. a friction-surface "
+        "layer to the bulk of its plate); declare each link once."),
+    _n("link_conductance", "Conductance of the link (> 0 with a link).", "W/K", low=0.0),
 )
 
-COUPLING_TYPES = {"clutch": CLUTCH, "spring_damper": SPRING, "gear": GEAR, "gearbox": GEARBOX}
+COUPLING_TYPES = {"clutch": CLUTCH, "one_way_clutch": ONE_WAY_CLUTCH,
+                  "spring_damper": SPRING, "gear": GEAR, "lossy_gear": LOSSY_GEAR,
+                  "gearbox": GEARBOX}
 
 #: top-level tables: name -> (keys, kind) with kind "table" or "tables" (array of tables)
 SECTIONS = {
