@@ -39,7 +39,7 @@ def test_default_launch_model6_completes_with_energy_balance(launch):
 def test_default_launch_robust_completes_and_naive_chatters_at_lockup(launch):
     robust = run_scenario(launch, "coulomb-robust").metrics
     assert robust["completed"], robust["message"]
-    assert robust["energy_balance_rel"] <= 1e-8
+    assert robust["energy_balance_rel"] <= 1e-6   # issue: 1e-5; measured 3.7e-8 (ros34pw2)
     naive = run_scenario(launch, "coulomb-naive").metrics
     assert not naive["completed"]
     assert "chatter" in naive["message"] and "lock-up" in naive["message"]

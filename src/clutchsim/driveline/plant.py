@@ -90,7 +90,7 @@ EN_IN, EN_FRIC, EN_DAMP, EN_ROAD, EN_GRADE, EN_SYNC = range(6)
 NO_EVENT = 1.0
 
 
-@jit
+@jit(inline="always")
 def _interp_xy(p, xo, yo, n, x):
     """Linear interpolation in the table with breakpoints ``p[xo:xo+n]`` and values
     ``p[yo:yo+n]``, held constant outside."""
@@ -110,7 +110,7 @@ def _interp_xy(p, xo, yo, n, x):
     return y0 + (y1 - y0) * (x - x0) / (x1 - x0)
 
 
-@jit
+@jit(inline="always")
 def interp(p, off, n, x):
     """Linear interpolation in the table stored at ``p[off:off+n]`` (x) and
     ``p[off+n:off+2n]`` (y), held constant outside."""
@@ -119,7 +119,7 @@ def interp(p, off, n, x):
     return _interp_xy(p, off, off + n, n, x)
 
 
-@jit
+@jit(inline="always")
 def _ratio(p, y, k):
     c = int(p[H_CPL]) + k * CPL_W
     if p[c + C_KIND] == SHIFT_GEAR:
@@ -127,7 +127,7 @@ def _ratio(p, y, k):
     return p[c + C_RATIO]
 
 
-@jit
+@jit(inline="always")
 def _is_locked(p, y, k):
     """Is coupling k rigid now (a gear, or a locked friction element)?"""
     c = int(p[H_CPL]) + k * CPL_W
@@ -140,14 +140,14 @@ def _is_locked(p, y, k):
     return False
 
 
-@jit
+@jit(inline="always")
 def _left(p, y, j):
     while j > 0 and _is_locked(p, y, j - 1):
         j -= 1
     return j
 
 
-@jit
+@jit(inline="always")
 def _right(p, y, j):
     n = int(p[H_N])
     while j < n - 1 and _is_locked(p, y, j):
@@ -155,14 +155,14 @@ def _right(p, y, j):
     return j
 
 
-@jit
+@jit(inline="always")
 def _speed_factors(p, y, a, b, s):
     s[a] = 1.0
     for j in range(a, b):
         s[j + 1] = s[j] / _ratio(p, y, j)
 
 
-@jit
+@jit(inline="always")
 def _locked_brake_node(p, y, a, b, skip):
     """Node of the first locked holder (brake or stuck lossy gear) on nodes a..b (not
     element ``skip``), or -1."""
@@ -312,8 +312,10 @@ def lock_torque(p, y, e, Tn, s, fs, aux):
     f = int(p[H_FE]) + e * FE_W
     J0 = int(p[H_NODE])
     n = int(p[H_N])
-    Th = np.empty(n)
-    hb = np.zeros(max(int(p[H_NF]), 1))
+    scratch = np.empty(n + max(int(p[H_NF]), 1))
+    Th = scratch[:n]
+    hb = scratch[n:]
+    hb[:] = 0.0
     if p[f + F_LOC] == LOC_COUPLING:
         k = int(p[f + F_IDX])
         a = _left(p, y, k)
@@ -362,8 +364,10 @@ def lossy_rolling(p, y, e, Tn, s, fs):
     a = _left(p, y, k)
     b = _right(p, y, k)
     _speed_factors(p, y, a, b, s)
-    Th = np.empty(n)
-    hb = np.zeros(max(int(p[H_NF]), 1))
+    scratch = np.empty(n + max(int(p[H_NF]), 1))
+    Th = scratch[:n]
+    hb = scratch[n:]
+    hb[:] = 0.0
     for j in range(a, b + 1):
         Th[j] = Tn[j]
     cnt, m = _hold(p, y, a, b, -1, Th, s, fs, hb)
@@ -392,7 +396,7 @@ def lossy_rolling(p, y, e, Tn, s, fs):
     return lossy_solve(y[int(p[f + F_YZ])], T0, kk, e1, e2, b1, b2, ba)
 
 
-@jit
+@jit(inline="always")
 def rel_speed(p, y, e):
     f = int(p[H_FE]) + e * FE_W
     if p[f + F_LOC] == LOC_COUPLING:
@@ -401,7 +405,7 @@ def rel_speed(p, y, e):
     return y[int(p[f + F_IDX])]
 
 
-@jit
+@jit(inline="always")
 def _add_element_torque(p, y, e, tau, Tn):
     f = int(p[H_FE]) + e * FE_W
     if p[f + F_LOC] == LOC_COUPLING:
@@ -412,7 +416,7 @@ def _add_element_torque(p, y, e, tau, Tn):
         Tn[int(p[f + F_IDX])] -= tau
 
 
-@jit
+@jit(inline="always")
 def element_scale(p, y, u, e, w):
     """Capacity multiplier of element e: actuation × mu(theta) × mu(slip) (>= 0)."""
     f = int(p[H_FE]) + e * FE_W
@@ -431,7 +435,7 @@ def element_scale(p, y, u, e, w):
     return max(act, 0.0)
 
 
-@jit
+@jit(inline="always")
 def _spring_torque(p, c, phi):
     c1 = p[c + C_C1]
     knee = p[c + C_KNEE]
@@ -451,7 +455,7 @@ def spring_energy(p, c, phi):
     return 0.5 * c1 * knee * knee + c1 * knee * ex + 0.5 * p[c + C_C2] * ex * ex
 
 
-@jit
+@jit(inline="always")
 def engine_torque(p, y, u, omega):
     """(fuel torque, drag torque, governor integrator derivative) of the engine."""
     b = int(p[H_ENGB])
@@ -484,8 +488,21 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux):
     yen = int(p[H_YEN])
     for i in range(dy.size):
         dy[i] = 0.0
-    Tn = np.zeros(n)
-    s = np.empty(n)
+    # one scratch allocation per call (each np.zeros is a malloc, a free and two atomic
+    # reference counts: with ~15 separate arrays they were a third of the launch's time)
+    nz_max = 1
+    for e in range(nf):
+        nz_max = max(nz_max, int(p[F0 + e * FE_W + F_NZ]))
+    nfb = max(nf, 1)
+    scratch = np.empty(4 * n + 2 * nfb + nz_max)
+    Tn = scratch[:n]
+    s = scratch[n:2 * n]
+    T1 = scratch[2 * n:3 * n]
+    Th = scratch[3 * n:4 * n]
+    F1 = scratch[4 * n:4 * n + nfb]
+    hb = scratch[4 * n + nfb:4 * n + 2 * nfb]
+    dzt = scratch[4 * n + 2 * nfb:]
+    Tn[:] = 0.0
     p_in = 0.0
     p_damp = 0.0
     p_road = 0.0
@@ -545,18 +562,17 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux):
         fe_w[e] = w
         fe_scale[e] = element_scale(p, y, u, e, w)
     # pass 1: free (unlocked) friction elements with F_e = 0
-    T1 = Tn.copy()
-    F1 = np.zeros(nf)
+    T1[:] = Tn
+    F1[:] = 0.0
     for e in range(nf):
         f = F0 + e * FE_W
         if y[int(p[f + F_YLK])] > 0.5 or p[f + F_KIND] == FK_LOSSY:
             continue
         nz = int(p[f + F_NZ])
         yz = int(p[f + F_YZ])
-        dzt = np.empty(nz)
         pf = p[int(p[f + F_PAR]):]
         F1[e] = friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], 0.0,
-                               fe_scale[e], dzt)
+                               fe_scale[e], dzt[:nz])
         _add_element_torque(p, y, e, F1[e], T1)
     # rolling lossy gears: the loss follows from the torques of everything else
     for e in range(nf):
@@ -651,8 +667,7 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux):
         j = b + 1
     # gear torques (constraint torques of rigid gears), for output: the torque the gear
     # passes to the part of its cluster downstream of it, referred to node k+1
-    Th = np.empty(n)
-    hb = np.zeros(max(nf, 1))
+    hb[:] = 0.0
     for k in range(n - 1):
         c = C0 + k * CPL_W
         kind = p[c + C_KIND]
@@ -683,8 +698,10 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux):
 def _work(p):
     n = int(p[H_N])
     nf = int(p[H_NF])
-    return (np.zeros(max(n - 1, 1)), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf),
-            np.zeros(nf))
+    m = max(n - 1, 1)
+    w = np.zeros(m + 5 * nf)
+    return (w[:m], w[m:m + nf], w[m + nf:m + 2 * nf], w[m + 2 * nf:m + 3 * nf],
+            w[m + 3 * nf:m + 4 * nf], w[m + 4 * nf:m + 5 * nf])
 
 
 @jit

@@ -41,7 +41,7 @@ SCENARIO = (
         "metrics refer to (default `clutch`)."),
 )
 SOLVER = (
-    Key("method", "str", "rodas4 (default), dopri5, scipy-radau, scipy-lsoda, scipy-rk45."),
+    Key("method", "str", "rodas4 (default), ros34pw2, dopri5, scipy-radau, scipy-lsoda, scipy-rk45."),
     _n("rtol", "Relative tolerance.", low=1e-14),
     _n("atol", "Absolute tolerance.", low=0.0, strict=True),
     _n("h_max", "Largest step (0: none).", "s", low=0.0),
