@@ -17,6 +17,9 @@ breakaway      force ramps at 1-50 N/s (T4)
 stick-slip     spring pulled at constant speed (T5)
 coulomb-analytic two-mass Coulomb problem with an analytic stick time (T9)
 ============== ================================================================
+
+:mod:`clutchsim.benchmarks.phenomena` runs several of them on a model and classifies the
+metrics into the classic friction phenomena (stiction, Stribeck effect, ...).
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ from dataclasses import dataclass
 
 from ..core.system import closest
 from . import breakaway, coulomb_analytic, curves, drift, hysteresis, lag, presliding, stick_slip
+from . import phenomena
 from ._base import BenchmarkResult, ModelEntry, entry_from_spec, resolve_models
 from .breakaway import run_breakaway
 from .coulomb_analytic import run_coulomb_analytic
@@ -44,6 +48,7 @@ __all__ = [
     "ModelEntry",
     "entry_from_spec",
     "get_benchmark",
+    "phenomena",
     "resolve_models",
     "run_benchmark",
     "run_breakaway",
