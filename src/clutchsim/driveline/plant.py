@@ -777,9 +777,23 @@ def _element_events(p, y, e, fw, fFe, fs, fa, g):
 @jit
 def chain_events(t, y, u, p, g):
     tau_c, fF, fFe, fs, fw, fa = _work(p)
-    dy = np.empty(y.size)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
     nf = int(p[H_NF])
+    # Only the switching elements (lock/free: robust Coulomb, one-way, lossy gear) need
+    # the stick torques, i.e. a full evaluation; the events of the other models read the
+    # slip speed alone.  The event functions are sampled four times per step, so this
+    # saves ~40 % of the plant evaluations of a model-(6) launch.
+    full = False
+    for e in range(nf):
+        f = int(p[H_FE]) + e * FE_W
+        if int(p[f + F_NEV]) > 0 and _switching(p, f):
+            full = True
+    if full:
+        dy = np.empty(y.size)
+        evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
+    else:
+        for e in range(nf):
+            fw[e] = rel_speed(p, y, e)
+            fs[e] = element_scale(p, y, u, e, fw[e])
     for e in range(nf):
         f = int(p[H_FE]) + e * FE_W
         ne = int(p[f + F_NEV])
