@@ -1,7 +1,7 @@
 """Throughput of ``clutchsim.sweep`` on launch variants (metrics only).
 
-Problem: the packaged default launch with model (6) (examples/launch.toml, 0–4 s, rodas4,
-rtol = atol = 1e-8), seeded Monte Carlo over vehicle mass (uniform 1100–1500 kg) and road
+Problem: the packaged default launch with model (6) (examples/launch.toml, 0–4 s, with the
+scenario's solver settings: ros34pw2, rtol = 1e-6, atol = 1e-8), seeded Monte Carlo over vehicle mass (uniform 1100–1500 kg) and road
 grade (uniform 0–8 %).  Measured:
 
 * ``runs`` variants in-process on all cores (threads; the compiled integrator releases the
@@ -13,8 +13,8 @@ grade (uniform 0–8 %).  Measured:
 
 Also ``setup_ms_per_run``: the Python time per run outside the integrator (overrides, parse,
 parameter packing, metrics) = wall per run on 1 thread minus the integrator's own wall time.
-Issue 7 asks for 10,000 runs (the default); on a 2-core machine at ~0.3 s per launch that
-takes ~25 min, so ``--runs`` sets a smaller count (the result says which was used).
+Issue 7 asks for 10,000 runs (the default; ~3 min on the 2-core project machine at ~30 ms
+per launch); ``--runs`` sets a smaller count (the result says which was used).
 
 Prints one JSON object on the last stdout line.
 """
