@@ -93,3 +93,15 @@ def lu_solve_row(a, piv, B, r):
         for j in range(i + 1, n):
             s -= a[i, j] * B[r, j]
         B[r, i] = s * a[i, i]
+
+
+@jit(inline="always")
+def factor_iteration_matrix(J, inv_gamma_h, M, piv):
+    """Form ``M = I/(γh) − J`` and factorise it in place (the matrix of every stage of a
+    Rosenbrock step).  Returns False if it is singular."""
+    n = J.shape[0]
+    for i in range(n):
+        for j in range(n):
+            M[i, j] = -J[i, j]
+        M[i, i] += inv_gamma_h
+    return lu_factor(M, piv)

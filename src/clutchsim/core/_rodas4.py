@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from .._jit import jit
-from ._linalg import lu_factor, lu_solve, lu_solve_row
+from ._linalg import factor_iteration_matrix, lu_solve, lu_solve_row
 from .signals import eval_inputs
 from .system import system_rhs
 
@@ -72,12 +72,7 @@ def rodas4_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u, ytmp, f
 
     Returns False when the iteration matrix is singular (the caller shrinks the step)."""
     n = y.shape[0]
-    inv = 1.0 / (GAM * h)
-    for i in range(n):
-        for j in range(n):
-            M[i, j] = -J[i, j]
-        M[i, i] += inv
-    if not lu_factor(M, piv):
+    if not factor_iteration_matrix(J, 1.0 / (GAM * h), M, piv):
         return False
     for i in range(n):
         K[0, i] = f0[i] + h * D1 * dfdt[i]

@@ -371,7 +371,7 @@ def _table_value(tt, vv, hit_knots, t, t_ref):
     return vv[lo] + (vv[hi] - vv[lo]) * (t - tt[lo]) / dt
 
 
-@jit(inline="always")
+@jit
 def eval_inputs(bank, t, t_ref, u):
     """Write the value of every input channel at time ``t`` into ``u``.
 

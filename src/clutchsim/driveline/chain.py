@@ -10,7 +10,7 @@ import numpy as np
 from ..core import System, register_system
 from . import plant as P
 from .components import (Brake, Engine, FrictionElement, Gear, Gearbox, Inertia, LossyGear,
-                         OneWayClutch, SpringDamper, ThermalNode, Vehicle, static_capacity)
+                         OneWayClutch, SpringDamper, Vehicle, static_capacity)
 
 __all__ = ["Chain", "ChainPlant", "ENERGY_STATES"]
 

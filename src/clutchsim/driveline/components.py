@@ -55,6 +55,16 @@ def _table(owner: str, name: str, xs, ys, *, increasing=True):
     return (tuple(x), tuple(v))
 
 
+def _heat_shares(o, heat):
+    """Validated ``((thermal node, share of the friction power), ...)`` of an element [-]."""
+    heat = tuple((str(n), _num(o, "heat share", s, low=0.0, high=1.0)) for n, s in heat)
+    if len(heat) > 2:
+        raise ValueError(f"{o}: heat goes to at most 2 thermal nodes")
+    if sum(s for _, s in heat) > 1.0 + 1e-12:
+        raise ValueError(f"{o}: heat shares sum to {sum(s for _, s in heat):g} > 1")
+    return heat
+
+
 @dataclass(frozen=True)
 class Inertia:
     """A rotating inertia (a node of the chain).
@@ -351,12 +361,7 @@ class FrictionElement:
                 object.__setattr__(self, key, _table(o, key, tab[0], tab[1]))
         object.__setattr__(self, "drag", _num(o, "drag", self.drag, low=0.0, unit="N·m"))
         object.__setattr__(self, "ratio", _num(o, "ratio", self.ratio))
-        heat = tuple((str(n), _num(o, "heat share", s, low=0.0, high=1.0)) for n, s in self.heat)
-        if len(heat) > 2:
-            raise ValueError(f"{o}: heat goes to at most 2 thermal nodes")
-        if sum(s for _, s in heat) > 1.0 + 1e-12:
-            raise ValueError(f"{o}: heat shares sum to {sum(s for _, s in heat):g} > 1")
-        object.__setattr__(self, "heat", heat)
+        object.__setattr__(self, "heat", _heat_shares(o, self.heat))
 
 
 @dataclass(frozen=True)
@@ -439,12 +444,7 @@ class OneWayClutch:
         if self.mu_temperature is not None:
             object.__setattr__(self, "mu_temperature",
                                _table(o, "mu_temperature", *self.mu_temperature))
-        heat = tuple((str(n), _num(o, "heat share", s, low=0.0, high=1.0)) for n, s in self.heat)
-        if len(heat) > 2:
-            raise ValueError(f"{o}: heat goes to at most 2 thermal nodes")
-        if sum(s for _, s in heat) > 1.0 + 1e-12:
-            raise ValueError(f"{o}: heat shares sum to {sum(s for _, s in heat):g} > 1")
-        object.__setattr__(self, "heat", heat)
+        object.__setattr__(self, "heat", _heat_shares(o, self.heat))
         peak2 = max(peak, 1.0 + ONE_WAY_EPS0)
         object.__setattr__(self, "model", CoulombRobust(F_c=t_slide, F_s=peak2 * t_slide))
 

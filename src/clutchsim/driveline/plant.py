@@ -245,6 +245,16 @@ def one_way_limit(p, f, scale):
 
 
 # ------------------------------------------------------------------ holders and stick torques
+@jit(inline="always")
+def _holds(p, y, f, e, a, b, include):
+    """Is the brake-like element ``e`` (block ``f``) on nodes a..b and holding (locked, or
+    ``include``)?"""
+    m = int(p[f + F_IDX])
+    if m < a or m > b:
+        return False
+    return e == include or y[int(p[f + F_YLK])] > 0.5
+
+
 @jit
 def _hold(p, y, a, b, include, Th, s, fs, hb):
     """Share the torque that holds the cluster a..b at rest among its holders.
@@ -266,10 +276,7 @@ def _hold(p, y, a, b, include, Th, s, fs, hb):
                 continue
             if (p[f + F_KIND] == FK_LOSSY) != (lossy_pass == 1):
                 continue
-            m = int(p[f + F_IDX])
-            if m < a or m > b:
-                continue
-            if e != include and y[int(p[f + F_YLK])] <= 0.5:
+            if not _holds(p, y, f, e, a, b, include):
                 continue
             last = e
             count += 1
@@ -284,11 +291,9 @@ def _hold(p, y, a, b, include, Th, s, fs, hb):
         f = F0 + e * FE_W
         if p[f + F_LOC] != LOC_BRAKE or p[f + F_KIND] == FK_LOSSY:
             continue
+        if not _holds(p, y, f, e, a, b, include):
+            continue
         m = int(p[f + F_IDX])
-        if m < a or m > b:
-            continue
-        if e != include and y[int(p[f + F_YLK])] <= 0.5:
-            continue
         cap = fs[e] * p[f + F_CAP]
         B = max(-cap, min(cap, S / s[m]))
         hb[e] = B
