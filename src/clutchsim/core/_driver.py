@@ -463,12 +463,12 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                 jac_valid = False   # a W-method step failed with an aged Jacobian: refresh
             continue
 
+        t_new = t_stop if hit else t + h
         if method == ROS34PW2:
             # f at the new point: the Hermite end slope and the next step's first stage.
             # A non-finite value there rejects the step like a non-finite stage would.
-            t_end_step = t_stop if hit else t + h
-            eval_inputs(bank, t_end_step, t_ref, u)
-            system_rhs(tag, t_end_step, y_new, u, p, K[5])
+            eval_inputs(bank, t_new, t_ref, u)
+            system_rhs(tag, t_new, y_new, u, p, K[5])
             stats[S_RHS] += 1
             bad = _first_nonfinite(K[5])
             if bad >= 0:
@@ -482,7 +482,6 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         last_nonfinite = -1
         stats[S_STEPS] += 1
         h_smallest = min(h_smallest, h)
-        t_new = t_stop if hit else t + h
         if method == DOPRI5:
             dopri5_dense(K, y, h, dense)
         elif method == RODAS4:

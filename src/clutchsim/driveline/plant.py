@@ -307,6 +307,16 @@ def _hold(p, y, a, b, include, Th, s, fs, hb):
     return count, m
 
 
+@jit(inline="always")
+def _hold_scratch(p, n):
+    """Scratch for :func:`_hold`: node torques ``Th`` [n] and zeroed holder torques ``hb``,
+    from one allocation."""
+    scratch = np.empty(n + max(int(p[H_NF]), 1))
+    hb = scratch[n:]
+    hb[:] = 0.0
+    return scratch[:n], hb
+
+
 @jit
 def lock_torque(p, y, e, Tn, s, fs, aux):
     """Torque friction element ``e`` transmits if it is (or were) locked.
@@ -317,10 +327,7 @@ def lock_torque(p, y, e, Tn, s, fs, aux):
     f = int(p[H_FE]) + e * FE_W
     J0 = int(p[H_NODE])
     n = int(p[H_N])
-    scratch = np.empty(n + max(int(p[H_NF]), 1))
-    Th = scratch[:n]
-    hb = scratch[n:]
-    hb[:] = 0.0
+    Th, hb = _hold_scratch(p, n)
     if p[f + F_LOC] == LOC_COUPLING:
         k = int(p[f + F_IDX])
         a = _left(p, y, k)
@@ -369,10 +376,7 @@ def lossy_rolling(p, y, e, Tn, s, fs):
     a = _left(p, y, k)
     b = _right(p, y, k)
     _speed_factors(p, y, a, b, s)
-    scratch = np.empty(n + max(int(p[H_NF]), 1))
-    Th = scratch[:n]
-    hb = scratch[n:]
-    hb[:] = 0.0
+    Th, hb = _hold_scratch(p, n)
     for j in range(a, b + 1):
         Th[j] = Tn[j]
     cnt, m = _hold(p, y, a, b, -1, Th, s, fs, hb)
