@@ -154,3 +154,103 @@ def test_linked_thermal_nodes_conserve_heat_and_equalise():
     # the small surface node runs ahead during slip, then the link equalises them
     assert np.max(res["theta_surface"] - res["theta_bulk"]) > 5.0
     assert res["theta_surface"][-1] == pytest.approx(res["theta_bulk"][-1], abs=1e-6)
+
+
+# ----------------------------------------------------------------- gearbox efficiency
+GB_R, GB_JA, GB_JB = 3.0, 0.2, 1.8
+
+
+def _gearbox_chain(**losses):
+    from clutchsim.driveline import Gearbox
+    return Chain([Inertia("a", GB_JA, omega0=10.0, load="Ta"),
+                  Inertia("b", GB_JB, omega0=10.0 / GB_R, load="Tb")],
+                 [Gearbox("gb", ratios=(GB_R, 1.0), gear=1, **losses)])
+
+
+@pytest.mark.parametrize("eta", [1.0, 0.95, 0.7])
+def test_gearbox_efficiency_driving_takes_one_minus_eta_of_the_input_torque(eta):
+    # input drives output: J_b·dw_b/dt = r·eta·T_in with T_in = tau - J_a·dw_a/dt, so
+    # dw_a/dt = tau / (J_a + J_b/(eta·r²)); the loss power (1-eta)·T_in·w_a is booked
+    chain = _gearbox_chain(efficiency=eta, efficiency_reverse=0.5)
+    tau = 5.0
+    res = simulate(chain.build(), (0, 1.0), {"Ta": tau, "Tb": 0.0}, options=OPTS)
+    assert res.status == "completed", res.message
+    alpha = tau / (GB_JA + GB_JB / (eta * GB_R**2))
+    assert res["omega_a"][-1] == pytest.approx(10.0 + alpha, rel=1e-10)
+    assert res["omega_b"][-1] == pytest.approx((10.0 + alpha) / GB_R, rel=1e-12)
+    eb = energy_balance(res)
+    t_in = tau - GB_JA * alpha
+    assert eb["W_friction"] == pytest.approx((1 - eta) * t_in * (10.0 + alpha / 2),
+                                             rel=1e-8, abs=1e-12)
+    assert eb["energy_balance_rel"] < 1e-9
+    # the reverse efficiency alone makes a switching element; without any loss the
+    # gearbox is a plain rigid gear
+    assert len(chain.elements) == 1
+    assert _gearbox_chain(efficiency=1.0).elements == ()
+
+
+def test_gearbox_efficiency_reverse_applies_when_the_output_drives_the_input():
+    # engine braking: the output side drives the input, power flows back through
+    # efficiency_reverse: T_in = -J_a·dw_a/dt, output torque r·T_in/eta_rev, so
+    # dw_b/dt = tau_b / (J_b + r²·J_a/eta_rev)
+    eta_rev = 0.8
+    chain = _gearbox_chain(efficiency=0.95, efficiency_reverse=eta_rev)
+    tau_b = 6.0
+    res = simulate(chain.build(), (0, 1.0), {"Ta": 0.0, "Tb": tau_b}, options=OPTS)
+    assert res.status == "completed", res.message
+    alpha_b = tau_b / (GB_JB + GB_R**2 * GB_JA / eta_rev)
+    assert res["omega_b"][-1] == pytest.approx(10.0 / GB_R + alpha_b, rel=1e-10)
+    t_in = -GB_JA * GB_R * alpha_b
+    assert res["T_loss_gb"][-1] == pytest.approx((1 - 1 / eta_rev) * t_in, rel=1e-9)
+    assert res["T_loss_gb"][-1] > 0.0                          # a loss, whatever the direction
+    assert energy_balance(res)["energy_balance_rel"] < 1e-9
+
+
+def test_gearbox_with_drag_torque_breaks_away_when_the_drive_beats_it():
+    # at rest the drag torque (and the mesh efficiency) hold the gearbox: a ramp torque
+    # k·t at the input turns it once k·t > drag/eta
+    from clutchsim.core import Ramp
+    from clutchsim.driveline import Gearbox
+    eta, drag, k = 0.9, 1.8, 4.0
+    chain = Chain([Inertia("a", GB_JA, load="Ta"), Inertia("b", GB_JB)],
+                  [Gearbox("gb", ratios=(GB_R,), efficiency=eta, drag_torque=drag)])
+    res = simulate(chain.build(), (0, 1.0), {"Ta": Ramp(0.0, 1.0, k)}, options=OPTS)
+    assert res.status == "completed", res.message
+    t_break = [e.t for e in res.events if e.name == "gb: breakaway"]
+    assert t_break and t_break[0] == pytest.approx(drag / (eta * k), abs=1e-8)
+    before = res.t < t_break[0]
+    assert np.all(res["omega_a"][before] == 0.0)
+    assert res["omega_a"][-1] > 0.0
+    assert energy_balance(res)["energy_balance_rel"] < 1e-8
+
+
+def test_gearbox_efficiency_follows_a_shift():
+    # gear 1 until 0.5 s, then gear 2 (ideal synchroniser: the output keeps its speed);
+    # in each gear dw_a/dt = tau / (J_a + J_b/(eta·r²)) with that gear's ratio
+    from clutchsim.driveline import Gearbox
+    eta, r1, r2, tau, ts = 0.9, 3.0, 1.5, 4.0, 0.5
+    chain = Chain([Inertia("a", GB_JA, omega0=10.0, load="Ta"),
+                   Inertia("b", GB_JB, omega0=10.0 / r1)],
+                  [Gearbox("gb", ratios=(r1, r2), shifts=((ts, 2),), efficiency=eta)])
+    res = simulate(chain.build(), (0, 1.0), {"Ta": tau}, options=OPTS)
+    assert res.status == "completed", res.message
+    a1 = tau / (GB_JA + GB_JB / (eta * r1**2))
+    a2 = tau / (GB_JA + GB_JB / (eta * r2**2))
+    w_b = (10.0 + a1 * ts) / r1 + a2 / r2 * (1.0 - ts)
+    assert res["omega_b"][-1] == pytest.approx(w_b, rel=1e-10)
+    assert res["omega_a"][-1] == pytest.approx(w_b * r2, rel=1e-12)
+    assert energy_balance(res)["energy_balance_rel"] < 1e-9
+
+
+def test_gearbox_rejects_bad_efficiency_and_a_second_lossy_gear():
+    from clutchsim.driveline import Gearbox, LossyGear
+    with pytest.raises(ValueError, match=r"efficiency = 0 must be in \(0, 1\]"):
+        Gearbox("gb", ratios=(3.0,), efficiency=0.0)
+    with pytest.raises(ValueError, match=r"efficiency_reverse = 1.1 must be in \(0, 1\]"):
+        Gearbox("gb", ratios=(3.0,), efficiency_reverse=1.1)
+    with pytest.raises(ValueError, match="drag_torque = -1 N·m must be >= 0"):
+        Gearbox("gb", ratios=(3.0,), drag_torque=-1.0)
+    with pytest.raises(ValueError, match=r"at most one gear with losses .*\['gb', 'lg'\]"):
+        Chain([Inertia("a", 1.0), Inertia("b", 1.0), Inertia("c", 1.0)],
+              [Gearbox("gb", ratios=(3.0,), efficiency=0.9),
+               LossyGear("lg", 2.0, ((0.0, 0.9, 0.9, 0.0, 0.0),))])

@@ -171,3 +171,32 @@ def test_model_cannot_replace_a_fixed_switching_law():
     with pytest.raises(ScenarioError, match="'lugre' cannot replace 'oneWayClutch'"):
         sc.chain("lugre")
     assert sc.chain(None).build().metadata["models"]["oneWayClutch"] == "one-way-clutch"
+
+
+@pytest.mark.parametrize("old,new,key,value,rule", [
+    ("efficiency = 0.95 ", "efficiency = 1.2 ", "coupling[2].efficiency", "= 1.2",
+     "must be <= 1"),
+    ("efficiency_reverse = 0.93", "efficiency_reverse = 0.0", "coupling[2].efficiency_reverse",
+     "= 0", "must be > 0"),
+    ("efficiency = 0.95 ", "efficiency = -0.5 ", "coupling[2].efficiency", "= -0.5",
+     "must be > 0"),
+])
+def test_bad_gearbox_efficiency(tmp_path, old, new, key, value, rule):
+    err, p, text = _bad(tmp_path, old, new, src="tip_out")
+    _assert_names(err, p, key, value, rule, text, new.strip())
+
+
+def test_gearbox_with_losses_counts_as_the_one_lossy_gear(tmp_path):
+    # a lossy final drive behind a gearbox with an efficiency: refused, with the key
+    text = (EXAMPLES / "tip_out.toml").read_text(encoding="utf-8")
+    old = '[[coupling]]\nname = "driveshaft"'
+    assert old in text
+    new = text.replace(old, '[[coupling]]\nname = "final"\ntype = "lossy_gear"\nratio = 1.0\n'
+                       'loss_table = { speed = [0.0], eta_mf1 = [0.9], eta_mf2 = [0.9], '
+                       'tau_bf1 = [0.0], tau_bf2 = [0.0] }\n\n' + old)
+    new += '\n[[inertia]]\nname = "hub"\nJ = 0.1\n'     # one more node for the extra gear
+    p = _write(tmp_path, new)
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(p)
+    assert "a second gear with losses ('gearbox' is the first" in str(info.value)
+    assert info.value.key == "coupling[3]"

@@ -30,6 +30,15 @@ register_system(ChainPlant, rhs=P.chain_rhs, events=P.chain_events, reset=P.chai
                 outputs=P.chain_outputs)
 
 
+#: couplings that can carry gear losses (a switching lossy element in the plant)
+_LOSSY = (LossyGear, Gearbox)
+
+
+def _has_losses(c) -> bool:
+    """Is ``c`` a gear whose losses make it a switching element of the plant?"""
+    return isinstance(c, _LOSSY) and not c.ideal
+
+
 @dataclass(frozen=True)
 class Chain:
     """Inertias in series joined by couplings, with brakes, an engine, a vehicle and heat.
@@ -76,8 +85,9 @@ class Chain:
                 raise ValueError(f"chain: {c!r} is not a coupling")
         lossy = [c.name for c in self.lossy_gears]
         if len(lossy) > 1:
-            raise ValueError(f"chain: at most one lossy gear with losses per chain (the loss "
-                             f"of a rolling gear is solved in closed form), got {lossy}")
+            raise ValueError(f"chain: at most one gear with losses (lossy gear, or gearbox "
+                             f"with an efficiency below 1 or a drag torque) per chain (the "
+                             f"loss of a rolling gear is solved in closed form), got {lossy}")
         names = [x.name for x in (*self.inertias, *self.couplings, *self.brakes)]
         dup = {n for n in names if names.count(n) > 1}
         if dup:
@@ -127,16 +137,16 @@ class Chain:
 
     @property
     def lossy_gears(self) -> tuple:
-        """Lossy gears with losses (an ideal loss table makes a plain gear)."""
-        return tuple(c for c in self.couplings if isinstance(c, LossyGear) and not c.ideal)
+        """Lossy gears and gearboxes with losses (without losses they are plain gears)."""
+        return tuple(c for c in self.couplings if _has_losses(c))
 
     @property
     def elements(self) -> tuple:
         """Switching elements of the plant: friction couplings and lossy gears in chain
         order, then the brakes."""
         return tuple(c for c in self.couplings
-                     if isinstance(c, (FrictionElement, OneWayClutch))
-                     or (isinstance(c, LossyGear) and not c.ideal)) + self.brakes
+                     if isinstance(c, (FrictionElement, OneWayClutch)) or _has_losses(c)) \
+            + self.brakes
 
     def input_names(self) -> tuple[str, ...]:
         """Input signals the plant reads, in channel order."""
@@ -233,7 +243,7 @@ class Chain:
         ev_off = []
         for fe in fes:
             ev_off.append(len(ev_names))
-            if isinstance(fe, (LossyGear, OneWayClutch)):
+            if isinstance(fe, (*_LOSSY, OneWayClutch)):
                 ev_names += [f"{fe.name}: stop", f"{fe.name}: breakaway"]
                 ev_dirs += [-1, -1]
             else:
@@ -290,6 +300,8 @@ class Chain:
             elif isinstance(c, Gearbox):
                 put(o, P.C_KIND, P.SHIFT_GEAR)
                 put(o, P.C_Y, twist_idx[k])
+                if _has_losses(c):
+                    put(o, P.C_FE, fe_index[c.name])
                 shift_pending.append((k, c))
             elif isinstance(c, SpringDamper):
                 put(o, P.C_KIND, P.SPRING)
@@ -320,7 +332,7 @@ class Chain:
             put(o, P.F_EV, ev_off[e])
             put(o, P.F_THA, -1)
             put(o, P.F_THB, -1)
-            if isinstance(fe, LossyGear):
+            if isinstance(fe, _LOSSY):
                 # the loss acts like a brake on the flange-a inertia of the (rigid) gear
                 put(o, P.F_KIND, P.FK_LOSSY)
                 put(o, P.F_LOC, P.LOC_BRAKE)
@@ -366,7 +378,7 @@ class Chain:
                     put(o, i_n, len(tab[0]))
         for e, fe in enumerate(fes):   # model parameters last: kernels read p[off:]
             off = P.HEADER + len(data)
-            if not isinstance(fe, LossyGear):
+            if not isinstance(fe, _LOSSY):
                 data.extend(fe.model.pack().tolist())
             put(fe_off[e], P.F_PAR, off)
         th_off = [block(P.TH_W) for _ in range(max(len(self.thermal), 1))]
@@ -410,7 +422,7 @@ class Chain:
             ounits.append("N·m")
         for fe in fes:
             # a coupling's torque is already T_<name>; a brake's is listed here
-            if isinstance(fe, LossyGear):
+            if isinstance(fe, _LOSSY):
                 onames += [f"T_loss_{fe.name}", f"w_slip_{fe.name}", f"capacity_{fe.name}",
                            f"T_stick_{fe.name}", f"P_{fe.name}"]
             else:
@@ -438,7 +450,7 @@ class Chain:
     # -------------------------------------------------------------- helpers
     @staticmethod
     def _model_name(fe) -> str:
-        if isinstance(fe, LossyGear):
+        if isinstance(fe, _LOSSY):
             return "lossy-gear"
         if isinstance(fe, OneWayClutch):
             return "one-way-clutch"
@@ -447,7 +459,7 @@ class Chain:
     @staticmethod
     def _state_spec(fe):
         """(state names, state units) of a switching element's own states."""
-        if isinstance(fe, LossyGear):
+        if isinstance(fe, _LOSSY):
             return ("mode",), ("1",)
         return tuple(fe.model.state_names()), tuple(fe.model.state_units("rotational"))
 
@@ -455,12 +467,12 @@ class Chain:
         if isinstance(fe, Brake):
             return float(omega0[self.node_names.index(fe.node)])
         k = self.couplings.index(fe)
-        if isinstance(fe, LossyGear):       # the gear's own speed at flange a
+        if isinstance(fe, _LOSSY):       # the gear's own speed at flange a
             return float(omega0[k])
         return float(omega0[k + 1] - omega0[k] / ratios[k])
 
     def _locked0(self, fe, omega0, ratios, inputs0) -> bool:
-        if isinstance(fe, LossyGear):
+        if isinstance(fe, _LOSSY):
             return self._slip0(fe, omega0, ratios) == 0.0
         if isinstance(fe, OneWayClutch):
             w = self._slip0(fe, omega0, ratios)
@@ -476,7 +488,7 @@ class Chain:
         return self._slip0(fe, omega0, ratios) == 0.0 and inputs0.get(fe.command, 1.0) > 0.0
 
     def _z0(self, fe, omega0, ratios, inputs0) -> np.ndarray:
-        if isinstance(fe, (LossyGear, OneWayClutch)):
+        if isinstance(fe, (*_LOSSY, OneWayClutch)):
             w = self._slip0(fe, omega0, ratios)
             locked = self._locked0(fe, omega0, ratios, inputs0)
             return np.array([0.0 if locked else (1.0 if w >= 0.0 else -1.0)])

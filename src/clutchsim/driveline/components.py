@@ -121,7 +121,16 @@ class Gear:
 
 @dataclass(frozen=True)
 class Gearbox:
-    """A gearbox with selectable ratios and final drive, rigid, ideal (no losses).
+    """A rigid gearbox with selectable ratios, final drive and mesh losses.
+
+    The gearbox is rigid, ``omega_out = omega_in / ratio``.  With an efficiency below 1 (or
+    a drag torque) it takes a loss torque ``L`` [N·m], referred to its input shaft, out of
+    the torque it transmits, with the power-flow-dependent law of :class:`LossyGear`
+    (Pelchen et al. 2002): driving (power from the engine side to the wheels) ``L = (1 -
+    efficiency)·T_in + drag_torque``; driven back (engine braking, tip-out) ``L = (1 -
+    1/efficiency_reverse)·T_in + drag_torque``.  At standstill it sticks while the torque it
+    must hold stays inside those laws' limits (Modelica ``LossyGear``).  The loss power is
+    booked in ``W_friction``; the loss acts at the gearbox input, whatever gear is engaged.
 
     Parameters
     ----------
@@ -136,6 +145,20 @@ class Gearbox:
         ``(time [s], new gear)``: at each time the ratio changes; an ideal synchroniser
         brings the input side to the new speed (the kinetic energy it removes is booked
         as ``W_sync``).  Open the clutch around a shift.
+    efficiency : float
+        Mesh efficiency [-] in (0, 1] with power flowing from input to output (gearbox and
+        final drive together; the same in every gear).  1: no mesh loss (default).
+    efficiency_reverse : float or None
+        Mesh efficiency [-] in (0, 1] with power flowing from the output back to the input
+        (engine braking).  ``None``: equal to ``efficiency``.
+    drag_torque : float
+        Speed-independent bearing and churning drag [N·m] (>= 0) referred to the input
+        shaft.  Default 0.
+
+    References
+    ----------
+    Pelchen C., Schweiger C., Otter M., "Modeling and simulating the efficiency of gearboxes
+    and of planetary gearboxes", 2nd International Modelica Conference, 2002, pp. 257-266.
     """
 
     name: str
@@ -143,6 +166,9 @@ class Gearbox:
     gear: int = 1
     final_drive: float = 1.0
     shifts: tuple = ()
+    efficiency: float = 1.0
+    efficiency_reverse: float | None = None
+    drag_torque: float = 0.0
 
     def __post_init__(self):
         o = f"gearbox {self.name!r}"
@@ -158,6 +184,13 @@ class Gearbox:
             self._check_gear(g, "shifts")
             sh.append((_num(o, "shift time", t, low=0.0, strict=True, unit="s"), int(g)))
         object.__setattr__(self, "shifts", tuple(sorted(sh)))
+        eta = _efficiency(o, "efficiency", self.efficiency)
+        object.__setattr__(self, "efficiency", eta)
+        rev = eta if self.efficiency_reverse is None else \
+            _efficiency(o, "efficiency_reverse", self.efficiency_reverse)
+        object.__setattr__(self, "efficiency_reverse", rev)
+        object.__setattr__(self, "drag_torque",
+                           _num(o, "drag_torque", self.drag_torque, low=0.0, unit="N·m"))
 
     def _check_gear(self, g, key):
         if isinstance(g, bool) or not isinstance(g, (int, np.integer)) or \
@@ -169,6 +202,26 @@ class Gearbox:
     def ratio(self, gear: int) -> float:
         """Overall ratio of ``gear`` including the final drive [-]."""
         return self.ratios[gear - 1] * self.final_drive
+
+    @property
+    def ideal(self) -> bool:
+        """True without losses (both efficiencies 1, no drag torque)."""
+        return self.efficiency == 1.0 and self.efficiency_reverse == 1.0 and \
+            self.drag_torque == 0.0
+
+    def columns(self) -> tuple[tuple[float, ...], ...]:
+        """The losses as a one-row :class:`LossyGear` table, in five columns (speed,
+        eta_mf1, eta_mf2, tau_bf1, tau_bf2)."""
+        return ((0.0,), (self.efficiency,), (self.efficiency_reverse,), (self.drag_torque,),
+                (self.drag_torque,))
+
+
+def _efficiency(owner: str, name: str, value) -> float:
+    x = _num(owner, name, value)
+    if not 0.0 < x <= 1.0:
+        raise ValueError(f"{owner}: {name} = {x:g} must be in (0, 1] (an efficiency of 0 "
+                         "cannot transmit power)")
+    return x
 
 
 #: columns of a lossy-gear loss table
@@ -247,9 +300,7 @@ class LossyGear:
                 raise ValueError(f"{o}: loss_table[{i}].speed = {w:g} rad/s must be greater "
                                  f"than the previous row's {rows[i - 1][0]:g} rad/s")
             for c, v in (("eta_mf1", e1), ("eta_mf2", e2)):
-                if not 0.0 < v <= 1.0:
-                    raise ValueError(f"{o}: loss_table[{i}].{c} = {v:g} must be in (0, 1] "
-                                     "(an efficiency of 0 cannot transmit power)")
+                _efficiency(o, f"loss_table[{i}].{c}", v)
             for c, v in (("tau_bf1", b1), ("tau_bf2", b2)):
                 if v < 0.0:
                     raise ValueError(f"{o}: loss_table[{i}].{c} = {v:g} N·m must be >= 0")

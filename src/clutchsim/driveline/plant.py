@@ -88,6 +88,12 @@ N_ENERGY = 6        # W_in, W_friction, W_damping, W_road, E_grade, W_sync
 EN_IN, EN_FRIC, EN_DAMP, EN_ROAD, EN_GRADE, EN_SYNC = range(6)
 
 NO_EVENT = 1.0
+#: torque band [N·m] by which a stuck lossy gear's holding torque may leave its limits
+#: before it rolls.  An unloaded gear without bearing friction holds exactly its limits
+#: (0 = 0), and round-off torques (~1e-16 N·m) around a standstill would otherwise pick
+#: its rolling direction at random; the band makes the break-away function start
+#: positive and the rolling direction follow the first real torque.
+LOSSY_TOL = 1e-9
 
 
 @jit(inline="always")
@@ -777,9 +783,11 @@ def _element_events(p, y, e, fw, fFe, fs, fa, g):
         if locked:
             lo, up = lossy_bounds(p, f, fa[e])
             g[0] = NO_EVENT
-            g[1] = min(up - fFe[e], fFe[e] - lo)
+            g[1] = min(up - fFe[e], fFe[e] - lo) + LOSSY_TOL
         else:
-            g[0] = y[yz] * fw[e]
+            # just freed at zero speed, a round-off torque may have picked the direction:
+            # the margin lets the first motion the other way register as a stop
+            g[0] = y[yz] * fw[e] + 1e-300
             g[1] = NO_EVENT
 
 
@@ -877,7 +885,7 @@ def _element_reset(p, y, e, j, fw, fFe, fs, fa):
         return 3
     lo, up = lossy_bounds(p, f, fa[e])
     if j == 0:          # stop: stick, or roll on in the direction of the torque
-        if lo <= fFe[e] <= up:
+        if lo - LOSSY_TOL <= fFe[e] <= up + LOSSY_TOL:
             y[yz] = 0.0
             return 2
         y[yz] = 1.0 if fFe[e] > up else -1.0

@@ -136,6 +136,16 @@ def build_chain(scenario, model: str | None = None) -> Chain:
             need_input(t["load"], f"inertia[{i}].load")
         inertias.append(guard(lambda t=t: Inertia(**t), f"inertia[{i}]"))
     couplings = []
+
+    def one_lossy_gear(gear, key):
+        # the plant solves the loss of a rolling gear in closed form: one per chain
+        others = [c.name for c in couplings if isinstance(c, (LossyGear, Gearbox))
+                  and not c.ideal]
+        if others and not gear.ideal:
+            fail(f"a second gear with losses ({others[0]!r} is the first; a lossy_gear, or a "
+                 "gearbox with efficiency < 1 or drag_torque > 0): a scenario may hold at most "
+                 "one", key)
+
     for i, t in enumerate(data.get("coupling", [])):
         key = f"coupling[{i}]"
         kw = {k: v for k, v in t.items() if k != "type"}
@@ -148,10 +158,7 @@ def build_chain(scenario, model: str | None = None) -> Chain:
                      f"{key}.ratio")
             kw["loss_table"] = loss_table(kw.get("loss_table"), f"{key}.loss_table", fail)
             lg = guard(lambda kw=kw: LossyGear(**kw), key)
-            others = [c.name for c in couplings if isinstance(c, LossyGear) and not c.ideal]
-            if others and not lg.ideal:
-                fail(f"a second lossy gear with losses ({others[0]!r} is the first): a scenario "
-                     "may hold at most one", key)
+            one_lossy_gear(lg, key)
             couplings.append(lg)
         elif ctype == "one_way_clutch":
             need_input(kw["command"], f"{key}.command")
@@ -167,7 +174,9 @@ def build_chain(scenario, model: str | None = None) -> Chain:
                     not 1 <= kw["gear"] <= len(kw["ratios"]):
                 fail(f"gear {kw['gear']} does not exist: this gearbox has {len(kw['ratios'])} "
                      f"gears (1..{len(kw['ratios'])})", f"{key}.gear")
-            couplings.append(guard(lambda kw=kw, s=shifts: Gearbox(shifts=s, **kw), key))
+            gb = guard(lambda kw=kw, s=shifts: Gearbox(shifts=s, **kw), key)
+            one_lossy_gear(gb, key)
+            couplings.append(gb)
         else:
             need_input(kw["command"], f"{key}.command")
             m = model if _replaced(t, model, scenario) else None

@@ -133,6 +133,14 @@ GEARBOX = (
     Key("gear", "int", "Selected gear (1-based).", required=True, low=1),
     _n("final_drive", "Final drive ratio.", "-", low=0.0, strict=True),
     Key("shifts", "tables", "`[{time = 3.0, gear = 2}]`: ratio changes (ideal synchroniser)."),
+    _n("efficiency", "Mesh efficiency, power flowing input -> output, in (0, 1] (gearbox and "
+       "final drive together; default 1: no loss). With losses the gearbox is the "
+       "scenario's one lossy gear (states `<name>.mode`, `<name>.locked`).", "-",
+       low=0.0, strict=True, high=1.0),
+    _n("efficiency_reverse", "Mesh efficiency, power flowing output -> input (engine "
+       "braking), in (0, 1]; default: `efficiency`.", "-", low=0.0, strict=True, high=1.0),
+    _n("drag_torque", "Bearing and churning drag referred to the input shaft.", "N·m",
+       low=0.0),
 )
 BRAKE = (
     Key("name", "str", "Unique name.", required=True),
