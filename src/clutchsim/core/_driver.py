@@ -41,7 +41,7 @@ NON_FINITE = 7
 O_RTOL, O_ATOL, O_H0, O_HMAX, O_HMIN, O_WALL, O_CHATTER_WINDOW, O_DT_OUT, O_EVENT_TOL = range(9)
 N_FOPT = 9
 # int options
-I_MAX_STEPS, I_CHATTER_N, I_MAX_OUTPUT = range(3)
+I_MAX_STEPS, I_CHATTER_N, I_MAX_OUTPUT, I_QUADRATURES = range(4)
 N_IOPT = 3
 # statistics
 S_STEPS, S_REJECTED, S_RHS, S_JAC, S_LU, S_EVENTS, S_OUTPUT = range(7)
@@ -216,6 +216,7 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
     max_steps = iopt[I_MAX_STEPS]
     ch_n = iopt[I_CHATTER_N]
     max_output = iopt[I_MAX_OUTPUT]
+    nd = n - iopt[I_QUADRATURES]    # states in the implicit solve (the rest: quadratures)
     order = 5 if method == DOPRI5 else (4 if method == RODAS4 else 3)
     inv_q = 1.0 / order     # exponent of the Rosenbrock step-size controller
 
@@ -240,7 +241,7 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
     f0 = np.empty(n)
     K = np.empty((7, n))
     dense = np.empty((5, n))
-    J = np.empty((n, n))
+    J = np.zeros((n, n))     # quadrature columns stay zero
     M = np.empty((n, n))
     piv = np.empty(n, dtype=np.int64)
     dfdt = np.empty(n)
@@ -411,17 +412,17 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         else:
             if not jac_valid:
                 stats[S_RHS] += jacobian(tag, bank, p, t, y, t_ref, f0, atol / rtol, u, ytmp,
-                                         ftmp, J, dfdt)
+                                         ftmp, J, dfdt, nd)
                 stats[S_JAC] += 1
                 jac_valid = True
                 jac_age = 0
             if method == RODAS4:
                 ok = rodas4_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u,
-                                 ytmp, ftmp, y_new, err)
+                                 ytmp, ftmp, y_new, err, nd)
                 stats[S_RHS] += 5
             else:
                 ok = ros34pw2_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u,
-                                   ytmp, ftmp, y_new, err)
+                                   ytmp, ftmp, y_new, err, nd)
                 stats[S_RHS] += 3
             stats[S_LU] += 1
         if ok:
@@ -573,7 +574,8 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                 break
             system_events(tag, t, y, u, p, g_old)
             f0_valid = False
-            jac_valid = False
+            if method != ROS34PW2:
+                jac_valid = False
             if action == 1:
                 system_outputs(tag, t, y, u, p, out)
                 buf, n_out = _push(buf, n_out, t, y, u, out)

@@ -41,15 +41,17 @@ _SQRT_EPS = math.sqrt(2.220446049250313e-16)
 
 
 @jit
-def jacobian(tag, bank, p, t, y, t_ref, f0, atol_over_rtol, u, ytmp, ftmp, J, dfdt):
+def jacobian(tag, bank, p, t, y, t_ref, f0, atol_over_rtol, u, ytmp, ftmp, J, dfdt, nd):
     """Forward-difference Jacobian ``J = df/dy`` and ``dfdt = df/dt`` at (t, y).
 
-    Returns the number of right-hand-side evaluations used."""
+    Only the first ``nd`` columns are formed: the others belong to quadrature states (no
+    derivative depends on them) and stay zero.  Returns the number of right-hand-side
+    evaluations used."""
     n = y.shape[0]
     eval_inputs(bank, t, t_ref, u)
     for i in range(n):
         ytmp[i] = y[i]
-    for j in range(n):
+    for j in range(nd):
         delta = _SQRT_EPS * max(abs(y[j]), atol_over_rtol, 1e-10)
         ytmp[j] = y[j] + delta
         delta = ytmp[j] - y[j]
@@ -62,56 +64,56 @@ def jacobian(tag, bank, p, t, y, t_ref, f0, atol_over_rtol, u, ytmp, ftmp, J, df
     system_rhs(tag, t + dt, y, u, p, ftmp)
     for i in range(n):
         dfdt[i] = (ftmp[i] - f0[i]) / dt
-    return n + 1
+    return nd + 1
 
 
 @jit
 def rodas4_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u, ytmp, ftmp,
-                y_new, err):
+                y_new, err, nd):
     """One RODAS4 step; fills K[0..4], ``y_new`` and the error estimate ``err``.
 
     Returns False when the iteration matrix is singular (the caller shrinks the step)."""
     n = y.shape[0]
-    if not factor_iteration_matrix(J, 1.0 / (GAM * h), M, piv):
+    if not factor_iteration_matrix(J, 1.0 / (GAM * h), M, piv, nd):
         return False
     for i in range(n):
         K[0, i] = f0[i] + h * D1 * dfdt[i]
-    lu_solve_row(M, piv, K, 0)
+    lu_solve_row(M, piv, K, 0, nd)
     for i in range(n):
         ytmp[i] = y[i] + A21 * K[0, i]
     eval_inputs(bank, t + C2 * h, t_ref, u)
     system_rhs(tag, t + C2 * h, ytmp, u, p, ftmp)
     for i in range(n):
         K[1, i] = ftmp[i] + h * D2 * dfdt[i] + C21 * K[0, i] / h
-    lu_solve_row(M, piv, K, 1)
+    lu_solve_row(M, piv, K, 1, nd)
     for i in range(n):
         ytmp[i] = y[i] + A31 * K[0, i] + A32 * K[1, i]
     eval_inputs(bank, t + C3 * h, t_ref, u)
     system_rhs(tag, t + C3 * h, ytmp, u, p, ftmp)
     for i in range(n):
         K[2, i] = ftmp[i] + h * D3 * dfdt[i] + (C31 * K[0, i] + C32 * K[1, i]) / h
-    lu_solve_row(M, piv, K, 2)
+    lu_solve_row(M, piv, K, 2, nd)
     for i in range(n):
         ytmp[i] = y[i] + A41 * K[0, i] + A42 * K[1, i] + A43 * K[2, i]
     eval_inputs(bank, t + C4 * h, t_ref, u)
     system_rhs(tag, t + C4 * h, ytmp, u, p, ftmp)
     for i in range(n):
         K[3, i] = ftmp[i] + h * D4 * dfdt[i] + (C41 * K[0, i] + C42 * K[1, i] + C43 * K[2, i]) / h
-    lu_solve_row(M, piv, K, 3)
+    lu_solve_row(M, piv, K, 3, nd)
     for i in range(n):
         ytmp[i] = y[i] + A51 * K[0, i] + A52 * K[1, i] + A53 * K[2, i] + A54 * K[3, i]
     eval_inputs(bank, t + h, t_ref, u)
     system_rhs(tag, t + h, ytmp, u, p, ftmp)
     for i in range(n):
         K[4, i] = ftmp[i] + (C51 * K[0, i] + C52 * K[1, i] + C53 * K[2, i] + C54 * K[3, i]) / h
-    lu_solve_row(M, piv, K, 4)
+    lu_solve_row(M, piv, K, 4, nd)
     for i in range(n):
         ytmp[i] += K[4, i]
     system_rhs(tag, t + h, ytmp, u, p, ftmp)
     for i in range(n):
         err[i] = ftmp[i] + (C61 * K[0, i] + C62 * K[1, i] + C63 * K[2, i] + C64 * K[3, i]
                             + C65 * K[4, i]) / h
-    lu_solve(M, piv, err)
+    lu_solve(M, piv, err, nd)
     for i in range(n):
         y_new[i] = ytmp[i] + err[i]
     return True

@@ -60,31 +60,31 @@ E1, E2, E3, E4 = 0.277749947647969, -1.4032398951759988, 1.7726301276675507, 0.5
 
 @jit
 def ros34pw2_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u, ytmp, ftmp,
-                  y_new, err):
+                  y_new, err, nd):
     """One ROS34PW2 step with the (possibly aged) Jacobian ``J``; fills K[0..3], ``y_new``
     and the error estimate ``err``.
 
     Returns False when the iteration matrix is singular (the caller shrinks the step)."""
     n = y.shape[0]
-    if not factor_iteration_matrix(J, 1.0 / (GAM * h), M, piv):
+    if not factor_iteration_matrix(J, 1.0 / (GAM * h), M, piv, nd):
         return False
     for i in range(n):
         K[0, i] = f0[i] + h * D1 * dfdt[i]
-    lu_solve_row(M, piv, K, 0)
+    lu_solve_row(M, piv, K, 0, nd)
     for i in range(n):
         ytmp[i] = y[i] + A21 * K[0, i]
     eval_inputs(bank, t + C2 * h, t_ref, u)
     system_rhs(tag, t + C2 * h, ytmp, u, p, ftmp)
     for i in range(n):
         K[1, i] = ftmp[i] + h * D2 * dfdt[i] + C21 * K[0, i] / h
-    lu_solve_row(M, piv, K, 1)
+    lu_solve_row(M, piv, K, 1, nd)
     for i in range(n):
         ytmp[i] = y[i] + A31 * K[0, i] + A32 * K[1, i]
     eval_inputs(bank, t + C3 * h, t_ref, u)
     system_rhs(tag, t + C3 * h, ytmp, u, p, ftmp)
     for i in range(n):
         K[2, i] = ftmp[i] + h * D3 * dfdt[i] + (C31 * K[0, i] + C32 * K[1, i]) / h
-    lu_solve_row(M, piv, K, 2)
+    lu_solve_row(M, piv, K, 2, nd)
     for i in range(n):
         ytmp[i] = y[i] + A41 * K[0, i] + A42 * K[1, i] + A43 * K[2, i]
     eval_inputs(bank, t + h, t_ref, u)
@@ -92,7 +92,7 @@ def ros34pw2_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u, ytmp,
     # gamma_4 = 0: no time-derivative term in the last stage
     for i in range(n):
         K[3, i] = ftmp[i] + (C41 * K[0, i] + C42 * K[1, i] + C43 * K[2, i]) / h
-    lu_solve_row(M, piv, K, 3)
+    lu_solve_row(M, piv, K, 3, nd)
     for i in range(n):
         y_new[i] = ytmp[i] + K[3, i]
         err[i] = E1 * K[0, i] + E2 * K[1, i] + E3 * K[2, i] + E4 * K[3, i]

@@ -158,7 +158,8 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     fopt[drv.O_CHATTER_WINDOW] = opts.chatter_window_for(t1 - t0)
     fopt[drv.O_DT_OUT] = opts.dt_out
     fopt[drv.O_EVENT_TOL] = opts.event_tol
-    iopt = np.array([opts.max_steps, opts.chatter_events, opts.max_output], dtype=np.int64)
+    iopt = np.array([opts.max_steps, opts.chatter_events, opts.max_output, system.quadratures],
+                    dtype=np.int64)
     ev_dir = np.array(system.event_directions, dtype=np.int64)
     # the wall time is measured inside the compiled loop: it excludes JIT compilation
     (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small, wall) = drv.integrate(

@@ -254,6 +254,10 @@ class System:
         −1 (falling), +1 (rising) or 0 (both), one per event function.
     name : str
         Human-readable name used in messages.
+    quadratures : int
+        Number of trailing states that are pure integrals (energy accounts): no derivative
+        depends on them.  The implicit integrators leave them out of the finite-difference
+        Jacobian and the LU (their columns are zero); default 0.
     metadata : dict
         Free-form description kept with results (scenario, model, parameter set, ...).
     """
@@ -271,6 +275,7 @@ class System:
     event_directions: tuple[int, ...] = ()
     name: str = "system"
     metadata: dict = field(default_factory=dict)
+    quadratures: int = 0
 
     def __post_init__(self):
         if type(self.tag) not in _REGISTRY:
@@ -292,6 +297,12 @@ class System:
         if len(self.state_names) != y0.size:
             raise ValueError(f"{self.name}: y0 has {y0.size} entries for "
                              f"{len(self.state_names)} states")
+        q = self.quadratures
+        if isinstance(q, bool) or not isinstance(q, (int, np.integer)) or \
+                not 0 <= q < max(y0.size, 1):
+            raise ValueError(f"{self.name}: quadratures = {q!r} must be an integer in "
+                             f"[0, {max(y0.size - 1, 0)}] (trailing pure-integral states; at "
+                             "least one state must remain in the implicit solve)")
         if any(d not in (-1, 0, 1) for d in self.event_directions):
             raise ValueError(f"{self.name}: event directions must be -1, 0 or +1, "
                              f"got {self.event_directions}")

@@ -445,7 +445,8 @@ class Chain:
                       tuple(sunits), input_names=inputs,
                       input_units=tuple("-" for _ in inputs), output_names=tuple(onames),
                       output_units=tuple(ounits), event_names=tuple(ev_names),
-                      event_directions=tuple(ev_dirs), name=self.name, metadata=meta)
+                      event_directions=tuple(ev_dirs), name=self.name, metadata=meta,
+                      quadratures=len(ENERGY_STATES))
 
     # -------------------------------------------------------------- helpers
     @staticmethod

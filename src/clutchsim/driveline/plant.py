@@ -49,7 +49,7 @@ import math
 import numpy as np
 
 from .._jit import jit
-from ..friction import friction_events, friction_force, friction_reset
+from ..friction import friction_events, friction_force, friction_reset, uses_stick_force
 
 # ---------------------------------------------------------------- header of p
 (H_N, H_NF, H_NTH, H_ENG, H_VEH, H_NODE, H_CPL, H_FE, H_TH, H_ENGB, H_VEHB,
@@ -492,9 +492,40 @@ def engine_torque(p, y, u, omega):
     return fuel, drag, dint
 
 
+@jit(inline="always")
+def _smooth(p):
+    """Are all switching elements friction models whose force ignores the stick torque?"""
+    for e in range(int(p[H_NF])):
+        f = int(p[H_FE]) + e * FE_W
+        if p[f + F_KIND] != FK_MODEL or uses_stick_force(int(p[f + F_CODE])):
+            return False
+    return True
+
+
+@jit(inline="always")
+def _model_force(p, y, e, w, Fe, scale, dy):
+    """Torque of the friction-model element ``e`` (plus its open drag) at slip ``w`` and
+    stick torque ``Fe``; writes its state derivatives into ``dy``."""
+    f = int(p[H_FE]) + e * FE_W
+    nz = int(p[f + F_NZ])
+    yz = int(p[f + F_YZ])
+    F = friction_force(int(p[f + F_CODE]), p[int(p[f + F_PAR]):], y[yz:yz + nz], w, Fe,
+                       scale, dy[yz:yz + nz])
+    drag = p[f + F_DRAG]
+    if drag != 0.0:
+        F += drag * math.tanh(w)
+    return F
+
+
 @jit
-def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux):
-    """All torques, stick torques and derivatives.  Writes ``dy`` completely."""
+def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux, complete):
+    """All torques, stick torques and derivatives.  Writes ``dy`` completely.
+
+    ``complete`` False (the right-hand side) leaves out what only outputs, events and
+    resets read: the stick torques ``fe_Fe`` where no force depends on them (a plant whose
+    friction elements are all smooth models then takes one friction pass instead of two
+    and no cluster solve per element), and the constraint torques of rigid gears in
+    ``tau_c``."""
     n = int(p[H_N])
     nf = int(p[H_NF])
     J0 = int(p[H_NODE])
@@ -576,60 +607,60 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux):
         w = rel_speed(p, y, e)
         fe_w[e] = w
         fe_scale[e] = element_scale(p, y, u, e, w)
-    # pass 1: free (unlocked) friction elements with F_e = 0
-    T1[:] = Tn
-    F1[:] = 0.0
-    for e in range(nf):
-        f = F0 + e * FE_W
-        if y[int(p[f + F_YLK])] > 0.5 or p[f + F_KIND] == FK_LOSSY:
-            continue
-        nz = int(p[f + F_NZ])
-        yz = int(p[f + F_YZ])
-        pf = p[int(p[f + F_PAR]):]
-        F1[e] = friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], 0.0,
-                               fe_scale[e], dzt[:nz])
-        _add_element_torque(p, y, e, F1[e], T1)
-    # rolling lossy gears: the loss follows from the torques of everything else
-    for e in range(nf):
-        f = F0 + e * FE_W
-        if y[int(p[f + F_YLK])] > 0.5 or p[f + F_KIND] != FK_LOSSY:
-            continue
-        F1[e], _ta = lossy_rolling(p, y, e, T1, s, fe_scale)
-        _add_element_torque(p, y, e, F1[e], T1)
-    # pass 2: free elements with their stick torque
-    for e in range(nf):
-        f = F0 + e * FE_W
-        if y[int(p[f + F_YLK])] > 0.5:
-            continue
-        _add_element_torque(p, y, e, -F1[e], T1)
-        fe_Fe[e] = lock_torque(p, y, e, T1, s, fe_scale, fe_aux)
-        _add_element_torque(p, y, e, F1[e], T1)
-        if p[f + F_KIND] == FK_LOSSY:
-            F = F1[e]
-        else:
+    if not complete and _smooth(p):
+        # no force reads a stick torque: one pass, F_e = 0 (reported as 0)
+        for e in range(nf):
+            fe_F[e] = _model_force(p, y, e, fe_w[e], 0.0, fe_scale[e], dy)
+            fe_Fe[e] = 0.0
+            _add_element_torque(p, y, e, fe_F[e], Tn)
+    else:
+        # pass 1: free (unlocked) friction elements with F_e = 0
+        T1[:] = Tn
+        F1[:] = 0.0
+        for e in range(nf):
+            f = F0 + e * FE_W
+            if y[int(p[f + F_YLK])] > 0.5 or p[f + F_KIND] == FK_LOSSY:
+                continue
             nz = int(p[f + F_NZ])
             yz = int(p[f + F_YZ])
             pf = p[int(p[f + F_PAR]):]
-            F = friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], fe_Fe[e],
+            F1[e] = friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], 0.0,
+                                   fe_scale[e], dzt[:nz])
+            _add_element_torque(p, y, e, F1[e], T1)
+        # rolling lossy gears: the loss follows from the torques of everything else
+        for e in range(nf):
+            f = F0 + e * FE_W
+            if y[int(p[f + F_YLK])] > 0.5 or p[f + F_KIND] != FK_LOSSY:
+                continue
+            F1[e], _ta = lossy_rolling(p, y, e, T1, s, fe_scale)
+            _add_element_torque(p, y, e, F1[e], T1)
+        # pass 2: free elements with their stick torque
+        for e in range(nf):
+            f = F0 + e * FE_W
+            if y[int(p[f + F_YLK])] > 0.5:
+                continue
+            _add_element_torque(p, y, e, -F1[e], T1)
+            fe_Fe[e] = lock_torque(p, y, e, T1, s, fe_scale, fe_aux)
+            _add_element_torque(p, y, e, F1[e], T1)
+            if p[f + F_KIND] == FK_LOSSY:
+                F = F1[e]
+            else:
+                F = _model_force(p, y, e, fe_w[e], fe_Fe[e], fe_scale[e], dy)
+            fe_F[e] = F
+            _add_element_torque(p, y, e, F, Tn)
+        # locked elements: the constraint torque
+        for e in range(nf):
+            f = F0 + e * FE_W
+            if y[int(p[f + F_YLK])] <= 0.5:
+                continue
+            fe_Fe[e] = lock_torque(p, y, e, Tn, s, fe_scale, fe_aux)
+            if p[f + F_KIND] != FK_LOSSY:
+                nz = int(p[f + F_NZ])
+                yz = int(p[f + F_YZ])
+                pf = p[int(p[f + F_PAR]):]
+                friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], fe_Fe[e],
                                fe_scale[e], dy[yz:yz + nz])
-            drag = p[f + F_DRAG]
-            if drag != 0.0:
-                F += drag * math.tanh(fe_w[e])
-        fe_F[e] = F
-        _add_element_torque(p, y, e, F, Tn)
-    # locked elements: the constraint torque
-    for e in range(nf):
-        f = F0 + e * FE_W
-        if y[int(p[f + F_YLK])] <= 0.5:
-            continue
-        fe_Fe[e] = lock_torque(p, y, e, Tn, s, fe_scale, fe_aux)
-        if p[f + F_KIND] != FK_LOSSY:
-            nz = int(p[f + F_NZ])
-            yz = int(p[f + F_YZ])
-            pf = p[int(p[f + F_PAR]):]
-            friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], fe_Fe[e],
-                           fe_scale[e], dy[yz:yz + nz])
-        fe_F[e] = fe_Fe[e]
+            fe_F[e] = fe_Fe[e]
     p_fric = 0.0
     for e in range(nf):
         f = F0 + e * FE_W
@@ -683,7 +714,7 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux):
     # gear torques (constraint torques of rigid gears), for output: the torque the gear
     # passes to the part of its cluster downstream of it, referred to node k+1
     hb[:] = 0.0
-    for k in range(n - 1):
+    for k in range(n - 1 if complete else 0):
         c = C0 + k * CPL_W
         kind = p[c + C_KIND]
         if kind == GEAR or kind == SHIFT_GEAR or kind == LOSSY_GEAR:
@@ -722,7 +753,7 @@ def _work(p):
 @jit
 def chain_rhs(t, y, u, p, dy):
     tau_c, fF, fFe, fs, fw, fa = _work(p)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
+    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa, False)
 
 
 @jit
@@ -806,7 +837,7 @@ def chain_events(t, y, u, p, g):
             full = True
     if full:
         dy = np.empty(y.size)
-        evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
+        evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa, True)
     else:
         for e in range(nf):
             fw[e] = rel_speed(p, y, e)
@@ -938,7 +969,7 @@ def _settle(t, y, u, p, e0, s):
     for _ in range(nf + 1):
         tau_c, fF, fFe, fs, fw, fa = _work(p)
         dy = np.empty(y.size)
-        evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
+        evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa, True)
         hit = -1
         slot = -1
         for e in range(nf):
@@ -968,7 +999,7 @@ def _settle(t, y, u, p, e0, s):
 def chain_reset(t, y, u, p, k):
     tau_c, fF, fFe, fs, fw, fa = _work(p)
     dy = np.empty(y.size)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
+    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa, True)
     n = int(p[H_N])
     s = np.empty(n)
     nf = int(p[H_NF])
@@ -1016,7 +1047,7 @@ def chain_outputs(t, y, u, p, out):
     nf = int(p[H_NF])
     tau_c, fF, fFe, fs, fw, fa = _work(p)
     dy = np.empty(y.size)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa)
+    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa, True)
     i = 0
     for k in range(n - 1):
         out[i] = tau_c[k]

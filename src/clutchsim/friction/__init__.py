@@ -14,7 +14,7 @@ from .dahl import Dahl
 from .elastoplastic import ElastoPlastic
 from .gms import GMS
 from .karnopp import Karnopp
-from .kernels import friction_events, friction_force, friction_reset
+from .kernels import friction_events, friction_force, friction_reset, uses_stick_force
 from .lugre import LuGre
 from .mykhailevych2020 import RESET_POLICIES, Mykhailevych2020
 from .params import ParameterSet, list_parameter_sets, load_parameter_set

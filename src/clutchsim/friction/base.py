@@ -91,6 +91,9 @@ class FrictionModel(abc.ABC):
     phenomena: ClassVar[dict[str, str]]
     default_parameter_set: ClassVar[str]
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = ()
+    #: does the force read the stick force ``F_e``?  (plants skip computing it otherwise;
+    #: :func:`clutchsim.friction.kernels.uses_stick_force` is the compiled twin)
+    uses_stick_force: ClassVar[bool] = False
 
     # ------------------------------------------------------------------ hooks
     @abc.abstractmethod

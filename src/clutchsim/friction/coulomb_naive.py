@@ -46,6 +46,7 @@ class CoulombNaive(FrictionModel):
 
     name: ClassVar[str] = "coulomb-naive"
     code: ClassVar[int] = 1
+    uses_stick_force: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Mykhailevych M.G., Model of friction for dry friction clutch working process "
         "simulation, Avtomobil i elektronika. Suchasni tekhnolohii, no. 18, 2020, eqs. (1)-(3); "

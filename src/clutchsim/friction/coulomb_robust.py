@@ -80,6 +80,7 @@ class CoulombRobust(FrictionModel):
 
     name: ClassVar[str] = "coulomb-robust"
     code: ClassVar[int] = 2
+    uses_stick_force: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Olsson H., Åström K.J., Canudas de Wit C., Gäfvert M., Lischinsky P., Friction models "
         "and friction compensation, European Journal of Control 4(3):176-195, 1998; Modelica "

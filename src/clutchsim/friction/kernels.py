@@ -26,7 +26,15 @@ from .rotational_friction import rotational_friction_force
 from .stribeck import stribeck_force
 from .tanh import tanh_force
 
-__all__ = ["friction_events", "friction_force", "friction_reset"]
+__all__ = ["friction_events", "friction_force", "friction_reset", "uses_stick_force"]
+
+
+@jit(inline="always")
+def uses_stick_force(code):
+    """Does model ``code``'s force read the stick force ``F_e``?  Only the switching
+    models do (the class variable ``uses_stick_force``); for the others a plant can pass
+    ``F_e = 0`` and skip computing it."""
+    return code == 1 or code == 2 or code == 3
 
 
 @jit(inline="always")
