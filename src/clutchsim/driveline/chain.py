@@ -409,6 +409,8 @@ class Chain:
             put(o, P.V_MASS, v.mass)
             put(o, P.V_R, v.tyre_radius)
             put(o, P.V_GRADE, np.arctan(v.grade / 100.0))
+            put(o, P.V_COS, np.cos(np.arctan(v.grade / 100.0)))
+            put(o, P.V_SIN, np.sin(np.arctan(v.grade / 100.0)))
             put(o, P.V_FR, v.rolling)
             put(o, P.V_CA, 0.5 * v.air_density * v.cd_area)
             put(o, P.V_G, v.gravity)

@@ -82,12 +82,21 @@ ENG_W = 12
 (E_NODE, E_TAB, E_NTAB, E_IN, E_D0, E_D1, E_IDLE, E_KP, E_KI, E_STALL, E_GOV) = range(11)
 
 VEH_W = 10
-(V_NODE, V_MASS, V_R, V_GRADE, V_FR, V_CA, V_G, V_EPS) = range(8)
+(V_NODE, V_MASS, V_R, V_GRADE, V_FR, V_CA, V_G, V_EPS, V_COS, V_SIN) = range(10)
 
 N_ENERGY = 6        # W_in, W_friction, W_damping, W_road, E_grade, W_sync
 EN_IN, EN_FRIC, EN_DAMP, EN_ROAD, EN_GRADE, EN_SYNC = range(6)
 
 NO_EVENT = 1.0
+#: rows of the per-call workspace ``W`` (:func:`workspace`): coupling torques, element
+#: torque / stick torque / capacity scale / slip / auxiliary (lossy flange-a torque), node
+#: torques, speed factors, node torques of pass 1, holding scratch, pass-1 element torques,
+#: holder torques, friction-state scratch, and the holding scratch of the stick-torque
+#: solves.  One 2-D array indexed by row: a view per array would cost two atomic
+#: reference counts per call (measured: a quarter of the right-hand side's time).
+(R_TAU, R_F, R_FE, R_FS, R_FW, R_FA, R_TN, R_S, R_T1, R_TH, R_F1, R_HB, R_DZT, R_THH,
+ R_HBH) = range(15)
+N_ROWS = 15
 #: torque band [N·m] by which a stuck lossy gear's holding torque may leave its limits
 #: before it rolls.  An unloaded gear without bearing friction holds exactly its limits
 #: (0 = 0), and round-off torques (~1e-16 N·m) around a standstill would otherwise pick
@@ -162,10 +171,10 @@ def _right(p, y, j):
 
 
 @jit(inline="always")
-def _speed_factors(p, y, a, b, s):
-    s[a] = 1.0
+def _speed_factors(p, y, a, b, W):
+    W[R_S, a] = 1.0
     for j in range(a, b):
-        s[j + 1] = s[j] / _ratio(p, y, j)
+        W[R_S, j + 1] = W[R_S, j] / _ratio(p, y, j)
 
 
 @jit(inline="always")
@@ -262,14 +271,15 @@ def _holds(p, y, f, e, a, b, include):
 
 
 @jit
-def _hold(p, y, a, b, include, Th, s, fs, hb):
+def _hold(p, y, a, b, include, W, rTh, rHb):
     """Share the torque that holds the cluster a..b at rest among its holders.
 
     Holders are the locked brake-like elements on nodes a..b plus element ``include``
     (-1: none) whatever its lock flag.  Brakes, in element order, take up to their
     static capacity; the last holder (a lossy gear if one is a holder, else the last
-    brake) takes the rest.  Each holder's torque goes into ``hb`` and is subtracted from
-    ``Th`` at its node.  Returns (number of holders, node of the last holder).
+    brake) takes the rest.  Each holder's torque goes into row ``rHb`` of ``W`` and is
+    subtracted from the node torques in row ``rTh`` at its node.  Returns (number of
+    holders, node of the last holder).
     """
     nf = int(p[H_NF])
     F0 = int(p[H_FE])
@@ -290,7 +300,7 @@ def _hold(p, y, a, b, include, Th, s, fs, hb):
         return 0, -1
     S = 0.0
     for j in range(a, b + 1):
-        S += Th[j] * s[j]
+        S += W[rTh, j] * W[R_S, j]
     for e in range(nf):
         if e == last:
             continue
@@ -300,108 +310,100 @@ def _hold(p, y, a, b, include, Th, s, fs, hb):
         if not _holds(p, y, f, e, a, b, include):
             continue
         m = int(p[f + F_IDX])
-        cap = fs[e] * p[f + F_CAP]
-        B = max(-cap, min(cap, S / s[m]))
-        hb[e] = B
-        Th[m] -= B
-        S -= B * s[m]
+        cap = W[R_FS, e] * p[f + F_CAP]
+        B = max(-cap, min(cap, S / W[R_S, m]))
+        W[rHb, e] = B
+        W[rTh, m] -= B
+        S -= B * W[R_S, m]
     f = F0 + last * FE_W
     m = int(p[f + F_IDX])
-    B = S / s[m]
-    hb[last] = B
-    Th[m] -= B
+    B = S / W[R_S, m]
+    W[rHb, last] = B
+    W[rTh, m] -= B
     return count, m
 
 
-@jit(inline="always")
-def _hold_scratch(p, n):
-    """Scratch for :func:`_hold`: node torques ``Th`` [n] and zeroed holder torques ``hb``,
-    from one allocation."""
-    scratch = np.empty(n + max(int(p[H_NF]), 1))
-    hb = scratch[n:]
-    hb[:] = 0.0
-    return scratch[:n], hb
-
-
 @jit
-def lock_torque(p, y, e, Tn, s, fs, aux):
+def lock_torque(p, y, e, W, rT):
     """Torque friction element ``e`` transmits if it is (or were) locked.
 
-    ``Tn`` holds the node torques of everything except locked elements and ``e`` itself.
-    For a lossy gear ``aux[e]`` receives its flange-a torque in that state.
+    Row ``rT`` of ``W`` holds the node torques of everything except locked elements and
+    ``e`` itself.  For a lossy gear ``W[R_FA, e]`` receives its flange-a torque in that
+    state.
     """
     f = int(p[H_FE]) + e * FE_W
     J0 = int(p[H_NODE])
-    n = int(p[H_N])
-    Th, hb = _hold_scratch(p, n)
+    for i in range(int(p[H_NF])):
+        W[R_HBH, i] = 0.0
     if p[f + F_LOC] == LOC_COUPLING:
         k = int(p[f + F_IDX])
         a = _left(p, y, k)
         b = _right(p, y, k + 1)
-        _speed_factors(p, y, a, b, s)
+        _speed_factors(p, y, a, b, W)
         for j in range(a, b + 1):
-            Th[j] = Tn[j]
-        cnt, _m = _hold(p, y, a, b, -1, Th, s, fs, hb)
+            W[R_THH, j] = W[rT, j]
+        cnt, _m = _hold(p, y, a, b, -1, W, R_THH, R_HBH)
         down = 0.0
         if cnt == 0:
             sum_t = 0.0
             j_eq = 0.0
             for j in range(a, b + 1):
-                sum_t += Tn[j] * s[j]
-                j_eq += p[J0 + j * NODE_W + N_J] * s[j] * s[j]
+                sum_t += W[rT, j] * W[R_S, j]
+                j_eq += p[J0 + j * NODE_W + N_J] * W[R_S, j] * W[R_S, j]
             alpha = sum_t / j_eq
             for j in range(k + 1, b + 1):
-                down += Tn[j] * s[j] - p[J0 + j * NODE_W + N_J] * s[j] * s[j] * alpha
+                sj = W[R_S, j]
+                down += W[rT, j] * sj - p[J0 + j * NODE_W + N_J] * sj * sj * alpha
         else:
             for j in range(k + 1, b + 1):
-                down += Th[j] * s[j]
-        return down / s[k + 1]
+                down += W[R_THH, j] * W[R_S, j]
+        return down / W[R_S, k + 1]
     m0 = int(p[f + F_IDX])
     a = _left(p, y, m0)
     b = _right(p, y, m0)
-    _speed_factors(p, y, a, b, s)
+    _speed_factors(p, y, a, b, W)
     for j in range(a, b + 1):
-        Th[j] = Tn[j]
-    _hold(p, y, a, b, e, Th, s, fs, hb)
+        W[R_THH, j] = W[rT, j]
+    _hold(p, y, a, b, e, W, R_THH, R_HBH)
     if p[f + F_KIND] == FK_LOSSY:
         up = 0.0
         for j in range(a, m0 + 1):
-            up += Th[j] * s[j]
-        aux[e] = up / s[m0] + hb[e]
-    return hb[e]
+            up += W[R_THH, j] * W[R_S, j]
+        W[R_FA, e] = up / W[R_S, m0] + W[R_HBH, e]
+    return W[R_HBH, e]
 
 
 @jit
-def lossy_rolling(p, y, e, Tn, s, fs):
+def lossy_rolling(p, y, e, W, rT):
     """(loss torque, flange-a torque) of the rolling lossy element ``e``, given the node
-    torques ``Tn`` of everything else (sliding elements included, holders not)."""
+    torques in row ``rT`` of ``W`` of everything else (sliding elements included, holders not)."""
     f = int(p[H_FE]) + e * FE_W
     J0 = int(p[H_NODE])
-    n = int(p[H_N])
     k = int(p[f + F_IDX])
     a = _left(p, y, k)
     b = _right(p, y, k)
-    _speed_factors(p, y, a, b, s)
-    Th, hb = _hold_scratch(p, n)
+    _speed_factors(p, y, a, b, W)
+    for i in range(int(p[H_NF])):
+        W[R_HBH, i] = 0.0
     for j in range(a, b + 1):
-        Th[j] = Tn[j]
-    cnt, m = _hold(p, y, a, b, -1, Th, s, fs, hb)
+        W[R_THH, j] = W[rT, j]
+    cnt, m = _hold(p, y, a, b, -1, W, R_THH, R_HBH)
     up = 0.0
     for j in range(a, k + 1):
-        up += Th[j] * s[j]
-    T0 = up / s[k]
+        up += W[R_THH, j] * W[R_S, j]
+    T0 = up / W[R_S, k]
     if cnt == 0:
         # moving cluster: T_a = T0_moving + (J_up/J_eq)·L
         S = 0.0
         j_eq = 0.0
         j_up = 0.0
         for j in range(a, b + 1):
-            jj = p[J0 + j * NODE_W + N_J] * s[j] * s[j]
-            S += Tn[j] * s[j]
+            jj = p[J0 + j * NODE_W + N_J] * W[R_S, j] * W[R_S, j]
+            S += W[rT, j] * W[R_S, j]
             j_eq += jj
             if j <= k:
                 j_up += jj
-        T0 -= j_up * S / (j_eq * s[k])
+        T0 -= j_up * S / (j_eq * W[R_S, k])
         kk = j_up / j_eq
     else:
         # held by another element: the loss comes back to flange a if that holder is on
@@ -421,14 +423,14 @@ def rel_speed(p, y, e):
 
 
 @jit(inline="always")
-def _add_element_torque(p, y, e, tau, Tn):
+def _add_element_torque(p, y, e, tau, W, r):
     f = int(p[H_FE]) + e * FE_W
     if p[f + F_LOC] == LOC_COUPLING:
         k = int(p[f + F_IDX])
-        Tn[k] += tau / _ratio(p, y, k)
-        Tn[k + 1] -= tau
+        W[r, k] += tau / _ratio(p, y, k)
+        W[r, k + 1] -= tau
     else:
-        Tn[int(p[f + F_IDX])] -= tau
+        W[r, int(p[f + F_IDX])] -= tau
 
 
 @jit(inline="always")
@@ -518,14 +520,15 @@ def _model_force(p, y, e, w, Fe, scale, dy):
 
 
 @jit
-def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux, complete):
-    """All torques, stick torques and derivatives.  Writes ``dy`` completely.
+def evaluate(t, y, u, p, dy, W, complete):
+    """All torques, stick torques and derivatives into ``dy`` (completely) and the
+    workspace ``W`` (rows ``R_*``, from :func:`workspace`).
 
     ``complete`` False (the right-hand side) leaves out what only outputs, events and
     resets read: the stick torques ``fe_Fe`` where no force depends on them (a plant whose
     friction elements are all smooth models then takes one friction pass instead of two
     and no cluster solve per element), and the constraint torques of rigid gears in
-    ``tau_c``."""
+    row ``R_TAU``."""
     n = int(p[H_N])
     nf = int(p[H_NF])
     J0 = int(p[H_NODE])
@@ -534,21 +537,8 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux, complet
     yen = int(p[H_YEN])
     for i in range(dy.size):
         dy[i] = 0.0
-    # one scratch allocation per call (each np.zeros is a malloc, a free and two atomic
-    # reference counts: with ~15 separate arrays they were a third of the launch's time)
-    nz_max = 1
-    for e in range(nf):
-        nz_max = max(nz_max, int(p[F0 + e * FE_W + F_NZ]))
-    nfb = max(nf, 1)
-    scratch = np.empty(4 * n + 2 * nfb + nz_max)
-    Tn = scratch[:n]
-    s = scratch[n:2 * n]
-    T1 = scratch[2 * n:3 * n]
-    Th = scratch[3 * n:4 * n]
-    F1 = scratch[4 * n:4 * n + nfb]
-    hb = scratch[4 * n + nfb:4 * n + 2 * nfb]
-    dzt = scratch[4 * n + 2 * nfb:]
-    Tn[:] = 0.0
+    for j in range(n):
+        W[R_TN, j] = 0.0
     p_in = 0.0
     p_damp = 0.0
     p_road = 0.0
@@ -558,18 +548,18 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux, complet
         nb = J0 + j * NODE_W
         d = p[nb + N_D]
         if d != 0.0:
-            Tn[j] -= d * y[j]
+            W[R_TN, j] -= d * y[j]
             p_damp += d * y[j] * y[j]
         li = int(p[nb + N_LOAD])
         if li >= 0:
-            Tn[j] += u[li]
+            W[R_TN, j] += u[li]
             p_in += u[li] * y[j]
     # engine
     if p[H_ENG] > 0.0:
         b = int(p[H_ENGB])
         je = int(p[b + E_NODE])
         fuel, drag, dint = engine_torque(p, y, u, y[je])
-        Tn[je] += fuel - drag
+        W[R_TN, je] += fuel - drag
         p_in += fuel * y[je]
         p_damp += drag * y[je]
         if p[b + E_GOV] > 0.0:
@@ -581,11 +571,10 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux, complet
         r = p[b + V_R]
         v = y[jv] * r
         mg = p[b + V_MASS] * p[b + V_G]
-        th = p[b + V_GRADE]
-        f_roll = p[b + V_FR] * mg * math.cos(th) * math.tanh(v / p[b + V_EPS])
+        f_roll = p[b + V_FR] * mg * p[b + V_COS] * math.tanh(v / p[b + V_EPS])
         f_aero = p[b + V_CA] * v * abs(v)
-        f_grade = mg * math.sin(th)
-        Tn[jv] -= (f_roll + f_aero + f_grade) * r
+        f_grade = mg * p[b + V_SIN]
+        W[R_TN, jv] -= (f_roll + f_aero + f_grade) * r
         p_road += (f_roll + f_aero) * v
         p_grade += f_grade * v
     # spring-damper couplings
@@ -598,25 +587,27 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux, complet
             iy = int(p[c + C_Y])
             dy[iy] = w
             tau = _spring_torque(p, c, y[iy]) + p[c + C_D] * w
-            tau_c[k] = tau
-            Tn[k] += tau / r
-            Tn[k + 1] -= tau
+            W[R_TAU, k] = tau
+            W[R_TN, k] += tau / r
+            W[R_TN, k + 1] -= tau
             p_damp += p[c + C_D] * w * w
     # switching elements: slip speeds and capacities
     for e in range(nf):
         w = rel_speed(p, y, e)
-        fe_w[e] = w
-        fe_scale[e] = element_scale(p, y, u, e, w)
+        W[R_FW, e] = w
+        W[R_FS, e] = element_scale(p, y, u, e, w)
     if not complete and _smooth(p):
         # no force reads a stick torque: one pass, F_e = 0 (reported as 0)
         for e in range(nf):
-            fe_F[e] = _model_force(p, y, e, fe_w[e], 0.0, fe_scale[e], dy)
-            fe_Fe[e] = 0.0
-            _add_element_torque(p, y, e, fe_F[e], Tn)
+            W[R_F, e] = _model_force(p, y, e, W[R_FW, e], 0.0, W[R_FS, e], dy)
+            W[R_FE, e] = 0.0
+            _add_element_torque(p, y, e, W[R_F, e], W, R_TN)
     else:
         # pass 1: free (unlocked) friction elements with F_e = 0
-        T1[:] = Tn
-        F1[:] = 0.0
+        for j in range(n):
+            W[R_T1, j] = W[R_TN, j]
+        for e in range(nf):
+            W[R_F1, e] = 0.0
         for e in range(nf):
             f = F0 + e * FE_W
             if y[int(p[f + F_YLK])] > 0.5 or p[f + F_KIND] == FK_LOSSY:
@@ -624,51 +615,51 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux, complet
             nz = int(p[f + F_NZ])
             yz = int(p[f + F_YZ])
             pf = p[int(p[f + F_PAR]):]
-            F1[e] = friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], 0.0,
-                                   fe_scale[e], dzt[:nz])
-            _add_element_torque(p, y, e, F1[e], T1)
+            W[R_F1, e] = friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], W[R_FW, e], 0.0,
+                                   W[R_FS, e], W[R_DZT, :nz])
+            _add_element_torque(p, y, e, W[R_F1, e], W, R_T1)
         # rolling lossy gears: the loss follows from the torques of everything else
         for e in range(nf):
             f = F0 + e * FE_W
             if y[int(p[f + F_YLK])] > 0.5 or p[f + F_KIND] != FK_LOSSY:
                 continue
-            F1[e], _ta = lossy_rolling(p, y, e, T1, s, fe_scale)
-            _add_element_torque(p, y, e, F1[e], T1)
+            W[R_F1, e], _ta = lossy_rolling(p, y, e, W, R_T1)
+            _add_element_torque(p, y, e, W[R_F1, e], W, R_T1)
         # pass 2: free elements with their stick torque
         for e in range(nf):
             f = F0 + e * FE_W
             if y[int(p[f + F_YLK])] > 0.5:
                 continue
-            _add_element_torque(p, y, e, -F1[e], T1)
-            fe_Fe[e] = lock_torque(p, y, e, T1, s, fe_scale, fe_aux)
-            _add_element_torque(p, y, e, F1[e], T1)
+            _add_element_torque(p, y, e, -W[R_F1, e], W, R_T1)
+            W[R_FE, e] = lock_torque(p, y, e, W, R_T1)
+            _add_element_torque(p, y, e, W[R_F1, e], W, R_T1)
             if p[f + F_KIND] == FK_LOSSY:
-                F = F1[e]
+                F = W[R_F1, e]
             else:
-                F = _model_force(p, y, e, fe_w[e], fe_Fe[e], fe_scale[e], dy)
-            fe_F[e] = F
-            _add_element_torque(p, y, e, F, Tn)
+                F = _model_force(p, y, e, W[R_FW, e], W[R_FE, e], W[R_FS, e], dy)
+            W[R_F, e] = F
+            _add_element_torque(p, y, e, F, W, R_TN)
         # locked elements: the constraint torque
         for e in range(nf):
             f = F0 + e * FE_W
             if y[int(p[f + F_YLK])] <= 0.5:
                 continue
-            fe_Fe[e] = lock_torque(p, y, e, Tn, s, fe_scale, fe_aux)
+            W[R_FE, e] = lock_torque(p, y, e, W, R_TN)
             if p[f + F_KIND] != FK_LOSSY:
                 nz = int(p[f + F_NZ])
                 yz = int(p[f + F_YZ])
                 pf = p[int(p[f + F_PAR]):]
-                friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], fe_w[e], fe_Fe[e],
-                               fe_scale[e], dy[yz:yz + nz])
-            fe_F[e] = fe_Fe[e]
+                friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], W[R_FW, e], W[R_FE, e],
+                               W[R_FS, e], dy[yz:yz + nz])
+            W[R_F, e] = W[R_FE, e]
     p_fric = 0.0
     for e in range(nf):
         f = F0 + e * FE_W
-        p_fric += fe_F[e] * fe_w[e]
+        p_fric += W[R_F, e] * W[R_FW, e]
         if p[f + F_LOC] == LOC_COUPLING:
-            tau_c[int(p[f + F_IDX])] = fe_F[e]
+            W[R_TAU, int(p[f + F_IDX])] = W[R_F, e]
         # heat into the thermal nodes
-        heat = abs(fe_F[e] * fe_w[e])
+        heat = abs(W[R_F, e] * W[R_FW, e])
         ta = int(p[f + F_THA])
         if ta >= 0:
             dy[int(p[H_YTH]) + ta] += p[f + F_SHA] * heat
@@ -695,9 +686,9 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux, complet
         a = j
         b = _right(p, y, a)
         if a == b and _locked_brake_node(p, y, a, b, -1) < 0:
-            dy[a] = Tn[a] / p[J0 + a * NODE_W + N_J]
+            dy[a] = W[R_TN, a] / p[J0 + a * NODE_W + N_J]
         else:
-            _speed_factors(p, y, a, b, s)
+            _speed_factors(p, y, a, b, W)
             if _locked_brake_node(p, y, a, b, -1) >= 0:
                 for i in range(a, b + 1):
                     dy[i] = 0.0
@@ -705,33 +696,34 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux, complet
                 sum_t = 0.0
                 j_eq = 0.0
                 for i in range(a, b + 1):
-                    sum_t += Tn[i] * s[i]
-                    j_eq += p[J0 + i * NODE_W + N_J] * s[i] * s[i]
+                    sum_t += W[R_TN, i] * W[R_S, i]
+                    j_eq += p[J0 + i * NODE_W + N_J] * W[R_S, i] * W[R_S, i]
                 alpha = sum_t / j_eq
                 for i in range(a, b + 1):
-                    dy[i] = alpha * s[i]
+                    dy[i] = alpha * W[R_S, i]
         j = b + 1
     # gear torques (constraint torques of rigid gears), for output: the torque the gear
     # passes to the part of its cluster downstream of it, referred to node k+1
-    hb[:] = 0.0
+    for e in range(nf):
+        W[R_HB, e] = 0.0
     for k in range(n - 1 if complete else 0):
         c = C0 + k * CPL_W
         kind = p[c + C_KIND]
         if kind == GEAR or kind == SHIFT_GEAR or kind == LOSSY_GEAR:
             a = _left(p, y, k)
             b = _right(p, y, k)
-            _speed_factors(p, y, a, b, s)
+            _speed_factors(p, y, a, b, W)
             down = 0.0
             if _locked_brake_node(p, y, a, b, -1) >= 0:
                 for i in range(a, b + 1):
-                    Th[i] = Tn[i]
-                _hold(p, y, a, b, -1, Th, s, fe_scale, hb)
+                    W[R_TH, i] = W[R_TN, i]
+                _hold(p, y, a, b, -1, W, R_TH, R_HB)
                 for i in range(k + 1, b + 1):
-                    down += Th[i] * s[i]
+                    down += W[R_TH, i] * W[R_S, i]
             else:
                 for i in range(k + 1, b + 1):
-                    down += (Tn[i] - p[J0 + i * NODE_W + N_J] * dy[i]) * s[i]
-            tau_c[k] = down / s[k + 1]
+                    down += (W[R_TN, i] - p[J0 + i * NODE_W + N_J] * dy[i]) * W[R_S, i]
+            W[R_TAU, k] = down / W[R_S, k + 1]
     dy[yen + EN_IN] = p_in
     dy[yen + EN_FRIC] = p_fric
     dy[yen + EN_DAMP] = p_damp
@@ -740,20 +732,21 @@ def evaluate(t, y, u, p, dy, tau_c, fe_F, fe_Fe, fe_scale, fe_w, fe_aux, complet
     dy[yen + EN_SYNC] = 0.0
 
 
-@jit
-def _work(p):
+@jit(inline="always")
+def workspace(p):
+    """The zeroed workspace of one plant call: ``N_ROWS`` rows (``R_*``) as wide as the
+    largest of node count, element count and element state count (one allocation)."""
     n = int(p[H_N])
     nf = int(p[H_NF])
-    m = max(n - 1, 1)
-    w = np.zeros(m + 5 * nf)
-    return (w[:m], w[m:m + nf], w[m + nf:m + 2 * nf], w[m + 2 * nf:m + 3 * nf],
-            w[m + 3 * nf:m + 4 * nf], w[m + 4 * nf:m + 5 * nf])
+    width = max(n, nf, 1)
+    for e in range(nf):
+        width = max(width, int(p[int(p[H_FE]) + e * FE_W + F_NZ]))
+    return np.zeros((N_ROWS, width))
 
 
 @jit
 def chain_rhs(t, y, u, p, dy):
-    tau_c, fF, fFe, fs, fw, fa = _work(p)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa, False)
+    evaluate(t, y, u, p, dy, workspace(p), False)
 
 
 @jit
@@ -788,7 +781,7 @@ def _shielded(p, y, e):
 
 
 @jit
-def _element_events(p, y, e, fw, fFe, fs, fa, g):
+def _element_events(p, y, e, W, g):
     """Event functions of element ``e`` into ``g`` (its slots)."""
     f = int(p[H_FE]) + e * FE_W
     nz = int(p[f + F_NZ])
@@ -799,32 +792,32 @@ def _element_events(p, y, e, fw, fFe, fs, fa, g):
         pf = p[int(p[f + F_PAR]):]
         # a free element (scale 0) gets a vanishing capacity so that its break-away
         # function starts strictly positive and the first torque makes it cross
-        sc = fs[e] if fs[e] > 0.0 else 1e-300
-        friction_events(int(p[f + F_CODE]), pf, y[yz:yz + nz], fw[e], fFe[e], sc, g)
+        sc = W[R_FS, e] if W[R_FS, e] > 0.0 else 1e-300
+        friction_events(int(p[f + F_CODE]), pf, y[yz:yz + nz], W[R_FW, e], W[R_FE, e], sc, g)
         if locked and int(p[f + F_CODE]) == CODE_ROBUST and _shielded(p, y, e):
             g[1] = NO_EVENT
     elif kind == FK_ONE_WAY:
         if locked:
             g[0] = NO_EVENT
-            g[1] = one_way_limit(p, f, fs[e]) - fFe[e]
+            g[1] = one_way_limit(p, f, W[R_FS, e]) - W[R_FE, e]
         else:
-            g[0] = fw[e]
+            g[0] = W[R_FW, e]
             g[1] = NO_EVENT
     else:
         if locked:
-            lo, up = lossy_bounds(p, f, fa[e])
+            lo, up = lossy_bounds(p, f, W[R_FA, e])
             g[0] = NO_EVENT
-            g[1] = min(up - fFe[e], fFe[e] - lo) + LOSSY_TOL
+            g[1] = min(up - W[R_FE, e], W[R_FE, e] - lo) + LOSSY_TOL
         else:
             # just freed at zero speed, a round-off torque may have picked the direction:
             # the margin lets the first motion the other way register as a stop
-            g[0] = y[yz] * fw[e] + 1e-300
+            g[0] = y[yz] * W[R_FW, e] + 1e-300
             g[1] = NO_EVENT
 
 
 @jit
 def chain_events(t, y, u, p, g):
-    tau_c, fF, fFe, fs, fw, fa = _work(p)
+    W = workspace(p)
     nf = int(p[H_NF])
     # Only the switching elements (lock/free: robust Coulomb, one-way, lossy gear) need
     # the stick torques, i.e. a full evaluation; the events of the other models read the
@@ -837,18 +830,18 @@ def chain_events(t, y, u, p, g):
             full = True
     if full:
         dy = np.empty(y.size)
-        evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa, True)
+        evaluate(t, y, u, p, dy, W, True)
     else:
         for e in range(nf):
-            fw[e] = rel_speed(p, y, e)
-            fs[e] = element_scale(p, y, u, e, fw[e])
+            W[R_FW, e] = rel_speed(p, y, e)
+            W[R_FS, e] = element_scale(p, y, u, e, W[R_FW, e])
     for e in range(nf):
         f = int(p[H_FE]) + e * FE_W
         ne = int(p[f + F_NEV])
         if ne == 0:
             continue
         off = int(p[f + F_EV])
-        _element_events(p, y, e, fw, fFe, fs, fa, g[off:off + ne])
+        _element_events(p, y, e, W, g[off:off + ne])
     if p[H_ENG] > 0.0:
         b = int(p[H_ENGB])
         g[int(p[H_EVSTALL])] = y[int(p[b + E_NODE])] - p[b + E_STALL]
@@ -865,10 +858,10 @@ def chain_events(t, y, u, p, g):
 
 
 @jit
-def _merge(p, y, a, b, s):
+def _merge(p, y, a, b, W):
     """Give nodes a..b one common motion, conserving their momentum (or stop them)."""
     J0 = int(p[H_NODE])
-    _speed_factors(p, y, a, b, s)
+    _speed_factors(p, y, a, b, W)
     if _locked_brake_node(p, y, a, b, -1) >= 0:
         for i in range(a, b + 1):
             y[i] = 0.0
@@ -877,11 +870,11 @@ def _merge(p, y, a, b, s):
     den = 0.0
     for i in range(a, b + 1):
         jj = p[J0 + i * NODE_W + N_J]
-        num += jj * s[i] * y[i]
-        den += jj * s[i] * s[i]
+        num += jj * W[R_S, i] * y[i]
+        den += jj * W[R_S, i] * W[R_S, i]
     w = num / den
     for i in range(a, b + 1):
-        y[i] = w * s[i]
+        y[i] = w * W[R_S, i]
 
 
 @jit
@@ -895,7 +888,7 @@ def kinetic_energy(p, y):
 
 
 @jit
-def _element_reset(p, y, e, j, fw, fFe, fs, fa):
+def _element_reset(p, y, e, j, W):
     """Apply event ``j`` of element ``e`` to its own states.  Returns the action code of
     :mod:`clutchsim.friction.base` (0 nothing, 1 states changed, 2 now stuck, 3 freed)."""
     f = int(p[H_FE]) + e * FE_W
@@ -904,31 +897,32 @@ def _element_reset(p, y, e, j, fw, fFe, fs, fa):
     kind = p[f + F_KIND]
     if kind == FK_MODEL:
         pf = p[int(p[f + F_PAR]):]
-        return friction_reset(int(p[f + F_CODE]), pf, y[yz:yz + nz], fw[e], fFe[e], fs[e], j)
+        return friction_reset(int(p[f + F_CODE]), pf, y[yz:yz + nz], W[R_FW, e], W[R_FE, e],
+                              W[R_FS, e], j)
     if kind == FK_ONE_WAY:
         if j == 0:      # stop: the freewheel blocks unless the clutch is overloaded
-            if fFe[e] <= one_way_limit(p, f, fs[e]):
+            if W[R_FE, e] <= one_way_limit(p, f, W[R_FS, e]):
                 y[yz] = 0.0
                 return 2
             y[yz] = 1.0
             return 0
         y[yz] = 1.0     # breakaway: slide forward
         return 3
-    lo, up = lossy_bounds(p, f, fa[e])
+    lo, up = lossy_bounds(p, f, W[R_FA, e])
     if j == 0:          # stop: stick, or roll on in the direction of the torque
-        if lo - LOSSY_TOL <= fFe[e] <= up + LOSSY_TOL:
+        if lo - LOSSY_TOL <= W[R_FE, e] <= up + LOSSY_TOL:
             y[yz] = 0.0
             return 2
-        y[yz] = 1.0 if fFe[e] > up else -1.0
+        y[yz] = 1.0 if W[R_FE, e] > up else -1.0
         return 1
     # breakaway: roll towards the limit that is reached (at the located event the stick
     # torque sits on it, within round-off)
-    y[yz] = 1.0 if up - fFe[e] <= fFe[e] - lo else -1.0
+    y[yz] = 1.0 if up - W[R_FE, e] <= W[R_FE, e] - lo else -1.0
     return 3
 
 
 @jit
-def _restructure(p, y, e, action, s):
+def _restructure(p, y, e, action, W):
     """Lock (action 2, merging the cluster and booking the lost kinetic energy) or free
     (action 3) element ``e``."""
     f = int(p[H_FE]) + e * FE_W
@@ -936,14 +930,14 @@ def _restructure(p, y, e, action, s):
         y[int(p[f + F_YLK])] = 1.0
         ke0 = kinetic_energy(p, y)
         m = int(p[f + F_IDX])
-        _merge(p, y, _left(p, y, m), _right(p, y, m), s)
+        _merge(p, y, _left(p, y, m), _right(p, y, m), W)
         y[int(p[H_YEN]) + EN_SYNC] += ke0 - kinetic_energy(p, y)
     elif action == 3:
         y[int(p[f + F_YLK])] = 0.0
 
 
 @jit
-def _settle(t, y, u, p, e0, s):
+def _settle(t, y, u, p, e0, W):
     """Event iteration after element ``e0`` switched (-1: after a gear shift): every other
     switching element is checked once at the same instant.  A locked one whose stick
     torque has left its limits breaks away; a sliding one that is now at (or past) zero
@@ -967,9 +961,8 @@ def _settle(t, y, u, p, e0, s):
         vmax = max(vmax, abs(y[j]))
     w_tol = 1e-9 * (1.0 + vmax)
     for _ in range(nf + 1):
-        tau_c, fF, fFe, fs, fw, fa = _work(p)
         dy = np.empty(y.size)
-        evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa, True)
+        evaluate(t, y, u, p, dy, W, True)
         hit = -1
         slot = -1
         for e in range(nf):
@@ -978,30 +971,29 @@ def _settle(t, y, u, p, e0, s):
                 continue
             mode = y[int(p[f + F_YZ])]
             if y[int(p[f + F_YLK])] > 0.5:
-                _element_events(p, y, e, fw, fFe, fs, fa, g)
+                _element_events(p, y, e, W, g)
                 if g[1] < 0.0:
                     hit = e
                     slot = 1
                     break
-            elif mode != 0.0 and mode * fw[e] <= 0.0 and abs(fw[e]) <= w_tol:
+            elif mode != 0.0 and mode * W[R_FW, e] <= 0.0 and abs(W[R_FW, e]) <= w_tol:
                 hit = e
                 slot = 0
                 break
         if hit < 0:
             return
         done[hit] = 1.0
-        action = _element_reset(p, y, hit, slot, fw, fFe, fs, fa)
+        action = _element_reset(p, y, hit, slot, W)
         if action == 2 or action == 3:
-            _restructure(p, y, hit, action, s)
+            _restructure(p, y, hit, action, W)
 
 
 @jit
 def chain_reset(t, y, u, p, k):
-    tau_c, fF, fFe, fs, fw, fa = _work(p)
+    W = workspace(p)
     dy = np.empty(y.size)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa, True)
+    evaluate(t, y, u, p, dy, W, True)
     n = int(p[H_N])
-    s = np.empty(n)
     nf = int(p[H_NF])
     yen = int(p[H_YEN])
     for e in range(nf):
@@ -1010,11 +1002,11 @@ def chain_reset(t, y, u, p, k):
         off = int(p[f + F_EV])
         if ne == 0 or k < off or k >= off + ne:
             continue
-        action = _element_reset(p, y, e, k - off, fw, fFe, fs, fa)
+        action = _element_reset(p, y, e, k - off, W)
         if action == 2 or action == 3:
-            _restructure(p, y, e, action, s)
+            _restructure(p, y, e, action, W)
         if _switching(p, f) and action != 0:
-            _settle(t, y, u, p, e, s)
+            _settle(t, y, u, p, e, W)
         return 1 if action != 0 else 0
     if p[H_ENG] > 0.0 and k == int(p[H_EVSTALL]):
         return 3
@@ -1030,12 +1022,12 @@ def chain_reset(t, y, u, p, k):
                 # ideal synchroniser: the input side takes the new ratio's speed
                 a = _left(p, y, kk)
                 b = _right(p, y, kk)
-                _speed_factors(p, y, a, b, s)
-                ref = y[b] / s[b]
+                _speed_factors(p, y, a, b, W)
+                ref = y[b] / W[R_S, b]
                 for i in range(a, b + 1):
-                    y[i] = ref * s[i]
+                    y[i] = ref * W[R_S, i]
                 y[yen + EN_SYNC] += ke0 - kinetic_energy(p, y)
-                _settle(t, y, u, p, -1, s)
+                _settle(t, y, u, p, -1, W)
                 return 1
     return 0
 
@@ -1045,24 +1037,24 @@ def chain_outputs(t, y, u, p, out):
     """Coupling torques, element slip/scale/stick torque/power, engine, vehicle, energy."""
     n = int(p[H_N])
     nf = int(p[H_NF])
-    tau_c, fF, fFe, fs, fw, fa = _work(p)
+    W = workspace(p)
     dy = np.empty(y.size)
-    evaluate(t, y, u, p, dy, tau_c, fF, fFe, fs, fw, fa, True)
+    evaluate(t, y, u, p, dy, W, True)
     i = 0
     for k in range(n - 1):
-        out[i] = tau_c[k]
+        out[i] = W[R_TAU, k]
         i += 1
     for e in range(nf):
         f = int(p[H_FE]) + e * FE_W
-        out[i] = fF[e]
-        out[i + 1] = fw[e]
+        out[i] = W[R_F, e]
+        out[i + 1] = W[R_FW, e]
         if p[f + F_KIND] == FK_LOSSY:
-            _lo, up = lossy_bounds(p, f, fa[e])
+            _lo, up = lossy_bounds(p, f, W[R_FA, e])
             out[i + 2] = up
         else:
-            out[i + 2] = fs[e] * p[f + F_CAP]
-        out[i + 3] = fFe[e]
-        out[i + 4] = fF[e] * fw[e]
+            out[i + 2] = W[R_FS, e] * p[f + F_CAP]
+        out[i + 3] = W[R_FE, e]
+        out[i + 4] = W[R_F, e] * W[R_FW, e]
         i += 5
     ke = kinetic_energy(p, y)
     pe = 0.0

@@ -197,7 +197,9 @@ class Mykhailevych2020(FrictionModel):
 def mykhailevych2020_force(p, z, v, F_e, scale, dz):
     T_stat = p[0]
     dz[0] = v
-    drop = (T_stat - p[1] * T_stat) * (1.0 - math.exp(-(abs(v / p[3]) ** p[5])))
+    x = abs(v / p[3])
+    xp = x * x if p[5] == 2.0 else x        # p is 1 or 2 (checked): no call to pow
+    drop = (T_stat - p[1] * T_stat) * (1.0 - math.exp(-xp))
     return scale * (T_stat * math.tanh(z[0] / p[2]) + p[4] * v - sgn(v) * drop)
 
 
