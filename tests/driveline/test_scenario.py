@@ -200,3 +200,16 @@ def test_gearbox_with_losses_counts_as_the_one_lossy_gear(tmp_path):
         load_scenario(p)
     assert "a second gear with losses ('gearbox' is the first" in str(info.value)
     assert info.value.key == "coupling[3]"
+
+
+def test_chain_is_built_once_per_effective_model():
+    # the default launch's clutch already uses model (6): asking for it by name is the
+    # same chain; another model is another chain, each built once
+    sc = load_scenario(None)
+    own = sc.chain()
+    assert sc.chain("mykhailevych2020") is own
+    robust = sc.chain("coulomb-robust")
+    assert robust is not own and sc.chain("coulomb-robust") is robust
+    names = {c.name: type(c.model).__name__ for c in robust.friction_elements
+             if hasattr(c, "model")}
+    assert names["clutch"] == "CoulombRobust"

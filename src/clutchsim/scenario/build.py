@@ -13,7 +13,7 @@ from ..friction import get_model_class, make_model
 from ..friction.base import SelfExcitedWarning
 from .schema import suggest
 
-__all__ = ["build_chain", "friction_model"]
+__all__ = ["build_chain", "effective_model", "friction_model"]
 
 
 def friction_model(spec: dict, model: str | None, key: str, fail):
@@ -49,6 +49,21 @@ def _replaced(t, model, scenario) -> bool:
     if model is None:
         return False
     return t["name"] == scenario.clutch or model in t["friction"].get("alternatives", {})
+
+
+def effective_model(scenario, model: str | None) -> str | None:
+    """``model``, or ``None`` when it changes nothing: every element it would act on
+    already uses it as its own model (then the chain is the scenario's own)."""
+    if model is None:
+        return None
+    for t in (*scenario.data.get("coupling", []), *scenario.data.get("brake", [])):
+        if "friction" not in t:
+            if t.get("name") == scenario.clutch:
+                return model        # a fixed switching law: building says it cannot
+            continue
+        if _replaced(t, model, scenario) and t["friction"].get("model") != model:
+            return model
+    return None
 
 
 def _pairs(tab, a, b, key, fail):

@@ -60,6 +60,9 @@ class Scenario:
     data: dict = field(repr=False)
     file: str = "<scenario>"
     text: str = field(default="", repr=False)
+    #: built chains per effective model (chains are immutable; a sweep builds each
+    #: variant's chain once for validation and would build it again to run it)
+    _chains: dict = field(default_factory=dict, repr=False, compare=False)
 
     def fail(self, problem: str, key: str = "") -> None:
         raise ScenarioError(problem, file=self.file, key=key,
@@ -67,8 +70,11 @@ class Scenario:
 
     def chain(self, model: str | None = None):
         """The :class:`~clutchsim.driveline.Chain` with ``model`` on the clutch element."""
-        from .build import build_chain
-        return build_chain(self, model)
+        from .build import build_chain, effective_model
+        key = effective_model(self, model)
+        if key not in self._chains:
+            self._chains[key] = build_chain(self, key)
+        return self._chains[key]
 
 
 def load_scenario(path: str | Path | None = None, *, overrides=None) -> Scenario:
