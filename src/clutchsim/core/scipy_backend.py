@@ -3,6 +3,16 @@
 Slow (a Python call per right-hand-side evaluation) but independent of the compiled
 integrators, so tests cross-check the two.  Breakpoints split the run into pieces; events
 are scipy terminal events followed by the plant's reset map and a restart.
+
+Event hysteresis: scipy's solutions carry noise of the size of ``atol`` (LSODA in
+particular), and a restart next to a root of a function that stays near zero - the slip of
+a clutch that has just stuck - finds a new "crossing" in that noise every few
+microseconds; the default launch was stopped by chatter detection after 185 such no-op
+events in 0.4 ms.  Once event ``k`` has fired, its next crossing is therefore located
+where its function has moved ``atol`` beyond zero on the other side (a dead band of width
+``atol``, in the event function's own unit).  The compiled integrators do not need it:
+their event functions are sampled on the dense output of accepted steps, whose noise is far
+below the tolerance.
 """
 
 from __future__ import annotations
@@ -50,6 +60,10 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
     record(t, y, t + 1e-12 * max(1.0, abs(t)), rows)
     last_event_times: list[float] = []
     mute_until = -np.inf
+    # side (+1/-1) each event function was left on at its last firing: the next crossing
+    # is located at -side·atol (see the module docstring)
+    side = np.zeros(n_ev)
+    band = opts.atol
     for a, b in zip(edges[:-1], edges[1:]):
         t_ref = 0.5 * (a + b)
         if t >= b:
@@ -64,7 +78,7 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
             def make_event(k):
                 def ev(tt, yy):
                     call_events(tag, tt, yy, inputs_at(tt, t_ref), p, g)
-                    return g[k]
+                    return g[k] + side[k] * band
                 ev.terminal = True
                 ev.direction = system.event_directions[k]
                 return ev
@@ -79,6 +93,7 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
                 k1 = np.floor((t_stop - t0) / opts.dt_out + 1e-9)
                 t_eval = np.append(t0 + np.arange(k0, k1 + 1) * opts.dt_out, t_stop)
                 t_eval = np.unique(np.clip(t_eval, t, t_stop))
+            start = np.array([ev(t, y) for ev in evs]) if evs else np.zeros(0)
             sol = solve_ivp(rhs, (t, t_stop), y, method=_METHOD[solver], rtol=opts.rtol,
                             atol=opts.atol, events=evs or None, t_eval=t_eval)
             steps += max(len(sol.t) - 1, 0)
@@ -102,6 +117,9 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
                 continue
             k = min(fired, key=lambda kk: sol.t_events[kk][0])
             t, y = float(sol.t_events[k][0]), sol.y_events[k][0].copy()
+            # the side the function is left on: opposite to where it came from
+            if start[k] != 0.0:
+                side[k] = -np.sign(start[k])
             action = int(call_reset(tag, t, y, inputs_at(t, t_ref), p, k))
             events.append(Event(t, system.event_names[k], _ACTIONS[action]))
             record(t, y, t_ref, rows)
