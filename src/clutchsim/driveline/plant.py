@@ -91,12 +91,11 @@ NO_EVENT = 1.0
 #: rows of the per-call workspace ``W`` (:func:`workspace`): coupling torques, element
 #: torque / stick torque / capacity scale / slip / auxiliary (lossy flange-a torque), node
 #: torques, speed factors, node torques of pass 1, holding scratch, pass-1 element torques,
-#: holder torques, friction-state scratch, and the holding scratch of the stick-torque
-#: solves.  One 2-D array indexed by row: a view per array would cost two atomic
-#: reference counts per call (measured: a quarter of the right-hand side's time).
-(R_TAU, R_F, R_FE, R_FS, R_FW, R_FA, R_TN, R_S, R_T1, R_TH, R_F1, R_HB, R_DZT, R_THH,
- R_HBH) = range(15)
-N_ROWS = 15
+#: holder torques, and the holding scratch of the stick-torque solves.  One 2-D array
+#: indexed by row: a view per array would cost two atomic reference counts per call.
+(R_TAU, R_F, R_FE, R_FS, R_FW, R_FA, R_TN, R_S, R_T1, R_TH, R_F1, R_HB, R_THH,
+ R_HBH) = range(14)
+N_ROWS = 14
 #: torque band [N·m] by which a stuck lossy gear's holding torque may leave its limits
 #: before it rolls.  An unloaded gear without bearing friction holds exactly its limits
 #: (0 = 0), and round-off torques (~1e-16 N·m) around a standstill would otherwise pick
@@ -504,15 +503,24 @@ def _smooth(p):
     return True
 
 
-@jit(inline="always")
-def _model_force(p, y, e, w, Fe, scale, dy):
-    """Torque of the friction-model element ``e`` (plus its open drag) at slip ``w`` and
-    stick torque ``Fe``; writes its state derivatives into ``dy``."""
+@jit
+def _element_force(p, y, e, w, Fe, scale, dy):
+    """Force of the friction model of element ``e`` at slip ``w`` and stick torque ``Fe``;
+    writes its state derivatives into ``dy``.  Called, not inlined: the dispatch over all
+    models is compiled once instead of at each of its three call sites."""
     f = int(p[H_FE]) + e * FE_W
     nz = int(p[f + F_NZ])
     yz = int(p[f + F_YZ])
-    F = friction_force(int(p[f + F_CODE]), p[int(p[f + F_PAR]):], y[yz:yz + nz], w, Fe,
-                       scale, dy[yz:yz + nz])
+    return friction_force(int(p[f + F_CODE]), p[int(p[f + F_PAR]):], y[yz:yz + nz], w, Fe,
+                          scale, dy[yz:yz + nz])
+
+
+@jit(inline="always")
+def _model_force(p, y, e, w, Fe, scale, dy):
+    """Torque of the friction-model element ``e`` plus its open drag (see
+    :func:`_element_force`)."""
+    f = int(p[H_FE]) + e * FE_W
+    F = _element_force(p, y, e, w, Fe, scale, dy)
     drag = p[f + F_DRAG]
     if drag != 0.0:
         F += drag * math.tanh(w)
@@ -612,11 +620,8 @@ def evaluate(t, y, u, p, dy, W, complete):
             f = F0 + e * FE_W
             if y[int(p[f + F_YLK])] > 0.5 or p[f + F_KIND] == FK_LOSSY:
                 continue
-            nz = int(p[f + F_NZ])
-            yz = int(p[f + F_YZ])
-            pf = p[int(p[f + F_PAR]):]
-            W[R_F1, e] = friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], W[R_FW, e], 0.0,
-                                   W[R_FS, e], W[R_DZT, :nz])
+            # (its state derivatives land in dy and are overwritten in pass 2)
+            W[R_F1, e] = _element_force(p, y, e, W[R_FW, e], 0.0, W[R_FS, e], dy)
             _add_element_torque(p, y, e, W[R_F1, e], W, R_T1)
         # rolling lossy gears: the loss follows from the torques of everything else
         for e in range(nf):
@@ -646,11 +651,7 @@ def evaluate(t, y, u, p, dy, W, complete):
                 continue
             W[R_FE, e] = lock_torque(p, y, e, W, R_TN)
             if p[f + F_KIND] != FK_LOSSY:
-                nz = int(p[f + F_NZ])
-                yz = int(p[f + F_YZ])
-                pf = p[int(p[f + F_PAR]):]
-                friction_force(int(p[f + F_CODE]), pf, y[yz:yz + nz], W[R_FW, e], W[R_FE, e],
-                               W[R_FS, e], dy[yz:yz + nz])
+                _element_force(p, y, e, W[R_FW, e], W[R_FE, e], W[R_FS, e], dy)
             W[R_F, e] = W[R_FE, e]
     p_fric = 0.0
     for e in range(nf):
@@ -735,13 +736,8 @@ def evaluate(t, y, u, p, dy, W, complete):
 @jit(inline="always")
 def workspace(p):
     """The zeroed workspace of one plant call: ``N_ROWS`` rows (``R_*``) as wide as the
-    largest of node count, element count and element state count (one allocation)."""
-    n = int(p[H_N])
-    nf = int(p[H_NF])
-    width = max(n, nf, 1)
-    for e in range(nf):
-        width = max(width, int(p[int(p[H_FE]) + e * FE_W + F_NZ]))
-    return np.zeros((N_ROWS, width))
+    larger of node count and element count (one allocation)."""
+    return np.zeros((N_ROWS, max(int(p[H_N]), int(p[H_NF]), 1)))
 
 
 @jit
