@@ -5,7 +5,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from clutchsim.core import SolverOptions, simulate
+from clutchsim.core import simulate
 from clutchsim.core._linalg import factor_iteration_matrix, lu_solve
 
 

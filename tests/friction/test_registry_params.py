@@ -157,3 +157,26 @@ def test_public_api_exports():
     for name in friction.__all__:
         assert hasattr(friction, name)
     assert issubclass(friction.SelfExcitedWarning, UserWarning)
+
+
+@pytest.mark.parametrize("name", EXPECTED_NAMES)
+def test_stick_force_flag_matches_the_kernel(name):
+    # plants skip computing the stick force for models that declare they do not read it;
+    # the compiled predicate must agree with the class variable, and a model that says
+    # "no" must give the same force and state derivatives for any F_e
+    from clutchsim.friction import friction_force, uses_stick_force
+    cls = get_model_class(name)
+    assert uses_stick_force(cls.code) == cls.uses_stick_force
+    if cls.uses_stick_force:
+        return
+    m = make_model(name)
+    p = m.pack()
+    rng = np.random.default_rng(cls.code)
+    for _ in range(5):
+        z = rng.normal(scale=1e-4, size=m.n_states) if m.n_states else np.zeros(0)
+        v = float(rng.normal(scale=0.05))
+        dz1, dz2 = np.zeros(m.n_states), np.zeros(m.n_states)
+        f1 = friction_force(cls.code, p, z, v, 0.0, 1.0, dz1)
+        f2 = friction_force(cls.code, p, z, v, float(rng.normal(scale=100.0)), 1.0, dz2)
+        assert f1 == f2
+        np.testing.assert_array_equal(dz1, dz2)

@@ -48,4 +48,5 @@ __all__ = [
     "list_parameter_sets",
     "load_parameter_set",
     "make_model",
+    "uses_stick_force",
 ]
