@@ -104,7 +104,8 @@ LOSSY_GEAR = (
     Key("name", "str", "Unique name; states `<name>.mode` (-1 rolling backward, 0 stuck, +1 "
         "forward) and `<name>.locked`.", required=True),
     Key("type", "str", "lossy_gear: rigid gear with mesh efficiency and bearing friction that "
-        "can stick (Modelica LossyGear; at most one per scenario).", required=True),
+        "can stick (Modelica LossyGear; at most one gear with losses per scenario, a gearbox "
+        "with an efficiency included).", required=True),
     _n("ratio", "Speed ratio omega_a/omega_b (non-zero).", "-", required=True),
     Key("loss_table", "table", "`{speed = [rad/s ...], eta_mf1 = [...], eta_mf2 = [...], "
         "tau_bf1 = [N·m ...], tau_bf2 = [N·m ...]}`: mesh efficiency with power flowing a->b "
