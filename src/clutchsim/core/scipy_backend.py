@@ -93,7 +93,9 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
                 k1 = np.floor((t_stop - t0) / opts.dt_out + 1e-9)
                 t_eval = np.append(t0 + np.arange(k0, k1 + 1) * opts.dt_out, t_stop)
                 t_eval = np.unique(np.clip(t_eval, t, t_stop))
-            start = np.array([ev(t, y) for ev in evs]) if evs else np.zeros(0)
+            # event values at the start, with their bands (one evaluation of all of them)
+            call_events(tag, t, y, inputs_at(t, t_ref), p, g)
+            start = g + side * band
             sol = solve_ivp(rhs, (t, t_stop), y, method=_METHOD[solver], rtol=opts.rtol,
                             atol=opts.atol, events=evs or None, t_eval=t_eval)
             steps += max(len(sol.t) - 1, 0)

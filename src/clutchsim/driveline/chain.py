@@ -10,7 +10,7 @@ import numpy as np
 from ..core import System, register_system
 from . import plant as P
 from .components import (Brake, Engine, FrictionElement, Gear, Gearbox, Inertia, LossyGear,
-                         OneWayClutch, SpringDamper, Vehicle, static_capacity)
+                         OneWayClutch, SpringDamper, Vehicle, has_losses, static_capacity)
 
 __all__ = ["Chain", "ChainPlant", "ENERGY_STATES"]
 
@@ -32,11 +32,6 @@ register_system(ChainPlant, rhs=P.chain_rhs, events=P.chain_events, reset=P.chai
 
 #: couplings that can carry gear losses (a switching lossy element in the plant)
 _LOSSY = (LossyGear, Gearbox)
-
-
-def _has_losses(c) -> bool:
-    """Is ``c`` a gear whose losses make it a switching element of the plant?"""
-    return isinstance(c, _LOSSY) and not c.ideal
 
 
 @dataclass(frozen=True)
@@ -138,14 +133,14 @@ class Chain:
     @property
     def lossy_gears(self) -> tuple:
         """Lossy gears and gearboxes with losses (without losses they are plain gears)."""
-        return tuple(c for c in self.couplings if _has_losses(c))
+        return tuple(c for c in self.couplings if has_losses(c))
 
     @property
     def elements(self) -> tuple:
         """Switching elements of the plant: friction couplings and lossy gears in chain
         order, then the brakes."""
         return tuple(c for c in self.couplings
-                     if isinstance(c, (FrictionElement, OneWayClutch)) or _has_losses(c)) \
+                     if isinstance(c, (FrictionElement, OneWayClutch)) or has_losses(c)) \
             + self.brakes
 
     def input_names(self) -> tuple[str, ...]:
@@ -300,7 +295,7 @@ class Chain:
             elif isinstance(c, Gearbox):
                 put(o, P.C_KIND, P.SHIFT_GEAR)
                 put(o, P.C_Y, twist_idx[k])
-                if _has_losses(c):
+                if has_losses(c):
                     put(o, P.C_FE, fe_index[c.name])
                 shift_pending.append((k, c))
             elif isinstance(c, SpringDamper):
@@ -408,9 +403,9 @@ class Chain:
             put(o, P.V_NODE, n - 1)
             put(o, P.V_MASS, v.mass)
             put(o, P.V_R, v.tyre_radius)
-            put(o, P.V_GRADE, np.arctan(v.grade / 100.0))
-            put(o, P.V_COS, np.cos(np.arctan(v.grade / 100.0)))
-            put(o, P.V_SIN, np.sin(np.arctan(v.grade / 100.0)))
+            angle = np.arctan(v.grade / 100.0)
+            put(o, P.V_COS, np.cos(angle))
+            put(o, P.V_SIN, np.sin(angle))
             put(o, P.V_FR, v.rolling)
             put(o, P.V_CA, 0.5 * v.air_density * v.cd_area)
             put(o, P.V_G, v.gravity)

@@ -18,7 +18,8 @@ from ..friction.base import FrictionModel
 from ..friction.coulomb_robust import CoulombRobust
 
 __all__ = ["Inertia", "Gear", "Gearbox", "LossyGear", "SpringDamper", "FrictionElement", "Brake",
-           "OneWayClutch", "Engine", "Vehicle", "ThermalNode", "static_capacity", "ONE_WAY_EPS0"]
+           "OneWayClutch", "Engine", "Vehicle", "ThermalNode", "static_capacity", "has_losses",
+           "ONE_WAY_EPS0"]
 
 #: relative hysteresis of the one-way clutch (Modelica's ``eps0``): with the clutch open the
 #: freewheel releases once the stick torque exceeds ``ONE_WAY_EPS0·T_slide``
@@ -214,6 +215,12 @@ class Gearbox:
         eta_mf1, eta_mf2, tau_bf1, tau_bf2)."""
         return ((0.0,), (self.efficiency,), (self.efficiency_reverse,), (self.drag_torque,),
                 (self.drag_torque,))
+
+
+def has_losses(c) -> bool:
+    """Is ``c`` a gear with losses (a :class:`LossyGear` or :class:`Gearbox` that is not
+    ideal)?  A chain holds at most one: its loss is solved in closed form."""
+    return isinstance(c, (LossyGear, Gearbox)) and not c.ideal
 
 
 def _efficiency(owner: str, name: str, value) -> float:

@@ -82,7 +82,7 @@ ENG_W = 12
 (E_NODE, E_TAB, E_NTAB, E_IN, E_D0, E_D1, E_IDLE, E_KP, E_KI, E_STALL, E_GOV) = range(11)
 
 VEH_W = 10
-(V_NODE, V_MASS, V_R, V_GRADE, V_FR, V_CA, V_G, V_EPS, V_COS, V_SIN) = range(10)
+(V_NODE, V_MASS, V_R, V_FR, V_CA, V_G, V_EPS, V_COS, V_SIN) = range(9)   # cos, sin of grade
 
 N_ENERGY = 6        # W_in, W_friction, W_damping, W_road, E_grade, W_sync
 EN_IN, EN_FRIC, EN_DAMP, EN_ROAD, EN_GRADE, EN_SYNC = range(6)
@@ -322,6 +322,16 @@ def _hold(p, y, a, b, include, W, rTh, rHb):
     return count, m
 
 
+@jit(inline="always")
+def _hold_rows(p, W, rT, a, b):
+    """Prepare the holding scratch of a stick-torque solve: node torques of row ``rT`` on
+    nodes a..b into ``R_THH``, holder torques ``R_HBH`` zeroed."""
+    for i in range(int(p[H_NF])):
+        W[R_HBH, i] = 0.0
+    for j in range(a, b + 1):
+        W[R_THH, j] = W[rT, j]
+
+
 @jit
 def lock_torque(p, y, e, W, rT):
     """Torque friction element ``e`` transmits if it is (or were) locked.
@@ -332,15 +342,12 @@ def lock_torque(p, y, e, W, rT):
     """
     f = int(p[H_FE]) + e * FE_W
     J0 = int(p[H_NODE])
-    for i in range(int(p[H_NF])):
-        W[R_HBH, i] = 0.0
     if p[f + F_LOC] == LOC_COUPLING:
         k = int(p[f + F_IDX])
         a = _left(p, y, k)
         b = _right(p, y, k + 1)
         _speed_factors(p, y, a, b, W)
-        for j in range(a, b + 1):
-            W[R_THH, j] = W[rT, j]
+        _hold_rows(p, W, rT, a, b)
         cnt, _m = _hold(p, y, a, b, -1, W, R_THH, R_HBH)
         down = 0.0
         if cnt == 0:
@@ -361,8 +368,7 @@ def lock_torque(p, y, e, W, rT):
     a = _left(p, y, m0)
     b = _right(p, y, m0)
     _speed_factors(p, y, a, b, W)
-    for j in range(a, b + 1):
-        W[R_THH, j] = W[rT, j]
+    _hold_rows(p, W, rT, a, b)
     _hold(p, y, a, b, e, W, R_THH, R_HBH)
     if p[f + F_KIND] == FK_LOSSY:
         up = 0.0
@@ -382,10 +388,7 @@ def lossy_rolling(p, y, e, W, rT):
     a = _left(p, y, k)
     b = _right(p, y, k)
     _speed_factors(p, y, a, b, W)
-    for i in range(int(p[H_NF])):
-        W[R_HBH, i] = 0.0
-    for j in range(a, b + 1):
-        W[R_THH, j] = W[rT, j]
+    _hold_rows(p, W, rT, a, b)
     cnt, m = _hold(p, y, a, b, -1, W, R_THH, R_HBH)
     up = 0.0
     for j in range(a, k + 1):

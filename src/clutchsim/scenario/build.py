@@ -8,7 +8,7 @@ import warnings
 from ..driveline.chain import Chain
 from ..driveline.components import (LOSS_COLUMNS, Brake, Engine, FrictionElement, Gear,
                                     Gearbox, Inertia, LossyGear, OneWayClutch, SpringDamper,
-                                    ThermalNode, Vehicle)
+                                    ThermalNode, Vehicle, has_losses)
 from ..friction import get_model_class, make_model
 from ..friction.base import SelfExcitedWarning
 from .schema import suggest
@@ -154,9 +154,8 @@ def build_chain(scenario, model: str | None = None) -> Chain:
 
     def one_lossy_gear(gear, key):
         # the plant solves the loss of a rolling gear in closed form: one per chain
-        others = [c.name for c in couplings if isinstance(c, (LossyGear, Gearbox))
-                  and not c.ideal]
-        if others and not gear.ideal:
+        others = [c.name for c in couplings if has_losses(c)]
+        if others and has_losses(gear):
             fail(f"a second gear with losses ({others[0]!r} is the first; a lossy_gear, or a "
                  "gearbox with efficiency < 1 or drag_torque > 0): a scenario may hold at most "
                  "one", key)
