@@ -124,3 +124,44 @@ def test_static_argument_and_event_index_reach_the_plant(solver):
     assert [round(e.t, 9) for e in res.events] == [round(1 / 7, 9), round(2 / 7, 9)]
     assert res.final("log") == pytest.approx(7 * 1000 + 107)
     assert np.all(res["static"] == 7.0)
+
+
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2"])
+def test_recorded_events_leave_the_steps_alone_and_are_all_found(solver):
+    """An event whose reset returns 0 (recorded) must not cut the step: the run takes the
+    same steps and reaches the same state as without the event, and every zero of x is
+    found at its analytic time, also where one long step holds several of them."""
+    from clutchsim.core.reference_problems import watched_oscillator
+    omega = 2.0
+    opts = SolverOptions(rtol=1e-8, atol=1e-10, dt_out=0.0)
+    plain = simulate(oscillator(omega=omega), (0.0, 20.0), {"F": 0.0}, solver=solver,
+                     options=opts)
+    watched = simulate(watched_oscillator(omega=omega), (0.0, 20.0), {"F": 0.0},
+                       solver=solver, options=opts)
+    assert watched.status == "completed"
+    assert (watched.stats.steps, watched.stats.rejected, watched.stats.rhs_evals) == (
+        plain.stats.steps, plain.stats.rejected, plain.stats.rhs_evals)
+    assert watched.final("x") == plain.final("x") and watched.final("v") == plain.final("v")
+    exact = (np.arange(13) + 0.5) * np.pi / omega          # zeros in (0, 20)
+    assert [e.action for e in watched.events] == ["recorded"] * exact.size
+    np.testing.assert_allclose([e.t for e in watched.events], exact, atol=1e-7)
+
+
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2"])
+def test_several_recorded_events_inside_one_step_are_all_located(solver):
+    """y' = 1 is integrated exactly, so the steps grow to h_max = 1 s, three times the
+    spacing of the zeros of sin(ω·y) (the event function is sampled at four points per
+    step, so zeros must be at least a quarter step apart to be seen).  After a recorded
+    event the scan goes on inside the same step and finds the next zeros too."""
+    from clutchsim.core.reference_problems import ticker
+    omega = 10.0
+    res = simulate(ticker(omega), (0.0, 3.0), solver=solver,
+                   options=SolverOptions(rtol=1e-8, atol=1e-10, dt_out=0.0, h_max=1.0))
+    exact = np.arange(1, 10) * np.pi / omega               # zeros in (0, 3)
+    assert res.status == "completed"
+    np.testing.assert_allclose([e.t for e in res.events], exact, atol=1e-9)
+    # with dt_out = 0 the rows are the step ends plus one row per event
+    t_events = [e.t for e in res.events]
+    step_ends = np.setdiff1d(res.t, t_events)
+    assert step_ends.size == res.stats.steps + 1
+    assert np.histogram(t_events, step_ends)[0].max() >= 2  # a step held several events
