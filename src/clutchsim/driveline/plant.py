@@ -736,6 +736,14 @@ def evaluate(t, y, u, p, dy, W, complete):
     dy[yen + EN_SYNC] = 0.0
 
 
+#: ``complete`` of :func:`evaluate`: ``_COMPLETE[RHS_ONLY]`` for the right-hand side,
+#: ``_COMPLETE[FULL]`` for outputs, events and resets.  The flags live in an array so that
+#: numba types them as run-time booleans: a literal True/False argument would make it
+#: compile ``evaluate``, the plant's largest function, once per value.
+_COMPLETE = np.array([False, True])
+RHS_ONLY, FULL = 0, 1
+
+
 @jit(inline="always")
 def workspace(p):
     """The zeroed workspace of one plant call: ``N_ROWS`` rows (``R_*``) as wide as the
@@ -745,7 +753,7 @@ def workspace(p):
 
 @jit
 def chain_rhs(t, y, u, p, dy):
-    evaluate(t, y, u, p, dy, workspace(p), False)
+    evaluate(t, y, u, p, dy, workspace(p), _COMPLETE[RHS_ONLY])
 
 
 @jit
@@ -829,7 +837,7 @@ def chain_events(t, y, u, p, g):
             full = True
     if full:
         dy = np.empty(y.size)
-        evaluate(t, y, u, p, dy, W, True)
+        evaluate(t, y, u, p, dy, W, _COMPLETE[FULL])
     else:
         for e in range(nf):
             W[R_FW, e] = rel_speed(p, y, e)
@@ -961,7 +969,7 @@ def _settle(t, y, u, p, e0, W):
     w_tol = 1e-9 * (1.0 + vmax)
     for _ in range(nf + 1):
         dy = np.empty(y.size)
-        evaluate(t, y, u, p, dy, W, True)
+        evaluate(t, y, u, p, dy, W, _COMPLETE[FULL])
         hit = -1
         slot = -1
         for e in range(nf):
@@ -991,7 +999,7 @@ def _settle(t, y, u, p, e0, W):
 def chain_reset(t, y, u, p, k):
     W = workspace(p)
     dy = np.empty(y.size)
-    evaluate(t, y, u, p, dy, W, True)
+    evaluate(t, y, u, p, dy, W, _COMPLETE[FULL])
     n = int(p[H_N])
     nf = int(p[H_NF])
     yen = int(p[H_YEN])
@@ -1038,7 +1046,7 @@ def chain_outputs(t, y, u, p, out):
     nf = int(p[H_NF])
     W = workspace(p)
     dy = np.empty(y.size)
-    evaluate(t, y, u, p, dy, W, True)
+    evaluate(t, y, u, p, dy, W, _COMPLETE[FULL])
     i = 0
     for k in range(n - 1):
         out[i] = W[R_TAU, k]
