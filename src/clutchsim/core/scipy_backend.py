@@ -17,6 +17,7 @@ below the tolerance.
 
 from __future__ import annotations
 
+import itertools
 import time
 
 import numpy as np
@@ -83,7 +84,7 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
         ev.direction = system.event_directions[k]
         return ev
 
-    for a, b in zip(edges[:-1], edges[1:]):
+    for a, b in itertools.pairwise(edges):
         t_ref = 0.5 * (a + b)
         if t >= b:
             continue
