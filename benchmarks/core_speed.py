@@ -87,7 +87,7 @@ def main():
     ref = scipy_run("Radau", rtol=1e-11, atol=1e-13)
     rungs = []
     for rtol, atol in LADDER:
-        ms, r = median_ms(lambda: clutchsim_run(rtol, atol))
+        ms, r = median_ms(lambda rtol=rtol, atol=atol: clutchsim_run(rtol, atol))
         f = np.interp(GRID, r.t, r["F_spring"])
         rungs.append({"rtol": rtol, "atol": atol, "ms": round(ms, 3),
                       "error_N": float(np.abs(f - ref).max()), "steps": r.stats.steps,
