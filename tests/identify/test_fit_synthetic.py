@@ -90,13 +90,13 @@ def test_tuple_elements_and_plant_offset_can_be_fitted():
 
 
 @pytest.mark.parametrize("kw, message", [
-    (dict(params=["sigma3"]), r"lugre has no parameter 'sigma3' \(did you mean 'sigma2'\?\)"
-                              r"; model parameters: F_c, F_s"),
-    (dict(params=["F_c"], bounds={"F_c": (2.0, 1.0)}), r"bounds for 'F_c': lo = 2 must be "
-                                                       r"< hi = 1"),
+    (dict(params=["sigma3"]), (r"lugre has no parameter 'sigma3' \(did you mean 'sigma2'\?\)"
+                               r"; model parameters: F_c, F_s")),
+    (dict(params=["F_c"], bounds={"F_c": (2.0, 1.0)}), (r"bounds for 'F_c': lo = 2 must be "
+                                                        r"< hi = 1")),
     (dict(params=["F_c"], bounds={"F_c": (1.0, 1.0)}), "must be < hi"),
-    (dict(params=["F_c"], bounds={"F_s": (1.0, 2.0)}), "bounds given for 'F_s', which is "
-                                                       "not fitted"),
+    (dict(params=["F_c"], bounds={"F_s": (1.0, 2.0)}), ("bounds given for 'F_s', which is "
+                                                        "not fitted")),
     (dict(params=["F_c"], fixed={"F_c": 1.0}), "both fitted and fixed"),
     (dict(params=["F_c"], starts=0), "starts = 0 must be >= 1"),
     (dict(params=[]), "at least one parameter"),
