@@ -77,7 +77,8 @@ class Chain:
         for c in self.couplings:
             if not isinstance(c, (Gear, Gearbox, LossyGear, SpringDamper, FrictionElement,
                                   OneWayClutch)) or isinstance(c, Brake):
-                raise ValueError(f"chain: {c!r} is not a coupling")
+                # contract: every invalid chain raises ValueError, whatever the fault
+                raise ValueError(f"chain: {c!r} is not a coupling")  # noqa: TRY004
         lossy = [c.name for c in self.lossy_gears]
         if len(lossy) > 1:
             raise ValueError(f"chain: at most one gear with losses (lossy gear, or gearbox "

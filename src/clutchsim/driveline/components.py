@@ -28,7 +28,8 @@ ONE_WAY_EPS0 = 1.0e-4
 
 def _num(owner: str, name: str, value, *, low=None, high=None, strict=False, unit=""):
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise ValueError(f"{owner}: {name} = {value!r} must be a number")
+        # contract: every bad parameter raises ValueError (as for the friction models)
+        raise ValueError(f"{owner}: {name} = {value!r} must be a number")  # noqa: TRY004
     x = float(value)
     u = f" {unit}" if unit else ""
     if not math.isfinite(x):
