@@ -116,7 +116,9 @@ def _is_file(path: Path) -> bool:
 def _token(node: ast.AST) -> str:
     try:
         return repr(ast.unparse(node))
-    except Exception:  # pragma: no cover - unparse handles every parsed node
+    # only names the offending token in an error message: whatever unparse raises (e.g.
+    # RecursionError on a deeply nested node) must not replace the formula error
+    except Exception:  # noqa: BLE001  # pragma: no cover - unparse handles every parsed node
         return type(node).__name__
 
 
