@@ -31,9 +31,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate import solve_ivp
-
 from _common import emit, fresh_process_seconds, median_ms
+from scipy.integrate import solve_ivp
 
 M, K, V = 1.0, 2.0, 0.1
 S0, S1, S2, FC, FS, VS = 1e5, math.sqrt(1e5), 0.4, 1.0, 1.5, 1e-3

@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from ..core import SolverOptions, Sine
+from ..core import Sine, SolverOptions
 from ..rig import run_rig
 from ._base import BenchmarkResult, failure, resolve_models
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..core import SolverOptions
 from ..rig import run_rig
-from ._base import BenchmarkResult, failure, crossing_times, resolve_models
+from ._base import BenchmarkResult, crossing_times, failure, resolve_models
 
 __all__ = ["run_stick_slip", "stick_slip_metrics", "DEFAULT_MODELS", "APPLICABLE",
            "REFERENCES"]

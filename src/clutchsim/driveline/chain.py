@@ -9,8 +9,20 @@ import numpy as np
 
 from ..core import System, register_system
 from . import plant as P
-from .components import (Brake, Engine, FrictionElement, Gear, Gearbox, Inertia, LossyGear,
-                         OneWayClutch, SpringDamper, Vehicle, has_losses, static_capacity)
+from .components import (
+    Brake,
+    Engine,
+    FrictionElement,
+    Gear,
+    Gearbox,
+    Inertia,
+    LossyGear,
+    OneWayClutch,
+    SpringDamper,
+    Vehicle,
+    has_losses,
+    static_capacity,
+)
 
 __all__ = ["Chain", "ChainPlant", "ENERGY_STATES"]
 
