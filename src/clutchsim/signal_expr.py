@@ -37,7 +37,7 @@ from pathlib import Path
 
 from .core.signals import Constant, Pulse, Ramp, Signal, Sine, Step, Sum, Table
 
-__all__ = ["parse_signal", "format_signal", "scale_signal", "FUNCTIONS"]
+__all__ = ["FUNCTIONS", "format_signal", "parse_signal", "scale_signal"]
 
 #: formula functions: name -> (signal class, argument names, number of required arguments,
 #: argument name -> field name of the class)

@@ -24,7 +24,7 @@ from .components import (
     static_capacity,
 )
 
-__all__ = ["Chain", "ChainPlant", "ENERGY_STATES"]
+__all__ = ["ENERGY_STATES", "Chain", "ChainPlant"]
 
 #: energy-account states (integrals) [J]
 ENERGY_STATES = ("W_in", "W_friction", "W_damping", "W_road", "E_grade", "W_sync")

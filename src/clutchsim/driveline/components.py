@@ -17,9 +17,22 @@ import numpy as np
 from ..friction.base import FrictionModel
 from ..friction.coulomb_robust import CoulombRobust
 
-__all__ = ["Inertia", "Gear", "Gearbox", "LossyGear", "SpringDamper", "FrictionElement", "Brake",
-           "OneWayClutch", "Engine", "Vehicle", "ThermalNode", "static_capacity", "has_losses",
-           "ONE_WAY_EPS0"]
+__all__ = [
+    "ONE_WAY_EPS0",
+    "Brake",
+    "Engine",
+    "FrictionElement",
+    "Gear",
+    "Gearbox",
+    "Inertia",
+    "LossyGear",
+    "OneWayClutch",
+    "SpringDamper",
+    "ThermalNode",
+    "Vehicle",
+    "has_losses",
+    "static_capacity",
+]
 
 #: relative hysteresis of the one-way clutch (Modelica's ``eps0``): with the clutch open the
 #: freewheel releases once the stick torque exceeds ``ONE_WAY_EPS0·T_slide``

@@ -13,7 +13,7 @@ import numpy as np
 
 from ._style import new_figure
 
-__all__ = ["plot_benchmark", "PLOTTERS"]
+__all__ = ["PLOTTERS", "plot_benchmark"]
 
 
 def _ok(result, label, run):

@@ -10,7 +10,7 @@ import difflib
 import math
 from dataclasses import dataclass
 
-__all__ = ["Key", "SECTIONS", "COUPLING_TYPES", "check_table", "reference_markdown"]
+__all__ = ["COUPLING_TYPES", "SECTIONS", "Key", "check_table", "reference_markdown"]
 
 
 @dataclass(frozen=True)
