@@ -31,9 +31,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate import solve_ivp
-
 from _common import emit, fresh_process_seconds, median_ms
+from scipy.integrate import solve_ivp
 
 M, K, V = 1.0, 2.0, 0.1
 S0, S1, S2, FC, FS, VS = 1e5, math.sqrt(1e5), 0.4, 1.0, 1.5, 1e-3
@@ -87,7 +86,7 @@ def main():
     ref = scipy_run("Radau", rtol=1e-11, atol=1e-13)
     rungs = []
     for rtol, atol in LADDER:
-        ms, r = median_ms(lambda: clutchsim_run(rtol, atol))
+        ms, r = median_ms(lambda rtol=rtol, atol=atol: clutchsim_run(rtol, atol))
         f = np.interp(GRID, r.t, r["F_spring"])
         rungs.append({"rtol": rtol, "atol": atol, "ms": round(ms, 3),
                       "error_N": float(np.abs(f - ref).max()), "steps": r.stats.steps,

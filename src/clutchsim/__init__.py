@@ -35,7 +35,24 @@ from .rig import make_rig, run_rig
 from .sweeps import sweep
 
 __all__ = [
-    "__version__", "Constant", "Pulse", "Ramp", "Result", "Sine", "SolverOptions", "Step",
-    "System", "Table", "register_system", "simulate", "MODELS", "describe_models",
-    "get_model_class", "load_parameter_set", "make_model", "make_rig", "run_rig", "sweep",
+    "MODELS",
+    "Constant",
+    "Pulse",
+    "Ramp",
+    "Result",
+    "Sine",
+    "SolverOptions",
+    "Step",
+    "System",
+    "Table",
+    "__version__",
+    "describe_models",
+    "get_model_class",
+    "load_parameter_set",
+    "make_model",
+    "make_rig",
+    "register_system",
+    "run_rig",
+    "simulate",
+    "sweep",
 ]

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from .core.result import atomic_directory, atomic_write
 
-__all__ = ["DEMO_MODELS", "run_demo", "format_summary"]
+__all__ = ["DEMO_MODELS", "format_summary", "run_demo"]
 
 log = logging.getLogger("clutchsim")
 

@@ -37,7 +37,7 @@ from pathlib import Path
 
 from .core.signals import Constant, Pulse, Ramp, Signal, Sine, Step, Sum, Table
 
-__all__ = ["parse_signal", "format_signal", "scale_signal", "FUNCTIONS"]
+__all__ = ["FUNCTIONS", "format_signal", "parse_signal", "scale_signal"]
 
 #: formula functions: name -> (signal class, argument names, number of required arguments,
 #: argument name -> field name of the class)
@@ -116,7 +116,9 @@ def _is_file(path: Path) -> bool:
 def _token(node: ast.AST) -> str:
     try:
         return repr(ast.unparse(node))
-    except Exception:  # pragma: no cover - unparse handles every parsed node
+    # only names the offending token in an error message: whatever unparse raises (e.g.
+    # RecursionError on a deeply nested node) must not replace the formula error
+    except Exception:  # noqa: BLE001  # pragma: no cover - unparse handles every parsed node
         return type(node).__name__
 
 

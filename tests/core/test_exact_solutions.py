@@ -4,11 +4,10 @@ import math
 
 import numpy as np
 import pytest
+from _vdp_reference import radau_van_der_pol
 
 from clutchsim.core import Sine, SolverOptions, simulate
 from clutchsim.core.reference_problems import oscillator, riccati, van_der_pol
-
-from _vdp_reference import radau_van_der_pol
 
 TIGHT = SolverOptions(rtol=1e-10, atol=1e-12)
 

@@ -2,12 +2,11 @@
 
 import numpy as np
 import pytest
+from _vdp_reference import radau_van_der_pol
 
 from clutchsim.core import SolverOptions, simulate
 from clutchsim.core import _ros34pw2 as ros
 from clutchsim.core.reference_problems import van_der_pol
-
-from _vdp_reference import radau_van_der_pol
 
 
 def _published():

@@ -5,7 +5,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
 
-from _dl_paths import shared_dir  # noqa: E402
+from _dl_paths import shared_dir
 
 
 @pytest.fixture

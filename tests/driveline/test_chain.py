@@ -4,8 +4,7 @@ import numpy as np
 import pytest
 
 from clutchsim.core import Constant, SolverOptions, simulate
-from clutchsim.driveline import (Chain, FrictionElement, Gear, Inertia, SpringDamper,
-                                 ThermalNode)
+from clutchsim.driveline import Chain, FrictionElement, Gear, Inertia, SpringDamper, ThermalNode
 from clutchsim.driveline.run import energy_balance
 from clutchsim.friction import make_model
 

@@ -4,11 +4,10 @@ reverses the torque through the locked clutch without a slip burst."""
 
 import numpy as np
 import pytest
+from _dl_paths import EXAMPLES
 
 from clutchsim.driveline.run import run_scenario
 from clutchsim.scenario import load_scenario
-
-from _dl_paths import EXAMPLES
 
 #: every driveline scenario in examples/ (fit_emps.toml is an identification file)
 ALL_EXAMPLES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if p.stem != "fit_emps")

@@ -9,10 +9,9 @@ deviation over the whole run, within the tube 2e-3 of the signal's range).
 import numpy as np
 import pandas as pd
 import pytest
+from _dl_paths import EXAMPLES, shared_dir
 
 from clutchsim.driveline.run import run_scenario
-
-from _dl_paths import EXAMPLES, shared_dir
 
 REF = shared_dir() / "reference" / "modelica" / "Modelica" / "Mechanics" / "Rotational" / "Examples"
 

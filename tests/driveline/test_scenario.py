@@ -3,11 +3,10 @@
 from pathlib import Path
 
 import pytest
+from _dl_paths import EXAMPLES, REPO
 
 from clutchsim.scenario import ScenarioError, default_scenario_text, load_scenario
 from clutchsim.scenario.schema import reference_markdown
-
-from _dl_paths import EXAMPLES, REPO
 
 
 def test_packaged_default_equals_example_launch():

@@ -2,11 +2,10 @@
 
 import numpy as np
 import pytest
+from _dl_paths import EXAMPLES
 
 from clutchsim.driveline.run import energy_balance, run_scenario
 from clutchsim.scenario import load_scenario
-
-from _dl_paths import EXAMPLES
 
 PERIOD = 12.0        # s between launches (examples/ten_launches.toml)
 SHARE = 0.47         # heat share of each metal face

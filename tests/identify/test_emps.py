@@ -14,7 +14,7 @@ from clutchsim.friction import make_model
 from clutchsim.identify import evaluate, fit, load_spec, make_emps
 
 ROOT = Path(__file__).resolve().parents[2]
-GAINS = dict(gtau=35.15, kp=160.18, kv=243.45)
+GAINS = {"gtau": 35.15, "kp": 160.18, "kv": 243.45}
 
 
 def test_emps_synthetic_coulomb_viscous_recovery():

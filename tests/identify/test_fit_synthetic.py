@@ -20,7 +20,7 @@ def _close(result, truth, rel):
 
 
 def test_lugre_velocity_drive_recovers_parameters():
-    truth = dict(F_c=1.0, F_s=1.5, v_s=1e-2, sigma0=1e4, sigma1=50.0, sigma2=5.0)
+    truth = {"F_c": 1.0, "F_s": 1.5, "v_s": 1e-2, "sigma0": 1e4, "sigma1": 50.0, "sigma2": 5.0}
     data = synthetic_velocity_record(make_model("lugre", **truth), T, V, noise=0.01, seed=1)
     start = make_model("lugre", **{**truth, "F_c": 0.7, "F_s": 1.2, "sigma0": 3e3,
                                    "sigma2": 10.0})
@@ -37,7 +37,7 @@ def test_lugre_velocity_drive_recovers_parameters():
 def test_coulomb_viscous_force_drive_recovers_parameters_within_stderr():
     t = np.linspace(0.0, 3.0, 3001)
     f = 1.6 * np.sin(2 * np.pi * 0.5 * t)
-    truth = dict(F_c=1.0, v_t=1e-3, sigma2=0.4)
+    truth = {"F_c": 1.0, "v_t": 1e-3, "sigma2": 0.4}
     data = synthetic_force_record(make_model("tanh", **truth), t, f, noise=1e-5, seed=2)
     res = fit(make_model("tanh", **{**truth, "F_c": 0.6, "sigma2": 1.0}), data,
               input="f", output="x", params=["F_c", "sigma2"], plant="rig-force")
@@ -47,7 +47,7 @@ def test_coulomb_viscous_force_drive_recovers_parameters_within_stderr():
 
 
 def test_model6_velocity_drive_recovers_parameters():
-    truth = dict(T_stat=1.5, k_din=2 / 3, phi0=1.5e-5, omega0=1e-2, k_v=2.0)
+    truth = {"T_stat": 1.5, "k_din": 2 / 3, "phi0": 1.5e-5, "omega0": 1e-2, "k_v": 2.0}
     data = synthetic_velocity_record(make_model("mykhailevych2020", **truth), T, V,
                                      noise=0.01, seed=3)
     start = make_model("mykhailevych2020", **{**truth, "T_stat": 1.2, "k_din": 0.8,
@@ -59,12 +59,12 @@ def test_model6_velocity_drive_recovers_parameters():
 
 
 def test_fit_is_deterministic_for_a_seed_and_uses_validation():
-    truth = dict(F_c=1.0, v_t=1e-2, sigma2=3.0)
+    truth = {"F_c": 1.0, "v_t": 1e-2, "sigma2": 3.0}
     model = make_model("tanh", **truth)
     data = synthetic_velocity_record(model, T, V, noise=0.02, seed=4)
     other = synthetic_velocity_record(model, T, 0.5 * V, noise=0.02, seed=5)
-    kw = dict(input="v", output="F", plant="rig-velocity", params=["F_c", "sigma2"],
-              starts=3, seed=7, validate=other, t_span=(0.0, 1.0))
+    kw = {"input": "v", "output": "F", "plant": "rig-velocity", "params": ["F_c", "sigma2"],
+          "starts": 3, "seed": 7, "validate": other, "t_span": (0.0, 1.0)}
     a = fit(model.with_(F_c=2.0), data, **kw)
     b = fit(model.with_(F_c=2.0), data, **kw)
     assert dict(a.parameters) == dict(b.parameters)
@@ -90,22 +90,22 @@ def test_tuple_elements_and_plant_offset_can_be_fitted():
 
 
 @pytest.mark.parametrize("kw, message", [
-    (dict(params=["sigma3"]), r"lugre has no parameter 'sigma3' \(did you mean 'sigma2'\?\)"
-                              r"; model parameters: F_c, F_s"),
-    (dict(params=["F_c"], bounds={"F_c": (2.0, 1.0)}), r"bounds for 'F_c': lo = 2 must be "
-                                                       r"< hi = 1"),
-    (dict(params=["F_c"], bounds={"F_c": (1.0, 1.0)}), "must be < hi"),
-    (dict(params=["F_c"], bounds={"F_s": (1.0, 2.0)}), "bounds given for 'F_s', which is "
-                                                       "not fitted"),
-    (dict(params=["F_c"], fixed={"F_c": 1.0}), "both fitted and fixed"),
-    (dict(params=["F_c"], starts=0), "starts = 0 must be >= 1"),
-    (dict(params=[]), "at least one parameter"),
-    (dict(params=["F_c"], plant="rig-speed"), r"plant = 'rig-speed' is not known"),
-    (dict(params=["F_c"], input="vel"), r"no column 'vel'"),
+    ({"params": ["sigma3"]}, (r"lugre has no parameter 'sigma3' \(did you mean 'sigma2'\?\)"
+                              r"; model parameters: F_c, F_s")),
+    ({"params": ["F_c"], "bounds": {"F_c": (2.0, 1.0)}}, (r"bounds for 'F_c': lo = 2 must "
+                                                          r"be < hi = 1")),
+    ({"params": ["F_c"], "bounds": {"F_c": (1.0, 1.0)}}, "must be < hi"),
+    ({"params": ["F_c"], "bounds": {"F_s": (1.0, 2.0)}}, ("bounds given for 'F_s', which "
+                                                          "is not fitted")),
+    ({"params": ["F_c"], "fixed": {"F_c": 1.0}}, "both fitted and fixed"),
+    ({"params": ["F_c"], "starts": 0}, "starts = 0 must be >= 1"),
+    ({"params": []}, "at least one parameter"),
+    ({"params": ["F_c"], "plant": "rig-speed"}, r"plant = 'rig-speed' is not known"),
+    ({"params": ["F_c"], "input": "vel"}, r"no column 'vel'"),
 ])
 def test_bad_arguments_raise_clear_errors(kw, message):
     data = {"t": T[:50], "v": V[:50], "F": np.sin(T[:50])}
-    args = dict(input="v", output="F", plant="rig-velocity")
+    args = {"input": "v", "output": "F", "plant": "rig-velocity"}
     args.update(kw)
     with pytest.raises(ValueError, match=message):
         fit(make_model("lugre"), data, **args)
@@ -134,11 +134,12 @@ def test_undetermined_parameters_have_no_standard_error():
 
 
 @pytest.mark.parametrize("name, truth, start, params, rel", [
-    ("dahl", dict(F_c=1.0, sigma0=1e4), dict(F_c=0.6, sigma0=3e3), ["F_c", "sigma0"],
+    ("dahl", {"F_c": 1.0, "sigma0": 1e4}, {"F_c": 0.6, "sigma0": 3e3}, ["F_c", "sigma0"],
      {"F_c": 0.02, "sigma0": 0.1}),
     ("elastoplastic",
-     dict(F_c=1.0, F_s=1.5, v_s=1e-2, sigma0=1e4, sigma1=50.0, sigma2=5.0, z_ba=0.5e-4),
-     dict(F_c=0.7, F_s=1.2, sigma0=3e3, z_ba=0.5e-4), ["F_c", "F_s", "sigma0"],
+     {"F_c": 1.0, "F_s": 1.5, "v_s": 1e-2, "sigma0": 1e4, "sigma1": 50.0, "sigma2": 5.0,
+      "z_ba": 0.5e-4},
+     {"F_c": 0.7, "F_s": 1.2, "sigma0": 3e3, "z_ba": 0.5e-4}, ["F_c", "F_s", "sigma0"],
      {"F_c": 0.02, "F_s": 0.03, "sigma0": 0.1}),
 ])
 def test_presliding_models_recover_parameters(name, truth, start, params, rel):

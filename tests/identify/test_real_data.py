@@ -60,6 +60,6 @@ def test_brfd_reported_dahl_parameters_reproduce_the_table():
 
 
 # from docs/identification.md (BRFD table, dahl column); updated by the validation script
-DAHL = dict(F_c=7337.0, sigma0=1.959e6, alpha=0.2268)
+DAHL = {"F_c": 7337.0, "sigma0": 1.959e6, "alpha": 0.2268}
 DAHL_OFFSET = 148.9
 DAHL_NRMSE_1HZ36 = 0.102

@@ -28,8 +28,17 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..core.system import closest
-from . import breakaway, coulomb_analytic, curves, drift, hysteresis, lag, presliding, stick_slip
-from . import phenomena
+from . import (
+    breakaway,
+    coulomb_analytic,
+    curves,
+    drift,
+    hysteresis,
+    lag,
+    phenomena,
+    presliding,
+    stick_slip,
+)
 from ._base import BenchmarkResult, ModelEntry, entry_from_spec, resolve_models
 from .breakaway import run_breakaway
 from .coulomb_analytic import run_coulomb_analytic

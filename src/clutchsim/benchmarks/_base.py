@@ -14,8 +14,16 @@ from ..core import Result, SolverOptions
 from ..core.system import closest
 from ..friction import FrictionModel, get_model_class, load_parameter_set
 
-__all__ = ["BenchmarkResult", "ModelEntry", "resolve_models", "freeze", "thaw",
-           "sample", "failure", "STIFF_OPTIONS"]
+__all__ = [
+    "STIFF_OPTIONS",
+    "BenchmarkResult",
+    "ModelEntry",
+    "failure",
+    "freeze",
+    "resolve_models",
+    "sample",
+    "thaw",
+]
 
 #: tolerances used by the benchmarks (the LuGre-type bristle ODEs are stiff and the
 #: drift numbers are micrometres: tight tolerances, see friction-models.md §5.1)

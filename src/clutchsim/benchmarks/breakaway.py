@@ -16,7 +16,7 @@ from ..core import Ramp
 from ..rig import run_rig
 from ._base import STIFF_OPTIONS, BenchmarkResult, failure, resolve_models
 
-__all__ = ["run_breakaway", "breakaway_force", "RATES", "DEFAULT_MODELS"]
+__all__ = ["DEFAULT_MODELS", "RATES", "breakaway_force", "run_breakaway"]
 
 RATES = (1.0, 2.0, 5.0, 10.0, 20.0, 50.0)   # N/s
 U_END = 3.0   # N

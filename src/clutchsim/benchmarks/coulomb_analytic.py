@@ -22,7 +22,7 @@ from ..core import SolverOptions, Step, simulate
 from ._base import BenchmarkResult, failure, resolve_models, sample
 from .two_mass import make_two_mass
 
-__all__ = ["run_coulomb_analytic", "analytic_stick_time", "FORCE", "REFERENCES"]
+__all__ = ["FORCE", "REFERENCES", "analytic_stick_time", "run_coulomb_analytic"]
 
 M1 = M2 = 5.0            # kg
 K = 1.0e4                # N/m

@@ -34,7 +34,7 @@ from ..core import Ramp, Sine
 from ..rig import run_rig
 from ._base import STIFF_OPTIONS, BenchmarkResult, failure, resolve_models
 
-__all__ = ["run_curves", "curve_metrics", "VELOCITY_GRID", "DEFAULT_MODELS", "REFERENCES"]
+__all__ = ["DEFAULT_MODELS", "REFERENCES", "VELOCITY_GRID", "curve_metrics", "run_curves"]
 
 #: slip velocities of the static curves [m/s]
 VELOCITY_GRID = np.logspace(-7, 0, 701)

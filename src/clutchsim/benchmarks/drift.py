@@ -25,8 +25,15 @@ from ..core import Result, Signal, Sine, Step
 from ..rig import run_rig
 from ._base import STIFF_OPTIONS, BenchmarkResult, failure, resolve_models, sample
 
-__all__ = ["run_drift", "D1_FORCE", "D2_FORCE", "drift_per_cycle", "DEFAULT_MODELS",
-           "APPLICABLE", "REFERENCES"]
+__all__ = [
+    "APPLICABLE",
+    "D1_FORCE",
+    "D2_FORCE",
+    "DEFAULT_MODELS",
+    "REFERENCES",
+    "drift_per_cycle",
+    "run_drift",
+]
 
 #: D1: u = 0.5 + 0.4·sin(2πt) N, 0-20 s
 D1_FORCE: Signal = Sine(0.4, 1.0, offset=0.5)

@@ -21,11 +21,11 @@ import math
 
 import numpy as np
 
-from ..core import SolverOptions, Sine
+from ..core import Sine, SolverOptions
 from ..rig import run_rig
 from ._base import BenchmarkResult, failure, resolve_models
 
-__all__ = ["run_hysteresis", "loop_metrics", "REGIMES", "DEFAULT_MODELS"]
+__all__ = ["DEFAULT_MODELS", "REGIMES", "loop_metrics", "run_hysteresis"]
 
 FREQ = 1.0          # Hz
 CYCLES = 3

@@ -15,11 +15,11 @@ import math
 
 import numpy as np
 
-from ..core import SolverOptions, Sine
+from ..core import Sine, SolverOptions
 from ..rig import run_rig
 from ._base import BenchmarkResult, failure, resolve_models
 
-__all__ = ["run_lag", "loop_width", "OMEGAS", "DEFAULT_MODELS"]
+__all__ = ["DEFAULT_MODELS", "OMEGAS", "loop_width", "run_lag"]
 
 OMEGAS = (1.0, 10.0, 25.0)   # rad/s
 V_MEAN, V_AMP = 1.5e-3, 1.0e-3

@@ -23,7 +23,7 @@ from ..core import Table
 from ..rig import run_rig
 from ._base import STIFF_OPTIONS, BenchmarkResult, failure, resolve_models, sample
 
-__all__ = ["run_presliding", "FORCE", "DEFAULT_MODELS"]
+__all__ = ["DEFAULT_MODELS", "FORCE", "run_presliding"]
 
 F_MAX = 1.425   # N, 95 % of F_s
 #: the force cycle of T2 [s, N]

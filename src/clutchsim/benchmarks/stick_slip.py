@@ -22,10 +22,15 @@ import numpy as np
 
 from ..core import SolverOptions
 from ..rig import run_rig
-from ._base import BenchmarkResult, failure, crossing_times, resolve_models
+from ._base import BenchmarkResult, crossing_times, failure, resolve_models
 
-__all__ = ["run_stick_slip", "stick_slip_metrics", "DEFAULT_MODELS", "APPLICABLE",
-           "REFERENCES"]
+__all__ = [
+    "APPLICABLE",
+    "DEFAULT_MODELS",
+    "REFERENCES",
+    "run_stick_slip",
+    "stick_slip_metrics",
+]
 
 SPRING = 2.0        # N/m
 PULL_SPEED = 0.1    # m/s

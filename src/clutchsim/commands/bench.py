@@ -63,7 +63,7 @@ def run(args) -> int:
     if args.json:
         emit_json(result.metrics_json())
     else:
-        for label, metrics in result.metrics.items():
+        for label in result.metrics:
             print(f"{label}: {json.dumps(result.metrics_json()['results'][label])}")
     failed = [label for label, m in result.metrics.items() if m.get("status") == "failed"]
     if failed:

@@ -141,13 +141,14 @@ def _from_spec(args):
     model = model.with_(**model_starts) if model_starts else model
     options.update({k: v for k, v in starts.items() if k not in model_starts})
     options.update(_pairs(args.plant_option, "plant-option", _auto))
-    kw = dict(input=args.input or f["input"], output=args.output or f["output"],
-              params=params, bounds=bounds, fixed=fixed, plant=args.plant or spec.plant.kind,
-              plant_options=options, signal=f.get("signal"),
-              starts=args.starts or int(f.get("starts", 1)),
-              seed=args.seed if args.seed is not None else int(f.get("seed", 0)),
-              solver=args.solver or f.get("solver", "rodas4"),
-              rtol=args.rtol or float(f.get("rtol", 1e-8)))
+    kw = {"input": args.input or f["input"], "output": args.output or f["output"],
+          "params": params, "bounds": bounds, "fixed": fixed,
+          "plant": args.plant or spec.plant.kind, "plant_options": options,
+          "signal": f.get("signal"),
+          "starts": args.starts or int(f.get("starts", 1)),
+          "seed": args.seed if args.seed is not None else int(f.get("seed", 0)),
+          "solver": args.solver or f.get("solver", "rodas4"),
+          "rtol": args.rtol or float(f.get("rtol", 1e-8))}
     for key in ("atol", "max_nfev", "diff_step", "wall_time", "tol"):
         if key in f:
             kw[key] = f[key]
@@ -164,8 +165,8 @@ def _from_data(args):
     if missing:
         raise UserError(f"{', '.join(missing)} required with a data file (or use a TOML spec)")
     columns = _pairs(args.column, "column", str) or None
-    read = dict(time=args.time or "t", columns=columns, scale=_pairs(args.scale, "scale"),
-                nan=args.nan or "error")
+    read = {"time": args.time or "t", "columns": columns, "scale": _pairs(args.scale, "scale"),
+            "nan": args.nan or "error"}
     data = read_measurements(args.data, **read)
     window = _window(args.window)
     if window:
@@ -178,11 +179,11 @@ def _from_data(args):
                                       if k in cls.parameter_info})
     options = {k: v for k, v in starts.items() if k not in cls.parameter_info}
     options.update(_pairs(args.plant_option, "plant-option", _auto))
-    kw = dict(input=args.input, output=args.output, params=args.params.split(","),
-              bounds=_bounds(args.bounds), fixed=_pairs(args.fixed, "fixed"),
-              plant=args.plant or "rig-force", plant_options=options,
-              starts=args.starts or 1, seed=args.seed or 0, solver=args.solver or "rodas4",
-              rtol=args.rtol or 1e-8)
+    kw = {"input": args.input, "output": args.output, "params": args.params.split(","),
+          "bounds": _bounds(args.bounds), "fixed": _pairs(args.fixed, "fixed"),
+          "plant": args.plant or "rig-force", "plant_options": options,
+          "starts": args.starts or 1, "seed": args.seed or 0,
+          "solver": args.solver or "rodas4", "rtol": args.rtol or 1e-8}
     return model, data, validate, kw
 
 

@@ -22,6 +22,8 @@ plain dense case.
 
 from __future__ import annotations
 
+import math
+
 from .._jit import jit
 
 
@@ -41,7 +43,7 @@ def lu_factor(a, piv, nd):
                 big = abs(a[i, k])
                 m = i
         piv[k] = m
-        if big == 0.0 or big != big:
+        if big == 0.0 or math.isnan(big):
             return False
         if m != k:
             for j in range(n):

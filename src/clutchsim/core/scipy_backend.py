@@ -17,6 +17,7 @@ below the tolerance.
 
 from __future__ import annotations
 
+import itertools
 import time
 
 import numpy as np
@@ -64,27 +65,33 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
     # is located at -side·atol (see the module docstring)
     side = np.zeros(n_ev)
     band = opts.atol
-    for a, b in zip(edges[:-1], edges[1:]):
+
+    # the right-hand side and the event functions of one piece (``t_ref`` picks the side
+    # of the breakpoints its inputs are evaluated on)
+    def make_rhs(t_ref):
+        def rhs(tt, yy):
+            nfev[0] += 1
+            dy = np.empty_like(yy)
+            call_rhs(tag, tt, yy, inputs_at(tt, t_ref), p, dy)
+            return dy
+        return rhs
+
+    def make_event(k, t_ref):
+        def ev(tt, yy):
+            call_events(tag, tt, yy, inputs_at(tt, t_ref), p, g)
+            return g[k] + side[k] * band
+        ev.terminal = True
+        ev.direction = system.event_directions[k]
+        return ev
+
+    for a, b in itertools.pairwise(edges):
         t_ref = 0.5 * (a + b)
         if t >= b:
             continue
+        rhs = make_rhs(t_ref)
         while t < b:
-            def rhs(tt, yy):
-                nfev[0] += 1
-                dy = np.empty_like(yy)
-                call_rhs(tag, tt, yy, inputs_at(tt, t_ref), p, dy)
-                return dy
-
-            def make_event(k):
-                def ev(tt, yy):
-                    call_events(tag, tt, yy, inputs_at(tt, t_ref), p, g)
-                    return g[k] + side[k] * band
-                ev.terminal = True
-                ev.direction = system.event_directions[k]
-                return ev
-
             t_stop = b
-            evs = [make_event(k) for k in range(n_ev)] if t >= mute_until else []
+            evs = [make_event(k, t_ref) for k in range(n_ev)] if t >= mute_until else []
             if t < mute_until:
                 t_stop = min(b, mute_until)
             t_eval = None

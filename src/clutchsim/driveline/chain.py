@@ -9,10 +9,22 @@ import numpy as np
 
 from ..core import System, register_system
 from . import plant as P
-from .components import (Brake, Engine, FrictionElement, Gear, Gearbox, Inertia, LossyGear,
-                         OneWayClutch, SpringDamper, Vehicle, has_losses, static_capacity)
+from .components import (
+    Brake,
+    Engine,
+    FrictionElement,
+    Gear,
+    Gearbox,
+    Inertia,
+    LossyGear,
+    OneWayClutch,
+    SpringDamper,
+    Vehicle,
+    has_losses,
+    static_capacity,
+)
 
-__all__ = ["Chain", "ChainPlant", "ENERGY_STATES"]
+__all__ = ["ENERGY_STATES", "Chain", "ChainPlant"]
 
 #: energy-account states (integrals) [J]
 ENERGY_STATES = ("W_in", "W_friction", "W_damping", "W_road", "E_grade", "W_sync")
@@ -77,7 +89,8 @@ class Chain:
         for c in self.couplings:
             if not isinstance(c, (Gear, Gearbox, LossyGear, SpringDamper, FrictionElement,
                                   OneWayClutch)) or isinstance(c, Brake):
-                raise ValueError(f"chain: {c!r} is not a coupling")
+                # contract: every invalid chain raises ValueError, whatever the fault
+                raise ValueError(f"chain: {c!r} is not a coupling")  # noqa: TRY004
         lossy = [c.name for c in self.lossy_gears]
         if len(lossy) > 1:
             raise ValueError(f"chain: at most one gear with losses (lossy gear, or gearbox "

@@ -17,9 +17,22 @@ import numpy as np
 from ..friction.base import FrictionModel
 from ..friction.coulomb_robust import CoulombRobust
 
-__all__ = ["Inertia", "Gear", "Gearbox", "LossyGear", "SpringDamper", "FrictionElement", "Brake",
-           "OneWayClutch", "Engine", "Vehicle", "ThermalNode", "static_capacity", "has_losses",
-           "ONE_WAY_EPS0"]
+__all__ = [
+    "ONE_WAY_EPS0",
+    "Brake",
+    "Engine",
+    "FrictionElement",
+    "Gear",
+    "Gearbox",
+    "Inertia",
+    "LossyGear",
+    "OneWayClutch",
+    "SpringDamper",
+    "ThermalNode",
+    "Vehicle",
+    "has_losses",
+    "static_capacity",
+]
 
 #: relative hysteresis of the one-way clutch (Modelica's ``eps0``): with the clutch open the
 #: freewheel releases once the stick torque exceeds ``ONE_WAY_EPS0·T_slide``
@@ -28,7 +41,8 @@ ONE_WAY_EPS0 = 1.0e-4
 
 def _num(owner: str, name: str, value, *, low=None, high=None, strict=False, unit=""):
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise ValueError(f"{owner}: {name} = {value!r} must be a number")
+        # contract: every bad parameter raises ValueError (as for the friction models)
+        raise ValueError(f"{owner}: {name} = {value!r} must be a number")  # noqa: TRY004
     x = float(value)
     u = f" {unit}" if unit else ""
     if not math.isfinite(x):

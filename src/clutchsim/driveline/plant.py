@@ -1073,7 +1073,7 @@ def chain_outputs(t, y, u, p, out):
     if p[H_ENG] > 0.0:
         b = int(p[H_ENGB])
         je = int(p[b + E_NODE])
-        fuel, drag, dint = engine_torque(p, y, u, y[je])
+        fuel, drag, _dint = engine_torque(p, y, u, y[je])
         out[i] = fuel - drag
         i += 1
     if p[H_VEH] > 0.0:

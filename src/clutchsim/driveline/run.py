@@ -10,7 +10,7 @@ import numpy as np
 from ..core import Result, SolverOptions, simulate
 from .chain import ENERGY_STATES
 
-__all__ = ["LaunchResult", "run_scenario", "launch_metrics", "energy_balance"]
+__all__ = ["LaunchResult", "energy_balance", "launch_metrics", "run_scenario"]
 
 
 @dataclass(frozen=True)

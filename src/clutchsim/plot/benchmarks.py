@@ -13,7 +13,7 @@ import numpy as np
 
 from ._style import new_figure
 
-__all__ = ["plot_benchmark", "PLOTTERS"]
+__all__ = ["PLOTTERS", "plot_benchmark"]
 
 
 def _ok(result, label, run):
@@ -59,8 +59,8 @@ def plot_curves(result, fig_axes=None):
 def plot_drift(result, fig_axes=None):
     fig, axes = fig_axes or new_figure(1, 2, figsize=(14.0, 5.0))
     for ax, run, title in ((axes[0][0], "D1", "D1: u = 0.5 + 0.4·sin(2πt) N"),
-                           (axes[0][1], "D2", "D2: 1.6 N for 0.5 s, biased sine to 20 s, "
-                            "then 0 N")):
+                           (axes[0][1], "D2", ("D2: 1.6 N for 0.5 s, biased sine to 20 s, "
+                                               "then 0 N"))):
         for label, desc in result.models.items():
             res = _ok(result, label, run)
             if res is None:

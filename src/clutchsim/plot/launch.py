@@ -6,7 +6,7 @@ import math
 
 from ._style import new_figure
 
-__all__ = ["plot_launch", "plot_comparison"]
+__all__ = ["plot_comparison", "plot_launch"]
 
 _RPM = 30.0 / math.pi
 

@@ -4,5 +4,11 @@ from .errors import ScenarioError
 from .loader import Scenario, apply_overrides, default_scenario_text, load_scenario
 from .schema import reference_markdown
 
-__all__ = ["Scenario", "ScenarioError", "load_scenario", "apply_overrides",
-           "default_scenario_text", "reference_markdown"]
+__all__ = [
+    "Scenario",
+    "ScenarioError",
+    "apply_overrides",
+    "default_scenario_text",
+    "load_scenario",
+    "reference_markdown",
+]

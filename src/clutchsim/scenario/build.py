@@ -6,9 +6,21 @@ import math
 import warnings
 
 from ..driveline.chain import Chain
-from ..driveline.components import (LOSS_COLUMNS, Brake, Engine, FrictionElement, Gear,
-                                    Gearbox, Inertia, LossyGear, OneWayClutch, SpringDamper,
-                                    ThermalNode, Vehicle, has_losses)
+from ..driveline.components import (
+    LOSS_COLUMNS,
+    Brake,
+    Engine,
+    FrictionElement,
+    Gear,
+    Gearbox,
+    Inertia,
+    LossyGear,
+    OneWayClutch,
+    SpringDamper,
+    ThermalNode,
+    Vehicle,
+    has_losses,
+)
 from ..friction import get_model_class, make_model
 from ..friction.base import SelfExcitedWarning
 from .schema import suggest
