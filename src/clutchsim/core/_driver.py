@@ -92,11 +92,10 @@ def dense_eval(method, dense, h, s, out):
 
 @jit
 def _crossed(g_old, g_new, direction):
-    if direction >= 0 and g_old < 0.0 and g_new >= 0.0:
-        return True
-    if direction <= 0 and g_old > 0.0 and g_new <= 0.0:
-        return True
-    return False
+    """Did g cross zero from ``g_old`` to ``g_new`` in ``direction`` (+1 upward, -1
+    downward, 0 either)?"""
+    return ((direction >= 0 and g_old < 0.0 and g_new >= 0.0)
+            or (direction <= 0 and g_old > 0.0 and g_new <= 0.0))
 
 
 @jit
@@ -174,7 +173,7 @@ def _locate(tag, bank, p, method, dense, t, h, t_ref, k, ta, tb, ga, gb, tol, yt
         if tb - ta <= tol:
             break
         tm = tb - gb * (tb - ta) / (gb - ga)
-        if not (ta < tm < tb) or tm != tm:
+        if not (ta < tm < tb):      # also true for a NaN probe
             tm = 0.5 * (ta + tb)
         # keep the probe off the ends so that the bracket always shrinks
         tm = min(max(tm, ta + 0.01 * (tb - ta)), tb - 0.01 * (tb - ta))
@@ -360,10 +359,10 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         if stats[S_STEPS] + stats[S_REJECTED] >= max_steps:
             status = MAX_STEPS
             break
-        if wall > 0 and ((stats[S_STEPS] + stats[S_REJECTED]) & 255) == 0:
-            if _now() - t_wall0 > wall:
-                status = WALL_TIME
-                break
+        if (wall > 0 and ((stats[S_STEPS] + stats[S_REJECTED]) & 255) == 0
+                and _now() - t_wall0 > wall):
+            status = WALL_TIME
+            break
 
         t_stop = t1
         if ib < bps.shape[0] and bps[ib] < t1:

@@ -15,8 +15,13 @@ from ..core import Constant, Ramp, Signal, Sine, SolverOptions, Step, Table
 from .errors import ScenarioError, find_line
 from .schema import COUPLING_TYPES, FRICTION, SECTIONS, check_table, suggest
 
-__all__ = ["Scenario", "load_scenario", "parse_scenario", "default_scenario_text",
-           "apply_overrides"]
+__all__ = [
+    "Scenario",
+    "apply_overrides",
+    "default_scenario_text",
+    "load_scenario",
+    "parse_scenario",
+]
 
 DEFAULT_NAME = "launch.toml"
 
@@ -262,10 +267,9 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
     fe_names = [c["name"] for c in data.get("coupling", [])
                 if c.get("type") in ("clutch", "one_way_clutch", "lossy_gear")]
     fe_names += [b["name"] for b in data.get("brake", [])]
-    if "models" in sc or "clutch" in sc:
-        if clutch not in fe_names:
-            fail(f"friction element {clutch!r} does not exist{suggest(clutch, fe_names)} "
-                 f"(friction elements: {', '.join(fe_names) or 'none'})", "scenario.clutch")
+    if ("models" in sc or "clutch" in sc) and clutch not in fe_names:
+        fail(f"friction element {clutch!r} does not exist{suggest(clutch, fe_names)} "
+             f"(friction elements: {', '.join(fe_names) or 'none'})", "scenario.clutch")
     models = tuple(sc.get("models", ()))
     scen = Scenario(name=sc["name"], description=sc.get("description", ""),
                     t_end=float(sc["t_end"]), models=models, clutch=clutch, inputs=inputs,
