@@ -235,7 +235,6 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
     y = y0.copy()
     y_new = np.empty(n)
     ytmp = np.empty(n)
-    ye = np.empty(n)       # state at an event inside the step
     ftmp = np.empty(n)
     err = np.empty(n)
     f0 = np.empty(n)
@@ -515,6 +514,8 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         # g exactly on zero, are not stepped over.
         eval_inputs(bank, t_new, t_ref, u)
         system_events(tag, t_new, y_new, u, p, g_new)
+        k_first = -1
+        t_first = t_new
         if n_ev > 0:
             for j in range(N_SAMPLES - 1):
                 s = (j + 1.0) / N_SAMPLES
@@ -523,22 +524,12 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                 system_events(tag, t + s * h, ytmp, u, p, g_samp[j])
             for k in range(n_ev):
                 g_samp[N_SAMPLES - 1, k] = g_new[k]
-        # Scan [t_scan, t_new] from the values g_old at t_scan.  An event whose reset
-        # leaves the state unchanged (action 0, "recorded") does not end the step: the
-        # scan goes on from the event time with the same dense output.
-        t_scan = t
-        restart = False
-        while n_ev > 0:
-            k_first = -1
-            t_first = t_new
             for k in range(n_ev):
                 ga = g_old[k]
-                ta = t_scan
+                ta = t
                 for j in range(N_SAMPLES):
-                    tb = t_new if j == N_SAMPLES - 1 else t + (j + 1.0) / N_SAMPLES * h
-                    if tb <= t_scan:
-                        continue
                     gb = g_samp[j, k]
+                    tb = t_new if j == N_SAMPLES - 1 else t + (j + 1.0) / N_SAMPLES * h
                     if ga == 0.0:       # on the surface (just reset): start from the next sign
                         ga = gb
                         ta = tb
@@ -555,14 +546,14 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                     if gb != 0.0:
                         ga = gb
                         ta = tb
-            if k_first < 0:
-                break
+
+        if k_first >= 0:
             te = t_first
             if te < t_new:
-                dense_eval(method, dense, h, (te - t) / h, ye)
+                dense_eval(method, dense, h, (te - t) / h, y)
             else:
                 for i in range(n):
-                    ye[i] = y_new[i]
+                    y[i] = y_new[i]
             if dt_out > 0:
                 while next_out < te and n_out < max_output:
                     dense_eval(method, dense, h, (next_out - t) / h, ytmp)
@@ -570,26 +561,17 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                     system_outputs(tag, next_out, ytmp, u, p, out)
                     buf, n_out = _push(buf, n_out, next_out, ytmp, u, out)
                     next_out = t0 + (round((next_out - t0) / dt_out) + 1) * dt_out
-            eval_inputs(bank, te, t_ref, u)
-            system_outputs(tag, te, ye, u, p, out)
-            buf, n_out = _push(buf, n_out, te, ye, u, out)
-            log, action, ended = _apply_event(tag, te, ye, u, p, k_first, log, ring, ch_n,
+            t = te
+            eval_inputs(bank, t, t_ref, u)
+            system_outputs(tag, t, y, u, p, out)
+            buf, n_out = _push(buf, n_out, t, y, u, out)
+            log, action, ended = _apply_event(tag, t, y, u, p, k_first, log, ring, ch_n,
                                               ch_window, stats)
             if ended != DONE:
                 status = ended
                 info_k = k_first
-                t = te
-                for i in range(n):
-                    y[i] = ye[i]
                 break
-            system_events(tag, te, ye, u, p, g_old)
-            if action == 0:
-                t_scan = te
-                continue
-            # the state changed (or the event is at the step's end): restart from te
-            t = te
-            for i in range(n):
-                y[i] = ye[i]
+            system_events(tag, t, y, u, p, g_old)
             f0_valid = False
             if method != ROS34PW2:
                 jac_valid = False
@@ -598,12 +580,8 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                 buf, n_out = _push(buf, n_out, t, y, u, out)
                 check_jump = True
             h = h_next
-            restart = True
-            break
-        if status != DONE:
-            break
-        if restart:
             continue
+
         # ---- no event: advance ----
         if dt_out > 0:
             while next_out <= t_new + 1e-12 * abs(t_new) and n_out < max_output:

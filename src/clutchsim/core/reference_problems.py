@@ -1,6 +1,6 @@
 """Reference problems with known solutions: the test bed of the integrators.
 
-Harmonic oscillator (exact; also with recorded zero-crossing events), Riccati equation y' = -2ty² (exact 1/(1+t²)), bouncing ball
+Harmonic oscillator (exact), Riccati equation y' = -2ty² (exact 1/(1+t²)), bouncing ball
 (analytic impact times), stiff van der Pol, a naive sign() switch (chatters), and a
 right-hand side that turns NaN.  They live in the package (not in the tests) so that every
 process can import their tag types: numba's cache index records them.
@@ -34,62 +34,6 @@ def oscillator(omega=2.0, zeta=0.0, x0=1.0, v0=0.0):
     """x'' + 2ζω x' + ω² x = u."""
     return System(Oscillator(), np.array([omega, zeta]), np.array([x0, v0]), ("x", "v"),
                   ("m", "m/s"), input_names=("F",), input_units=("N",), name="oscillator")
-
-
-class WatchedOscillator(NamedTuple):
-    """The oscillator of :func:`oscillator` with an event on each zero crossing of x whose
-    reset only records it (action 0): the events must not change the solution or the
-    step sequence."""
-
-    k: int = 0
-
-
-@jit
-def _watched_events(t, y, u, p, g):
-    g[0] = y[0]
-
-
-@jit
-def _watched_reset(t, y, u, p, k):
-    return 0
-
-
-register_system(WatchedOscillator, rhs=_osc_rhs, events=_watched_events,
-                reset=_watched_reset)
-
-
-def watched_oscillator(omega=2.0, x0=1.0, v0=0.0):
-    """Undamped x'' + ω² x = u with a recorded event at every zero of x (both directions);
-    from rest at x0 the zeros are at t = (k + 1/2)·π/ω."""
-    return System(WatchedOscillator(), np.array([omega, 0.0]), np.array([x0, v0]),
-                  ("x", "v"), ("m", "m/s"), input_names=("F",), input_units=("N",),
-                  event_names=("x = 0",), event_directions=(0,), name="watched oscillator")
-
-
-class Ticker(NamedTuple):
-    """y' = 1 (integrated exactly, so the steps grow long) with a recorded event at every
-    zero of sin(ω·y): several events fall inside one step."""
-
-    k: int = 0
-
-
-@jit
-def _ticker_rhs(t, y, u, p, dy):
-    dy[0] = 1.0
-
-
-@jit
-def _ticker_events(t, y, u, p, g):
-    g[0] = math.sin(p[0] * y[0])
-
-
-register_system(Ticker, rhs=_ticker_rhs, events=_ticker_events, reset=_watched_reset)
-
-
-def ticker(omega=10.0):
-    """Events at t = k·π/ω, k = 1, 2, ..."""
-    return System(Ticker(), np.array([omega]), np.zeros(1), ("y",), ("s",),
-                  event_names=("sin(omega y) = 0",), event_directions=(0,), name="ticker")
 
 
 class Ball(NamedTuple):
