@@ -5,7 +5,7 @@ damper, gearbox, driveshaft, engine with idle governor, thermal nodes; 0–4 s) 
 model (6) on the clutch, at the scenario's solver settings (rtol = 1e-6, atol = 1e-8,
 outputs every 2 ms).  Compared:
 
-* clutchsim: ``run_scenario`` (compiled RODAS4 with located events and resets);
+* clutchsim: ``run_scenario`` (the scenario's compiled ROS34PW2, with located events and resets);
 * scipy ``solve_ivp`` RK45 and LSODA at the same rtol and atol on a hand-written
   plain-Python model of the same equations (``_launch_plain.py``: what a user without
   clutchsim would write; ``math`` only, no numba, no call into clutchsim while
