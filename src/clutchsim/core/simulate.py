@@ -8,6 +8,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from . import _driver as drv
+from .compile_notice import compile_notice
 from .options import SolverOptions, check_solver
 from .result import Event, Result, Stats
 from .signals import Signal, as_signal, build_bank
@@ -148,7 +149,8 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     bank = build_bank(signals)
     if solver.startswith("scipy-"):
         from .scipy_backend import simulate_scipy
-        return simulate_scipy(system, t0, t1, y_init, signals, bank, bps, solver, opts)
+        with compile_notice((type(system.tag), "scipy"), system.name):
+            return simulate_scipy(system, t0, t1, y_init, signals, bank, bps, solver, opts)
 
     method = {"dopri5": drv.DOPRI5, "rodas4": drv.RODAS4, "ros34pw2": drv.ROS34PW2}[solver]
     fopt = np.zeros(drv.N_FOPT)
@@ -162,9 +164,10 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
                     dtype=np.int64)
     ev_dir = np.array(system.event_directions, dtype=np.int64)
     # the wall time is measured inside the compiled loop: it excludes JIT compilation
-    (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small, wall) = drv.integrate(
-        system.tag, method, t0, t1, y_init, system.params, bank, bps, ev_dir,
-        len(system.output_names), fopt, iopt)
+    with compile_notice((type(system.tag), "compiled"), system.name):
+        (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
+         wall) = drv.integrate(system.tag, method, t0, t1, y_init, system.params, bank, bps,
+                               ev_dir, len(system.output_names), fopt, iopt)
     status, message = _failure_message(int(code), float(t_end), int(k), int(i), system, opts,
                                        solver, fopt[drv.O_CHATTER_WINDOW])
     if ts.shape[0] >= opts.max_output and ts[-1] < t_end:

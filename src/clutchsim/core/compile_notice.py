@@ -1,0 +1,65 @@
+"""Tell the user when a first call is slow because numba is compiling, so it is not taken
+for a hang.
+
+The first simulation of a plant type in a process either loads the compiled integrator
+from numba's on-disk cache (under a second) or, after installing or changing clutchsim,
+compiles it (about 20 s for a small plant, ~1.5 min for the driveline on a 2-core machine).
+Nothing can be printed from inside numba's compiler, so a timer thread logs one line if the
+first call is still running after :data:`NOTICE_AFTER_S` seconds.  numba gives no progress
+hook for this, hence the timer.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Hashable, Iterator
+from contextlib import contextmanager
+
+from .._jit import cache_dir
+
+__all__ = ["NOTICE_AFTER_S", "compile_notice"]
+
+log = logging.getLogger("clutchsim")
+
+#: seconds a first call may take before the notice is logged
+NOTICE_AFTER_S = 3.0
+
+_lock = threading.Lock()
+_started: set = set()    # keys whose first call has begun in this process
+
+
+@contextmanager
+def compile_notice(key: Hashable, what: str, after: float | None = None) -> Iterator[None]:
+    """Log (INFO, logger ``clutchsim``) one line if the first call of ``key`` in this
+    process takes longer than ``after`` seconds (default :data:`NOTICE_AFTER_S`).
+
+    Later calls with the same key, from any thread, log nothing.
+
+    Parameters
+    ----------
+    key : hashable
+        What is compiled once per process, e.g. ``(plant tag type, backend)``.
+    what : str
+        Named in the message, e.g. the system's name.
+    after : float, optional
+        Delay [s] before the notice.
+    """
+    with _lock:
+        first = key not in _started
+        _started.add(key)
+    if not first:
+        yield
+        return
+    where = f" in {cache_dir}" if cache_dir else ""
+    message = (f"{what}: compiling the integrator for this plant (the first run after "
+               f"installing or changing clutchsim; about 20 s to 2 min, then cached on "
+               f"disk{where})...")
+    timer = threading.Timer(NOTICE_AFTER_S if after is None else after, log.info,
+                            args=(message,))
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
