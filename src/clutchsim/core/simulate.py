@@ -12,7 +12,7 @@ from .compile_notice import compile_notice
 from .options import SolverOptions, check_solver
 from .result import Event, Result, Stats
 from .signals import Signal, as_signal, build_bank
-from .system import System, closest
+from .system import System, closest, kernels
 
 __all__ = ["resolve_inputs", "simulate"]
 
@@ -164,9 +164,10 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
                     dtype=np.int64)
     ev_dir = np.array(system.event_directions, dtype=np.int64)
     # the wall time is measured inside the compiled loop: it excludes JIT compilation
+    plant = kernels(system.tag)     # the tag, or its functions as values (system.py)
     with compile_notice((type(system.tag), "compiled"), system.name):
         (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
-         wall) = drv.integrate(system.tag, method, t0, t1, y_init, system.params, bank, bps,
+         wall) = drv.integrate(plant, method, t0, t1, y_init, system.params, bank, bps,
                                ev_dir, len(system.output_names), fopt, iopt)
     status, message = _failure_message(int(code), float(t_end), int(k), int(i), system, opts,
                                        solver, fopt[drv.O_CHATTER_WINDOW])

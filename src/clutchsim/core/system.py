@@ -15,21 +15,36 @@ A plant (a friction test rig, a driveline, ...) defines four compiled functions
     writes algebraic output signals (forces, powers, ...),
 
 where ``t`` is time [s], ``y`` the state vector, ``u`` the input vector and ``p`` a float
-parameter vector.  It registers them under a *tag type* (a ``NamedTuple`` subclass) with
-:func:`register_system`.  The integrators are compiled once per tag type and reach the
-plant's functions through numba overloads on the tag, which keeps every specialisation
-cacheable on disk (functions passed as values are not).  The core knows nothing of
-friction: only these four functions.
+parameter vector (all arrays float64, C-contiguous).  It registers them under a *tag
+type* (a ``NamedTuple`` subclass) with :func:`register_system`.
+
+The integrators reach the plant's functions in one of two ways (:func:`kernels`):
+
+* **as function values** (the default): the four functions are passed as first-class
+  numba functions of fixed signatures (:data:`KERNEL_SIG`, :data:`RESET_SIG`), so the
+  integrators are compiled, and cached on disk, once for all such plants.  A new plant
+  only compiles its own four functions (seconds) instead of the integrators (~20 s per
+  plant type on the 2-core machine).  Each call is indirect (~5 ns, not inlined).
+* **through the tag type**, for a plant registered with a ``static`` argument: the
+  integrators are compiled for that tag type and the compiler folds the branches that
+  depend on ``static`` (the rig folds its friction-model dispatch this way).
+
+The core knows nothing of friction: only these four functions.
 """
 
 from __future__ import annotations
 
 import difflib
+import threading
+import warnings
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
+import numba.experimental.function_type  # noqa: F401  (registers typeof for _Kernel)
 import numpy as np
 from numba import types
+from numba.core.errors import NumbaExperimentalFeatureWarning
+from numba.core.types import WrapperAddressProtocol
 from numba.extending import overload
 
 from .._jit import jit
@@ -68,6 +83,69 @@ class _Functions(NamedTuple):
 
 _REGISTRY: dict[type, _Functions] = {}
 
+# numba marks first-class function types experimental and warns at each use; clutchsim
+# relies on them on purpose (see _Kernel) and covers them with its own tests.
+warnings.filterwarnings("ignore", category=NumbaExperimentalFeatureWarning,
+                        message="First-class function type")
+
+_ARRAY = types.float64[::1]
+#: signature of rhs, events and outputs: (t, y, u, p, out) -> None
+KERNEL_SIG = types.void(types.float64, _ARRAY, _ARRAY, _ARRAY, _ARRAY)
+#: signature of reset: (t, y, u, p, k) -> action
+RESET_SIG = types.int64(types.float64, _ARRAY, _ARRAY, _ARRAY, types.int64)
+
+
+class _Kernel(WrapperAddressProtocol):
+    """One compiled plant function passed to the integrators as a function value.
+
+    numba types an object of this class as a first-class ``FunctionType`` of its
+    signature, not as the particular function: the integrator is then compiled (and cached
+    on disk) once for every plant without a static argument, instead of once per plant
+    type (~20 s each).  The price is an indirect call (~5 ns) that cannot be inlined.
+    numba offers first-class functions for this only through this protocol.
+    """
+
+    def __init__(self, dispatcher, sig):
+        self.dispatcher = dispatcher
+        self.sig = sig
+        self._address = None
+
+    def __wrapper_address__(self):
+        if self._address is None:
+            self.dispatcher.compile(self.sig.args)
+            cres = self.dispatcher.get_compile_result(self.sig)
+            self._address = cres.library.get_pointer_to_function(
+                cres.fndesc.llvm_cfunc_wrapper_name)
+        return self._address
+
+    def signature(self):
+        return self.sig
+
+
+_kernel_lock = threading.Lock()
+_KERNELS: dict[type, tuple] = {}
+
+
+def kernels(tag):
+    """What the integrators receive for ``tag``: the tag itself for a plant registered
+    with a static argument (compiled per tag type, so that the compiler folds on it), else
+    the tuple (rhs, events, reset, outputs) of :class:`_Kernel` function values."""
+    fns = _REGISTRY[type(tag)]
+    if fns.static is not None:
+        return tag
+    with _kernel_lock:
+        out = _KERNELS.get(type(tag))
+        if out is None:
+            out = (_Kernel(fns.rhs, KERNEL_SIG), _Kernel(fns.events, KERNEL_SIG),
+                   _Kernel(fns.reset, RESET_SIG), _Kernel(fns.outputs, KERNEL_SIG))
+            _KERNELS[type(tag)] = out
+    return out
+
+
+def _is_kernel_tuple(tag) -> bool:
+    return (isinstance(tag, types.BaseTuple) and len(tag) == 4
+            and all(isinstance(t, types.FunctionType) for t in tag))
+
 
 @jit
 def _no_events(t, y, u, p, g):
@@ -88,11 +166,15 @@ def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None,
                     static: int | None = None) -> type:
     """Register the compiled functions of a plant under the ``NamedTuple`` type ``tag``.
 
+    Without ``static`` the functions reach the integrators as function values (see the
+    module docstring), so they must accept float64 C-contiguous arrays.
+
     ``static``: an integer known when the integrator is compiled for this tag; it is passed
-    as an extra last argument to all four functions (``rhs(t, y, u, p, dy, static)``, ...).
-    A plant that registers one tag per variant (e.g. per friction model) lets the compiler
-    fold the branches that depend on it; measured: the rig's right-hand side with LuGre
-    drops from ~117 ns to ~18 ns when the friction-model dispatch is folded.
+    as an extra last argument to all four functions (``rhs(t, y, u, p, dy, static)``, ...),
+    and the integrators are compiled for this tag type.  A plant that registers one tag per
+    variant (e.g. per friction model) lets the compiler fold the branches that depend on
+    it; measured: the rig's right-hand side with LuGre drops from ~117 ns to ~18 ns when
+    the friction-model dispatch is folded.
     """
     if not (isinstance(tag, type) and issubclass(tag, tuple) and hasattr(tag, "_fields")):
         raise TypeError(f"tag must be a NamedTuple class, got {tag!r}")
@@ -133,6 +215,10 @@ def system_outputs(tag, t, y, u, p, out):
 
 @overload(system_rhs, jit_options={"cache": True})
 def _ol_rhs(tag, t, y, u, p, dy):
+    if _is_kernel_tuple(tag):
+        def kimpl(tag, t, y, u, p, dy):
+            tag[0](t, y, u, p, dy)
+        return kimpl
     fns = _functions(tag)
     if fns is None:
         return None
@@ -148,6 +234,10 @@ def _ol_rhs(tag, t, y, u, p, dy):
 
 @overload(system_events, jit_options={"cache": True})
 def _ol_events(tag, t, y, u, p, g):
+    if _is_kernel_tuple(tag):
+        def kimpl(tag, t, y, u, p, g):
+            tag[1](t, y, u, p, g)
+        return kimpl
     fns = _functions(tag)
     if fns is None:
         return None
@@ -163,6 +253,10 @@ def _ol_events(tag, t, y, u, p, g):
 
 @overload(system_reset, jit_options={"cache": True})
 def _ol_reset(tag, t, y, u, p, k):
+    if _is_kernel_tuple(tag):
+        def kimpl(tag, t, y, u, p, k):
+            return tag[2](t, y, u, p, k)
+        return kimpl
     fns = _functions(tag)
     if fns is None:
         return None
@@ -178,6 +272,10 @@ def _ol_reset(tag, t, y, u, p, k):
 
 @overload(system_outputs, jit_options={"cache": True})
 def _ol_outputs(tag, t, y, u, p, out):
+    if _is_kernel_tuple(tag):
+        def kimpl(tag, t, y, u, p, out):
+            tag[3](t, y, u, p, out)
+        return kimpl
     fns = _functions(tag)
     if fns is None:
         return None
