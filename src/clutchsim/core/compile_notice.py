@@ -6,8 +6,10 @@ from numba's on-disk cache (under a second) or, after installing or changing clu
 compiles it (on a 2-core machine: ~30 s for the integrators shared by most plants, plus
 seconds for a small plant's own functions or ~40 s for the driveline's).
 Nothing can be printed from inside numba's compiler, so a timer thread logs one line if the
-first call is still running after :data:`NOTICE_AFTER_S` seconds.  numba gives no progress
-hook for this, hence the timer.
+guarded block is still running after :data:`NOTICE_AFTER_S` seconds.  numba gives no
+progress hook for this, hence the timer.  The caller guards only the loading or compiling
+(``simulate`` asks numba for the integrator's specialisation before it runs it), so a run
+that is merely long is not announced as compiling.
 """
 
 from __future__ import annotations
@@ -31,11 +33,11 @@ _started: set = set()    # keys whose first call has begun in this process
 
 
 @contextmanager
-def compile_notice(key: Hashable, what: str, after: float | None = None) -> Iterator[None]:
-    """Log (INFO, logger ``clutchsim``) one line if the first call of ``key`` in this
-    process takes longer than ``after`` seconds (default :data:`NOTICE_AFTER_S`).
+def compile_notice(key: Hashable, what: str, after: float | None = None) -> Iterator[bool]:
+    """Log (INFO, logger ``clutchsim``) one line if the first block guarded for ``key`` in
+    this process takes longer than ``after`` seconds (default :data:`NOTICE_AFTER_S`).
 
-    Later calls with the same key, from any thread, log nothing.
+    Yields whether this is that first block; later ones, from any thread, log nothing.
 
     Parameters
     ----------
@@ -50,7 +52,7 @@ def compile_notice(key: Hashable, what: str, after: float | None = None) -> Iter
         first = key not in _started
         _started.add(key)
     if not first:
-        yield
+        yield False
         return
     where = f" in {cache_dir}" if cache_dir else ""
     message = (f"{what}: compiling the integrator for this plant (the first run after "
@@ -61,6 +63,6 @@ def compile_notice(key: Hashable, what: str, after: float | None = None) -> Iter
     timer.daemon = True
     timer.start()
     try:
-        yield
+        yield True
     finally:
         timer.cancel()
