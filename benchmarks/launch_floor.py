@@ -75,7 +75,7 @@ def _row(name, overrides, ref, repeats, same_model=True):
 
 
 @numba.njit
-def _loop_rhs(f, n, t, y, u, p, dy):
+def _call_in_loop(f, n, t, y, u, p, dy):
     s = 0.0
     for _ in range(n):
         y[0] += 1e-12            # keep the compiler from hoisting the call
@@ -101,11 +101,11 @@ def _plant_ns(n: int = 200_000) -> dict:
                            ("events", P.chain_events, len(system.event_names)),
                            ("outputs", P.chain_outputs, len(system.output_names))):
         buf = np.empty(size)
-        _loop_rhs(fn, 10, 0.9, y, u, system.params, buf)
+        _call_in_loop(fn, 10, 0.9, y, u, system.params, buf)
         best = np.inf
         for _ in range(5):
             t0 = time.perf_counter()
-            _loop_rhs(fn, n, 0.9, y, u, system.params, buf)
+            _call_in_loop(fn, n, 0.9, y, u, system.params, buf)
             best = min(best, time.perf_counter() - t0)
         out[f"{name}_ns"] = best / n * 1e9
     return out
