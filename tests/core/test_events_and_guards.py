@@ -113,6 +113,9 @@ def test_truncated_output_is_said_in_the_message():
     assert res.status == "completed"
     assert res.t.size == 50 and res.t[-1] < 10.0
     assert "output stopped after 50 rows" in res.message and "max_output" in res.message
+    assert res.outcome == "completed" and len(res.warnings) == 1
+    assert "output stopped after 50 rows" in res.warnings[0]
+    assert res.summary()["warnings"] == list(res.warnings)
 
 
 @pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2", "scipy-radau"])

@@ -8,7 +8,7 @@ from numba import types
 from clutchsim.core import _driver as drv
 from clutchsim.core import simulate
 from clutchsim.core.reference_problems import ball, oscillator, riccati
-from clutchsim.core.system import KERNEL_SIG, RESET_SIG, kernels
+from clutchsim.core.system import JAC_SIG, KERNEL_SIG, RESET_SIG, kernels
 
 
 def _function_value_signatures():
@@ -31,7 +31,8 @@ def test_plants_without_static_share_one_compiled_integrator():
 def test_kernels_are_typed_as_function_values_and_static_plants_keep_their_tag():
     ks = kernels(oscillator().tag)
     assert [numba.typeof(k) for k in ks] == [types.FunctionType(KERNEL_SIG)] * 2 + [
-        types.FunctionType(RESET_SIG), types.FunctionType(KERNEL_SIG)]
+        types.FunctionType(RESET_SIG), types.FunctionType(KERNEL_SIG),
+        types.FunctionType(JAC_SIG)]
     assert kernels(oscillator().tag) is ks               # built once per tag type
     from clutchsim.friction import make_model
     from clutchsim.rig import make_rig

@@ -4,6 +4,7 @@ from .options import SOLVERS, SolverOptions
 from .result import Event, Result, Stats, atomic_write
 from .signals import Constant, Pulse, Ramp, Signal, Sine, Step, Sum, Table, as_signal
 from .simulate import simulate
+from .status import Action, Outcome
 from .system import CONTINUE, FAIL, STATE_CHANGED, STOP, System, register_system
 
 __all__ = [
@@ -12,8 +13,10 @@ __all__ = [
     "SOLVERS",
     "STATE_CHANGED",
     "STOP",
+    "Action",
     "Constant",
     "Event",
+    "Outcome",
     "Pulse",
     "Ramp",
     "Result",

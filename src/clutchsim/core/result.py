@@ -13,6 +13,8 @@ from types import MappingProxyType
 
 import numpy as np
 
+from .status import Outcome
+
 __all__ = ["Event", "Result", "Stats", "atomic_write"]
 
 
@@ -113,11 +115,20 @@ class Result:
     ----------
     t : ndarray
         Output times [s].
+    outcome : str
+        Why the run ended, machine-readable: one of :class:`~clutchsim.core.status.Outcome`
+        (``"completed"``, ``"stopped"``, ``"event_failed"``, ``"budget"``,
+        ``"wall_time"``, ``"step_collapse"``, ``"chatter"``, ``"nan"``,
+        ``"solver_error"``).  Code decides on this, never on the message.
     status : str
-        ``"completed"``, ``"stopped"`` (a terminal event ended the run as intended) or
-        ``"failed"``.
+        The coarse status derived from ``outcome``: ``"completed"``, ``"stopped"`` (a
+        terminal event ended the run as intended) or ``"failed"``.
     message : str
         What happened, and for a failure where and why, and what to do about it.
+    event : str
+        Name of the event that ended the run (``""`` when none did).
+    warnings : tuple of str
+        Reasons not to trust a run that completed (each says the cause and the remedy).
     stats : Stats
         Solver statistics.
     events : tuple of Event
@@ -129,13 +140,34 @@ class Result:
     t: np.ndarray
     data: MappingProxyType
     units: MappingProxyType
-    status: str
+    outcome: str
     message: str
     stats: Stats
     events: tuple[Event, ...] = ()
     solver: str = ""
     system: str = ""
     metadata: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
+    event: str = ""
+    warnings: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        try:
+            outcome = Outcome(self.outcome)
+        except ValueError:
+            raise ValueError(f"outcome = {self.outcome!r} is not one of "
+                             f"{', '.join(o.value for o in Outcome)}") from None
+        object.__setattr__(self, "outcome", outcome)
+        object.__setattr__(self, "warnings", tuple(str(w) for w in self.warnings))
+
+    @property
+    def status(self) -> str:
+        """``"completed"``, ``"stopped"`` or ``"failed"`` (from :attr:`outcome`)."""
+        return Outcome(self.outcome).status
+
+    def with_warnings(self, *warnings: str) -> Result:
+        """The same result with ``warnings`` appended (results are immutable)."""
+        from dataclasses import replace
+        return replace(self, warnings=self.warnings + tuple(warnings))
 
     @classmethod
     def build(cls, t, columns: list[tuple[str, str, np.ndarray]], **kw) -> Result:
@@ -198,20 +230,24 @@ class Result:
         import pyarrow.parquet as pq
         table = pa.Table.from_pandas(self.to_frame(), preserve_index=False)
         meta = dict(table.schema.metadata or {})
-        meta[b"clutchsim"] = json.dumps({"status": self.status, "message": self.message,
+        meta[b"clutchsim"] = json.dumps({"status": self.status, "outcome": str(self.outcome),
+                                         "event": self.event,
+                                         "warnings": list(self.warnings),
+                                         "message": self.message,
                                          "solver": self.solver, "system": self.system,
                                          "stats": self.stats.as_dict()}).encode()
         table = table.replace_schema_metadata(meta)
         return atomic_write(path, lambda p: pq.write_table(table, p))
 
     def summary(self) -> dict:
-        """Status, message, solver and statistics as plain data."""
-        return {"system": self.system, "status": self.status, "success": self.success,
-                "message": self.message, "solver": self.solver, "t_end_s": float(self.t[-1]),
+        """Status, outcome, warnings, message, solver and statistics as plain data."""
+        return {"system": self.system, "status": self.status, "outcome": str(self.outcome),
+                "event": self.event, "warnings": list(self.warnings),
+                "success": self.success, "message": self.message, "solver": self.solver, "t_end_s": float(self.t[-1]),
                 "n_output": int(self.t.size), **self.stats.as_dict()}
 
     def __repr__(self) -> str:
-        return (f"Result({self.system!r}, status={self.status!r}, t=[{self.t[0]:g}, "
+        return (f"Result({self.system!r}, outcome={str(self.outcome)!r}, t=[{self.t[0]:g}, "
                 f"{self.t[-1]:g}] s, {len(self.data)} signals, {self.stats.steps} steps, "
                 f"{self.stats.events} events, solver={self.solver!r})")
 

@@ -25,10 +25,10 @@ from scipy.integrate import solve_ivp
 
 from .result import Event, Stats
 from .signals import eval_inputs
+from .status import ACTION_WORDS, Action, Outcome
 from .system import call_events, call_outputs, call_reset, call_rhs
 
 _METHOD = {"scipy-radau": "Radau", "scipy-lsoda": "LSODA", "scipy-rk45": "RK45"}
-_ACTIONS = {0: "recorded", 1: "reset", 2: "stop", 3: "fail"}
 
 
 def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
@@ -55,7 +55,8 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
     events: list[Event] = []
     y = y0.copy()
     t = t0
-    status, message = "completed", f"completed to t = {t1:.9g} s"
+    status, message = Outcome.COMPLETED, f"completed to t = {t1:.9g} s"
+    ended_by = ""
     steps = 0
     wall0 = time.perf_counter()
     record(t, y, t + 1e-12 * max(1.0, abs(t)), rows)
@@ -114,10 +115,10 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
                 if tt > t:
                     record(tt, yy, t_ref, rows)
             if sol.status == -1:
-                status, message = "failed", f"scipy {_METHOD[solver]}: {sol.message}"
+                status, message = Outcome.SOLVER_ERROR, f"scipy {_METHOD[solver]}: {sol.message}"
                 break
             if time.perf_counter() - wall0 > opts.wall_time > 0:
-                status = "failed"
+                status = Outcome.WALL_TIME
                 message = f"wall-time budget of {opts.wall_time:g} s exhausted at t = {t:.9g} s"
                 break
             fired = [k for k in range(len(evs)) if sol.t_events[k].size]
@@ -130,25 +131,28 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
             if start[k] != 0.0:
                 side[k] = -np.sign(start[k])
             action = int(call_reset(tag, t, y, inputs_at(t, t_ref), p, k))
-            events.append(Event(t, system.event_names[k], _ACTIONS[action]))
+            events.append(Event(t, system.event_names[k], ACTION_WORDS[action]))
             record(t, y, t_ref, rows)
             last_event_times.append(t)
             n_ch = opts.chatter_events
             if n_ch and len(last_event_times) > n_ch and \
                     t - last_event_times[-n_ch - 1] <= opts.chatter_window_for(t1 - t0):
-                status = "failed"
+                status = Outcome.CHATTER
+                ended_by = system.event_names[k]
                 message = (f"chatter detected: {n_ch} events within "
                            f"{opts.chatter_window_for(t1 - t0):g} s, "
                            f"the last of them '{system.event_names[k]}' at t = {t:.9g} s")
                 break
-            if action in (2, 3):
-                status = "stopped" if action == 2 else "failed"
+            if action in (Action.STOP, Action.FAIL):
+                status = Outcome.STOPPED if action == Action.STOP else Outcome.EVENT_FAILED
+                ended_by = system.event_names[k]
                 message = (f"stopped by event '{system.event_names[k]}' at t = {t:.9g} s"
-                           if action == 2 else f"{system.event_names[k]} at t = {t:.9g} s")
+                           if action == Action.STOP
+                           else f"{system.event_names[k]} at t = {t:.9g} s")
                 break
             # step off the root before events are armed again (scipy would re-detect it)
             mute_until = t + 1e-10 * max(1.0, abs(t))
-        if status != "completed":
+        if status != Outcome.COMPLETED:
             break
     ts = np.array([r[0] for r in rows])
     ys = np.array([r[1] for r in rows]).reshape(len(rows), -1)
@@ -158,4 +162,5 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
     stats = Stats(steps=steps, rejected=0, rhs_evals=nfev[0], jacobians=0, lu_decompositions=0,
                   events=len(events), min_step_s=float(dts[dts > 0].min()) if np.any(dts > 0)
                   else 0.0, wall_s=time.perf_counter() - wall0)
-    return assemble(system, ts, ys, us, outs, status, message, stats, tuple(events), solver)
+    return assemble(system, ts, ys, us, outs, status, message, stats, tuple(events), solver,
+                    event=ended_by)

@@ -13,12 +13,10 @@ from .compile_notice import compile_notice
 from .options import SolverOptions, check_solver
 from .result import Event, Result, Stats
 from .signals import Signal, as_signal, build_bank
+from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
 from .system import System, closest, kernels
 
 __all__ = ["resolve_inputs", "simulate"]
-
-_ACTIONS = {0: "recorded", 1: "reset", 2: "stop", 3: "fail"}
-
 
 def _check_span(t_span) -> tuple[float, float]:
     try:
@@ -59,42 +57,47 @@ def _breakpoints(signals: list[Signal], t0: float, t1: float) -> np.ndarray:
 
 
 def _failure_message(code: int, t: float, k: int, i: int, system: System, opts: SolverOptions,
-                     solver: str, window: float) -> tuple[str, str]:
+                     solver: str, window: float) -> tuple[Outcome, str, str]:
+    """(outcome, message, name of the event that ended the run or "") for an integrator
+    code."""
+    code = Code(code)
     ev = system.event_names[k] if 0 <= k < system.n_events else "?"
     state = (f"'{system.state_names[i]} [{system.state_units[i]}]'"
              if 0 <= i < system.n_states else "(unknown)")
-    if code == drv.DONE:
-        return "completed", f"completed to t = {t:.9g} s"
-    if code == drv.EVENT_STOP:
-        return "stopped", f"stopped by event '{ev}' at t = {t:.9g} s"
-    if code == drv.EVENT_FAIL:
-        return "failed", f"{ev} at t = {t:.9g} s"
-    if code == drv.MAX_STEPS:
-        return "failed", (f"step budget exhausted: {opts.max_steps} steps reached at "
-                          f"t = {t:.9g} s; raise SolverOptions.max_steps, or if the system is "
-                          "stiff use solver='rodas4'")
-    if code == drv.WALL_TIME:
-        return "failed", (f"wall-time budget of {opts.wall_time:g} s exhausted at t = {t:.9g} s;"
-                          " raise SolverOptions.wall_time, or use solver='rodas4' if the "
-                          "system is stiff")
-    if code == drv.STEP_COLLAPSE:
-        return "failed", (f"step size collapsed at t = {t:.9g} s ({solver}): the right-hand "
-                          "side is discontinuous (or violently stiff) there. A switching law "
-                          "acting at this point, e.g. a naive stick/slip friction model at "
-                          "lock-up, must be declared as an event, or replaced by a hybrid "
-                          "(coulomb-robust) or dynamic friction model (e.g. mykhailevych2020)")
-    if code == drv.CHATTER:
-        return "failed", (f"chatter detected: {opts.chatter_events} events within "
-                          f"{window:g} s, the last of them '{ev}' at t = {t:.9g} s."
-                          " The event re-fires as soon as it is crossed (a sliding mode): "
-                          "typically a discontinuous switching law at zero slip, such as a "
-                          "naive stick/slip friction model at lock-up. Use a hybrid stick/slip "
-                          "model (coulomb-robust) or a dynamic friction model (e.g. "
-                          "mykhailevych2020)")
-    if code == drv.NON_FINITE:
-        return "failed", (f"non-finite value (NaN or inf) in state {state} at t = {t:.9g} s: "
-                          "the right-hand side produced it; check parameters and inputs")
-    raise AssertionError(f"unknown status code {code}")
+    outcome = OUTCOME_OF_CODE[code]
+    ended_by = ev if code in (Code.EVENT_STOP, Code.EVENT_FAIL, Code.CHATTER) else ""
+    if code == Code.DONE:
+        message = f"completed to t = {t:.9g} s"
+    elif code == Code.EVENT_STOP:
+        message = f"stopped by event '{ev}' at t = {t:.9g} s"
+    elif code == Code.EVENT_FAIL:
+        message = f"{ev} at t = {t:.9g} s"
+    elif code == Code.MAX_STEPS:
+        message = (f"step budget exhausted: {opts.max_steps} steps reached at "
+                   f"t = {t:.9g} s; raise SolverOptions.max_steps, or if the system is "
+                   "stiff use solver='rodas4'")
+    elif code == Code.WALL_TIME:
+        message = (f"wall-time budget of {opts.wall_time:g} s exhausted at t = {t:.9g} s;"
+                   " raise SolverOptions.wall_time, or use solver='rodas4' if the "
+                   "system is stiff")
+    elif code == Code.STEP_COLLAPSE:
+        message = (f"step size collapsed at t = {t:.9g} s ({solver}): the right-hand "
+                   "side is discontinuous (or violently stiff) there. A switching law "
+                   "acting at this point, e.g. a naive stick/slip friction model at "
+                   "lock-up, must be declared as an event, or replaced by a hybrid "
+                   "(coulomb-robust) or dynamic friction model (e.g. mykhailevych2020)")
+    elif code == Code.CHATTER:
+        message = (f"chatter detected: {opts.chatter_events} events within "
+                   f"{window:g} s, the last of them '{ev}' at t = {t:.9g} s."
+                   " The event re-fires as soon as it is crossed (a sliding mode): "
+                   "typically a discontinuous switching law at zero slip, such as a "
+                   "naive stick/slip friction model at lock-up. Use a hybrid stick/slip "
+                   "model (coulomb-robust) or a dynamic friction model (e.g. "
+                   "mykhailevych2020)")
+    else:
+        message = (f"non-finite value (NaN or inf) in state {state} at t = {t:.9g} s: "
+                   "the right-hand side produced it; check parameters and inputs")
+    return outcome, message, ended_by
 
 
 def _load_or_compile(args) -> None:
@@ -182,21 +185,27 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
             _load_or_compile(args)
     (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
      wall) = drv.integrate(*args)
-    status, message = _failure_message(int(code), float(t_end), int(k), int(i), system, opts,
-                                       solver, fopt[drv.O_CHATTER_WINDOW])
+    outcome, message, ended_by = _failure_message(int(code), float(t_end), int(k), int(i),
+                                                  system, opts, solver,
+                                                  fopt[drv.O_CHATTER_WINDOW])
+    warnings = []
     if ts.shape[0] >= opts.max_output and ts[-1] < t_end:
-        message += (f"; output stopped after {opts.max_output} rows at t = {ts[-1]:.9g} s "
-                    "(raise SolverOptions.max_output or set dt_out)")
+        warnings.append(f"output stopped after {opts.max_output} rows at t = {ts[-1]:.9g} s "
+                        f"of a run that went on to {t_end:.9g} s (raise "
+                        "SolverOptions.max_output or set dt_out)")
+        message += "; " + warnings[-1]
     stats = Stats(steps=int(st[drv.S_STEPS]), rejected=int(st[drv.S_REJECTED]),
                   rhs_evals=int(st[drv.S_RHS]), jacobians=int(st[drv.S_JAC]),
                   lu_decompositions=int(st[drv.S_LU]), events=int(st[drv.S_EVENTS]),
                   min_step_s=float(h_small) if math.isfinite(h_small) else 0.0, wall_s=wall)
-    events = tuple(Event(float(te), system.event_names[int(ke)], _ACTIONS[int(a)])
+    events = tuple(Event(float(te), system.event_names[int(ke)], ACTION_WORDS[int(a)])
                    for te, ke, a in zip(ev_t, ev_k, ev_a))
-    return assemble(system, ts, ys, us, outs, status, message, stats, events, solver)
+    return assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver,
+                    event=ended_by, warnings=tuple(warnings))
 
 
-def assemble(system, ts, ys, us, outs, status, message, stats, events, solver) -> Result:
+def assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver, *,
+             event: str = "", warnings: tuple[str, ...] = ()) -> Result:
     """Build a :class:`Result` from raw output arrays (shared by all backends)."""
     cols = [(n, u, ys[:, j]) for j, (n, u) in enumerate(zip(system.state_names,
                                                              system.state_units))]
@@ -204,5 +213,6 @@ def assemble(system, ts, ys, us, outs, status, message, stats, events, solver) -
                                                               system.input_units))]
     cols += [(n, u, outs[:, j]) for j, (n, u) in enumerate(zip(system.output_names,
                                                                 system.output_units))]
-    return Result.build(ts, cols, status=status, message=message, stats=stats, events=events,
-                        solver=solver, system=system.name, metadata=system.metadata)
+    return Result.build(ts, cols, outcome=outcome, message=message, stats=stats,
+                        events=events, solver=solver, system=system.name,
+                        metadata=system.metadata, event=event, warnings=warnings)

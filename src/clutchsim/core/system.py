@@ -13,6 +13,10 @@ A plant (a friction test rig, a driveline, ...) defines four compiled functions
     one of :data:`CONTINUE`, :data:`STATE_CHANGED`, :data:`STOP`, :data:`FAIL`;
 ``outputs(t, y, u, p, out)``
     writes algebraic output signals (forces, powers, ...),
+``jac(t, y, u, p, J)`` (optional)
+    writes the exact Jacobian ``J[i, j] = d dy_i / d y_j`` (an ``(n, n)`` C-contiguous
+    array, every entry, the quadrature columns included) at fixed inputs ``u``.  Without
+    it the implicit integrators difference the right-hand side (one call per state).
 
 where ``t`` is time [s], ``y`` the state vector, ``u`` the input vector and ``p`` a float
 parameter vector (all arrays float64, C-contiguous).  It registers them under a *tag
@@ -49,6 +53,7 @@ from numba.core.types import WrapperAddressProtocol
 from numba.extending import overload
 
 from .._jit import jit
+from .status import Action
 
 __all__ = [
     "CONTINUE",
@@ -64,14 +69,11 @@ __all__ = [
     "system_rhs",
 ]
 
-#: reset action: the event is recorded, the state is unchanged
-CONTINUE = 0
-#: reset action: the reset map changed the state; integration restarts from it
-STATE_CHANGED = 1
-#: reset action: stop the run successfully (a terminal event)
-STOP = 2
-#: reset action: stop the run as failed (e.g. the engine stalled)
-FAIL = 3
+#: reset actions (see :class:`~clutchsim.core.status.Action`), as plain names for plants
+CONTINUE = Action.CONTINUE
+STATE_CHANGED = Action.STATE_CHANGED
+STOP = Action.STOP
+FAIL = Action.FAIL
 
 
 class _Functions(NamedTuple):
@@ -79,7 +81,9 @@ class _Functions(NamedTuple):
     events: object
     reset: object
     outputs: object
+    jac: object
     static: object
+    has_jac: bool
 
 
 _REGISTRY: dict[type, _Functions] = {}
@@ -94,6 +98,8 @@ _ARRAY = types.float64[::1]
 KERNEL_SIG = types.void(types.float64, _ARRAY, _ARRAY, _ARRAY, _ARRAY)
 #: signature of reset: (t, y, u, p, k) -> action
 RESET_SIG = types.int64(types.float64, _ARRAY, _ARRAY, _ARRAY, types.int64)
+#: signature of jac: (t, y, u, p, J) -> None, J of shape (n, n)
+JAC_SIG = types.void(types.float64, _ARRAY, _ARRAY, _ARRAY, types.float64[:, ::1])
 
 
 class _Kernel(WrapperAddressProtocol):
@@ -133,7 +139,7 @@ _KERNELS: dict[type, tuple] = {}
 def kernels(tag):
     """What the integrators receive for ``tag``: the tag itself for a plant registered
     with a static argument (compiled per tag type, so that the compiler folds on it), else
-    the tuple (rhs, events, reset, outputs) of :class:`_Kernel` function values."""
+    the tuple (rhs, events, reset, outputs, jac) of :class:`_Kernel` function values."""
     fns = _REGISTRY[type(tag)]
     if fns.static is not None:
         return tag
@@ -141,13 +147,19 @@ def kernels(tag):
         out = _KERNELS.get(type(tag))
         if out is None:
             out = (_Kernel(fns.rhs, KERNEL_SIG), _Kernel(fns.events, KERNEL_SIG),
-                   _Kernel(fns.reset, RESET_SIG), _Kernel(fns.outputs, KERNEL_SIG))
+                   _Kernel(fns.reset, RESET_SIG), _Kernel(fns.outputs, KERNEL_SIG),
+                   _Kernel(fns.jac, JAC_SIG))
             _KERNELS[type(tag)] = out
     return out
 
 
+def has_jacobian(tag) -> bool:
+    """Did the plant of ``tag`` register an exact Jacobian?"""
+    return _REGISTRY[type(tag)].has_jac
+
+
 def _is_kernel_tuple(tag) -> bool:
-    return (isinstance(tag, types.BaseTuple) and len(tag) == 4
+    return (isinstance(tag, types.BaseTuple) and len(tag) == 5
             and all(isinstance(t, types.FunctionType) for t in tag))
 
 
@@ -166,7 +178,17 @@ def _no_outputs(t, y, u, p, out):
     pass
 
 
-def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None,
+@jit
+def _no_jac(t, y, u, p, J):
+    pass
+
+
+@jit
+def _no_jac_static(t, y, u, p, J, static):
+    pass
+
+
+def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None, jac=None,
                     static: int | None = None) -> type:
     """Register the compiled functions of a plant under the ``NamedTuple`` type ``tag``.
 
@@ -179,6 +201,9 @@ def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None,
     variant (e.g. per friction model) lets the compiler fold the branches that depend on
     it; measured: the rig's right-hand side with LuGre drops from ~117 ns to ~18 ns when
     the friction-model dispatch is folded.
+
+    ``jac``: the exact Jacobian ``jac(t, y, u, p, J)`` (see the module docstring); the
+    implicit integrators use it instead of finite differences.
     """
     if not (isinstance(tag, type) and issubclass(tag, tuple) and hasattr(tag, "_fields")):
         raise TypeError(f"tag must be a NamedTuple class, got {tag!r}")
@@ -186,8 +211,9 @@ def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None,
         raise TypeError(f"static must be an int or None, got {static!r}")
     if static is not None and (events is None or reset is None or outputs is None):
         raise TypeError("a plant with a static argument must define all four functions")
+    no_jac = _no_jac if static is None else _no_jac_static
     _REGISTRY[tag] = _Functions(rhs, events or _no_events, reset or _no_reset,
-                                outputs or _no_outputs, static)
+                                outputs or _no_outputs, jac or no_jac, static, jac is not None)
     return tag
 
 
@@ -215,6 +241,11 @@ def system_reset(tag, t, y, u, p, k):
 def system_outputs(tag, t, y, u, p, out):
     """Compiled-only: the plant's algebraic outputs."""
     raise NotImplementedError("system_outputs is only callable from compiled code")
+
+
+def system_jac(tag, t, y, u, p, J):
+    """Compiled-only: the plant's exact Jacobian (a no-op for plants without one)."""
+    raise NotImplementedError("system_jac is only callable from compiled code")
 
 
 @overload(system_rhs, jit_options={"cache": True})
@@ -293,6 +324,25 @@ def _ol_outputs(tag, t, y, u, p, out):
     return impl
 
 
+@overload(system_jac, jit_options={"cache": True})
+def _ol_jac(tag, t, y, u, p, J):
+    if _is_kernel_tuple(tag):
+        def kimpl(tag, t, y, u, p, J):
+            tag[4](t, y, u, p, J)
+        return kimpl
+    fns = _functions(tag)
+    if fns is None:
+        return None
+    f, static = fns.jac, fns.static
+    if static is None:
+        def impl(tag, t, y, u, p, J):
+            f(t, y, u, p, J)
+    else:
+        def impl(tag, t, y, u, p, J):
+            f(t, y, u, p, J, static)
+    return impl
+
+
 # Python-callable entry points (used by the scipy reference backend and by tests).
 @jit
 def call_rhs(tag, t, y, u, p, dy):
@@ -312,6 +362,11 @@ def call_reset(tag, t, y, u, p, k):
 @jit
 def call_outputs(tag, t, y, u, p, out):
     system_outputs(tag, t, y, u, p, out)
+
+
+@jit
+def call_jac(tag, t, y, u, p, J):
+    system_jac(tag, t, y, u, p, J)
 
 
 def closest(name: str, valid) -> str:

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import Result, SolverOptions, simulate
+from ..core import Outcome, Result, SolverOptions, simulate
 from .chain import ENERGY_STATES
 
 __all__ = ["LaunchResult", "energy_balance", "launch_metrics", "run_scenario"]
@@ -102,11 +102,12 @@ def launch_metrics(res: Result, clutch: str = "clutch") -> dict:
     """Per-run metrics: completed, message, lockup_time_s, slip_energy_J, peak_lining_temp_C,
     max_jerk_mps3, engine_speed_min_rpm, engine_stalled, energy_balance_rel, steps, rhs_evals,
     events, min_step_s, wall_s."""
-    m: dict = {"completed": res.status == "completed", "message": res.message}
-    msg = res.message
-    if res.status == "failed" and "chatter" in msg and f"'{clutch}:" in msg:
+    m: dict = {"completed": res.status == "completed", "outcome": str(res.outcome),
+               "message": res.message, "warnings": list(res.warnings)}
+    if res.outcome == Outcome.CHATTER and res.event.startswith(f"{clutch}:"):
         m["message"] = ("stopped by chatter detection at clutch lock-up (the slip speed of "
-                        f"{clutch!r} reached zero and the switching law re-fired): " + msg)
+                        f"{clutch!r} reached zero and the switching law re-fired): "
+                        + res.message)
     m["lockup_time_s"] = _first_lock(res, clutch)
     p_name = f"P_{clutch}"
     m["slip_energy_J"] = float(np.trapezoid(np.abs(res[p_name]), res.t)) \
@@ -123,7 +124,10 @@ def launch_metrics(res: Result, clutch: str = "clutch") -> dict:
         m["max_jerk_mps3"] = None
     eng = [s for s in res.signals if s == "omega_engine"]
     m["engine_speed_min_rpm"] = float(np.min(res[eng[0]]) * 30 / math.pi) if eng else None
-    m["engine_stalled"] = "engine stalled" in res.message
+    m["engine_stalled"] = (res.outcome == Outcome.EVENT_FAILED
+                           and res.event.startswith("engine stalled"))
+    if m["engine_stalled"]:
+        m["outcome"] = "stalled"
     m["energy_balance_rel"] = energy_balance(res)["energy_balance_rel"]
     st = res.stats
     m.update(steps=st.steps, rhs_evals=st.rhs_evals, events=st.events,
