@@ -62,7 +62,8 @@ def test_stiff_van_der_pol_matches_scipy_radau_at_tight_tolerance():
     assert implicit.stats.steps * 5 < explicit.stats.steps
 
 
-@pytest.mark.parametrize("solver, order", [("dopri5", 5), ("rodas4", 4), ("ros34pw2", 3)])
+@pytest.mark.parametrize("solver, order", [("dopri5", 5), ("rodas4", 4), ("ros34pw2", 3),
+                                           ("rodas5p", 5)])
 def test_order_of_convergence(solver, order):
     """Fixed steps (tolerances too loose to reject any step) on y' = -2ty², whose exact
     solution is 1/(1+t²): the global error must fall with the method's order."""
@@ -78,7 +79,7 @@ def test_order_of_convergence(solver, order):
     assert abs(slope - order) < 0.5, slope
 
 
-@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2"])
+@pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2", "rodas5p"])
 def test_dense_output_grid_matches_exact_solution(solver):
     res = simulate(oscillator(omega=2.0), (0.0, 5.0), {"F": 0.0}, solver=solver,
                    options=SolverOptions(rtol=1e-9, atol=1e-12, dt_out=0.01))

@@ -1,10 +1,18 @@
 """The compiled integration loop shared by every method.
 
-Owns step-size control, declared input breakpoints (hit exactly), event detection and
+Owns step-size control (a :class:`~clutchsim.core.controllers.StepController`, packed),
+the Jacobian/LU reuse policy, declared input breakpoints (hit exactly), event detection and
 location on the dense output, reset maps, output recording, and the guards that make sure
 no run spins forever: ``max_steps``, a wall-time budget, a step-size floor, and chatter
-detection (too many events inside a short window).  Method-specific work is done by the
-stepper modules; the plant is reached only through ``system_*`` (see ``system.py``).
+detection (too many events inside a short window).  The method is data (a tableau of
+:mod:`clutchsim.core.methods`, packed into arrays); the steps are in :mod:`._engine`; the
+plant is reached only through ``system_*`` (see ``system.py``).
+
+Events are checked at the end of each step.  The event functions are sampled inside a step
+only where a crossing could hide between two same-sign ends: on the first step after the
+start, an event or a breakpoint (no history yet; a reset may leave ``g`` exactly on zero),
+when ``g`` starts exactly on zero, or when ``g`` ends the step close to zero compared with
+how much it changed over this step and the previous one (:func:`_may_hide_crossing`).
 """
 
 from __future__ import annotations
@@ -16,37 +24,42 @@ import numba
 import numpy as np
 
 from .._jit import jit
-from ._dopri5 import dopri5_dense, dopri5_step
-from ._rodas4 import jacobian, rodas4_dense, rodas4_step
-from ._ros34pw2 import JAC_MAX_AGE, hermite_dense, ros34pw2_step
-from .signals import eval_inputs
+from ._engine import dense_coefficients, dense_eval, erk_step, inputs_at, jacobian, ros_step
+from ._linalg import factor_iteration_matrix
+from .controllers import C_B1, C_B2, C_B3, C_KIND, C_MAX, C_MIN, C_SAFETY
+from .methods import EXPLICIT
+from .status import Action, Code
 from .system import system_events, system_outputs, system_reset, system_rhs
 
-# method codes
-DOPRI5 = 0
-RODAS4 = 1
-ROS34PW2 = 2
-
-# status codes (turned into words by result.py)
-DONE = 0
-EVENT_STOP = 1
-EVENT_FAIL = 2
-MAX_STEPS = 3
-WALL_TIME = 4
-STEP_COLLAPSE = 5
-CHATTER = 6
-NON_FINITE = 7
+# status codes (named in status.Code; plain ints here for the compiled code)
+DONE = int(Code.DONE)
+EVENT_STOP = int(Code.EVENT_STOP)
+EVENT_FAIL = int(Code.EVENT_FAIL)
+MAX_STEPS = int(Code.MAX_STEPS)
+WALL_TIME = int(Code.WALL_TIME)
+STEP_COLLAPSE = int(Code.STEP_COLLAPSE)
+CHATTER = int(Code.CHATTER)
+NON_FINITE = int(Code.NON_FINITE)
+JAC_NON_FINITE = int(Code.JAC_NON_FINITE)
+_STATE_CHANGED = int(Action.STATE_CHANGED)
+_STOP = int(Action.STOP)
+_FAIL = int(Action.FAIL)
 
 # float options
-O_RTOL, O_ATOL, O_H0, O_HMAX, O_HMIN, O_WALL, O_CHATTER_WINDOW, O_DT_OUT, O_EVENT_TOL = range(9)
-N_FOPT = 9
+(O_RTOL, O_ATOL, O_H0, O_HMAX, O_HMIN, O_WALL, O_CHATTER_WINDOW, O_DT_OUT, O_EVENT_TOL,
+ O_LU_REUSE) = range(10)
+N_FOPT = 10
 # int options
-I_MAX_STEPS, I_CHATTER_N, I_MAX_OUTPUT, I_QUADRATURES = range(4)
-N_IOPT = 3
+I_MAX_STEPS, I_CHATTER_N, I_MAX_OUTPUT, I_QUADRATURES, I_EXACT_JAC, I_JAC_MAX_AGE = range(6)
+N_IOPT = 6
+# method scalars
+M_FAMILY, M_GAMMA, M_Q, M_DENSE, M_W, M_FSAL = range(6)
+N_MOPT = 6
 # statistics
-S_STEPS, S_REJECTED, S_RHS, S_JAC, S_LU, S_EVENTS, S_OUTPUT = range(7)
-N_STATS = 7
-# event functions are sampled at this many points per step (the last one is the step end)
+S_STEPS, S_REJECTED, S_RHS, S_JAC, S_LU, S_EVENTS, S_OUTPUT, S_EV_CALLS = range(8)
+N_STATS = 8
+# event functions are sampled at this many points of a step that needs it (the last one
+# is the step end)
 N_SAMPLES = 4
 
 
@@ -77,25 +90,27 @@ def _first_nonfinite(x):
 
 
 @jit
-def dense_eval(method, dense, h, s, out):
-    """State at fraction ``s`` in [0, 1] of the last accepted step of length ``h``."""
-    n = out.shape[0]
-    if method == DOPRI5:
-        for i in range(n):
-            out[i] = dense[0, i] + s * (dense[1, i] + s * (dense[2, i] + s * (
-                dense[3, i] + s * dense[4, i])))
-    else:
-        s1 = 1.0 - s
-        for i in range(n):
-            out[i] = dense[0, i] * s1 + s * (dense[1, i] + s1 * (dense[2, i] + s * dense[3, i]))
-
-
-@jit
 def _crossed(g_old, g_new, direction):
     """Did g cross zero from ``g_old`` to ``g_new`` in ``direction`` (+1 upward, -1
     downward, 0 either)?"""
     return ((direction >= 0 and g_old < 0.0 and g_new >= 0.0)
             or (direction <= 0 and g_old > 0.0 and g_new <= 0.0))
+
+
+#: a step is sampled inside when an event function ends it within this many times its
+#: change over the last two steps of zero (see _may_hide_crossing)
+NEAR_ZERO = 2.0
+
+
+@jit
+def _may_hide_crossing(g_prev, g0, g1):
+    """Could g cross zero twice between two same-sign ends?  Only if it comes near zero:
+    an excursion inside a step is of the size of g's change over a step (its slope times
+    h; near a turning point its curvature times h², which the previous step's change
+    measures), so a function whose ends stay further from zero than ``NEAR_ZERO`` times
+    the change over this and the previous step cannot have crossed."""
+    change = abs(g1 - g0) + abs(g0 - g_prev)
+    return min(abs(g0), abs(g1)) <= NEAR_ZERO * change
 
 
 @jit
@@ -154,15 +169,16 @@ def _apply_event(tag, t, y, u, p, k, log, ring, ch_n, ch_window, stats):
     stats[S_EVENTS] += 1
     if chatter:
         return log, action, CHATTER
-    if action == 2:
+    if action == _STOP:
         return log, action, EVENT_STOP
-    if action == 3:
+    if action == _FAIL:
         return log, action, EVENT_FAIL
     return log, action, DONE
 
 
 @jit
-def _locate(tag, bank, p, method, dense, t, h, t_ref, k, ta, tb, ga, gb, tol, ytmp, u, g):
+def _locate(tag, bank, p, dkind, dense, t, h, t_ref, k, ta, tb, ga, gb, tol, ytmp, u, uc, g,
+            stats):
     """Time at which event ``k`` crosses zero inside [ta, tb] (Illinois regula falsi on the
     dense output).  Returns the right end of the final bracket, where g already has its new
     sign, so that integration restarts past the root and does not fire it again."""
@@ -177,9 +193,10 @@ def _locate(tag, bank, p, method, dense, t, h, t_ref, k, ta, tb, ga, gb, tol, yt
             tm = 0.5 * (ta + tb)
         # keep the probe off the ends so that the bracket always shrinks
         tm = min(max(tm, ta + 0.01 * (tb - ta)), tb - 0.01 * (tb - ta))
-        dense_eval(method, dense, h, (tm - t) / h, ytmp)
-        eval_inputs(bank, tm, t_ref, u)
+        dense_eval(dkind, dense, (tm - t) / h, ytmp)
+        inputs_at(bank, tm, t_ref, u, uc)
         system_events(tag, tm, ytmp, u, p, g)
+        stats[S_EV_CALLS] += 1
         gm = g[k]
         if gm == 0.0 or (gm > 0.0) != sign_a:
             tb = tm
@@ -197,14 +214,42 @@ def _locate(tag, bank, p, method, dense, t, h, t_ref, k, ta, tb, ga, gb, tol, yt
 
 
 @jit
-def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, iopt):
-    """Integrate the plant ``tag`` from ``t0`` to ``t1``.  See ``simulate`` for the meaning.
+def _controller_factor(ctrl, q, e, e_old, e_older, h, h_old, first):
+    """``h_new / h`` after an accepted step with error norm ``e`` (see controllers.py)."""
+    kind = ctrl[C_KIND]
+    safety, fmin, fmax = ctrl[C_SAFETY], ctrl[C_MIN], ctrl[C_MAX]
+    ee = max(e, 1e-10)
+    fac = safety * ee ** (-1.0 / q)
+    if kind == 1.0 and not first:       # predictive (Gustafsson)
+        pred = safety * (h / h_old) * (e_old / (ee * ee)) ** (1.0 / q)
+        fac = min(fac, pred)
+    elif kind == 2.0:                   # pid filter
+        fac = safety * ee ** (-ctrl[C_B1] / q)
+        if not first:
+            fac *= max(e_old, 1e-10) ** (-ctrl[C_B2] / q) * max(e_older, 1e-10) ** (
+                -ctrl[C_B3] / q)
+    if e == 0.0:
+        fac = fmax
+    return min(fmax, max(fmin, fac))
+
+
+@jit
+def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, iopt):
+    """Integrate the plant ``tag`` from ``t0`` to ``t1`` with the method ``tab``/``mopt``.
+    See ``simulate`` for the meaning.
 
     Returns (status, t_end, info_k, info_i, ts, ys, us, outs, ev_t, ev_k, ev_a, stats,
     h_smallest, wall_seconds)."""
     n = y0.shape[0]
     n_in = bank.n_channels
     n_ev = ev_dir.shape[0]
+    explicit = mopt[M_FAMILY] == EXPLICIT
+    gamma = mopt[M_GAMMA]
+    q = mopt[M_Q]
+    dkind = int(mopt[M_DENSE])
+    w_method = mopt[M_W] != 0.0
+    fsal = mopt[M_FSAL] != 0.0
+    s_stages = tab[2].shape[0]
     rtol, atol = fopt[O_RTOL], fopt[O_ATOL]
     h_max = fopt[O_HMAX] if fopt[O_HMAX] > 0 else abs(t1 - t0)
     h_min_user = fopt[O_HMIN]
@@ -212,12 +257,13 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
     ch_window = fopt[O_CHATTER_WINDOW]
     dt_out = fopt[O_DT_OUT]
     ev_tol = fopt[O_EVENT_TOL]
+    lu_band = fopt[O_LU_REUSE] if w_method else 0.0
     max_steps = iopt[I_MAX_STEPS]
     ch_n = iopt[I_CHATTER_N]
     max_output = iopt[I_MAX_OUTPUT]
     nd = n - iopt[I_QUADRATURES]    # states in the implicit solve (the rest: quadratures)
-    order = 5 if method == DOPRI5 else (4 if method == RODAS4 else 3)
-    inv_q = 1.0 / order     # exponent of the Rosenbrock step-size controller
+    exact_jac = iopt[I_EXACT_JAC] != 0
+    jac_max_age = iopt[I_JAC_MAX_AGE] if w_method else 0
 
     stats = np.zeros(N_STATS, dtype=np.int64)
     cap = 256
@@ -236,18 +282,21 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
     y_new = np.empty(n)
     ytmp = np.empty(n)
     ftmp = np.empty(n)
+    f1 = np.empty(n)
     err = np.empty(n)
     f0 = np.empty(n)
-    K = np.empty((7, n))
+    K = np.empty((max(s_stages, 1), n))
     dense = np.empty((5, n))
     J = np.zeros((n, n))     # quadrature columns stay zero
     M = np.empty((n, n))
     piv = np.empty(n, dtype=np.int64)
     dfdt = np.empty(n)
     u = np.zeros(n_in)
+    uc = np.array([np.nan, np.nan])     # (t, t_ref) of the inputs held in u
     out = np.zeros(n_outputs)
     g_old = np.empty(n_ev)
     g_new = np.empty(n_ev)
+    g_prev = np.empty(n_ev)
     g_tmp = np.empty(n_ev)
     g_samp = np.empty((N_SAMPLES, n_ev))
 
@@ -263,7 +312,8 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         ib += 1
 
     # initial point (inputs on the right of t0)
-    eval_inputs(bank, t, t + 1e-300 + 1e-12 * abs(t), u)
+    t_right = t + 1e-300 + 1e-12 * abs(t)
+    inputs_at(bank, t, t_right, u, uc)
     system_rhs(tag, t, y, u, p, f0)
     stats[S_RHS] += 1
     system_events(tag, t, y, u, p, g_old)
@@ -305,17 +355,20 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         if max(d1, d2) <= 1e-15:
             h1 = max(1e-6, h * 1e-3)
         else:
-            h1 = (0.01 / max(d1, d2)) ** (1.0 / (order + 1))
+            h1 = (0.01 / max(d1, d2)) ** (1.0 / (q + 1.0))
         h = min(100 * h, h1, h_max)
 
     f0_valid = True
     jac_valid = False
     jac_age = 0           # accepted steps since the Jacobian was formed (W-method reuse)
+    lu_h = 0.0            # step size the LU in M was formed for (0: none)
     rejected_last = False
     err_old = 1.0
+    err_older = 1.0
     h_old = h
     first = True
     last_nonfinite = -1
+    have_history = False  # g_prev at t_prev is a valid step end before g_old at t
     # A directional event whose function starts on its post-crossing side fires once at t0
     # (e.g. a stuck friction element loaded beyond its capacity from the start).
     check_jump = False
@@ -328,8 +381,11 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         # ---- events caused by a jump of the inputs at a breakpoint (or by a reset) ----
         if check_jump:
             check_jump = False
-            eval_inputs(bank, t, t + 1e-300 + 1e-12 * abs(t), u)
+            have_history = False
+            t_right = t + 1e-300 + 1e-12 * abs(t)
+            inputs_at(bank, t, t_right, u, uc)
             system_events(tag, t, y, u, p, g_new)
+            stats[S_EV_CALLS] += 1
             kk = -1
             for k in range(n_ev):
                 if _crossed(g_old[k], g_new[k], ev_dir[k]):
@@ -344,9 +400,10 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                     status = ended
                     info_k = kk
                     break
-                if action == 1:
+                if action == _STATE_CHANGED:
                     f0_valid = False
                     jac_valid = False
+                    lu_h = 0.0
                     system_events(tag, t, y, u, p, g_old)
                     check_jump = True  # a reset may itself arm another event
                     system_outputs(tag, t, y, u, p, out)
@@ -376,6 +433,7 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                     ib += 1
                 f0_valid = False
                 jac_valid = False
+                lu_h = 0.0
                 check_jump = True
             continue
         hit = False
@@ -392,7 +450,7 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         t_ref = t + 0.5 * h
 
         if not f0_valid:
-            eval_inputs(bank, t, t_ref, u)
+            inputs_at(bank, t, t_ref, u, uc)
             system_rhs(tag, t, y, u, p, f0)
             stats[S_RHS] += 1
             f0_valid = True
@@ -403,27 +461,39 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                 break
 
         ok = True
-        if method == DOPRI5:
+        if explicit:
             for i in range(n):
                 K[0, i] = f0[i]
-            dopri5_step(tag, bank, p, t, y, h, t_ref, K, u, ytmp, y_new, err)
-            stats[S_RHS] += 6
+            stats[S_RHS] += erk_step(tag, bank, p, t, y, h, t_ref, K, u, uc, ytmp, y_new,
+                                     err, tab)
         else:
             if not jac_valid:
-                stats[S_RHS] += jacobian(tag, bank, p, t, y, t_ref, f0, atol / rtol, u, ytmp,
-                                         ftmp, J, dfdt, nd)
+                stats[S_RHS] += jacobian(tag, bank, p, t, y, t_ref, f0, atol / rtol, u, uc,
+                                         ytmp, ftmp, J, dfdt, nd, exact_jac)
                 stats[S_JAC] += 1
                 jac_valid = True
                 jac_age = 0
-            if method == RODAS4:
-                ok = rodas4_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u,
-                                 ytmp, ftmp, y_new, err, nd)
-                stats[S_RHS] += 5
-            else:
-                ok = ros34pw2_step(tag, bank, p, t, y, h, t_ref, f0, J, dfdt, M, piv, K, u,
-                                   ytmp, ftmp, y_new, err, nd)
-                stats[S_RHS] += 3
-            stats[S_LU] += 1
+                lu_h = 0.0
+                if exact_jac:
+                    for i in range(n):
+                        bad = _first_nonfinite(J[i])
+                        if bad >= 0:
+                            last_nonfinite = bad
+                            break
+                    if last_nonfinite >= 0:
+                        status = JAC_NON_FINITE
+                        info_i = last_nonfinite
+                        break
+            if lu_h == 0.0 or abs(h / lu_h - 1.0) > lu_band:
+                ok = factor_iteration_matrix(J, 1.0 / (gamma * h), M, piv, nd)
+                stats[S_LU] += 1
+                lu_h = h if ok else 0.0
+            if ok:
+                # with a reused LU (W-methods only) the stages solve with I/(γ·lu_h) − J,
+                # i.e. with W = J + (1/(γh) − 1/(γ·lu_h))·I: a W-method keeps its order
+                # with any W
+                stats[S_RHS] += ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, piv, K,
+                                         u, uc, ytmp, ftmp, y_new, err, nd, tab)
         if ok:
             bad = _first_nonfinite(y_new)
             if bad < 0:
@@ -431,11 +501,11 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
             if bad >= 0:
                 # name the state whose derivative went bad (a linear solve spreads a NaN
                 # over every component, so the first bad entry of y_new may be innocent)
-                eval_inputs(bank, t + h, t_ref, u)
+                inputs_at(bank, t + h, t_ref, u, uc)
                 system_rhs(tag, t + h, y, u, p, ftmp)
                 stats[S_RHS] += 1
                 culprit = _first_nonfinite(ftmp)
-                if culprit < 0 and method != DOPRI5:
+                if culprit < 0 and not explicit:
                     culprit = _first_nonfinite(dfdt)
                     for i in range(n):
                         if culprit >= 0:
@@ -450,86 +520,88 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
             rejected_last = True
             if jac_age > 0:
                 jac_valid = False
+            lu_h = 0.0
             continue
         e = _norm(err, y, y_new, rtol, atol)
         if e > 1.0:
             stats[S_REJECTED] += 1
-            if method == DOPRI5:
-                h *= max(0.2, 0.9 * e ** (-0.2))
-            else:
-                h /= max(1.0 / 6.0, min(5.0, e ** inv_q / 0.9))
+            h *= max(ctrl[C_MIN], ctrl[C_SAFETY] * e ** (-1.0 / q))
             rejected_last = True
             if jac_age > 0:
                 jac_valid = False   # a W-method step failed with an aged Jacobian: refresh
+            lu_h = 0.0
             continue
 
         t_new = t_stop if hit else t + h
-        if method == ROS34PW2:
-            # f at the new point: the Hermite end slope and the next step's first stage.
-            # A non-finite value there rejects the step like a non-finite stage would.
-            eval_inputs(bank, t_new, t_ref, u)
-            system_rhs(tag, t_new, y_new, u, p, K[5])
+        # f at the new point: the next step's first stage, the Hermite end slope.  A
+        # non-finite value there rejects the step like a non-finite stage would.
+        if explicit and fsal:
+            for i in range(n):
+                f1[i] = K[s_stages - 1, i]
+        else:
+            inputs_at(bank, t_new, t_ref, u, uc)
+            system_rhs(tag, t_new, y_new, u, p, f1)
             stats[S_RHS] += 1
-            bad = _first_nonfinite(K[5])
+            bad = _first_nonfinite(f1)
             if bad >= 0:
                 last_nonfinite = bad
                 stats[S_REJECTED] += 1
                 h *= 0.25
                 rejected_last = True
+                lu_h = 0.0
                 continue
 
         # ---- accepted ----
         last_nonfinite = -1
         stats[S_STEPS] += 1
         h_smallest = min(h_smallest, h)
-        if method == DOPRI5:
-            dopri5_dense(K, y, h, dense)
-        elif method == RODAS4:
-            rodas4_dense(K, y, y_new, dense)
-        else:
-            hermite_dense(y, y_new, f0, K[5], h, dense)
+        dense_ready = False
+        if w_method:
             jac_age += 1
         # next step size
-        if method == DOPRI5:
-            fac = 10.0 if e == 0.0 else min(10.0, max(0.2, 0.9 * e ** (-0.2)))
-            if rejected_last:
-                fac = min(fac, 1.0)
-            h_next = h * fac
-        else:
-            fac = max(1.0 / 6.0, min(5.0, e ** inv_q / 0.9))
-            if not first:
-                facpred = (h_old / h) * (e * e / err_old) ** inv_q / 0.9
-                fac = max(fac, max(1.0 / 6.0, min(5.0, facpred)))
-            h_next = h / fac
-            if rejected_last:
-                h_next = min(h_next, h)
-            h_old = h
-            err_old = max(0.01, e)
+        fac = _controller_factor(ctrl, q, e, err_old, err_older, h, h_old, first)
+        h_next = h * fac
+        if rejected_last:
+            h_next = min(h_next, h)
+        h_old = h
+        err_older = err_old
+        err_old = max(0.01, e) if ctrl[C_KIND] == 1.0 else max(e, 1e-10)
         first = False
         rejected_last = False
 
         # ---- events inside the step ----
-        # g is sampled at interior points of the dense output as well as at the ends, so
-        # that two crossings inside one step, or a crossing right after a reset that left
-        # g exactly on zero, are not stepped over.
-        eval_inputs(bank, t_new, t_ref, u)
-        system_events(tag, t_new, y_new, u, p, g_new)
         k_first = -1
         t_first = t_new
         if n_ev > 0:
-            for j in range(N_SAMPLES - 1):
-                s = (j + 1.0) / N_SAMPLES
-                dense_eval(method, dense, h, s, ytmp)
-                eval_inputs(bank, t + s * h, t_ref, u)
-                system_events(tag, t + s * h, ytmp, u, p, g_samp[j])
+            inputs_at(bank, t_new, t_ref, u, uc)
+            system_events(tag, t_new, y_new, u, p, g_new)
+            stats[S_EV_CALLS] += 1
+            sample = not have_history
             for k in range(n_ev):
-                g_samp[N_SAMPLES - 1, k] = g_new[k]
+                if sample:
+                    break
+                # g on zero (a reset left it there), or near zero for its rate of change
+                sample = g_old[k] == 0.0 or (
+                    not _crossed(g_old[k], g_new[k], ev_dir[k])
+                    and _may_hide_crossing(g_prev[k], g_old[k], g_new[k]))
+            ns = N_SAMPLES if sample else 1
+            if sample:
+                dense_coefficients(dkind, tab, K, y, y_new, f0, f1, h, dense)
+                dense_ready = True
+                for j in range(ns - 1):
+                    s = (j + 1.0) / ns
+                    dense_eval(dkind, dense, s, ytmp)
+                    inputs_at(bank, t + s * h, t_ref, u, uc)
+                    system_events(tag, t + s * h, ytmp, u, p, g_samp[j])
+                    stats[S_EV_CALLS] += 1
+            for k in range(n_ev):
+                g_samp[ns - 1, k] = g_new[k]
             for k in range(n_ev):
                 ga = g_old[k]
                 ta = t
-                for j in range(N_SAMPLES):
+                for j in range(ns):
                     gb = g_samp[j, k]
-                    tb = t_new if j == N_SAMPLES - 1 else t + (j + 1.0) / N_SAMPLES * h
+                    tb = t_new if j == ns - 1 else t + (j + 1.0) / ns * h
                     if ga == 0.0:       # on the surface (just reset): start from the next sign
                         ga = gb
                         ta = tb
@@ -537,8 +609,11 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                     if _crossed(ga, gb, ev_dir[k]):
                         if tb > t_first and k_first >= 0:
                             break
-                        te = _locate(tag, bank, p, method, dense, t, h, t_ref, k, ta, tb, ga,
-                                     gb, ev_tol, ytmp, u, g_tmp)
+                        if not dense_ready:
+                            dense_coefficients(dkind, tab, K, y, y_new, f0, f1, h, dense)
+                            dense_ready = True
+                        te = _locate(tag, bank, p, dkind, dense, t, h, t_ref, k, ta, tb, ga,
+                                     gb, ev_tol, ytmp, u, uc, g_tmp, stats)
                         if k_first < 0 or te < t_first:
                             t_first = te
                             k_first = k
@@ -550,19 +625,19 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         if k_first >= 0:
             te = t_first
             if te < t_new:
-                dense_eval(method, dense, h, (te - t) / h, y)
+                dense_eval(dkind, dense, (te - t) / h, y)
             else:
                 for i in range(n):
                     y[i] = y_new[i]
             if dt_out > 0:
                 while next_out < te and n_out < max_output:
-                    dense_eval(method, dense, h, (next_out - t) / h, ytmp)
-                    eval_inputs(bank, next_out, t_ref, u)
+                    dense_eval(dkind, dense, (next_out - t) / h, ytmp)
+                    inputs_at(bank, next_out, t_ref, u, uc)
                     system_outputs(tag, next_out, ytmp, u, p, out)
                     buf, n_out = _push(buf, n_out, next_out, ytmp, u, out)
                     next_out = t0 + (round((next_out - t0) / dt_out) + 1) * dt_out
             t = te
-            eval_inputs(bank, t, t_ref, u)
+            inputs_at(bank, t, t_ref, u, uc)
             system_outputs(tag, t, y, u, p, out)
             buf, n_out = _push(buf, n_out, t, y, u, out)
             log, action, ended = _apply_event(tag, t, y, u, p, k_first, log, ring, ch_n,
@@ -572,10 +647,12 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                 info_k = k_first
                 break
             system_events(tag, t, y, u, p, g_old)
+            stats[S_EV_CALLS] += 1
+            have_history = False
             f0_valid = False
-            if method != ROS34PW2:
+            if not w_method:
                 jac_valid = False
-            if action == 1:
+            if action == _STATE_CHANGED:
                 system_outputs(tag, t, y, u, p, out)
                 buf, n_out = _push(buf, n_out, t, y, u, out)
                 check_jump = True
@@ -585,34 +662,29 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
         # ---- no event: advance ----
         if dt_out > 0:
             while next_out <= t_new + 1e-12 * abs(t_new) and n_out < max_output:
+                if not dense_ready:
+                    dense_coefficients(dkind, tab, K, y, y_new, f0, f1, h, dense)
+                    dense_ready = True
                 tq = min(next_out, t_new)
-                dense_eval(method, dense, h, (tq - t) / h, ytmp)
-                eval_inputs(bank, tq, t_ref, u)
+                dense_eval(dkind, dense, (tq - t) / h, ytmp)
+                inputs_at(bank, tq, t_ref, u, uc)
                 system_outputs(tag, tq, ytmp, u, p, out)
                 buf, n_out = _push(buf, n_out, tq, ytmp, u, out)
                 next_out = t0 + (round((next_out - t0) / dt_out) + 1) * dt_out
         elif n_out < max_output:
-            eval_inputs(bank, t_new, t_ref, u)
+            inputs_at(bank, t_new, t_ref, u, uc)
             system_outputs(tag, t_new, y_new, u, p, out)
             buf, n_out = _push(buf, n_out, t_new, y_new, u, out)
         t = t_new
         for i in range(n):
             y[i] = y_new[i]
+            f0[i] = f1[i]
         for k in range(n_ev):
+            g_prev[k] = g_old[k]
             g_old[k] = g_new[k]
-        if method == DOPRI5:
-            for i in range(n):
-                f0[i] = K[6, i]
-        elif method == RODAS4:
-            eval_inputs(bank, t, t_ref, u)
-            system_rhs(tag, t, y, u, p, f0)
-            stats[S_RHS] += 1
+        have_history = True
+        if not w_method or jac_age >= jac_max_age:
             jac_valid = False
-        else:
-            for i in range(n):
-                f0[i] = K[5, i]
-            if jac_age >= JAC_MAX_AGE:
-                jac_valid = False
         h = h_next
         if hit and t_stop < t1:
             ib += 1
@@ -620,10 +692,11 @@ def integrate(tag, method, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, io
                 ib += 1
             f0_valid = False
             jac_valid = False
+            lu_h = 0.0
             check_jump = True
 
     if dt_out > 0 and status == DONE and n_out < max_output and buf[0][n_out - 1] < t:
-        eval_inputs(bank, t, t, u)
+        inputs_at(bank, t, t, u, uc)
         system_outputs(tag, t, y, u, p, out)
         buf, n_out = _push(buf, n_out, t, y, u, out)
     stats[S_OUTPUT] = n_out

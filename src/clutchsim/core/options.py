@@ -5,15 +5,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .controllers import JacobianPolicy, StepController
+from .methods import METHODS
 from .system import closest
 
 __all__ = ["SOLVERS", "SolverOptions", "check_solver"]
 
-#: compiled methods and the scipy reference backends
-SOLVERS = {
-    "rodas4": "compiled RODAS4 (L-stable Rosenbrock 4(3), finite-difference Jacobian); default",
-    "ros34pw2": "compiled ROS34PW2 (L-stable Rosenbrock-W 3(2), Jacobian reused over steps)",
-    "dopri5": "compiled Dormand-Prince 5(4), explicit, for non-stiff systems",
+_DEFAULT_POLICY = JacobianPolicy()
+
+#: compiled methods (one tableau each, :mod:`clutchsim.core.methods`) and the scipy
+#: reference backends
+SOLVERS = {name: f"compiled {m.description}" for name, m in METHODS.items()} | {
     "scipy-radau": "scipy solve_ivp Radau (reference backend; Python speed)",
     "scipy-lsoda": "scipy solve_ivp LSODA (reference backend; Python speed)",
     "scipy-rk45": "scipy solve_ivp RK45 (reference backend; Python speed)",
@@ -59,6 +61,11 @@ class SolverOptions:
         Output grid spacing [s] (dense output); 0 stores every accepted step.
     max_output : int
         Most stored output rows (a memory guard for very long runs).
+    controller : StepController or None
+        Step-size controller; ``None`` (default) takes the method family's own
+        (:meth:`StepController.default_for`).
+    jacobian : JacobianPolicy
+        When W-methods refresh their Jacobian and LU.
     """
 
     rtol: float = 1e-6
@@ -73,8 +80,16 @@ class SolverOptions:
     event_tol: float = 1e-12
     dt_out: float = 0.0
     max_output: int = 5_000_000
+    controller: StepController | None = None
+    jacobian: JacobianPolicy = _DEFAULT_POLICY
 
     def __post_init__(self):
+        if self.controller is not None and not isinstance(self.controller, StepController):
+            raise TypeError(f"SolverOptions: controller = {self.controller!r} must be a "
+                            "StepController or None")
+        if not isinstance(self.jacobian, JacobianPolicy):
+            raise TypeError(f"SolverOptions: jacobian = {self.jacobian!r} must be a "
+                            "JacobianPolicy")
         for name in ("rtol", "atol", "h0", "h_max", "h_min", "wall_time", "chatter_window",
                      "event_tol", "dt_out"):
             if name == "chatter_window" and self.chatter_window is None:

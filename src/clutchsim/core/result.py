@@ -76,7 +76,11 @@ def atomic_directory(path: str | Path):
 
 @dataclass(frozen=True)
 class Stats:
-    """Solver statistics of one run."""
+    """Solver statistics of one run.
+
+    ``event_evals`` counts calls of the plant's event functions (step ends, the samples
+    inside a step where a crossing could hide, and the location iterations); ``jacobians``
+    counts Jacobians formed, exactly (the plant's own) or by finite differences."""
 
     steps: int
     rejected: int
@@ -86,6 +90,7 @@ class Stats:
     events: int
     min_step_s: float
     wall_s: float
+    event_evals: int = 0
 
     def as_dict(self) -> dict:
         return {k: getattr(self, k) for k in self.__dataclass_fields__}

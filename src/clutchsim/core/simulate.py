@@ -10,11 +10,13 @@ import numpy as np
 
 from . import _driver as drv
 from .compile_notice import compile_notice
+from .controllers import StepController
+from .methods import EXPLICIT, get_method
 from .options import SolverOptions, check_solver
 from .result import Event, Result, Stats
 from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
-from .system import System, closest, kernels
+from .system import System, call_jac, closest, has_jacobian, kernels
 
 __all__ = ["resolve_inputs", "simulate"]
 
@@ -86,6 +88,9 @@ def _failure_message(code: int, t: float, k: int, i: int, system: System, opts: 
                    "acting at this point, e.g. a naive stick/slip friction model at "
                    "lock-up, must be declared as an event, or replaced by a hybrid "
                    "(coulomb-robust) or dynamic friction model (e.g. mykhailevych2020)")
+    elif code == Code.JAC_NON_FINITE:
+        message = (f"non-finite value (NaN or inf) in the plant's Jacobian, column of state "
+                   f"{state}, at t = {t:.9g} s: the registered jac produced it")
     elif code == Code.CHATTER:
         message = (f"chatter detected: {opts.chatter_events} events within "
                    f"{window:g} s, the last of them '{ev}' at t = {t:.9g} s."
@@ -98,6 +103,54 @@ def _failure_message(code: int, t: float, k: int, i: int, system: System, opts: 
         message = (f"non-finite value (NaN or inf) in state {state} at t = {t:.9g} s: "
                    "the right-hand side produced it; check parameters and inputs")
     return outcome, message, ended_by
+
+
+_METHOD_DATA: dict = {}
+
+
+def _method_data(solver: str, opts: SolverOptions):
+    """The packed tableau, method scalars and controller of ``solver`` for the loop."""
+    m = get_method(solver)
+    data = _METHOD_DATA.get(solver)
+    if data is None:
+        tab = tuple(np.ascontiguousarray(x, dtype=np.float64) for x in m.packed())
+        mopt = np.zeros(drv.N_MOPT)
+        mopt[drv.M_FAMILY] = m.family
+        mopt[drv.M_GAMMA] = getattr(m, "gamma", 0.0)
+        mopt[drv.M_Q] = m.embedded_order + 1
+        mopt[drv.M_DENSE] = m.dense
+        mopt[drv.M_W] = m.w_method
+        mopt[drv.M_FSAL] = getattr(m, "fsal", False)
+        data = _METHOD_DATA[solver] = (tab, mopt)
+    ctrl = opts.controller or StepController.default_for(m.family == EXPLICIT)
+    return data[0], data[1], ctrl.packed()
+
+
+#: tags whose registered Jacobian passed :func:`check_jacobian` in this process
+_CHECKED_JACOBIANS: set = set()
+
+
+def check_jacobian(system: System, y, signals, t0: float = 0.0) -> None:
+    """Call the plant's exact Jacobian once at ``y`` (the inputs at the start) and refuse
+    one that writes outside its ``(n, n)`` matrix or returns a non-finite entry, naming the
+    entry and its states."""
+    n = system.n_states
+    guard = np.full((n + 2, n), 1.2345e300)
+    J = guard[1:n + 1]
+    J[:] = 0.0
+    u = np.array([float(np.asarray(s(t0)).ravel()[0]) for s in signals], dtype=float)
+    call_jac(system.tag, t0, np.ascontiguousarray(y, dtype=float), u, system.params, J)
+    if np.any(guard[0] != 1.2345e300) or np.any(guard[n + 1] != 1.2345e300):
+        raise ValueError(f"{system.name}: the registered Jacobian writes outside its "
+                         f"({n}, {n}) matrix (one row per state: "
+                         f"{', '.join(system.state_names)})")
+    bad = np.argwhere(~np.isfinite(J))
+    if bad.size:
+        i, j = bad[0]
+        raise ValueError(f"{system.name}: the registered Jacobian is not finite at the "
+                         f"initial state: d({system.state_names[i]})'/d"
+                         f"({system.state_names[j]}) = {J[i, j]}")
+    _CHECKED_JACOBIANS.add(system.tag)
 
 
 def _load_or_compile(args) -> None:
@@ -126,10 +179,11 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     y0 : array_like, optional
         Initial state; defaults to ``system.y0``.
     solver : str
-        ``"rodas4"`` (compiled, stiff; default), ``"ros34pw2"`` (compiled, stiff, a
-        W-method that reuses its Jacobian over many steps: cheaper per step for larger
-        plants), ``"dopri5"`` (compiled, explicit), or a scipy reference backend:
-        ``"scipy-radau"``, ``"scipy-lsoda"``, ``"scipy-rk45"``.
+        A compiled method of :mod:`clutchsim.core.methods`: ``"rodas4"`` (stiff;
+        default), ``"rodas5p"`` (stiff, fifth order, for tight tolerances),
+        ``"ros34pw2"`` (stiff, a W-method that reuses its Jacobian over many steps:
+        cheaper per step for larger plants), ``"dopri5"`` (explicit); or a scipy reference
+        backend: ``"scipy-radau"``, ``"scipy-lsoda"``, ``"scipy-rk45"``.
     options : SolverOptions, optional
         Tolerances, budgets, chatter detection, output grid.
 
@@ -166,7 +220,7 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
         from .scipy_backend import simulate_scipy
         return simulate_scipy(system, t0, t1, y_init, signals, bank, bps, solver, opts)
 
-    method = {"dopri5": drv.DOPRI5, "rodas4": drv.RODAS4, "ros34pw2": drv.ROS34PW2}[solver]
+    tab, mopt, ctrl = _method_data(solver, opts)
     fopt = np.zeros(drv.N_FOPT)
     fopt[drv.O_RTOL], fopt[drv.O_ATOL] = opts.rtol, opts.atol
     fopt[drv.O_H0], fopt[drv.O_HMAX], fopt[drv.O_HMIN] = opts.h0, opts.h_max, opts.h_min
@@ -174,12 +228,18 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     fopt[drv.O_CHATTER_WINDOW] = opts.chatter_window_for(t1 - t0)
     fopt[drv.O_DT_OUT] = opts.dt_out
     fopt[drv.O_EVENT_TOL] = opts.event_tol
-    iopt = np.array([opts.max_steps, opts.chatter_events, opts.max_output, system.quadratures],
-                    dtype=np.int64)
+    fopt[drv.O_LU_REUSE] = opts.jacobian.lu_reuse
+    iopt = np.zeros(drv.N_IOPT, dtype=np.int64)
+    iopt[drv.I_MAX_STEPS], iopt[drv.I_CHATTER_N] = opts.max_steps, opts.chatter_events
+    iopt[drv.I_MAX_OUTPUT], iopt[drv.I_QUADRATURES] = opts.max_output, system.quadratures
+    iopt[drv.I_EXACT_JAC] = has_jacobian(system.tag)
+    iopt[drv.I_JAC_MAX_AGE] = opts.jacobian.max_age
     ev_dir = np.array(system.event_directions, dtype=np.int64)
     # the wall time is measured inside the compiled loop: it excludes JIT compilation
-    args = (kernels(system.tag), method, t0, t1, y_init, system.params, bank, bps, ev_dir,
-            len(system.output_names), fopt, iopt)
+    if iopt[drv.I_EXACT_JAC] and system.tag not in _CHECKED_JACOBIANS:
+        check_jacobian(system, y_init, signals, t0)
+    args = (kernels(system.tag), tab, mopt, ctrl, t0, t1, y_init, system.params, bank, bps,
+            ev_dir, len(system.output_names), fopt, iopt)
     with compile_notice(type(system.tag), system.name) as first:
         if first:
             _load_or_compile(args)
@@ -197,7 +257,8 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     stats = Stats(steps=int(st[drv.S_STEPS]), rejected=int(st[drv.S_REJECTED]),
                   rhs_evals=int(st[drv.S_RHS]), jacobians=int(st[drv.S_JAC]),
                   lu_decompositions=int(st[drv.S_LU]), events=int(st[drv.S_EVENTS]),
-                  min_step_s=float(h_small) if math.isfinite(h_small) else 0.0, wall_s=wall)
+                  min_step_s=float(h_small) if math.isfinite(h_small) else 0.0, wall_s=wall,
+                  event_evals=int(st[drv.S_EV_CALLS]))
     events = tuple(Event(float(te), system.event_names[int(ke)], ACTION_WORDS[int(a)])
                    for te, ke, a in zip(ev_t, ev_k, ev_a))
     return assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver,

@@ -48,6 +48,7 @@ class Code(enum.IntEnum):
     STEP_COLLAPSE = 5
     CHATTER = 6
     NON_FINITE = 7
+    JAC_NON_FINITE = 8
 
 
 class Outcome(enum.StrEnum):
@@ -85,4 +86,5 @@ class Outcome(enum.StrEnum):
 OUTCOME_OF_CODE = {Code.DONE: Outcome.COMPLETED, Code.EVENT_STOP: Outcome.STOPPED,
                    Code.EVENT_FAIL: Outcome.EVENT_FAILED, Code.MAX_STEPS: Outcome.BUDGET,
                    Code.WALL_TIME: Outcome.WALL_TIME, Code.STEP_COLLAPSE: Outcome.STEP_COLLAPSE,
-                   Code.CHATTER: Outcome.CHATTER, Code.NON_FINITE: Outcome.NAN}
+                   Code.CHATTER: Outcome.CHATTER, Code.NON_FINITE: Outcome.NAN,
+                   Code.JAC_NON_FINITE: Outcome.NAN}
