@@ -130,10 +130,14 @@ def _push(buf, n_out, t, y, u, out):
         ys = _grow(ys, cap)
         us = _grow(us, cap)
         outs = _grow(outs, cap)
+    # element loops: a row view per array would cost atomic reference counts per row
     ts[n_out] = t
-    ys[n_out] = y
-    us[n_out] = u
-    outs[n_out] = out
+    for i in range(y.shape[0]):
+        ys[n_out, i] = y[i]
+    for i in range(u.shape[0]):
+        us[n_out, i] = u[i]
+    for i in range(out.shape[0]):
+        outs[n_out, i] = out[i]
     return (ts, ys, us, outs), n_out + 1
 
 

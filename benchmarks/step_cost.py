@@ -1,0 +1,186 @@
+"""Where one integrator step's time goes, for the LuGre rig and the default launch.
+
+For each plant the integrator runs the problem (medians of ``--repeats`` runs after a
+warm-up); then each piece of work a step does is timed alone in a compiled loop at a state
+of the run: a right-hand side, the event functions, the plant's exact Jacobian (or the
+finite-difference one it replaces), one LU factorisation of ``I/(γh) − J`` and one LU
+solve.  The counts of the run (right-hand sides, event evaluations, Jacobians, LUs, stage
+solves) times these costs give the real work; the rest of the integrator's time is the
+step loop's own bookkeeping (controller, error norm, stage combinations, dense output,
+output rows, event brackets).
+
+Prints one JSON object on the last stdout line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numba
+import numpy as np
+from _common import emit
+
+from clutchsim.core._linalg import factor_iteration_matrix, lu_solve
+from clutchsim.core.methods import get_method
+from clutchsim.core.system import call_events, call_jac, call_rhs, has_jacobian
+
+
+@numba.njit
+def _loop_rhs(tag, n, t, y, u, p, out, events):
+    s = 0.0
+    for _ in range(n):
+        y[0] += 1e-14
+        if events:
+            call_events(tag, t, y, u, p, out)
+        else:
+            call_rhs(tag, t, y, u, p, out)
+        s += out[0] if out.size else 0.0
+    return s
+
+
+@numba.njit
+def _loop_jac(tag, n, t, y, u, p, J):
+    for _ in range(n):
+        y[0] += 1e-14
+        call_jac(tag, t, y, u, p, J)
+    return J[0, 0]
+
+
+@numba.njit
+def _loop_lu(J, n, M, piv, b, nd):
+    s = 0.0
+    for _ in range(n):
+        J[0, 0] += 1e-14
+        factor_iteration_matrix(J, 1.0e3, M, piv, nd)
+        s += M[0, 0]
+    return s
+
+
+@numba.njit
+def _loop_solve(M, piv, b, n, nd):
+    for _ in range(n):
+        b[0] += 1e-14
+        lu_solve(M, piv, b, nd)
+    return b[0]
+
+
+def _best_ns(fn, args, n):
+    best = np.inf
+    for _ in range(5):
+        t0 = time.perf_counter()
+        fn(*args)
+        best = min(best, time.perf_counter() - t0)
+    return best / n * 1e9
+
+
+def _costs(system, y, u, n=100_000):
+    tag, p = system.tag, system.params
+    ns = system.n_states
+    nd = ns - system.quadratures
+    out = {}
+    dy = np.empty(ns)
+    _loop_rhs(tag, 10, 0.5, y.copy(), u, p, dy, False)
+    out["rhs_ns"] = _best_ns(_loop_rhs, (tag, n, 0.5, y.copy(), u, p, dy, False), n)
+    g = np.empty(system.n_events)
+    if system.n_events:
+        _loop_rhs(tag, 10, 0.5, y.copy(), u, p, g, True)
+        out["events_ns"] = _best_ns(_loop_rhs, (tag, n, 0.5, y.copy(), u, p, g, True), n)
+    else:
+        out["events_ns"] = 0.0
+    J = np.zeros((ns, ns))
+    if has_jacobian(tag):
+        _loop_jac(tag, 10, 0.5, y.copy(), u, p, J)
+        out["jacobian_ns"] = _best_ns(_loop_jac, (tag, n, 0.5, y.copy(), u, p, J), n)
+    else:   # forward differences: nd right-hand sides
+        out["jacobian_ns"] = nd * out["rhs_ns"]
+    out["jacobian_kind"] = "exact" if has_jacobian(tag) else "finite differences"
+    J = np.random.default_rng(1).normal(size=(ns, ns))
+    M = np.empty((ns, ns))
+    piv = np.empty(ns, dtype=np.int64)
+    b = np.ones(ns)
+    _loop_lu(J, 10, M, piv, b, nd)
+    out["lu_ns"] = _best_ns(_loop_lu, (J, n, M, piv, b, nd), n)
+    _loop_solve(M, piv, b, 10, nd)
+    out["solve_ns"] = _best_ns(_loop_solve, (M, piv, b, n, nd), n)
+    return out
+
+
+def _breakdown(name, run, system, y, u, method, repeats):
+    run()
+    walls = []
+    for _ in range(repeats):
+        res = run()
+        walls.append(res.stats.wall_s)
+    st = res.stats
+    c = _costs(system, y, u)
+    stages = get_method(method).stages
+    attempts = st.steps + st.rejected
+    work = {"rhs": st.rhs_evals * c["rhs_ns"], "events": st.event_evals * c["events_ns"],
+            # a finite-difference Jacobian's right-hand sides are counted in rhs_evals
+            "jacobian": st.jacobians * c["jacobian_ns"] if c["jacobian_kind"] == "exact"
+            else 0.0,
+            "lu": st.lu_decompositions * c["lu_ns"],
+            "solves": attempts * stages * c["solve_ns"]}
+    total_ns = statistics.median(walls) * 1e9
+    per_step = {k: v / st.steps for k, v in work.items()}
+    per_step["bookkeeping"] = (total_ns - sum(work.values())) / st.steps
+    return {"case": name, "method": method, "integrator_ms": total_ns / 1e6, "steps": st.steps,
+            "rejected": st.rejected, "rhs_evals": st.rhs_evals,
+            "rhs_per_step": st.rhs_evals / st.steps, "event_evals": st.event_evals,
+            "event_evals_per_step": st.event_evals / st.steps, "jacobians": st.jacobians,
+            "lu": st.lu_decompositions, **c, "ns_per_step": total_ns / st.steps,
+            "ns_per_step_by_part": per_step}
+
+
+def rig_case(repeats):
+    from clutchsim.core import SolverOptions
+    from clutchsim.friction import make_model
+    from clutchsim.rig import make_rig, run_rig
+    model = make_model("lugre")
+    opts = SolverOptions(rtol=1e-6, atol=1e-9, dt_out=0.01)
+
+    def run():
+        return run_rig(model, 30.0, force=0.0, spring=2.0, pull_speed=0.1, options=opts)
+    res = run()
+    system = make_rig(model, spring=2.0, pull_speed=0.1)
+    i = res.t.size // 2
+    y = np.array([res[s][i] for s in system.state_names])
+    u = np.array([res[s][i] for s in system.input_names])
+    return _breakdown("LuGre stick-slip (core_speed), rtol 1e-6", run, system, y, u, "rodas4",
+                      repeats)
+
+
+def launch_case(repeats):
+    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import load_scenario
+    sc = load_scenario(None, overrides=["solver.wall_time=1000"])
+    model = "mykhailevych2020"
+
+    def run():
+        return run_scenario(sc, model).result
+    res = run()
+    u0 = {name: float(np.asarray(sig(0.0)).ravel()[0]) for name, sig in sc.inputs.items()}
+    system = sc.chain(model).build(u0)
+    i = int(np.searchsorted(res.t, 0.9))
+    y = np.array([res[s][i] for s in system.state_names])
+    u = np.array([res[s][i] for s in system.input_names])
+    return _breakdown("default launch, model (6)", run, system, y, u, sc.solver, repeats)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--repeats", type=int, default=15)
+    a = ap.parse_args(argv)
+    rows = [rig_case(a.repeats), launch_case(a.repeats)]
+    for r in rows:
+        parts = ", ".join(f"{k} {v:.0f}" for k, v in r["ns_per_step_by_part"].items())
+        print(f"{r['case']} ({r['method']}): {r['integrator_ms']:.2f} ms, {r['steps']} steps, "
+              f"{r['ns_per_step']:.0f} ns/step = {parts}; {r['rhs_per_step']:.2f} RHS and "
+              f"{r['event_evals_per_step']:.2f} event evaluations per step")
+    emit({"rows": rows})
+
+
+if __name__ == "__main__":
+    main()
