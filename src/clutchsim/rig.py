@@ -40,26 +40,31 @@ class FrictionRig(NamedTuple):
 
 
 @jit(inline="always")
-def _rig_contact(t, y, u, p):
-    """What the friction contact sees: slip velocity v, its states z (a view of y), the
-    external force F_ext (the stick force of switching models) and the spring force."""
-    nz = int(p[_NZ])
-    if p[_DRIVE] == _FORCE:
-        spring = p[_K] * (p[_Y0] + p[_V_PULL] * t - y[0]) if p[_K] != 0.0 else 0.0
-        return y[1], y[2:2 + nz], u[0] + spring, spring
-    return u[0], y[1:1 + nz], 0.0, 0.0
-
-
-@jit(inline="always")
-def _rig_forces(t, y, u, p, dz, code):
+def _rig_forces(t, y, u, p, dz, code, Jz=None, dF=None):
     """Friction force F, external force F_ext and spring force; writes dz.
 
     Inlined (like ``_rig_rhs``) so that the right-hand side is one function: every call
     with array arguments would cost two atomic reference-count operations per array.
 
-    ``code`` is the friction model's code, a compile-time constant (see RIG_TAGS)."""
-    v, z, f_ext, spring = _rig_contact(t, y, u, p)
-    f = friction_force(code, p[RIG_HEADER:], z, v, f_ext, u[1], dz)
+    ``code`` is the friction model's code, a compile-time constant (see RIG_TAGS). With
+    arrays ``Jz`` and ``dF`` (``_rig_jac``) the model's partial derivatives are written too
+    (:func:`~clutchsim.friction.friction_jacobian`); the right-hand side passes None, and
+    the compiler drops that branch (its machine code is the same as without it)."""
+    nz = int(p[_NZ])
+    pf = p[RIG_HEADER:]
+    scale = u[1]
+    if p[_DRIVE] == _FORCE:
+        x, v, z = y[0], y[1], y[2:2 + nz]
+        spring = p[_K] * (p[_Y0] + p[_V_PULL] * t - x) if p[_K] != 0.0 else 0.0
+        f_ext = u[0] + spring
+    else:
+        x, v, z = y[0], u[0], y[1:1 + nz]
+        spring = 0.0
+        f_ext = 0.0
+    if Jz is None:
+        f = friction_force(code, pf, z, v, f_ext, scale, dz)
+    else:
+        f = friction_jacobian(code, pf, z, v, f_ext, scale, dz, Jz, dF)
     return f, f_ext, spring
 
 
@@ -87,8 +92,7 @@ def _rig_jac(t, y, u, p, J, code):
     dz = np.empty(nz)
     Jz = np.empty((nz, nz + 1))
     dF = np.empty(nz + 3)
-    v, z, f_ext, _ = _rig_contact(t, y, u, p)
-    friction_jacobian(code, p[RIG_HEADER:], z, v, f_ext, u[1], dz, Jz, dF)
+    _rig_forces(t, y, u, p, dz, code, Jz, dF)
     J[:, :] = 0.0
     if p[_DRIVE] == _FORCE:
         m = p[_MASS]
@@ -106,16 +110,26 @@ def _rig_jac(t, y, u, p, J, code):
 
 @jit
 def _rig_events(t, y, u, p, g, code):
-    v, z, f_ext, _ = _rig_contact(t, y, u, p)
-    friction_events(code, p[RIG_HEADER:], z, v, f_ext, u[1], g)
+    nz = int(p[_NZ])
+    pf = p[RIG_HEADER:]
+    if p[_DRIVE] == _FORCE:
+        spring = p[_K] * (p[_Y0] + p[_V_PULL] * t - y[0]) if p[_K] != 0.0 else 0.0
+        friction_events(code, pf, y[2:2 + nz], y[1], u[0] + spring, u[1], g)
+    else:
+        friction_events(code, pf, y[1:1 + nz], u[0], 0.0, u[1], g)
 
 
 @jit
 def _rig_reset(t, y, u, p, k, code):
-    v, z, f_ext, _ = _rig_contact(t, y, u, p)   # z is a view: the model resets it in place
-    action = friction_reset(code, p[RIG_HEADER:], z, v, f_ext, u[1], k)
-    if action == 2 and p[_DRIVE] == _FORCE:
-        y[1] = 0.0   # stuck: the body's slip velocity is exactly zero
+    nz = int(p[_NZ])
+    pf = p[RIG_HEADER:]
+    if p[_DRIVE] == _FORCE:
+        spring = p[_K] * (p[_Y0] + p[_V_PULL] * t - y[0]) if p[_K] != 0.0 else 0.0
+        action = friction_reset(code, pf, y[2:2 + nz], y[1], u[0] + spring, u[1], k)
+        if action == 2:
+            y[1] = 0.0   # stuck: the body's slip velocity is exactly zero
+    else:
+        action = friction_reset(code, pf, y[1:1 + nz], u[0], 0.0, u[1], k)
     return 1 if action != 0 else 0
 
 

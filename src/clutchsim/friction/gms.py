@@ -155,36 +155,41 @@ def _gms_element(zi, v, k, a, C, s, ds, band):
     """Deflection rate ``dz_i/dt`` of one element and its partials d/dz_i and d/dv.
 
     ``s`` is the Stribeck level s(v) and ``ds`` its slope s'(v). Shared by the force and
-    the Jacobian kernels (inlined: where the partials are not used, here in
-    ``gms_force`` with ``ds = 0``, the compiler drops them). Each piece is the one the
-    switch selects; the switch lines ``z_i·v = 0``, ``r_i = 1 - b`` and ``r_i = 1`` are kinks.
+    the Jacobian kernels (inlined: where the partials are not used, in ``gms_force``, the
+    compiler drops them; its machine code is the same as without them). Each piece is the
+    one the switch selects; the switch lines ``z_i·v = 0``, ``r_i = 1 - b`` and ``r_i = 1``
+    are kinks.
     """
+    d, d_z, d_v = v, 0.0, 1.0
     if zi * v > 0.0:
         r = k * abs(zi) / (a * s)
         if r > 1.0 - band:
             slip = (C / k) * (a * sgn(v) - k * zi / s)
-            slip_z = -C / s
-            slip_v = C * zi * ds / (s * s)
+            slip_z, slip_v = -C / s, C * zi * ds / (s * s)
             if r >= 1.0:
-                return slip, slip_z, slip_v
-            w = (1.0 - r) / band
-            w_z = -k * sgn(zi) / (a * s * band)
-            w_v = r * ds / (s * band)
-            d = w * v + (1.0 - w) * slip
-            return d, (1.0 - w) * slip_z + w_z * (v - slip), \
-                w + (1.0 - w) * slip_v + w_v * (v - slip)
-    return v, 0.0, 1.0
+                d, d_z, d_v = slip, slip_z, slip_v
+            else:
+                w = (1.0 - r) / band
+                d = w * v + (1.0 - w) * slip
+                w_z, w_v = -k * sgn(zi) / (a * s * band), r * ds / (s * band)
+                d_z = (1.0 - w) * slip_z + w_z * (v - slip)
+                d_v = w + (1.0 - w) * slip_v + w_v * (v - slip)
+    return d, d_z, d_v
 
 
 @jit
 def gms_force(p, z, v, F_e, scale, dz):
     n = int(p[0])
+    C = p[1]
     s = stribeck_level(v, p[2], p[3], p[4], p[5])
+    band = p[8]
     total = 0.0
     for i in range(n):
-        d, _, _ = _gms_element(z[i], v, p[9 + i], p[9 + n + i], p[1], s, 0.0, p[8])
+        k = p[9 + i]
+        zi = z[i]
+        d = _gms_element(zi, v, k, p[9 + n + i], C, s, 0.0, band)[0]
         dz[i] = d
-        total += p[9 + i] * z[i] + p[6] * d
+        total += k * zi + p[6] * d
     return scale * (total + p[7] * v)
 
 
