@@ -4,7 +4,8 @@ Every model is a frozen dataclass of SI parameters (see
 :mod:`clutchsim.friction.base` for the sign, unit and ``scale`` conventions)
 whose compiled kernels are reached through :func:`friction_force`,
 :func:`friction_events` and :func:`friction_reset` with the model's integer
-``code`` and packed parameters ``model.pack()``.
+``code`` and packed parameters ``model.pack()``; :func:`friction_jacobian` adds the
+exact partial derivatives of the force and of the state derivatives.
 """
 
 from .base import FrictionModel, SelfExcitedWarning
@@ -14,7 +15,13 @@ from .dahl import Dahl
 from .elastoplastic import ElastoPlastic
 from .gms import GMS
 from .karnopp import Karnopp
-from .kernels import friction_events, friction_force, friction_reset, uses_stick_force
+from .kernels import (
+    friction_events,
+    friction_force,
+    friction_jacobian,
+    friction_reset,
+    uses_stick_force,
+)
 from .lugre import LuGre
 from .mykhailevych2020 import RESET_POLICIES, Mykhailevych2020
 from .params import ParameterSet, list_parameter_sets, load_parameter_set
@@ -43,6 +50,7 @@ __all__ = [
     "describe_models",
     "friction_events",
     "friction_force",
+    "friction_jacobian",
     "friction_reset",
     "get_model_class",
     "list_parameter_sets",

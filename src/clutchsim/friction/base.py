@@ -31,6 +31,29 @@ Events
     monitoring event), 1 (states changed), 2 (states changed and the element
     is now stuck: the plant sets the relative velocity to exactly zero,
     conserving momentum) or 3 (the element has just left the stuck mode).
+
+Compiled kernels
+----------------
+``<model>_force(p, z, v, F_e, scale, dz) -> F``
+    ``p`` the packed parameters (:meth:`FrictionModel.pack`), ``z`` the ``nz`` states;
+    returns the force and writes the state derivatives ``dz``. The state derivatives
+    never depend on ``F_e`` or ``scale``.
+``<model>_jacobian(p, z, v, F_e, scale, dz, Jz, dF) -> F``
+    Returns the same ``F`` and writes the same ``dz`` as ``_force`` (it calls it: the two
+    cannot drift apart), and writes the exact partial derivatives (every entry):
+    ``Jz`` (shape ``(nz, nz + 1)``, C-contiguous) ``Jz[i, j] = d dz_i/d z_j`` for
+    ``j < nz`` and ``Jz[i, nz] = d dz_i/d v``; ``dF`` (length ``nz + 3``)
+    ``dF[j] = dF/d z_j``, ``dF[nz] = dF/dv``, ``dF[nz + 1] = dF/dF_e``,
+    ``dF[nz + 2] = dF/dscale``. Models without states take ``Jz`` of shape ``(0, 1)``.
+    Where the model is piecewise (stuck/sliding modes, the clip of the stick force,
+    elasto-plastic and GMS zones) the derivative of the piece ``_force`` evaluates at
+    that point; at exactly ``v = 0``, where ``|v|`` has a kink, the one-sided derivative
+    for ``v -> 0+``. Discrete states (coulomb-robust's ``mode``) have zero derivatives.
+    Two points where the exact slope is infinite get 0 instead (the Stribeck slope at
+    ``v = 0`` for an exponent ``delta < 1``; Dahl with ``alpha < 1`` at steady sliding);
+    each model's page in ``docs/models`` states its nonsmooth points.
+:func:`~clutchsim.friction.kernels.friction_force`, ``friction_jacobian``, ``friction_events``, ``friction_reset``
+    dispatch on the model's integer ``code``.
 """
 
 from __future__ import annotations

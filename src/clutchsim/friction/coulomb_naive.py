@@ -8,10 +8,16 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from ._common import clip, sgn
+from ._common import clip, clip_partials, sgn
 from .base import FrictionModel
 
-__all__ = ["CoulombNaive", "coulomb_naive_events", "coulomb_naive_force", "coulomb_naive_reset"]
+__all__ = [
+    "CoulombNaive",
+    "coulomb_naive_events",
+    "coulomb_naive_force",
+    "coulomb_naive_jacobian",
+    "coulomb_naive_reset",
+]
 
 
 @dataclass(frozen=True)
@@ -89,6 +95,17 @@ def coulomb_naive_force(p, z, v, F_e, scale, dz):
     if v != 0.0:
         return scale * p[0] * sgn(v)
     return clip(F_e, scale * p[1])
+
+
+@jit
+def coulomb_naive_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base); both pieces are flat in ``v``."""
+    F = coulomb_naive_force(p, z, v, F_e, scale, dz)
+    if v != 0.0:
+        dF[0], dF[1], dF[2] = 0.0, 0.0, p[0] * sgn(v)
+    else:
+        clip_partials(F_e, scale, p[1], dF, 0)
+    return F
 
 
 @jit

@@ -8,13 +8,14 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from ._common import NO_EVENT, clip, sgn, stribeck_level
+from ._common import NO_EVENT, clip, clip_partials, sgn, stribeck_level, stribeck_partials
 from .base import FrictionModel
 
 __all__ = [
     "CoulombRobust",
     "coulomb_robust_events",
     "coulomb_robust_force",
+    "coulomb_robust_jacobian",
     "coulomb_robust_reset",
 ]
 
@@ -137,6 +138,27 @@ def coulomb_robust_force(p, z, v, F_e, scale, dz):
     if p[2] > 0.0:
         level = stribeck_level(v, p[0], p[1], p[2], p[3])
     return scale * (level * sgn(mode) + p[4] * v)
+
+
+@jit
+def coulomb_robust_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base). ``mode`` is discrete (it changes only at events):
+    every derivative with respect to it is 0. Stuck: the clipped stick force; slipping: the
+    sliding curve, whose Stribeck slope at exactly ``v = 0`` is the ``v -> 0+`` one."""
+    F = coulomb_robust_force(p, z, v, F_e, scale, dz)
+    Jz[0, 0], Jz[0, 1] = 0.0, 0.0
+    dF[0] = 0.0
+    mode = z[0]
+    if mode == 0.0:
+        clip_partials(F_e, scale, p[1], dF, 1)
+        return F
+    level, dlevel = p[0], 0.0
+    if p[2] > 0.0:
+        level, _, dlevel = stribeck_partials(v, p[0], p[1], p[2], p[3])
+    dF[1] = scale * (dlevel * sgn(mode) + p[4])
+    dF[2] = 0.0
+    dF[3] = level * sgn(mode) + p[4] * v
+    return F
 
 
 @jit

@@ -8,10 +8,10 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from ._common import sgn
+from ._common import sgn, sgn_right
 from .base import FrictionModel
 
-__all__ = ["Dahl", "dahl_force"]
+__all__ = ["Dahl", "dahl_force", "dahl_jacobian"]
 
 
 @dataclass(frozen=True)
@@ -92,3 +92,25 @@ def dahl_force(p, z, v, F_e, scale, dz):
     else:
         dz[0] = v * abs(r) ** p[2] * sgn(r)
     return scale * p[1] * z[0]
+
+
+@jit
+def dahl_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base).
+
+    With ``s = sign(v)``: ``d dz/dz = -|v|·alpha·|r|^(alpha-1)·sigma0/F_c`` and
+    ``d dz/dv = |r|^alpha·sign(r)`` (``r`` is flat in ``v`` away from 0). At ``v = 0`` the
+    ``v -> 0+`` derivative (``r`` with ``s = +1``). For ``alpha < 1`` the slope in ``z`` is
+    unbounded at ``r = 0`` (steady sliding); 0 is returned at that single point."""
+    F = dahl_force(p, z, v, F_e, scale, dz)
+    r = 1.0 - p[1] * z[0] * sgn_right(v) / p[0]
+    alpha = p[2]
+    if alpha == 1.0:
+        slope, phi = 1.0, r
+    else:
+        slope = alpha * abs(r) ** (alpha - 1.0) if r != 0.0 else 0.0
+        phi = abs(r) ** alpha * sgn(r)
+    Jz[0, 0] = -abs(v) * slope * p[1] / p[0]
+    Jz[0, 1] = phi
+    dF[0], dF[1], dF[2], dF[3] = scale * p[1], 0.0, 0.0, p[1] * z[0]
+    return F

@@ -9,10 +9,10 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from ._common import sgn, stribeck_level
+from ._common import sgn, sgn_right, stribeck_level, stribeck_partials
 from .base import FrictionModel
 
-__all__ = ["ElastoPlastic", "elastoplastic_force"]
+__all__ = ["ElastoPlastic", "elastoplastic_force", "elastoplastic_jacobian"]
 
 
 @dataclass(frozen=True)
@@ -114,9 +114,9 @@ class ElastoPlastic(FrictionModel):
 
 
 @jit
-def elastoplastic_alpha(z, v, z_ba, z_max):
-    """Elasto-plastic blending factor alpha(z, v) in [0, 1]."""
-    if sgn(v) != sgn(z):
+def elastoplastic_alpha(z, s, z_ba, z_max):
+    """Elasto-plastic blending factor alpha(z, v) in [0, 1]; ``s = sign(v)``."""
+    if s != sgn(z):
         return 0.0
     a = abs(z)
     if a <= z_ba:
@@ -129,6 +129,47 @@ def elastoplastic_alpha(z, v, z_ba, z_max):
 @jit
 def elastoplastic_force(p, z, v, F_e, scale, dz):
     g = stribeck_level(v, p[0], p[1], p[2], p[6])
-    alpha = elastoplastic_alpha(z[0], v, p[7], g / p[3])
+    alpha = elastoplastic_alpha(z[0], sgn(v), p[7], g / p[3])
     dz[0] = v - alpha * p[3] * abs(v) * z[0] / g
     return scale * (p[3] * z[0] + p[4] * dz[0] + p[5] * v)
+
+
+@jit
+def elastoplastic_alpha_partials(z, s, z_ba, z_max):
+    """alpha of :func:`elastoplastic_alpha` and its partials d/dz and d/dz_max."""
+    alpha = elastoplastic_alpha(z, s, z_ba, z_max)
+    a = abs(z)
+    if s != sgn(z) or a <= z_ba or a >= z_max:
+        return alpha, 0.0, 0.0
+    width = z_max - z_ba
+    u = (a - 0.5 * (z_max + z_ba)) / width          # the sine's argument over pi
+    c = 0.5 * math.pi * math.cos(math.pi * u) / width
+    return alpha, c * sgn(z), -c * (0.5 + u)
+
+
+@jit
+def elastoplastic_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base). With ``Q = sigma0·|v|·z/g`` (``dz = v - alpha·Q``)
+    and ``z_max = g/sigma0``::
+
+        d dz/dz = -(d alpha/dz)·Q - alpha·sigma0·|v|/g
+        d dz/dv = 1 - (d alpha/dz_max)·z·sign(v)·v·g'/g - alpha·sigma0·z·sign(v)·(g - v·g')/g^2
+
+    The edges of the blend (``|z| = z_ba``, ``|z| = z_max``) and ``sign(v) = sign(z)`` are
+    kinks; there the piece :func:`elastoplastic_alpha` selects. At ``v = 0`` the ``v -> 0+``
+    derivative: ``alpha`` is taken with ``sign(v) = +1`` (``Q`` vanishes there, so ``dz``
+    itself does not depend on that choice)."""
+    F = elastoplastic_force(p, z, v, F_e, scale, dz)
+    g, v_dg, _ = stribeck_partials(v, p[0], p[1], p[2], p[6])
+    s = sgn_right(v)
+    zj = z[0]
+    alpha, da_dz, da_dzmax = elastoplastic_alpha_partials(zj, s, p[7], g / p[3])
+    q = p[3] * abs(v) * zj / g
+    Jz[0, 0] = -da_dz * q - alpha * p[3] * abs(v) / g
+    Jz[0, 1] = (1.0 - da_dzmax * zj * s * v_dg / g
+                - alpha * p[3] * zj * s * (g - v_dg) / (g * g))
+    dF[0] = scale * (p[3] + p[4] * Jz[0, 0])
+    dF[1] = scale * (p[4] * Jz[0, 1] + p[5])
+    dF[2] = 0.0
+    dF[3] = p[3] * zj + p[4] * dz[0] + p[5] * v
+    return F

@@ -8,10 +8,10 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from ._common import sgn, stribeck_level
+from ._common import sgn, stribeck_level, stribeck_partials
 from .base import FrictionModel
 
-__all__ = ["GMS", "gms_force"]
+__all__ = ["GMS", "gms_force", "gms_jacobian"]
 
 
 @dataclass(frozen=True)
@@ -150,6 +150,33 @@ class GMS(FrictionModel):
         return [float(np.sign(v) * a * s / k) for a, k in zip(self.alpha, self.k)]
 
 
+@jit(inline="always")
+def _gms_element(zi, v, k, a, C, s, ds, band):
+    """Deflection rate ``dz_i/dt`` of one element and its partials d/dz_i and d/dv.
+
+    ``s`` is the Stribeck level s(v) and ``ds`` its slope s'(v). Shared by the force and
+    the Jacobian kernels (inlined: where the partials are not used, in ``gms_force``, the
+    compiler drops them; its machine code is the same as without them). Each piece is the
+    one the switch selects; the switch lines ``z_i·v = 0``, ``r_i = 1 - b`` and ``r_i = 1``
+    are kinks.
+    """
+    d, d_z, d_v = v, 0.0, 1.0
+    if zi * v > 0.0:
+        r = k * abs(zi) / (a * s)
+        if r > 1.0 - band:
+            slip = (C / k) * (a * sgn(v) - k * zi / s)
+            slip_z, slip_v = -C / s, C * zi * ds / (s * s)
+            if r >= 1.0:
+                d, d_z, d_v = slip, slip_z, slip_v
+            else:
+                w = (1.0 - r) / band
+                d = w * v + (1.0 - w) * slip
+                w_z, w_v = -k * sgn(zi) / (a * s * band), r * ds / (s * band)
+                d_z = (1.0 - w) * slip_z + w_z * (v - slip)
+                d_v = w + (1.0 - w) * slip_v + w_v * (v - slip)
+    return d, d_z, d_v
+
+
 @jit
 def gms_force(p, z, v, F_e, scale, dz):
     n = int(p[0])
@@ -159,18 +186,29 @@ def gms_force(p, z, v, F_e, scale, dz):
     total = 0.0
     for i in range(n):
         k = p[9 + i]
-        a = p[9 + n + i]
         zi = z[i]
-        d = v
-        if zi * v > 0.0:
-            r = k * abs(zi) / (a * s)
-            if r > 1.0 - band:
-                slip = (C / k) * (a * sgn(v) - k * zi / s)
-                if r >= 1.0:
-                    d = slip
-                else:
-                    w = (1.0 - r) / band
-                    d = w * v + (1.0 - w) * slip
+        d = _gms_element(zi, v, k, p[9 + n + i], C, s, 0.0, band)[0]
         dz[i] = d
         total += k * zi + p[6] * d
     return scale * (total + p[7] * v)
+
+
+@jit
+def gms_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base). The elements are independent: ``Jz`` is diagonal
+    in the states. At ``v = 0`` every element sticks (``dz_i = v``)."""
+    F = gms_force(p, z, v, F_e, scale, dz)
+    n = int(p[0])
+    s, _, ds = stribeck_partials(v, p[2], p[3], p[4], p[5])
+    Jz[:, :] = 0.0
+    dF_dv = p[7]
+    total = 0.0
+    for i in range(n):
+        d, d_z, d_v = _gms_element(z[i], v, p[9 + i], p[9 + n + i], p[1], s, ds, p[8])
+        Jz[i, i] = d_z
+        Jz[i, n] = d_v
+        dF[i] = scale * (p[9 + i] + p[6] * d_z)
+        dF_dv += p[6] * d_v
+        total += p[9 + i] * z[i] + p[6] * d
+    dF[n], dF[n + 1], dF[n + 2] = scale * dF_dv, 0.0, total + p[7] * v
+    return F

@@ -8,10 +8,10 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from ._common import clip, sgn
+from ._common import clip, clip_partials, sgn
 from .base import FrictionModel
 
-__all__ = ["Karnopp", "karnopp_force"]
+__all__ = ["Karnopp", "karnopp_force", "karnopp_jacobian"]
 
 
 @dataclass(frozen=True)
@@ -95,3 +95,15 @@ def karnopp_force(p, z, v, F_e, scale, dz):
     if abs(v) < p[2]:
         return clip(F_e, scale * p[1])
     return scale * (p[0] * sgn(v) + p[3] * v)
+
+
+@jit
+def karnopp_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base) of the piece ``karnopp_force`` evaluates (the window
+    edge ``|v| = DV`` belongs to the sliding piece)."""
+    F = karnopp_force(p, z, v, F_e, scale, dz)
+    if abs(v) < p[2]:
+        clip_partials(F_e, scale, p[1], dF, 0)
+    else:
+        dF[0], dF[1], dF[2] = scale * p[3], 0.0, p[0] * sgn(v) + p[3] * v
+    return F

@@ -10,23 +10,40 @@ the arguments.
 from __future__ import annotations
 
 from .._jit import jit
-from .coulomb_naive import coulomb_naive_events, coulomb_naive_force, coulomb_naive_reset
-from .coulomb_robust import coulomb_robust_events, coulomb_robust_force, coulomb_robust_reset
-from .dahl import dahl_force
-from .elastoplastic import elastoplastic_force
-from .gms import gms_force
-from .karnopp import karnopp_force
-from .lugre import lugre_force
+from .coulomb_naive import (
+    coulomb_naive_events,
+    coulomb_naive_force,
+    coulomb_naive_jacobian,
+    coulomb_naive_reset,
+)
+from .coulomb_robust import (
+    coulomb_robust_events,
+    coulomb_robust_force,
+    coulomb_robust_jacobian,
+    coulomb_robust_reset,
+)
+from .dahl import dahl_force, dahl_jacobian
+from .elastoplastic import elastoplastic_force, elastoplastic_jacobian
+from .gms import gms_force, gms_jacobian
+from .karnopp import karnopp_force, karnopp_jacobian
+from .lugre import lugre_force, lugre_jacobian
 from .mykhailevych2020 import (
     mykhailevych2020_events,
     mykhailevych2020_force,
+    mykhailevych2020_jacobian,
     mykhailevych2020_reset,
 )
-from .rotational_friction import rotational_friction_force
-from .stribeck import stribeck_force
-from .tanh import tanh_force
+from .rotational_friction import rotational_friction_force, rotational_friction_jacobian
+from .stribeck import stribeck_force, stribeck_jacobian
+from .tanh import tanh_force, tanh_jacobian
 
-__all__ = ["friction_events", "friction_force", "friction_reset", "uses_stick_force"]
+__all__ = [
+    "friction_events",
+    "friction_force",
+    "friction_jacobian",
+    "friction_reset",
+    "uses_stick_force",
+]
 
 
 @jit(inline="always")
@@ -65,6 +82,39 @@ def friction_force(code, p, z, v, F_e, scale, dz):
         return stribeck_force(p, z, v, F_e, scale, dz)
     elif code == 6:
         return rotational_friction_force(p, z, v, F_e, scale, dz)
+    return 0.0
+
+
+@jit(inline="always")
+def friction_jacobian(code, p, z, v, F_e, scale, dz, Jz, dF):
+    """Friction force of model ``code`` and its exact partial derivatives.
+
+    Returns the same force and writes the same ``dz`` as :func:`friction_force`, and writes
+    ``Jz[i, j] = d dz_i/d z_j`` (``j < nz``), ``Jz[i, nz] = d dz_i/d v`` and ``dF`` =
+    (dF/dz_0, ..., dF/dz_{nz-1}, dF/dv, dF/dF_e, dF/dscale); see
+    :mod:`clutchsim.friction.base`. Inlined like :func:`friction_force`."""
+    if code == 8:
+        return lugre_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+    elif code == 11:
+        return mykhailevych2020_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+    elif code == 9:
+        return elastoplastic_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+    elif code == 10:
+        return gms_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+    elif code == 7:
+        return dahl_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+    elif code == 1:
+        return coulomb_naive_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+    elif code == 2:
+        return coulomb_robust_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+    elif code == 3:
+        return karnopp_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+    elif code == 4:
+        return tanh_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+    elif code == 5:
+        return stribeck_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+    elif code == 6:
+        return rotational_friction_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
     return 0.0
 
 

@@ -8,10 +8,10 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from ._common import stribeck_level
+from ._common import sgn_right, stribeck_level, stribeck_partials
 from .base import FrictionModel
 
-__all__ = ["LuGre", "lugre_force"]
+__all__ = ["LuGre", "lugre_force", "lugre_jacobian"]
 
 
 @dataclass(frozen=True)
@@ -113,3 +113,21 @@ def lugre_force(p, z, v, F_e, scale, dz):
     g = stribeck_level(v, p[0], p[1], p[2], p[6])
     dz[0] = v - p[3] * abs(v) * z[0] / g
     return scale * (p[3] * z[0] + p[4] * dz[0] + p[5] * v)
+
+
+@jit
+def lugre_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base)::
+
+        d dz/dz = -sigma0·|v|/g,   d dz/dv = 1 - sigma0·z·sign(v)·(g - v·g')/g^2
+
+    At ``v = 0`` (the kink of ``|v|``) the ``v -> 0+`` derivative (``sign = +1``)."""
+    F = lugre_force(p, z, v, F_e, scale, dz)
+    g, v_dg, _ = stribeck_partials(v, p[0], p[1], p[2], p[6])
+    Jz[0, 0] = -p[3] * abs(v) / g
+    Jz[0, 1] = 1.0 - p[3] * z[0] * sgn_right(v) * (g - v_dg) / (g * g)
+    dF[0] = scale * (p[3] + p[4] * Jz[0, 0])
+    dF[1] = scale * (p[4] * Jz[0, 1] + p[5])
+    dF[2] = 0.0
+    dF[3] = p[3] * z[0] + p[4] * dz[0] + p[5] * v
+    return F

@@ -18,6 +18,7 @@ __all__ = [
     "Mykhailevych2020",
     "mykhailevych2020_events",
     "mykhailevych2020_force",
+    "mykhailevych2020_jacobian",
     "mykhailevych2020_reset",
 ]
 
@@ -201,6 +202,25 @@ def mykhailevych2020_force(p, z, v, F_e, scale, dz):
     xp = x * x if p[5] == 2.0 else x        # p is 1 or 2 (checked): no call to pow
     drop = (T_stat - p[1] * T_stat) * (1.0 - math.exp(-xp))
     return scale * (T_stat * math.tanh(z[0] / p[2]) + p[4] * v - sgn(v) * drop)
+
+
+@jit
+def mykhailevych2020_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base). ``sign(v)·(1 - exp(-|v/omega0|^p))`` has the same
+    slope ``p·|v/omega0|^(p-1)·exp(-|v/omega0|^p)/omega0`` on both sides of ``v = 0``, so
+    the force is continuously differentiable there (for ``p = 1`` too)."""
+    F = mykhailevych2020_force(p, z, v, F_e, scale, dz)
+    T_stat = p[0]
+    x = abs(v / p[3])
+    xp, slope = (x * x, 2.0 * x) if p[5] == 2.0 else (x, 1.0)
+    th = math.tanh(z[0] / p[2])
+    Jz[0, 0], Jz[0, 1] = 0.0, 1.0
+    dF[0] = scale * T_stat * (1.0 - th * th) / p[2]
+    dF[1] = scale * (p[4] - (T_stat - p[1] * T_stat) * slope * math.exp(-xp) / p[3])
+    dF[2] = 0.0
+    dF[3] = (T_stat * th + p[4] * v
+             - sgn(v) * (T_stat - p[1] * T_stat) * (1.0 - math.exp(-xp)))
+    return F
 
 
 @jit

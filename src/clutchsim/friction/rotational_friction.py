@@ -11,7 +11,7 @@ import numpy as np
 from .._jit import jit
 from .base import FrictionModel
 
-__all__ = ["RotationalFriction", "rotational_friction_force"]
+__all__ = ["RotationalFriction", "rotational_friction_force", "rotational_friction_jacobian"]
 
 _SQRT_2E = math.sqrt(2.0 * math.e)
 
@@ -109,3 +109,16 @@ def rotational_friction_force(p, z, v, F_e, scale, dz):
     x = v / p[2]
     stribeck = _SQRT_2E * (p[0] - p[1]) * math.exp(-x * x) * x
     return scale * (stribeck + p[1] * math.tanh(v / p[3]) + p[4] * v)
+
+
+@jit
+def rotational_friction_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base); smooth everywhere."""
+    F = rotational_friction_force(p, z, v, F_e, scale, dz)
+    x = v / p[2]
+    bump = _SQRT_2E * (p[0] - p[1]) * math.exp(-x * x)
+    th = math.tanh(v / p[3])
+    dF[0] = scale * (bump * (1.0 - 2.0 * x * x) / p[2] + p[1] * (1.0 - th * th) / p[3] + p[4])
+    dF[1] = 0.0
+    dF[2] = bump * x + p[1] * th + p[4] * v
+    return F

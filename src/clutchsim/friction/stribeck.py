@@ -9,10 +9,10 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from ._common import stribeck_level
+from ._common import stribeck_level, stribeck_partials
 from .base import FrictionModel
 
-__all__ = ["StribeckFriction", "stribeck_force"]
+__all__ = ["StribeckFriction", "stribeck_force", "stribeck_jacobian"]
 
 
 @dataclass(frozen=True)
@@ -105,3 +105,16 @@ class StribeckFriction(FrictionModel):
 def stribeck_force(p, z, v, F_e, scale, dz):
     level = stribeck_level(v, p[0], p[1], p[2], p[3])
     return scale * (level * math.tanh(v / p[4]) + p[5] * v)
+
+
+@jit
+def stribeck_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base). At ``v = 0`` the Stribeck level's kink (``delta = 1``)
+    is multiplied by ``tanh(0) = 0``, so the curve is smooth there."""
+    F = stribeck_force(p, z, v, F_e, scale, dz)
+    level, _, dlevel = stribeck_partials(v, p[0], p[1], p[2], p[3])
+    th = math.tanh(v / p[4])
+    dF[0] = scale * (dlevel * th + level * (1.0 - th * th) / p[4] + p[5])
+    dF[1] = 0.0
+    dF[2] = level * th + p[5] * v
+    return F

@@ -11,7 +11,7 @@ import numpy as np
 from .._jit import jit
 from .base import FrictionModel
 
-__all__ = ["TanhFriction", "tanh_force"]
+__all__ = ["TanhFriction", "tanh_force", "tanh_jacobian"]
 
 
 @dataclass(frozen=True)
@@ -82,3 +82,14 @@ class TanhFriction(FrictionModel):
 @jit
 def tanh_force(p, z, v, F_e, scale, dz):
     return scale * (p[0] * math.tanh(v / p[1]) + p[2] * v)
+
+
+@jit
+def tanh_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
+    """Force and partials (see base); smooth everywhere."""
+    F = tanh_force(p, z, v, F_e, scale, dz)
+    th = math.tanh(v / p[1])
+    dF[0] = scale * (p[0] * (1.0 - th * th) / p[1] + p[2])
+    dF[1] = 0.0
+    dF[2] = p[0] * th + p[2] * v
+    return F
