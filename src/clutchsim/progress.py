@@ -13,6 +13,7 @@ releases the GIL, and a single run has no count to report.  Call :meth:`Progress
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import threading
@@ -38,7 +39,7 @@ class Progress:
         self.min_interval = min_interval
         self.stream = stream if stream is not None else sys.stderr
         self.first: tuple[float, int] | None = None
-        self.last_draw = 0.0
+        self.last_draw = -math.inf   # the first call always draws
         self.state: tuple[int, int, float] | None = None   # done, total, since
         self._lock = threading.Lock()
         self._stop = threading.Event()
