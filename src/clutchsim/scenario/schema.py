@@ -126,7 +126,7 @@ ONE_WAY_CLUTCH = (
     Key("command", "str", "Normalised clamp force input (0 open .. 1 full).", required=True),
     _n("T_slide", "Sliding torque of the clutch at full command (mu·cgeo·fn_max).", "N·m",
        required=True, low=0.0, high=1e7),
-    _n("peak", "Static / sliding torque ratio of the clutch.", "-", low=1.0, high=10.0),
+    _n("peak", "Static / sliding torque ratio of the clutch.", "-", low=1.0, high=100.0),
     Key("mu_temperature", "table", "`{theta = [°C ...], factor = [...]}`: mu(theta)/mu_ref at the "
         "first heat node."),
     Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
