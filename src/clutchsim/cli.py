@@ -4,7 +4,10 @@ Every subcommand lives in :mod:`clutchsim.commands` as a module with ``register(
 (adds its argparse subparser) and ``run(args) -> int``.  Conventions, shared by all:
 
 * exit status 0 success, 1 a simulation that did not complete (its message is printed),
-  2 bad input (a one-line message naming the argument/file/key, and a hint);
+  2 bad input (a one-line message naming the argument/file/key, and a hint; also an
+  output path that cannot be written and a run or sweep above its size limits), 130 / 143
+  interrupted by SIGINT / SIGTERM (partial outputs are removed; a sweep keeps its finished
+  chunks to resume);
 * ``--json`` prints exactly one JSON document on stdout; progress and logs go to stderr;
 * ``--quiet`` silences progress and info logs, ``--verbose`` adds detail, ``--debug``
   shows tracebacks instead of one-line messages.
@@ -16,11 +19,13 @@ import argparse
 import importlib
 import json
 import logging
+import os
+import signal
 import sys
 
 from ._version import __version__
 
-__all__ = ["SimulationFailed", "UserError", "emit_json", "main"]
+__all__ = ["SimulationFailed", "Terminated", "UserError", "emit_json", "main"]
 
 #: subcommand modules, in the order ``--help`` lists them
 COMMANDS = ("models", "rig", "bench", "run", "demo", "sweep", "fit", "report")
@@ -29,7 +34,7 @@ EPILOG = """\
 examples:
   clutchsim demo                                  # default launch + drift test, HTML report
   clutchsim models                                # the friction models, states and parameters
-  clutchsim rig --model lugre --spring 2 --pull-speed 0.1 --t-end 30 --out rig.csv
+  clutchsim rig --model lugre --force 0 --spring 2 --pull-speed 0.1 --t-end 30 --out rig.csv
   clutchsim bench drift --model lugre --model elastoplastic --out drift/ --json
   clutchsim run examples/launch.toml --model mykhailevych2020 --out launch/
 
@@ -45,6 +50,37 @@ class UserError(Exception):
 
 class SimulationFailed(Exception):
     """A simulation that did not complete (exit status 1)."""
+
+
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that partial outputs are cleaned up as for
+    Ctrl-C (a ``BaseException``: no ``except Exception`` swallows it)."""
+
+
+#: longest error message printed (a message quoting a 200 KB input is cut)
+MAX_MESSAGE = 2000
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated()
+
+
+def _one_line(exc: BaseException) -> str:
+    """The message of ``exc`` as the one line the command prints."""
+    if isinstance(exc, KeyError) and exc.args:
+        msg = str(exc.args[0])
+    elif isinstance(exc, OSError) and exc.filename is not None and exc.strerror:
+        msg = f"{exc.filename}: {exc.strerror}"
+    elif isinstance(exc, RecursionError):
+        msg = ("an input is nested too deeply to read (Python's recursion limit); "
+               "flatten the expression or file")
+    elif isinstance(exc, MemoryError):
+        msg = "out of memory: the input asks for more than this machine has"
+    else:
+        msg = str(exc) or type(exc).__name__
+    if len(msg) > MAX_MESSAGE:
+        msg = msg[:MAX_MESSAGE] + f"... ({len(msg):,} characters)"
+    return msg
 
 
 def emit_json(document) -> None:
@@ -109,22 +145,55 @@ def main(argv=None) -> int:
         setattr(args, flag, getattr(args, flag, False) or getattr(args, f"g_{flag}", False))
     level = logging.WARNING if args.quiet else (logging.DEBUG if args.verbose else logging.INFO)
     logging.basicConfig(level=level, format="%(message)s", stream=sys.stderr, force=True)
+    previous = _install_sigterm()
+    name = f"clutchsim {args.command}"
     try:
         return int(mods[args.command].run(args) or 0)
-    except (UserError, ValueError, TypeError, KeyError, FileNotFoundError) as exc:
-        if getattr(args, "debug", False):
+    except (UserError, ValueError, TypeError, KeyError, OSError, RecursionError,
+            MemoryError) as exc:
+        if isinstance(exc, BrokenPipeError):
+            return _broken_pipe()
+        if args.debug:
             raise
-        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
-        print(f"clutchsim {args.command}: error: {msg}", file=sys.stderr)
+        print(f"{name}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
     except SimulationFailed as exc:
-        if getattr(args, "debug", False):
+        if args.debug:
             raise
-        print(f"clutchsim {args.command}: simulation did not complete: {exc}", file=sys.stderr)
+        print(f"{name}: simulation did not complete: {_one_line(exc)}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130
+    except (KeyboardInterrupt, Terminated) as exc:
+        what = "SIGTERM" if isinstance(exc, Terminated) else "SIGINT"
+        print(f"{name}: interrupted ({what})", file=sys.stderr)
+        return 143 if isinstance(exc, Terminated) else 130
+    except Exception as exc:   # a bug must still end in one line, not a traceback
+        if args.debug:
+            raise
+        print(f"{name}: internal error: {type(exc).__name__}: {_one_line(exc)} (this is a "
+              "bug in clutchsim; --debug shows the traceback)", file=sys.stderr)
+        return 1
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _install_sigterm():
+    """Turn SIGTERM into :class:`Terminated` in the main thread (the previous handler is
+    returned, ``None`` when none was installed: not the main thread)."""
+    try:
+        return signal.signal(signal.SIGTERM, _on_sigterm)
+    except ValueError:   # not the main thread of the interpreter
+        return None
+
+
+def _broken_pipe() -> int:
+    """stdout was closed by the reader (``clutchsim ... --json | head``): stop quietly."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+    return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -18,7 +18,11 @@ scenario files.  A text is either
   unit of the input they drive.
 
 The formula is parsed with :func:`ast.parse` in ``"eval"`` mode and only whitelisted
-node types are walked; nothing is ever evaluated by Python.
+node types are walked; nothing is ever evaluated by Python.  A formula is at most
+:data:`MAX_FORMULA` characters with at most :data:`MAX_OPERATORS` operators and
+:data:`MAX_DEPTH` levels of parentheses (checked on the text before parsing, so a huge or
+deep input is refused with a ValueError, never a RecursionError); error messages quote at
+most 60 characters of it.
 
 Examples
 --------
@@ -35,9 +39,18 @@ import ast
 import math
 from pathlib import Path
 
+from ._util import quote
 from .core.signals import Constant, Pulse, Ramp, Signal, Sine, Step, Sum, Table
 
-__all__ = ["FUNCTIONS", "format_signal", "parse_signal", "scale_signal"]
+__all__ = ["FUNCTIONS", "MAX_DEPTH", "MAX_FORMULA", "MAX_OPERATORS", "format_signal",
+           "parse_signal", "scale_signal"]
+
+#: longest formula [characters]; a longer input signal belongs in a CSV table
+MAX_FORMULA = 10_000
+#: most operators (+ - * /) in a formula: each is one level of Python's parser
+MAX_OPERATORS = 500
+#: deepest nesting of parentheses in a formula
+MAX_DEPTH = 50
 
 #: formula functions: name -> (signal class, argument names, number of required arguments,
 #: argument name -> field name of the class)
@@ -94,16 +107,50 @@ def parse_signal(text: str, *, base_dir: str | Path | None = None) -> Signal:
         if not _is_file(path):
             raise ValueError(f"{path}: input table not found")
         return Table.from_csv(path)
+    shown = quote(stripped)
+    if len(stripped) > MAX_FORMULA:
+        raise ValueError(f"signal {shown}: a formula of {len(stripped):,} characters is "
+                         f"longer than the {MAX_FORMULA:,} allowed; give a long signal as a "
+                         "CSV table (time [s], value)")
+    if "\x00" in stripped:
+        raise ValueError(f"signal {shown}: holds a NUL character (binary data?); give a "
+                         "formula or a CSV path")
+    _check_size(stripped, shown)
     try:
         tree = ast.parse(stripped, mode="eval")
     except SyntaxError as exc:
-        raise ValueError(f"signal {stripped!r}: not a valid formula ({exc.msg} at column "
+        raise ValueError(f"signal {shown}: not a valid formula ({exc.msg} at column "
                          f"{exc.offset}); allowed: {_ALLOWED}") from None
+    except (RecursionError, MemoryError):   # a backstop: _check_size bounds the nesting
+        raise ValueError(f"signal {shown}: nested too deeply to read") from None
     try:
-        value = _walk(tree.body)
+        value = _walk(tree.body, 0)
     except _FormulaError as exc:
-        raise ValueError(f"signal {stripped!r}: {exc}; allowed: {_ALLOWED}") from None
+        raise ValueError(f"signal {shown}: {exc}; allowed: {_ALLOWED}") from None
+    except ValueError as exc:   # a signal class refusing its arguments (e.g. not finite)
+        raise ValueError(f"signal {shown}: {exc}") from None
+    except RecursionError:   # pragma: no cover - _check_size bounds the depth
+        raise ValueError(f"signal {shown}: nested too deeply to read") from None
     return Constant(float(value)) if not isinstance(value, Signal) else value
+
+
+def _check_size(text: str, shown: str) -> None:
+    """Refuse a formula with too many operators or too deep parentheses (on the text)."""
+    ops = sum(text.count(c) for c in "+-*/")
+    if ops > MAX_OPERATORS:
+        raise ValueError(f"signal {shown}: {ops:,} operators, more than the "
+                         f"{MAX_OPERATORS} a formula may have; give a long signal as a CSV "
+                         "table (time [s], value)")
+    depth = deepest = 0
+    for c in text:
+        if c in "([{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif c in ")]}":
+            depth -= 1
+    if deepest > MAX_DEPTH:
+        raise ValueError(f"signal {shown}: parentheses nested {deepest} deep, more than the "
+                         f"{MAX_DEPTH} allowed")
 
 
 def _is_file(path: Path) -> bool:
@@ -115,14 +162,18 @@ def _is_file(path: Path) -> bool:
 
 def _token(node: ast.AST) -> str:
     try:
-        return repr(ast.unparse(node))
+        return quote(ast.unparse(node))
     # only names the offending token in an error message: whatever unparse raises (e.g.
     # RecursionError on a deeply nested node) must not replace the formula error
     except Exception:  # noqa: BLE001  # pragma: no cover - unparse handles every parsed node
         return type(node).__name__
 
 
-def _walk(node: ast.AST) -> float | Signal:
+def _walk(node: ast.AST, depth: int) -> float | Signal:
+    # _check_size bounds the depth on the text; this bounds it on the tree
+    if depth > MAX_OPERATORS + MAX_DEPTH:   # pragma: no cover - _check_size refuses first
+        raise _FormulaError("nested too deeply")
+    depth += 1
     if isinstance(node, ast.Constant):
         if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
             raise _FormulaError(f"{_token(node)} is not a number")
@@ -132,15 +183,21 @@ def _walk(node: ast.AST) -> float | Signal:
             return math.pi
         raise _FormulaError(f"unknown name {node.id!r}")
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.UAdd, ast.USub)):
-        value = _walk(node.operand)
+        value = _walk(node.operand, depth)
         return value if isinstance(node.op, ast.UAdd) else _times(value, -1.0)
-    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult,
-                                                             ast.Div)):
-        left, right = _walk(node.left), _walk(node.right)
-        if isinstance(node.op, ast.Add):
-            return _plus(left, right)
-        if isinstance(node.op, ast.Sub):
-            return _plus(left, _times(right, -1.0))
+    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub)):
+        # a + b - c + ...: walk the left spine of the sum in a loop, not by recursion
+        terms = []
+        while isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub)):
+            terms.append((node.op, node.right))
+            node = node.left
+        total = _walk(node, depth)
+        for op, right in reversed(terms):
+            value = _walk(right, depth)
+            total = _plus(total, value if isinstance(op, ast.Add) else _times(value, -1.0))
+        return total
+    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Mult, ast.Div)):
+        left, right = _walk(node.left, depth), _walk(node.right, depth)
         if isinstance(node.op, ast.Mult):
             if isinstance(left, Signal) and isinstance(right, Signal):
                 raise _FormulaError(f"{_token(node)}: a signal can only be multiplied by a "
@@ -152,12 +209,12 @@ def _walk(node: ast.AST) -> float | Signal:
             raise _FormulaError(f"{_token(node)}: division by zero")
         return left / right
     if isinstance(node, ast.Call):
-        return _call(node)
+        return _call(node, depth)
     raise _FormulaError(f"{_token(node)} is not allowed")
 
 
-def _number(node: ast.AST, what: str) -> float:
-    value = _walk(node)
+def _number(node: ast.AST, what: str, depth: int) -> float:
+    value = _walk(node, depth)
     if isinstance(value, Signal):
         raise _FormulaError(f"{what} = {_token(node)} must be a number, not a signal")
     if not math.isfinite(value):
@@ -165,7 +222,7 @@ def _number(node: ast.AST, what: str) -> float:
     return value
 
 
-def _call(node: ast.Call) -> Signal:
+def _call(node: ast.Call, depth: int) -> Signal:
     if not isinstance(node.func, ast.Name) or node.func.id not in FUNCTIONS:
         raise _FormulaError(f"{_token(node.func)} is not a known function")
     name = node.func.id
@@ -177,7 +234,7 @@ def _call(node: ast.Call) -> Signal:
     for arg_name, arg in zip(argnames, node.args):
         if isinstance(arg, ast.Starred):
             raise _FormulaError(f"{_token(arg)} is not allowed")
-        values[arg_name] = _number(arg, f"{name}() argument {arg_name}")
+        values[arg_name] = _number(arg, f"{name}() argument {arg_name}", depth)
     for kw in node.keywords:
         if kw.arg is None:
             raise _FormulaError(f"'**' in {name}() is not allowed")
@@ -186,7 +243,7 @@ def _call(node: ast.Call) -> Signal:
                                 f"{', '.join(argnames)})")
         if kw.arg in values:
             raise _FormulaError(f"{name}() got argument {kw.arg!r} twice")
-        values[kw.arg] = _number(kw.value, f"{name}() argument {kw.arg}")
+        values[kw.arg] = _number(kw.value, f"{name}() argument {kw.arg}", depth)
     missing = [a for a in argnames[:n_required] if a not in values]
     if missing:
         raise _FormulaError(f"{name}() is missing argument(s) {', '.join(missing)}")

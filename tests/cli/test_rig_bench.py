@@ -21,10 +21,14 @@ def test_rig_json_and_csv(tmp_path):
     assert p.returncode == 0, p.stderr
     doc = json.loads(p.stdout)
     assert doc["status"] == "completed"
+    assert doc["outcome"] == "completed" and doc["warnings"] == [] and doc["event"] == ""
     assert "x [m]" in doc["final"] and "steps" in doc["stats"]
     header = out.read_text().splitlines()[0].split(",")
     assert header[:4] == ["time [s]", "x [m]", "v [m/s]", "F [N]"]
     assert "z [m]" in header
+    # the CSV holds every signal of the JSON (and of Result.to_csv), F_ext and F_spring too
+    assert set(header) == {"time [s]", *doc["final"]}
+    assert {"F_ext [N]", "F_spring [N]", "force [N]"} <= set(header)
 
 
 def test_rig_rotational_columns(tmp_path):

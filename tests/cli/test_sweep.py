@@ -19,9 +19,14 @@ def test_sweep_writes_the_table_and_resumes(tmp_path, capsys):
     assert main(argv) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["runs"] == 3 and doc["status_counts"] == {"completed": 3}
+    assert doc["outcome_counts"] == {"completed": 3} and doc["runs_with_warnings"] == 0
     t = read_results(tmp_path / "mc")
-    assert list(t.columns) == ["run", "vehicle.mass", "status", "message", "lockup_time_s",
-                               "slip_energy_J"]
+    assert list(t.columns) == ["run", "vehicle.mass", "status", "outcome", "warnings",
+                               "message", "lockup_time_s", "slip_energy_J"]
+    assert (t["outcome"] == "completed").all() and (t["warnings"] == "").all()
+    # like run, bench and fit: the command line and the report
+    assert (tmp_path / "mc" / "command.txt").read_text().startswith("clutchsim ")
+    assert "<html" in (tmp_path / "mc" / "report.html").read_text()
     assert main(argv) == 0
     again = json.loads(capsys.readouterr().out)
     assert again["chunks_resumed"] == again["chunks"]
@@ -60,3 +65,4 @@ def test_unreachable_dask_scheduler_is_exit_2(tmp_path, capsys):
     assert main(["sweep", "--vary", "vehicle.mass=1300", "--out", str(tmp_path / "s"),
                  "--dask", f"tcp://127.0.0.1:{port}", "--connect-timeout", "1", *BASE]) == 2
     assert "no Dask scheduler answered" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []     # the failed connection leaves nothing behind

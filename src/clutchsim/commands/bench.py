@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-import sys
 from pathlib import Path
 
 from ..cli import SimulationFailed, UserError, emit_json
+from ._common import write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -42,8 +42,9 @@ def run(args) -> int:
     from ..benchmarks import get_benchmark
     bench = get_benchmark(args.name)
     out = Path(args.out) if args.out else None
-    if out is not None and out.exists() and not out.is_dir():
-        raise UserError(f"--out {args.out!r}: exists and is not a directory")
+    if out is not None:
+        from .._util import check_output_dir
+        check_output_dir(args.out)
     try:
         from ..benchmarks import resolve_models
         entries = resolve_models(args.model, bench.default_models, bench.applicable)
@@ -57,7 +58,7 @@ def run(args) -> int:
         from ..report import build_report
         with atomic_directory(out) as part:
             write_outputs(result, part)
-            (part / "command.txt").write_text(" ".join(["clutchsim", *sys.argv[1:]]) + "\n")
+            write_command(part)
             build_report(part)
         log.info("wrote %s", out)
     if args.json:

@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 import logging
 import math
-import sys
 from pathlib import Path
 
 from ..cli import SimulationFailed, UserError, emit_json
+from ._common import write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -114,9 +114,28 @@ def _window(text):
     if not sep:
         raise UserError(f"--window {text!r}: expected T0:T1 (either may be empty)")
     try:
-        return (float(a) if a else None, float(b) if b else None)
+        t0, t1 = (float(a) if a else None, float(b) if b else None)
     except ValueError:
         raise UserError(f"--window {text!r}: T0 and T1 must be numbers") from None
+    for name, t in (("T0", t0), ("T1", t1)):
+        if t is not None and not math.isfinite(t):
+            raise UserError(f"--window {text!r}: {name} = {t!r} must be a finite time [s]")
+    if t0 is not None and t1 is not None and t0 >= t1:
+        raise UserError(f"--window {text!r}: T0 = {t0:g} s > T1 = {t1:g} s; the window "
+                        "must start before it ends (write T0:T1 with T0 < T1)"
+                        if t0 > t1 else f"--window {text!r}: T0 = T1 = {t0:g} s is an "
+                        "empty window (T0 must be < T1)")
+    return t0, t1
+
+
+def _check_numbers(args) -> None:
+    """The numeric options, before any file is read."""
+    if args.starts is not None and args.starts < 1:
+        raise UserError(f"--starts {args.starts}: the number of starts must be >= 1")
+    if args.rtol is not None and not (math.isfinite(args.rtol) and 1e-14 <= args.rtol <= 1):
+        raise UserError(f"--rtol {args.rtol!r}: must be a relative tolerance in [1e-14, 1]")
+    if args.seed is not None and args.seed < 0:
+        raise UserError(f"--seed {args.seed}: must be >= 0")
 
 
 def _from_spec(args):
@@ -188,7 +207,11 @@ def _from_data(args):
 
 
 def run(args) -> int:
+    from .._util import check_output_dir
     from ..identify import fit
+    _check_numbers(args)
+    _window(args.window)
+    check_output_dir(args.out)
     path = Path(args.data)
     if path.suffix.lower() == ".toml":
         model, data, validate, kw = _from_spec(args)
@@ -208,7 +231,7 @@ def run(args) -> int:
     with atomic_directory(args.out) as part:
         files = write_outputs(result, part, plots=not args.no_plots,
                               unit=data.units.get(kw["output"], ""))
-        (part / "command.txt").write_text(" ".join(["clutchsim", *sys.argv[1:]]) + "\n")
+        write_command(part)
         build_report(part)
     files = {name: Path(args.out) / path.name for name, path in files.items()}
     log.info("NRMSE fit %.4g%s; wall time %.1f s; wrote %s", result.nrmse_fit,

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
 import math
 
 from ..cli import SimulationFailed, UserError, emit_json
+from ._common import add_limit_flags
 
 log = logging.getLogger("clutchsim")
 
@@ -24,6 +26,14 @@ interpolation, held after the last row) or a formula of numbers, pi, + - and * b
 number, and const(v), step(t, height[, offset]), ramp(start, duration, height[, offset]),
 sine(amplitude, freq[, phase, offset, start]), pulse(amplitude, width_percent, period[,
 offset, start]); keyword arguments allowed, e.g. sine(amplitude=0.4, freq=1, offset=0.5).
+
+outputs: --out FILE.csv holds time, x, v, F (theta, omega, T with --domain rotational),
+then every other signal of the run (the friction states, the applied force, F_ext,
+F_spring, the friction power), units in the column names; --json prints {"status",
+"outcome", "event", "warnings", "message", "model", "domain", "stats", "final", "out"}.
+Every accepted step is stored, at most --max-output-rows rows (then the result warns).
+exit status: 0 completed, 1 the run did not complete (the CSV and JSON are still written),
+2 bad input.
 """
 
 
@@ -53,6 +63,7 @@ def register(sub, common):
     p.add_argument("--solver", default="rodas4", help="integrator (default rodas4)")
     p.add_argument("--out", metavar="FILE.csv", help="write the traces as CSV")
     p.add_argument("--json", action="store_true", help="print one JSON document")
+    add_limit_flags(p)
 
 
 def _value(text: str):
@@ -82,14 +93,26 @@ def build_model(name: str, params: str | None, sets: list[str]):
         raise UserError(f"--set: {exc}") from None
 
 
+def _finite(flag: str, value: float, *, positive: bool = False, unit: str = "") -> None:
+    if not math.isfinite(value) or (positive and value <= 0):
+        rule = "a finite number > 0" if positive else "a finite number"
+        raise UserError(f"{flag} {value!r}: must be {rule}{' ' + unit if unit else ''}")
+
+
 def run(args) -> int:
+    from .._util import check_output_file, check_run_size, estimate_run
     from ..core import SolverOptions
+    from ..progress import progress_for
     from ..rig import run_rig
     from ..signal_expr import parse_signal
-    if not (math.isfinite(args.t_end) and args.t_end > 0):
-        raise UserError(f"--t-end {args.t_end!r}: must be a finite time > 0 s")
-    if args.out and not args.out.lower().endswith(".csv"):
-        raise UserError(f"--out {args.out!r}: the trace file must end in .csv")
+    _finite("--t-end", args.t_end, positive=True, unit="s")
+    for flag, value in (("--mass", args.mass), ("--spring", args.spring),
+                        ("--pull-speed", args.pull_speed)):
+        _finite(flag, value, positive=flag == "--mass")
+    if args.out:
+        if not args.out.lower().endswith(".csv"):
+            raise UserError(f"--out {args.out!r}: the trace file must end in .csv")
+        check_output_file(args.out)
     model = build_model(args.model, args.params, args.set)
     flag = "--force" if args.force is not None else "--velocity"
     try:
@@ -97,37 +120,42 @@ def run(args) -> int:
     except ValueError as exc:
         raise UserError(f"{flag}: {exc}") from None
     drive = {"force": signal} if args.force is not None else {"velocity": signal}
+    options = SolverOptions(h_max=args.t_end / 100.0)
+    options = check_run_size(estimate_run(args.t_end, options, 0), options,
+                             what="rig", max_rows=args.max_output_rows)
     log.info("rig: %s, %s, 0-%g s", model.name, args.domain, args.t_end)
-    res = run_rig(model, args.t_end, domain=args.domain, mass=args.mass, spring=args.spring,
-                  pull_speed=args.pull_speed, solver=args.solver,
-                  options=SolverOptions(h_max=args.t_end / 100.0), **drive)
-    if res.status == "failed":
-        raise SimulationFailed(res.message)
+    with progress_for(args, "run", tick=1.0) or contextlib.nullcontext() as bar:
+        if bar is not None:
+            bar(0, 1)
+        res = run_rig(model, args.t_end, domain=args.domain, mass=args.mass,
+                      spring=args.spring, pull_speed=args.pull_speed, solver=args.solver,
+                      options=options, **drive)
+        if bar is not None:
+            bar(1, 1)
     if args.out:
-        frame = _frame(res, model, args.domain, args.force is not None)
+        frame = _frame(res, args.domain)
         from ..core.result import atomic_write
         atomic_write(args.out, lambda p: frame.to_csv(p, index=False, float_format="%.17g"))
         log.info("wrote %s", args.out)
     if args.json:
         finals = {f"{n} [{res.unit(n)}]": res.final(n) for n in res.signals}
-        emit_json({"status": res.status, "message": res.message, "model": model.name,
-                   "domain": args.domain, "stats": res.stats.as_dict(), "final": finals,
-                   "out": args.out})
+        emit_json({"status": res.status, "outcome": str(res.outcome), "event": res.event,
+                   "warnings": list(res.warnings), "message": res.message,
+                   "model": model.name, "domain": args.domain, "stats": res.stats.as_dict(),
+                   "final": finals, "out": args.out})
     elif not args.out:
         print(res.message)
+    for w in res.warnings:
+        log.warning("warning: %s", w)
+    if res.status == "failed":
+        raise SimulationFailed(res.message)
     return 0
 
 
-def _frame(res, model, domain: str, force_drive: bool):
-    """Columns time, position, velocity, friction force, then the model states."""
-    import pandas as pd
+def _frame(res, domain: str):
+    """Columns time, position, velocity, friction force, then every other signal of the
+    result in its order (friction states, applied force, F_ext, F_spring, power...)."""
     x, v, f = ("x", "v", "F") if domain == "translational" else ("theta", "omega", "T")
-    cols = {"time [s]": res.t}
-    for name in (x, v, f):
-        cols[f"{name} [{res.unit(name)}]"] = res[name]
-    for name in model.state_names():
-        cols[f"{name} [{res.unit(name)}]"] = res[name]
-    if force_drive:
-        applied = "force" if domain == "translational" else "torque"
-        cols[f"{applied} [{res.unit(applied)}]"] = res[applied]
-    return pd.DataFrame(cols)
+    frame = res.to_frame()
+    first = ["time [s]"] + [f"{n} [{res.unit(n)}]" for n in (x, v, f)]
+    return frame[first + [c for c in frame.columns if c not in first]]

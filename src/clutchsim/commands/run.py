@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 import logging
-import sys
 
 from ..cli import SimulationFailed, UserError, emit_json
+from ._common import add_limit_flags, checked_scenario, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -18,8 +18,14 @@ examples:
   clutchsim run examples/launch.toml --set vehicle.grade=12 --out steep/
 
 outputs in DIR: timeseries.csv and timeseries.parquet (first model; one file per model with
-several), summary.json {"models": {NAME: {metric: value}}}, launch_<model>.png and, with
-several models, comparison.png.  DIR is written as DIR.partial and renamed when complete.
+several), summary.json {"models": {NAME: {"outcome", "warnings", metric: value}}, "failed":
+[NAME, ...]}, launch_<model>.png and, with several models, comparison.png, command.txt and
+report.html.  DIR is written as DIR.partial and renamed when complete; Ctrl-C or SIGTERM
+removes DIR.partial.
+
+Every model is checked (its parameters, and the output size against --max-output-rows)
+before the first one runs.  exit status: 0 every model completed, 1 any did not (the JSON
+says which: "failed", and each model's "outcome"), 2 bad input.
 """
 
 
@@ -36,26 +42,48 @@ def register(sub, common):
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--no-plots", action="store_true", help="skip the figures")
     p.add_argument("--json", action="store_true", help="print summary.json on stdout")
+    add_limit_flags(p)
 
 
 def run(args) -> int:
-    from ..core.result import atomic_directory
+    import json
+
+    from .._util import check_output_dir
+    from ..core.result import atomic_directory, atomic_write
     from ..driveline.outputs import write_runs
     from ..progress import progress_for
     from ..report import build_report
     from ..scenario import load_scenario
+    check_output_dir(args.out)
     sc = load_scenario(args.scenario, overrides=args.set)
     models = args.model or list(sc.models) or [None]
-    with atomic_directory(args.out) as part:
-        summary = write_runs(sc, models, part, plots=not args.no_plots,
-                             progress=progress_for(args, "models"))
-        (part / "command.txt").write_text(" ".join(["clutchsim", *sys.argv[1:]]) + "\n")
-        build_report(part)
+    if len(set(models)) != len(models):
+        raise UserError(f"--model: listed twice: {', '.join(str(m) for m in models)}")
+    for m in models:   # every model is checked before any runs
+        sc = checked_scenario(sc, m, args.max_output_rows)
+    bar = progress_for(args, "models", tick=1.0)
+    try:
+        with atomic_directory(args.out) as part:
+            summary = write_runs(sc, models, part, plots=not args.no_plots, progress=bar)
+            summary["failed"] = [n for n, m in summary["models"].items()
+                                 if not m["completed"]]
+            atomic_write(part / "summary.json", lambda p: p.write_text(
+                json.dumps(summary, indent=2, allow_nan=False, default=float)))
+            write_command(part)
+            build_report(part)
+    finally:
+        if bar is not None:
+            bar.close()
     if args.json:
         emit_json(summary)
-    failed = [n for n, m in summary["models"].items() if not m["completed"]]
-    if failed and len(models) == 1:
-        raise SimulationFailed(summary["models"][failed[0]]["message"])
+    failed = summary["failed"]
+    if failed:
+        m = summary["models"]
+        if len(models) == 1:
+            raise SimulationFailed(m[failed[0]]["message"])
+        raise SimulationFailed(f"{len(failed)} of {len(models)} models did not complete: "
+                               + "; ".join(f"{n} ({m[n]['outcome']}): {m[n]['message']}"
+                                           for n in failed))
     return 0
 
 

@@ -6,6 +6,7 @@ import argparse
 import logging
 
 from ..cli import UserError, emit_json
+from ._common import add_limit_flags, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -23,11 +24,19 @@ KEY is a scenario key as in --set (clutchsim run); SPEC is LO:HI:N (grid, N >= 1
 V1,V2,... (values), uniform(A,B), loguniform(A,B) or normal(MU,SIGMA) (random, needs
 --samples and --seed).  Grid keys form the full product.
 
-outputs in DIR: results.parquet (one row per run: run, the varied keys, status, message,
-metrics; units in the Parquet field metadata), sweep.json, chunks/ (finished chunks; an
-interrupted sweep re-run with the same command resumes from them), figures (heat maps for
-a 2-D grid, histograms and scatter otherwise), traces/ with --keep-traces.
-exit status: 0 (also when some runs failed: they are rows with their status), 2 bad input.
+outputs in DIR: results.parquet (one row per run: run, the varied keys, status, outcome,
+warnings, message, metrics; units in the Parquet field metadata), sweep.json, chunks/
+(finished chunks; an interrupted sweep (Ctrl-C, SIGTERM) keeps them: re-run the same
+command to resume), figures (heat maps for a 2-D grid, histograms and scatter otherwise),
+traces/ with --keep-traces, command.txt and report.html.  A sweep that fails before its
+first chunk (e.g. no Dask scheduler answers) leaves no directory behind.
+
+The number of runs (--max-runs) and the output rows of a run at the extremes of every
+varied key (--max-output-rows) are checked before anything runs.
+--json prints {"results", "runs", "chunks", "chunks_resumed", "wall_s", "status_counts",
+"outcome_counts", "runs_with_warnings", "sweep_id"}.
+exit status: 0 (also when some runs failed: they are rows with their status and outcome),
+2 bad input.
 """
 
 
@@ -59,15 +68,24 @@ def register(sub, common):
     p.add_argument("--chunk-size", type=int, metavar="N", help="runs per chunk")
     p.add_argument("--no-plots", action="store_true", help="skip the figures")
     p.add_argument("--json", action="store_true", help="print a summary on stdout")
+    add_limit_flags(p, runs=True)
 
 
 def run(args) -> int:
+    import math
+
+    from .._util import check_output_dir
     from ..progress import progress_for
+    from ..report import build_report
     from ..sweeps import sweep
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers {args.workers}: must be >= 1")
     if args.chunk_size is not None and args.chunk_size < 1:
         raise UserError(f"--chunk-size {args.chunk_size}: must be >= 1")
+    if not (math.isfinite(args.connect_timeout) and args.connect_timeout > 0):
+        raise UserError(f"--connect-timeout {args.connect_timeout!r}: must be a finite "
+                        "number of seconds > 0")
+    check_output_dir(args.out)
     metrics = [m.strip() for m in args.metrics.split(",") if m.strip()] \
         if args.metrics else None
     backend = "dask" if args.dask else "threads"
@@ -76,15 +94,22 @@ def run(args) -> int:
                 backend=backend, workers=args.workers, address=args.dask or "local",
                 connect_timeout=args.connect_timeout, chunk_size=args.chunk_size,
                 keep_traces=args.keep_traces, plots=not args.no_plots, load=not args.no_plots,
-                progress=progress_for(args, "runs"))
-    bad = {k: v for k, v in res.status_counts.items() if k != "completed"}
-    log.info("sweep: %d runs (%d chunks, %d resumed) in %.1f s -> %s%s", res.runs,
+                progress=progress_for(args, "runs"), max_runs=args.max_runs,
+                max_output_rows=args.max_output_rows)
+    write_command(res.path)
+    build_report(res.path)
+    bad = {k: v for k, v in res.outcome_counts.items() if k != "completed"}
+    log.info("sweep: %d runs (%d chunks, %d resumed) in %.1f s -> %s%s%s", res.runs,
              res.chunks, res.chunks_skipped, res.wall_s, res.path / "results.parquet",
-             f"; did not complete: {bad}" if bad else "")
+             f"; did not complete: {bad}" if bad else "",
+             f"; {res.runs_with_warnings} runs with warnings (see the warnings column)"
+             if res.runs_with_warnings else "")
     if args.json:
         emit_json({"results": str(res.path / "results.parquet"), "runs": res.runs,
                    "chunks": res.chunks, "chunks_resumed": res.chunks_skipped,
                    "wall_s": res.wall_s, "status_counts": res.status_counts,
+                   "outcome_counts": res.outcome_counts,
+                   "runs_with_warnings": res.runs_with_warnings,
                    "sweep_id": res.manifest["sweep_id"]})
     return 0
 

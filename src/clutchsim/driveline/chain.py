@@ -471,7 +471,7 @@ class Chain:
     def _state_spec(fe):
         """(state names, state units) of a switching element's own states."""
         if isinstance(fe, _LOSSY):
-            return ("mode",), ("1",)
+            return ("mode",), ("-",)
         return tuple(fe.model.state_names()), tuple(fe.model.state_units("rotational"))
 
     def _slip0(self, fe, omega0, ratios) -> float:

@@ -42,9 +42,11 @@ def friction_model(spec: dict, model: str | None, key: str, fail):
                 return make_model(name, spec.get("parameter_set"), **spec.get("overrides", {}))
             alts = spec.get("alternatives", {})
             if name not in alts:
-                fail(f"no parameters for model {name!r} on this element: add "
-                     f"[{key}.alternatives.{name}] (available: "
-                     f"{', '.join([spec['model'], *alts]) or 'none'})", f"{key}.alternatives")
+                fail(f"no parameters for model {name!r} on this element (available: "
+                     f"{', '.join([spec['model'], *alts]) or 'none'}): add them to its "
+                     f"friction table, e.g. friction = {{ model = \"{spec['model']}\", ..., "
+                     f"alternatives = {{ {name} = {{ parameter_set = \"...\" }} }} }}",
+                     f"{key}.alternatives")
             alt = dict(alts[name])
             pset = alt.pop("parameter_set", None)
             if pset is None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import sys
 import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
@@ -11,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from .._util import quote
 from ..core import Constant, Ramp, Signal, Sine, SolverOptions, Step, Table
 from .errors import ScenarioError, find_line
 from .schema import COUPLING_TYPES, FRICTION, SECTIONS, check_table, suggest
@@ -68,10 +70,24 @@ class Scenario:
     #: built chains per effective model (chains are immutable; a sweep builds each
     #: variant's chain once for validation and would build it again to run it)
     _chains: dict = field(default_factory=dict, repr=False, compare=False)
+    #: key path -> the ``--set`` item that gave it (errors name the item, not a file line)
+    set_by: dict = field(default_factory=dict, repr=False, compare=False)
 
     def fail(self, problem: str, key: str = "") -> None:
-        raise ScenarioError(problem, file=self.file, key=key,
-                            line=find_line(self.text, key) if key else None)
+        _fail(problem, key, file=self.file, text=self.text, set_by=self.set_by)
+
+    def inputs0(self) -> dict:
+        """The input values at t = 0 (what a chain is built with)."""
+        return {name: float(np.asarray(sig(0.0)).ravel()[0])
+                for name, sig in self.inputs.items()}
+
+    def estimate(self, model: str | None = None):
+        """What one run with ``model`` will produce: a :class:`clutchsim._util.RunEstimate`
+        (output rows, signals, the least number of steps), before running it."""
+        from .._util import estimate_run
+        system = self.chain(model).build(self.inputs0())
+        n = len(system.state_names) + len(system.input_names) + len(system.output_names)
+        return estimate_run(self.t_end, self.options, n)
 
     def chain(self, model: str | None = None):
         """The :class:`~clutchsim.driveline.Chain` with ``model`` on the clutch element."""
@@ -80,6 +96,30 @@ class Scenario:
         if key not in self._chains:
             self._chains[key] = build_chain(self, key)
         return self._chains[key]
+
+
+def _fail(problem: str, key: str, *, file: str, text: str, set_by: dict) -> None:
+    """Raise the :class:`ScenarioError` for ``key``.
+
+    An error raised while another one is being handled (a builder that catches
+    ``ValueError`` and calls ``fail`` again) is the one already located: it is raised as it
+    is, so the message never repeats its location prefix.
+    """
+    current = sys.exception()
+    if isinstance(current, ScenarioError) and problem == str(current):
+        raise current
+    origin = _set_origin(key, set_by) if key else None
+    line = find_line(text, key) if key and text and origin is None else None
+    raise ScenarioError(problem, file=file, key=key, line=line, origin=origin)
+
+
+def _set_origin(key: str, set_by: dict) -> str | None:
+    """The ``--set`` item that set ``key``, a table above it or a key inside it."""
+    for path, item in set_by.items():
+        if key == path or key.startswith((path + ".", path + "[")) or \
+                path.startswith((key + ".", key + "[")):
+            return item
+    return None
 
 
 def load_scenario(path: str | Path | None = None, *, overrides=None) -> Scenario:
@@ -100,46 +140,89 @@ def load_scenario(path: str | Path | None = None, *, overrides=None) -> Scenario
         text, file, base = default_scenario_text(), f"<default scenario {DEFAULT_NAME}>", None
     else:
         p = Path(path)
+        if p.is_dir():
+            raise ScenarioError("is a directory, not a scenario file (give a .toml file)",
+                                file=p)
         try:
-            text = p.read_text(encoding="utf-8")
+            raw = p.read_bytes()
         except OSError as exc:
             raise ScenarioError(f"cannot read the scenario file ({exc.strerror})",
                                 file=p) from None
+        if len(raw) > MAX_FILE_BYTES:
+            raise ScenarioError(f"{len(raw):,} bytes is not a scenario file (at most "
+                                f"{MAX_FILE_BYTES:,}; long input signals belong in CSV "
+                                "tables)", file=p)
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            raise ScenarioError(f"not a text file: byte {exc.start} is not UTF-8 (a binary "
+                                "file? a scenario is TOML text)", file=p) from None
+        if "\x00" in text:
+            raise ScenarioError("not a text file: it holds NUL bytes (a binary file? a "
+                                "scenario is TOML text)", file=p)
         file, base = str(p), p.parent
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         line = getattr(exc, "lineno", None)
         raise ScenarioError(f"not valid TOML: {exc}", file=file, line=line) from None
+    except (RecursionError, MemoryError):
+        raise ScenarioError("not a usable TOML file: its arrays or tables are nested too "
+                            "deeply to read", file=file) from None
+    set_by: dict = {}
     if overrides:
-        data = apply_overrides(data, overrides, file)
-    return parse_scenario(data, text=text, file=file, base_dir=base)
+        data, set_by = _overridden(data, overrides, file)
+    return parse_scenario(data, text=text, file=file, base_dir=base, set_by=set_by)
+
+
+#: largest scenario file [bytes]
+MAX_FILE_BYTES = 10_000_000
 
 
 def apply_overrides(data: dict, overrides, file: str = "<scenario>") -> dict:
     """A copy of ``data`` with ``key.path=value`` assignments applied."""
+    return _overridden(data, overrides, file)[0]
+
+
+def _overridden(data: dict, overrides, file: str) -> tuple[dict, dict]:
+    """``(data with the overrides, {key path: the --set item})``."""
     import re
     out = copy.deepcopy(data)
+    set_by = {}
+    if isinstance(overrides, str):
+        overrides = [overrides]
     for item in overrides:
-        if "=" not in item:
-            raise ScenarioError(f"--set {item!r}: expected key.path=value", file=file)
+        if not isinstance(item, str) or "=" not in item:
+            raise ScenarioError(f"--set {quote(item)}: expected key.path=value, e.g. "
+                                "vehicle.mass=1400", file=file)
         key, raw = item.split("=", 1)
         key = key.strip()
+        shown = quote(item)
+        parts = re.findall(r"([A-Za-z0-9_\-]+)(?:\[(\d+)\])?", key)
+        if not parts or "".join(f"{n}[{i}]" if i else n for n, i in parts) != \
+                key.replace(".", ""):
+            raise ScenarioError(f"--set {shown}: {quote(key)} is not a key path (names "
+                                "joined by '.', with [N] for an entry of an array of tables, "
+                                "e.g. coupling[0].drag)", file=file)
         try:
             value = tomllib.loads(f"v = {raw.strip()}")["v"]
         except tomllib.TOMLDecodeError:
             value = raw.strip()
-        parts = re.findall(r"([A-Za-z0-9_\-]+)(?:\[(\d+)\])?", key)
+        except (RecursionError, MemoryError):
+            raise ScenarioError(f"--set {shown}: the value is nested too deeply to read",
+                                file=file) from None
         node: Any = out
         for i, (name, index) in enumerate(parts):
             last = i == len(parts) - 1
             if not isinstance(node, dict):
-                raise ScenarioError(f"--set {item!r}: {name!r} is not inside a table", file=file)
+                raise ScenarioError(f"--set {shown}: {name!r} is not inside a table",
+                                    file=file)
             if index:
                 seq = node.get(name)
                 if not isinstance(seq, list) or int(index) >= len(seq):
-                    raise ScenarioError(f"--set {item!r}: {name}[{index}] does not exist",
-                                        file=file, key=key)
+                    n = len(seq) if isinstance(seq, list) else 0
+                    raise ScenarioError(f"--set {shown}: {name}[{index}] does not exist "
+                                        f"({name} has {n} entries)", file=file)
                 if last:
                     seq[int(index)] = value
                 node = seq[int(index)]
@@ -147,7 +230,8 @@ def apply_overrides(data: dict, overrides, file: str = "<scenario>") -> dict:
                 node[name] = value
             else:
                 node = node.setdefault(name, {})
-    return out
+        set_by[key] = item if len(item) <= 80 else shown
+    return out, set_by
 
 
 def _signal(spec, key: str, base_dir, fail) -> Signal:
@@ -169,8 +253,8 @@ def _signal(spec, key: str, base_dir, fail) -> Signal:
             return parse_signal(text, base_dir=base_dir)
         except ImportError:   # pragma: no cover - the formula parser ships with clutchsim
             fail("formula signals need clutchsim.signal_expr", key)
-        except ValueError as exc:
-            fail(f"bad signal {text!r}: {exc}", key)
+        except ValueError as exc:   # the message quotes the formula (shortened)
+            fail(str(exc), key)
     if isinstance(spec, dict):
         kind = spec.get("type")
         kinds = {"const": (Constant, {"value"}), "step": (Step, {"time", "height", "offset"}),
@@ -200,12 +284,16 @@ def _signal(spec, key: str, base_dir, fail) -> Signal:
 
 
 def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
-                   base_dir=None) -> Scenario:
-    """Validate the tables of a scenario and build its signals and options."""
+                   base_dir=None, set_by: dict | None = None) -> Scenario:
+    """Validate the tables of a scenario and build its signals and options.
+
+    ``set_by`` maps key paths to the ``--set`` items that gave them: their errors name the
+    item instead of a line of the file.
+    """
+    set_by = dict(set_by or {})
 
     def fail(problem, key=""):
-        raise ScenarioError(problem, file=file, key=key,
-                            line=find_line(text, key) if key and text else None)
+        _fail(problem, key, file=file, text=text, set_by=set_by)
 
     for name in data:
         if name not in SECTIONS:
@@ -224,6 +312,8 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
                 fail(f"must be an array of tables [[{name}]]", name)
             for i, tab in enumerate(value):
                 path = f"{name}[{i}]"
+                if not isinstance(tab, dict):
+                    fail(f"must be a table [[{name}]], got {quote(tab)}", path)
                 if name == "coupling":
                     ctype = tab.get("type")
                     if ctype not in COUPLING_TYPES:
@@ -273,6 +363,7 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
     models = tuple(sc.get("models", ()))
     scen = Scenario(name=sc["name"], description=sc.get("description", ""),
                     t_end=float(sc["t_end"]), models=models, clutch=clutch, inputs=inputs,
-                    solver=method, options=options, data=data, file=file, text=text)
+                    solver=method, options=options, data=data, file=file, text=text,
+                    set_by=set_by)
     scen.chain()   # build once: component-level validation errors surface here
     return scen

@@ -10,6 +10,8 @@ import difflib
 import math
 from dataclasses import dataclass
 
+from .._util import quote
+
 __all__ = ["COUPLING_TYPES", "SECTIONS", "Key", "check_table", "reference_markdown"]
 
 
@@ -34,29 +36,30 @@ def _n(name, doc, unit="", **kw):
 SCENARIO = (
     Key("name", "str", "Short name of the scenario.", required=True),
     Key("description", "str", "What the scenario shows."),
-    _n("t_end", "End time of the run.", "s", required=True, low=0.0, strict=True),
+    _n("t_end", "End time of the run.", "s", required=True, low=0.0, strict=True, high=1e6),
     Key("models", "strs", "Friction models to run for the element named by `clutch` "
         "(default: the element's own model)."),
     Key("clutch", "str", "Name of the friction element the models replace and the launch "
         "metrics refer to (default `clutch`)."),
 )
 SOLVER = (
-    Key("method", "str", "rodas4 (default), ros34pw2, dopri5, scipy-radau, scipy-lsoda, scipy-rk45."),
-    _n("rtol", "Relative tolerance.", low=1e-14),
-    _n("atol", "Absolute tolerance.", low=0.0, strict=True),
-    _n("h_max", "Largest step (0: none).", "s", low=0.0),
-    _n("dt_out", "Output grid spacing (0: every step).", "s", low=0.0),
-    Key("max_steps", "int", "Step budget.", low=1),
-    _n("wall_time", "Wall-time budget of one run.", "s", low=0.0),
-    Key("chatter_events", "int", "Chatter detection: this many events ...", low=0),
+    Key("method", "str", "rodas4 (default), ros34pw2, dopri5, scipy-radau, scipy-lsoda, "
+        "scipy-rk45."),
+    _n("rtol", "Relative tolerance.", low=1e-14, high=1.0),
+    _n("atol", "Absolute tolerance.", low=0.0, strict=True, high=1.0),
+    _n("h_max", "Largest step (0: none).", "s", low=0.0, high=1e6),
+    _n("dt_out", "Output grid spacing (0: every step).", "s", low=0.0, high=1e6),
+    Key("max_steps", "int", "Step budget.", low=1, high=1e9),
+    _n("wall_time", "Wall-time budget of one run (0: none).", "s", low=0.0, high=1e6),
+    Key("chatter_events", "int", "Chatter detection: this many events ...", low=0, high=1e9),
     _n("chatter_window", "... within this time stop the run (default: 1e-4 of t_end).", "s",
-       low=0.0),
+       low=0.0, high=1e6),
 )
 INERTIA = (
     Key("name", "str", "Unique name; state `omega_<name>` [rad/s].", required=True),
-    _n("J", "Inertia.", "kg·m²", required=True, low=0.0, strict=True),
-    _n("omega0", "Initial speed.", "rad/s"),
-    _n("bearing_damping", "Viscous bearing loss to ground.", "N·m·s/rad", low=0.0),
+    _n("J", "Inertia.", "kg·m²", required=True, low=0.0, strict=True, high=1e5),
+    _n("omega0", "Initial speed.", "rad/s", low=-1e4, high=1e4),
+    _n("bearing_damping", "Viscous bearing loss to ground.", "N·m·s/rad", low=0.0, high=1e6),
     Key("load", "str", "Input signal applied as a torque on this inertia [N·m]."),
 )
 FRICTION = (
@@ -82,23 +85,25 @@ CLUTCH = (
     Key("mu_slip", "table", "`{slip = [rad/s ...], factor = [...]}`: mu(|w|)/mu_ref."),
     Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
         "friction power |T·w| goes."),
-    _n("drag", "Drag torque of the open element.", "N·m", low=0.0),
-    _n("ratio", "Ideal ratio on the input side.", "-"),
+    _n("drag", "Drag torque of the open element.", "N·m", low=0.0, high=1e6),
+    _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
 )
 SPRING = (
     Key("name", "str", "Unique name; state `phi_<name>` [rad].", required=True),
     Key("type", "str", "spring_damper.", required=True),
-    _n("c", "Stiffness (first stage).", "N·m/rad", required=True, low=0.0, strict=True),
-    _n("d", "Damping.", "N·m·s/rad", low=0.0),
-    _n("knee", "Twist where the second stage starts (0: single stage).", "rad", low=0.0),
-    _n("c2", "Second-stage stiffness.", "N·m/rad", low=0.0),
-    _n("phi0", "Initial twist.", "rad"),
-    _n("ratio", "Ideal ratio on the input side.", "-"),
+    _n("c", "Stiffness (first stage).", "N·m/rad", required=True, low=0.0, strict=True,
+       high=1e9),
+    _n("d", "Damping.", "N·m·s/rad", low=0.0, high=1e7),
+    _n("knee", "Twist where the second stage starts (0: single stage).", "rad", low=0.0,
+       high=10.0),
+    _n("c2", "Second-stage stiffness.", "N·m/rad", low=0.0, high=1e9),
+    _n("phi0", "Initial twist.", "rad", low=-10.0, high=10.0),
+    _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
 )
 GEAR = (
     Key("name", "str", "Unique name.", required=True),
     Key("type", "str", "gear.", required=True),
-    _n("ratio", "Speed ratio omega_in/omega_out.", "-", required=True),
+    _n("ratio", "Speed ratio omega_in/omega_out.", "-", required=True, low=-1e3, high=1e3),
 )
 LOSSY_GEAR = (
     Key("name", "str", "Unique name; states `<name>.mode` (-1 rolling backward, 0 stuck, +1 "
@@ -106,7 +111,8 @@ LOSSY_GEAR = (
     Key("type", "str", "lossy_gear: rigid gear with mesh efficiency and bearing friction that "
         "can stick (Modelica LossyGear; at most one gear with losses per scenario, a gearbox "
         "with an efficiency included).", required=True),
-    _n("ratio", "Speed ratio omega_a/omega_b (non-zero).", "-", required=True),
+    _n("ratio", "Speed ratio omega_a/omega_b (non-zero).", "-", required=True, low=-1e3,
+       high=1e3),
     Key("loss_table", "table", "`{speed = [rad/s ...], eta_mf1 = [...], eta_mf2 = [...], "
         "tau_bf1 = [N·m ...], tau_bf2 = [N·m ...]}`: mesh efficiency with power flowing a->b "
         "(eta_mf1) and b->a (eta_mf2), in (0, 1], and bearing friction torques (>= 0), against "
@@ -119,20 +125,20 @@ ONE_WAY_CLUTCH = (
         "OneWayClutch); slides only with omega_b > omega_a/ratio.", required=True),
     Key("command", "str", "Normalised clamp force input (0 open .. 1 full).", required=True),
     _n("T_slide", "Sliding torque of the clutch at full command (mu·cgeo·fn_max).", "N·m",
-       required=True, low=0.0),
-    _n("peak", "Static / sliding torque ratio of the clutch.", "-", low=1.0),
+       required=True, low=0.0, high=1e7),
+    _n("peak", "Static / sliding torque ratio of the clutch.", "-", low=1.0, high=100.0),
     Key("mu_temperature", "table", "`{theta = [°C ...], factor = [...]}`: mu(theta)/mu_ref at the "
         "first heat node."),
     Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
         "friction power goes."),
-    _n("ratio", "Ideal ratio on the input side.", "-"),
+    _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
 )
 GEARBOX = (
     Key("name", "str", "Unique name; state `ratio_<name>`.", required=True),
     Key("type", "str", "gearbox.", required=True),
     Key("ratios", "numbers", "Gear ratios, gear 1 first.", required=True),
     Key("gear", "int", "Selected gear (1-based).", required=True, low=1),
-    _n("final_drive", "Final drive ratio.", "-", low=0.0, strict=True),
+    _n("final_drive", "Final drive ratio.", "-", low=0.0, strict=True, high=100.0),
     Key("shifts", "tables", "`[{time = 3.0, gear = 2}]`: ratio changes (ideal synchroniser)."),
     _n("efficiency", "Mesh efficiency, power flowing input -> output, in (0, 1] (gearbox and "
        "final drive together; default 1: no loss). With losses the gearbox is the "
@@ -141,14 +147,14 @@ GEARBOX = (
     _n("efficiency_reverse", "Mesh efficiency, power flowing output -> input (engine "
        "braking), in (0, 1]; default: `efficiency`.", "-", low=0.0, strict=True, high=1.0),
     _n("drag_torque", "Bearing and churning drag referred to the input shaft.", "N·m",
-       low=0.0),
+       low=0.0, high=1e6),
 )
 BRAKE = (
     Key("name", "str", "Unique name.", required=True),
     Key("node", "str", "Inertia the brake acts on.", required=True),
     Key("command", "str", "Actuation input (0 released .. 1 full capacity).", required=True),
     Key("friction", "table", "Friction model of the brake (see [friction]).", required=True),
-    _n("drag", "Drag torque of the released brake.", "N·m", low=0.0),
+    _n("drag", "Drag torque of the released brake.", "N·m", low=0.0, high=1e6),
     Key("mu_slip", "table", "`{slip = [rad/s ...], factor = [...]}`: mu(|w|)/mu_ref (e.g. a "
         "speed-dependent bearing friction)."),
 )
@@ -157,32 +163,35 @@ ENGINE = (
     Key("full_load", "table", "`{speed = [rad/s ...], torque = [N·m ...]}` full-load curve.",
         required=True),
     Key("throttle", "str", "Throttle input signal [-] 0..1.", required=True),
-    _n("drag0", "Friction torque.", "N·m", low=0.0),
-    _n("drag1", "Pumping loss coefficient.", "N·m·s/rad", low=0.0),
-    _n("idle_speed", "Idle governor target (0: no governor).", "rad/s", low=0.0),
-    _n("kp", "Governor proportional gain.", "1/(rad/s)", low=0.0),
-    _n("ki", "Governor integral gain.", "1/rad", low=0.0),
-    _n("stall_speed", "Stall threshold: the run fails below it.", "rad/s", low=0.0),
+    _n("drag0", "Friction torque.", "N·m", low=0.0, high=1e6),
+    _n("drag1", "Pumping loss coefficient.", "N·m·s/rad", low=0.0, high=1e4),
+    _n("idle_speed", "Idle governor target (0: no governor).", "rad/s", low=0.0, high=1e4),
+    _n("kp", "Governor proportional gain.", "1/(rad/s)", low=0.0, high=1e6),
+    _n("ki", "Governor integral gain.", "1/rad", low=0.0, high=1e6),
+    _n("stall_speed", "Stall threshold: the run fails below it.", "rad/s", low=0.0, high=1e4),
 )
 VEHICLE = (
-    _n("mass", "Vehicle mass.", "kg", required=True, low=0.0, strict=True),
-    _n("tyre_radius", "Dynamic tyre radius.", "m", required=True, low=0.0, strict=True),
+    _n("mass", "Vehicle mass.", "kg", required=True, low=0.0, strict=True, high=1e6),
+    _n("tyre_radius", "Dynamic tyre radius.", "m", required=True, low=0.0, strict=True,
+       high=5.0),
     _n("grade", "Road grade (positive uphill).", "%", low=-100.0, high=100.0),
     _n("rolling", "Rolling-resistance coefficient.", "-", low=0.0, high=0.5),
-    _n("cd_area", "Drag area c_d·A.", "m²", low=0.0),
-    _n("air_density", "Air density.", "kg/m³", low=0.0),
+    _n("cd_area", "Drag area c_d·A.", "m²", low=0.0, high=100.0),
+    _n("air_density", "Air density.", "kg/m³", low=0.0, high=10.0),
     _n("v_eps", "Regularisation speed of rolling resistance at rest.", "m/s", low=0.0,
-       strict=True),
+       strict=True, high=10.0),
 )
 THERMAL = (
     Key("name", "str", "Unique name; state `theta_<name>` [°C].", required=True),
-    _n("capacity", "Heat capacity m·c_p.", "J/K", required=True, low=0.0, strict=True),
-    _n("conductance", "Convection hA to ambient (0: adiabatic).", "W/K", low=0.0),
-    _n("ambient", "Ambient temperature.", "°C", low=-273.15),
-    _n("theta0", "Initial temperature.", "°C", low=-273.15),
+    _n("capacity", "Heat capacity m·c_p.", "J/K", required=True, low=0.0, strict=True,
+       high=1e9),
+    _n("conductance", "Convection hA to ambient (0: adiabatic).", "W/K", low=0.0, high=1e7),
+    _n("ambient", "Ambient temperature.", "°C", low=-273.15, high=2000.0),
+    _n("theta0", "Initial temperature.", "°C", low=-273.15, high=2000.0),
     Key("link", "str", "Another thermal node this one conducts to (e.g. a friction-surface "
         "layer to the bulk of its plate); declare each link once."),
-    _n("link_conductance", "Conductance of the link (> 0 with a link).", "W/K", low=0.0),
+    _n("link_conductance", "Conductance of the link (> 0 with a link).", "W/K", low=0.0,
+       high=1e7),
 )
 
 COUPLING_TYPES = {"clutch": CLUTCH, "one_way_clutch": ONE_WAY_CLUTCH,
@@ -224,44 +233,65 @@ def check_table(table: dict, keys: tuple, path: str, fail) -> None:
         v = table[k.name]
         if k.kind in ("number", "int"):
             if isinstance(v, str):
-                fail(f"must be a number in {k.unit or 'SI units'}, got the string {v!r} "
+                fail(f"must be a number in {k.unit or 'SI units'}, got the string {quote(v)} "
                      "(scenario values are plain SI numbers; the unit is fixed by the key)", kp)
             if isinstance(v, bool) or not isinstance(v, (int, float)):
-                fail(f"must be a number, got {type(v).__name__} {v!r}", kp)
+                fail(f"must be a number, got {type(v).__name__} {quote(v)}", kp)
             if k.kind == "int" and not isinstance(v, int):
-                fail(f"must be an integer, got {v!r}", kp)
+                fail(f"must be an integer, got {quote(v)}", kp)
             if not math.isfinite(v):
-                fail(f"must be finite, got {v!r}", kp)
+                fail(f"must be finite, got {quote(v)}", kp)
             u = f" {k.unit}" if k.unit and k.unit != "-" else ""
             if k.low is not None and (v <= k.low if k.strict else v < k.low):
-                fail(f"= {v!r}{u} is out of range: must be {'>' if k.strict else '>='} "
-                     f"{k.low:g}{u}", kp)
-            if k.high is not None and v > k.high:
-                fail(f"= {v!r}{u} is out of range: must be <= {k.high:g}{u}", kp)
+                rule = f"{'>' if k.strict else '>='} {k.low:g}{u}"
+            elif k.high is not None and v > k.high:
+                rule = f"<= {k.high:g}{u}"
+            else:
+                continue
+            fail(f"= {v!r}{u} is out of range: must be {rule} (range {range_text(k)}{u}"
+                 f"{'' if k.high is None else ', the physical range of this key'})", kp)
         elif k.kind == "str" and not isinstance(v, str):
-            fail(f"must be a string, got {v!r}", kp)
+            fail(f"must be a string, got {quote(v)}", kp)
         elif k.kind == "numbers":
             if not isinstance(v, list) or not all(
-                    isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
-                fail(f"must be a list of numbers, got {v!r}", kp)
+                    isinstance(x, (int, float)) and not isinstance(x, bool)
+                    and math.isfinite(x) for x in v):
+                fail(f"must be a list of finite numbers, got {quote(v)}", kp)
         elif k.kind == "strs":
             if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
-                fail(f"must be a list of strings, got {v!r}", kp)
+                fail(f"must be a list of strings, got {quote(v)}", kp)
         elif k.kind == "table" and not isinstance(v, dict):
-            fail(f"must be a table {{...}}, got {v!r}", kp)
+            fail(f"must be a table {{...}}, got {quote(v)}{_table_hint(k, v)}", kp)
         elif k.kind == "tables" and not (isinstance(v, list) and
                                          all(isinstance(x, dict) for x in v)):
-            fail(f"must be a list of tables [{{...}}, ...], got {v!r}", kp)
+            fail(f"must be a list of tables [{{...}}, ...], got {quote(v)}", kp)
+
+
+def range_text(k: Key) -> str:
+    """The range of a numeric key in interval notation: ``(0, 1e+06]``, ``[0, inf)``."""
+    lo = "(-inf" if k.low is None else f"{'(' if k.strict else '['}{k.low:g}"
+    hi = "inf)" if k.high is None else f"{k.high:g}]"
+    return f"{lo}, {hi}"
+
+
+def _table_hint(k: Key, v) -> str:
+    """A valid TOML line for a table key given as something else."""
+    if k.name == "friction":
+        model = v if isinstance(v, str) and v.strip() else "lugre"
+        return (f"; write it as an inline table, e.g. friction = {{ model = \"{model}\" }} "
+                f"or friction = {{ model = \"{model}\", overrides = {{ ... }} }}")
+    if k.name in ("overrides", "alternatives"):
+        return (f"; write it as an inline table, e.g. {k.name} = "
+                + ("{ F_c = 1.0 }" if k.name == "overrides"
+                   else "{ coulomb-robust = { F_c = 192.0, F_s = 240.0 } }"))
+    return ""
 
 
 def _rows(keys):
     out = ["| key | type | unit | required | range | meaning |", "|---|---|---|---|---|---|"]
     for k in keys:
-        rng = ""
-        if k.low is not None:
-            rng = f"{'>' if k.strict else '≥'} {k.low:g}"
-        if k.high is not None:
-            rng += (", " if rng else "") + f"≤ {k.high:g}"
+        rng = range_text(k) if k.kind in ("number", "int") and \
+            (k.low is not None or k.high is not None) else ""
         out.append(f"| `{k.name}` | {k.kind} | {k.unit} | {'yes' if k.required else ''} | "
                    f"{rng} | {k.doc} |")
     return out

@@ -9,6 +9,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
 from .backends import DEFAULT_CONNECT_TIMEOUT, dask_client, run_dask, run_threads
 from .design import Grid, Normal, SweepError, Uniform, Values, key_unit, make_design, parse_vary
 from .runner import DEFAULT_METRICS, METRICS
@@ -31,6 +32,10 @@ class SweepResult:
     wall_s: float
     status_counts: dict
     manifest: dict = field(repr=False)
+    #: runs per machine-readable outcome (``completed``, ``stalled``, ``chatter``, ...)
+    outcome_counts: dict = field(default_factory=dict)
+    #: runs that completed with warnings (the ``warnings`` column says which)
+    runs_with_warnings: int = 0
 
 
 def _default_chunk_size(n: int) -> int:
@@ -51,8 +56,10 @@ def _probe_values(spec) -> list[float]:
     return [spec.a, spec.b]
 
 
-def _check_keys(sc, vary, model) -> None:
-    """Every key must be a scenario key the loader accepts (unknown: suggest the closest)."""
+def _check_keys(sc, vary, model, max_rows: int) -> None:
+    """Every key must be a scenario key the loader accepts (unknown: suggest the closest),
+    and the extreme values must give runs within the output limit."""
+    from .._util import ResourceError, check_run_size
     from ..scenario import ScenarioError
     from ..scenario.loader import apply_overrides, parse_scenario
     from .design import toml_value
@@ -60,7 +67,11 @@ def _check_keys(sc, vary, model) -> None:
         for v in _probe_values(spec):
             try:
                 data = apply_overrides(sc.data, [f"{key}={toml_value(v)}"], sc.file)
-                parse_scenario(data, text=sc.text, file=sc.file).chain(model)
+                probe = parse_scenario(data, text=sc.text, file=sc.file)
+                check_run_size(probe.estimate(model), probe.options,
+                               what=f"{key} = {v:g}", max_rows=max_rows)
+            except ResourceError as exc:
+                raise ResourceError(f"--vary {key}: {exc}") from None
             except (ScenarioError, ValueError, KeyError, TypeError) as exc:
                 raise SweepError(f"--vary {key}: {exc}") from None
 
@@ -70,7 +81,8 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
           backend="threads", workers: int | None = None, address: str = "local",
           connect_timeout: float = DEFAULT_CONNECT_TIMEOUT, chunk_size: int | None = None,
           keep_traces: bool = False, plots: bool = False, load: bool = True,
-          progress=None) -> SweepResult:
+          progress=None, max_runs: int | None = DEFAULT_MAX_RUNS,
+          max_output_rows: int | None = DEFAULT_MAX_OUTPUT_ROWS) -> SweepResult:
     """Simulate ``scenario`` once per variant and collect the launch metrics in a table.
 
     Parameters
@@ -110,10 +122,23 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
         Read the results table back into ``SweepResult.table``.
     progress : callable, optional
         ``progress(done_runs, total_runs)`` after each chunk.
+    max_runs : int or None
+        Refuse a design of more runs (:class:`~clutchsim._util.ResourceError`, before any
+        memory is allocated for it); ``None``: no limit.
+    max_output_rows : int or None
+        Refuse a base scenario (or an extreme of a varied key) whose fixed output grid has
+        more rows per run; a run storing every step stores at most this many.
 
     Returns
     -------
     SweepResult
+
+    Notes
+    -----
+    An interrupted sweep (Ctrl-C, SIGTERM, a failed worker) keeps its finished chunks in
+    ``out``: the same call resumes from them.  A sweep that fails before finishing any
+    chunk (a Dask scheduler that does not answer, for one) removes the directory it
+    created.
     """
     from .. import __version__
     from ..scenario import Scenario, load_scenario
@@ -134,8 +159,11 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
                              f"{', '.join(METRICS)})")
     if len(set(metrics)) != len(metrics):
         raise SweepError(f"metrics listed twice: {', '.join(metrics)}")
-    design = make_design(vary, samples, seed)
-    _check_keys(scenario, vary, model)
+    design = make_design(vary, samples, seed, max_runs=max_runs)
+    rows = max_output_rows if max_output_rows is not None else 2**62
+    check_run_size(scenario.estimate(model), scenario.options,
+                   what=f"{scenario.file}: {model or 'its own model'}", max_rows=rows)
+    _check_keys(scenario, vary, model, rows)
     spec_texts = {k: s.text() for k, s in vary.items()}
     identity = {"format": FORMAT, "scenario": scenario.data, "model": model,
                 "vary": spec_texts, "samples": samples if design.random_keys else None,
@@ -157,12 +185,17 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
         path = Path(tmp.name) / "sweep"
     else:
         path = Path(out)
+    created = not path.exists()
     try:
         _resume_chunk_size(path, manifest)
         store = SweepStore(path, manifest)
         store.open()
-        result = _execute(store, scenario, design, manifest, backend, workers, address,
-                          connect_timeout, progress, keep_traces)
+        try:
+            result = _execute(store, scenario, design, manifest, backend, workers, address,
+                              connect_timeout, progress, keep_traces, max_output_rows)
+        except BaseException:
+            _after_failure(path, created, tmp is None)
+            raise
         table = read_results(path) if (load or plots or tmp is not None) else None
         if plots:
             from ..plot.sweep import write_figures
@@ -172,6 +205,17 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
     finally:
         if tmp is not None:
             tmp.cleanup()
+
+
+def _after_failure(path: Path, created: bool, keep: bool) -> None:
+    """A sweep stopped early: say how to resume, or remove a directory holding nothing."""
+    import shutil
+    chunks = list((path / "chunks").glob("chunk-*.parquet")) if path.is_dir() else []
+    if chunks and keep:
+        log.warning("sweep stopped: %d finished chunks are kept in %s; re-run the same "
+                    "command to resume", len(chunks), path)
+    elif created:
+        shutil.rmtree(path, ignore_errors=True)
 
 
 def _resume_chunk_size(path: Path, manifest: dict) -> None:
@@ -188,7 +232,7 @@ def _resume_chunk_size(path: Path, manifest: dict) -> None:
 
 
 def _execute(store, scenario, design, manifest, backend, workers, address,
-             connect_timeout, progress, keep_traces) -> dict:
+             connect_timeout, progress, keep_traces, max_output_rows) -> dict:
     t0 = time.perf_counter()
     size = manifest["chunk_size"]
     n_chunks = math.ceil(design.n / size)
@@ -212,14 +256,18 @@ def _execute(store, scenario, design, manifest, backend, workers, address,
              f" ({skipped} chunks already done, resuming)" if skipped else "")
     job = {"sweep_id": sid, "data": scenario.data, "text": scenario.text,
            "file": scenario.file, "model": manifest["model"], "keys": design.keys,
-           "metrics": tuple(manifest["metrics"]), "keep_traces": bool(keep_traces)}
+           "metrics": tuple(manifest["metrics"]), "keep_traces": bool(keep_traces),
+           "max_output": max_output_rows}
     counts: dict = {}
-    state = {"done": done_runs}
+    outcomes: dict = {}
+    state = {"done": done_runs, "warned": 0}
 
     def done(index, out):
         store.write_chunk(index, ids[index][1], out)
         for row in out["rows"]:
             counts[row["status"]] = counts.get(row["status"], 0) + 1
+            outcomes[row["outcome"]] = outcomes.get(row["outcome"], 0) + 1
+            state["warned"] += bool(row["warnings"])
         state["done"] += len(out["rows"])
         if progress is not None:
             progress(state["done"], design.n)
@@ -244,14 +292,19 @@ def _execute(store, scenario, design, manifest, backend, workers, address,
                              "distributed.Client")
     store.assemble(ids)
     if skipped:
-        counts = _count_statuses(store.path)
+        counts, outcomes, state["warned"] = _count_statuses(store.path)
     return {"runs": design.n, "chunks": n_chunks, "chunks_skipped": skipped,
-            "wall_s": time.perf_counter() - t0, "status_counts": counts}
+            "wall_s": time.perf_counter() - t0, "status_counts": counts,
+            "outcome_counts": outcomes, "runs_with_warnings": state["warned"]}
 
 
-def _count_statuses(path: Path) -> dict:
+def _count_statuses(path: Path) -> tuple[dict, dict, int]:
+    """Status and outcome counts and the runs with warnings, from results.parquet."""
     import pyarrow.compute as pc
     import pyarrow.parquet as pq
-    col = pq.read_table(path / "results.parquet", columns=["status"])["status"]
-    vc = pc.value_counts(col).to_pylist()
-    return {d["values"]: d["counts"] for d in vc}
+    table = pq.read_table(path / "results.parquet", columns=["status", "outcome", "warnings"])
+
+    def count(name):
+        return {d["values"]: d["counts"] for d in pc.value_counts(table[name]).to_pylist()}
+    warned = int(pc.sum(pc.not_equal(table["warnings"], "")).as_py() or 0)
+    return count("status"), count("outcome"), warned

@@ -20,6 +20,7 @@ __all__ = [
     "SweepError",
     "Uniform",
     "Values",
+    "design_size",
     "key_unit",
     "make_design",
     "parse_spec",
@@ -255,10 +256,22 @@ class Design:
         return tuple(float(self.columns[k][i]) for k in self.keys)
 
 
-def make_design(vary: dict, samples: int | None = None, seed: int | None = None) -> Design:
+def design_size(vary: dict, samples: int | None = None) -> int:
+    """The number of runs of a design, computed without building it."""
+    sizes = [s.n if isinstance(s, Grid) else len(s.items) for s in vary.values()
+             if isinstance(s, (Grid, Values))]
+    random = any(not isinstance(s, (Grid, Values)) for s in vary.values())
+    return math.prod(sizes) * (int(samples) if random and samples else 1)
+
+
+def make_design(vary: dict, samples: int | None = None, seed: int | None = None, *,
+                max_runs: int | None = None) -> Design:
     """Grid axes form the full product (first key slowest); random keys are drawn
     ``samples`` times from ``numpy.random.default_rng(seed)`` in the order given; with both,
-    every grid point is combined with every sample."""
+    every grid point is combined with every sample.
+
+    ``max_runs``: refuse (:class:`~clutchsim._util.ResourceError`) a design of more runs,
+    before anything is allocated."""
     grid = {k: s for k, s in vary.items() if isinstance(s, (Grid, Values))}
     rand = {k: s for k, s in vary.items() if not isinstance(s, (Grid, Values))}
     if rand and samples is None:
@@ -272,6 +285,9 @@ def make_design(vary: dict, samples: int | None = None, seed: int | None = None)
     if rand and seed is None:
         raise SweepError("random samples need a seed (--seed S) so the sweep can be repeated "
                          "and resumed")
+    if max_runs is not None:
+        from .._util import check_run_count
+        check_run_count(design_size(vary, samples), max_runs)
     axes = [grid[k].values() for k in grid]
     n_grid = math.prod(len(a) for a in axes) if axes else 1
     n_rand = samples if rand else 1

@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from .design import toml_value
 
-__all__ = ["DEFAULT_METRICS", "METRICS", "run_chunk", "run_variant"]
+__all__ = ["DEFAULT_METRICS", "METRICS", "WARNING_SEPARATOR", "run_chunk", "run_variant"]
+
+#: the ``warnings`` column joins a run's warnings with this
+WARNING_SEPARATOR = " | "
 
 #: metric -> (unit, kind) ; kind: float, int or bool
 METRICS = {
@@ -31,21 +35,28 @@ def run_variant(job: dict, values: tuple) -> tuple[dict, object]:
     """One run: ``(row, frame)``; ``frame`` is the time series (only with keep_traces).
 
     A run that fails (stall, NaN, budget) or whose parameters are invalid becomes a row
-    with its status and message; this function does not raise for those.
+    with its status, outcome (``launch_metrics``' machine-readable reason, ``error`` for
+    invalid parameters), warnings and message; this function does not raise for those.
     """
     from ..driveline.run import run_scenario
     from ..scenario.loader import apply_overrides, parse_scenario
-    row: dict = {"status": "error", "message": ""}
+    row: dict = {"status": "error", "outcome": "error", "warnings": "", "message": ""}
     frame = None
     try:
         overrides = [f"{k}={toml_value(v)}" for k, v in zip(job["keys"], values)]
         data = apply_overrides(job["data"], overrides, job["file"])
         sc = parse_scenario(data, text=job["text"], file=job["file"])
-        lr = run_scenario(sc, job["model"])
+        options = sc.options
+        cap = job.get("max_output")
+        if cap is not None and options.dt_out == 0 and options.max_output > cap:
+            options = replace(options, max_output=int(cap))
+        lr = run_scenario(sc, job["model"], options=options)
     except (ValueError, ArithmeticError, KeyError, TypeError) as exc:
         row["message"] = f"{type(exc).__name__}: {exc}"
         return row, frame
     row["status"] = lr.result.status
+    row["outcome"] = lr.metrics["outcome"]
+    row["warnings"] = WARNING_SEPARATOR.join(lr.metrics["warnings"])
     row["message"] = lr.metrics["message"]
     for m in job["metrics"]:
         v = lr.metrics.get(m)

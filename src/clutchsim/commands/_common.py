@@ -1,0 +1,51 @@
+"""What several subcommands share: the size-limit flags, command.txt, the run check."""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+from .._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
+
+__all__ = ["add_limit_flags", "checked_scenario", "write_command"]
+
+
+def _positive_int(text: str) -> int:
+    import argparse
+    try:
+        value = int(float(text)) if "e" in text.lower() else int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} must be >= 1")
+    return value
+
+
+def add_limit_flags(p, *, runs: bool = False) -> None:
+    """``--max-output-rows`` (and ``--max-runs`` for sweeps), documented in --help."""
+    g = p.add_argument_group("size limits (checked before anything runs)")
+    g.add_argument("--max-output-rows", type=_positive_int, default=DEFAULT_MAX_OUTPUT_ROWS,
+                   metavar="N", help="most output rows of one run (default "
+                   f"{DEFAULT_MAX_OUTPUT_ROWS:,}); a fixed output grid (dt_out) above it "
+                   "is refused, a run storing every step stops storing at it")
+    if runs:
+        g.add_argument("--max-runs", type=_positive_int, default=DEFAULT_MAX_RUNS,
+                       metavar="N", help=f"most runs of the sweep (default "
+                       f"{DEFAULT_MAX_RUNS:,})")
+
+
+def checked_scenario(sc, model, max_rows: int):
+    """``sc`` with its solver options fitted to the output limit, after refusing a run
+    beyond it (:class:`clutchsim._util.ResourceError`)."""
+    est = sc.estimate(model)
+    options = check_run_size(est, sc.options, what=f"{sc.file}: {model or 'its own model'}",
+                             max_rows=max_rows)
+    return sc if options is sc.options else replace(sc, options=options)
+
+
+def write_command(directory: Path) -> None:
+    """``command.txt``: the command line that made an output directory (atomically)."""
+    from ..core.result import atomic_write
+    text = " ".join(["clutchsim", *sys.argv[1:]]) + "\n"
+    atomic_write(Path(directory, "command.txt"), lambda p: Path(p).write_text(text))
