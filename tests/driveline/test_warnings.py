@@ -69,3 +69,16 @@ def test_a_clutch_that_never_locks_and_expect_lockup():
     # a scenario that means its clutch to slip says so
     lr = run_scenario(LAUNCH, "coulomb-robust", overrides=[*weak, "scenario.expect_lockup=false"])
     assert lr.result.warnings == ()
+
+
+def test_sweep_rows_carry_outcome_and_warnings(tmp_path):
+    from clutchsim.sweeps import read_results, sweep
+    # a sliding level of 30 N·m cannot carry the engine (never locks: a warning); 192 N·m
+    res = sweep(LAUNCH, {"coupling[0].friction.alternatives.coulomb-robust.F_c": "30,192"},
+                model="coulomb-robust", out=tmp_path / "s", plots=False,
+                overrides=["scenario.t_end=1.5", "solver.dt_out=0.005"])
+    t = read_results(tmp_path / "s")
+    assert list(t["outcome"]) == ["completed", "completed"]
+    weak, strong = list(t["warnings"][0]), list(t["warnings"][1])
+    assert _kinds(weak) == {"no_lockup"} and strong == []
+    assert t.attrs["units"]["outcome"] == "-" and res.table is not None
