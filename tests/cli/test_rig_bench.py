@@ -89,7 +89,7 @@ def test_bench_drift_json_shape():
     p = cli("bench", "drift", "--model", "elastoplastic", "--json")
     assert p.returncode == 0, p.stderr
     doc = json.loads(p.stdout)
-    assert set(doc["results"]["elastoplastic"]) == {"D1", "D2"}
+    assert set(doc["results"]["elastoplastic"]) == {"D1", "D2", "outcome", "warnings"}
 
 
 def test_bench_unknown_names_exit_2(tmp_path):

@@ -20,8 +20,8 @@ def test_sweep_writes_the_table_and_resumes(tmp_path, capsys):
     doc = json.loads(capsys.readouterr().out)
     assert doc["runs"] == 3 and doc["status_counts"] == {"completed": 3}
     t = read_results(tmp_path / "mc")
-    assert list(t.columns) == ["run", "vehicle.mass", "status", "message", "lockup_time_s",
-                               "slip_energy_J"]
+    assert list(t.columns) == ["run", "vehicle.mass", "status", "outcome", "message",
+                               "warnings", "lockup_time_s", "slip_energy_J"]
     assert main(argv) == 0
     again = json.loads(capsys.readouterr().out)
     assert again["chunks_resumed"] == again["chunks"]
