@@ -22,7 +22,14 @@ import numpy as np
 
 from ._jit import jit
 from .core import Signal, SolverOptions, System, register_system, simulate
-from .friction import MODELS, friction_events, friction_force, friction_jacobian, friction_reset
+from .friction import (
+    MODELS,
+    domain_problem,
+    friction_events,
+    friction_force,
+    friction_jacobian,
+    friction_reset,
+)
 from .friction.base import FrictionModel
 
 __all__ = ["RIG_HEADER", "make_rig", "run_rig"]
@@ -184,7 +191,9 @@ def make_rig(model: FrictionModel, *, domain: str = "translational", drive: str 
     Parameters
     ----------
     model : FrictionModel
-        Any model of :mod:`clutchsim.friction`.
+        Any model of :mod:`clutchsim.friction`.  One built by
+        :func:`~clutchsim.friction.make_model` from a parameter set of the other domain
+        (e.g. the translational LuGre set on a rotational rig) is refused (ValueError).
     domain : {"translational", "rotational"}
         Units of the signals (m, m/s, N or rad, rad/s, N·m).
     drive : {"force", "velocity"}
@@ -215,6 +224,11 @@ def make_rig(model: FrictionModel, *, domain: str = "translational", drive: str 
         raise ValueError(f"domain = {domain!r} must be 'translational' or 'rotational'")
     if drive not in ("force", "velocity"):
         raise ValueError(f"drive = {drive!r} must be 'force' or 'velocity'")
+    problem = domain_problem(model, domain, f"the {domain} rig",
+                             choose_set="--params SET (or run the rig in the set's domain, "
+                             "--domain / domain=)", give_params="--set KEY=VALUE")
+    if problem:
+        raise ValueError(problem)
     for name, value in (("mass", mass), ("spring", spring), ("pull_speed", pull_speed),
                         ("spring_offset", spring_offset), ("x0", x0), ("v0", v0)):
         if not np.isfinite(value):

@@ -45,7 +45,8 @@ def test_result_is_immutable_and_json_ready(drift):
         drift.benchmark = "x"
     doc = drift.metrics_json()
     assert doc["benchmark"] == "drift"
-    assert set(doc["results"]["lugre"]) == {"D1", "D2"}
+    assert set(doc["results"]["lugre"]) == {"D1", "D2", "outcome", "warnings"}
+    assert doc["results"]["lugre"]["outcome"] == "completed"
     assert "residual_m" in doc["results"]["lugre"]["D2"]
 
 

@@ -34,13 +34,18 @@ def test_rig_json_and_csv(tmp_path):
 def test_rig_rotational_columns(tmp_path):
     out = tmp_path / "rot.csv"
     # model (6) has a state named phi: the rig's own angle must not clash with it
-    p = cli("rig", "--model", "mykhailevych2020", "--domain", "rotational", "--mass", "0.2",
-            "--force", "ramp(0, 1, 1)",
+    p = cli("rig", "--model", "mykhailevych2020", "--params", "mykhailevych2020_clutch",
+            "--domain", "rotational", "--mass", "0.2", "--force", "ramp(0, 1, 1)",
             "--t-end", "1", "--out", str(out))
     assert p.returncode == 0, p.stderr
     header = out.read_text().splitlines()[0].split(",")
     assert header[:4] == ["time [s]", "theta [rad]", "omega [rad/s]", "T [N·m]"]
     assert "phi [rad]" in header
+    # the model's own (translational) set on the rotational rig: refused, exit 2
+    p = cli("rig", "--model", "mykhailevych2020", "--domain", "rotational", "--force", "0",
+            "--t-end", "1")
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+    assert "mykhailevych2020_translational" in p.stderr and "--params" in p.stderr
 
 
 @pytest.mark.parametrize("content, needle", [
@@ -88,7 +93,7 @@ def test_bench_drift_json_shape():
     p = cli("bench", "drift", "--model", "elastoplastic", "--json")
     assert p.returncode == 0, p.stderr
     doc = json.loads(p.stdout)
-    assert set(doc["results"]["elastoplastic"]) == {"D1", "D2"}
+    assert set(doc["results"]["elastoplastic"]) == {"D1", "D2", "outcome", "warnings"}
 
 
 def test_bench_unknown_names_exit_2(tmp_path):

@@ -255,3 +255,26 @@ def test_gearbox_rejects_bad_efficiency_and_a_second_lossy_gear():
         Chain([Inertia("a", 1.0), Inertia("b", 1.0), Inertia("c", 1.0)],
               [Gearbox("gb", ratios=(3.0,), efficiency=0.9),
                LossyGear("lg", 2.0, ((0.0, 0.9, 0.9, 0.0, 0.0),))])
+
+
+def test_gear_torque_sign_follows_flange_b_tau_and_input_units():
+    # a torque T = 6 N·m drives inertia a; the gear (ratio 3) drives inertia c behind it.
+    # Modelica's tau = flange_b.tau: the torque on c is -T_gear, so a gear accelerating the
+    # inertia behind it reports a negative T_gear, like a clutch driving its disc.
+    r, ja, jc = 3.0, 0.5, 2.0
+    chain = Chain([Inertia("a", ja, load="T"), Inertia("c", jc)], [Gear("gear", r)])
+    res = simulate(chain.build(), (0, 1.0), {"T": 6.0}, options=OPTS)
+    alpha_c = 6.0 / (ja + jc / r**2) / r            # rad/s² of c
+    assert res["omega_c"][-1] == pytest.approx(alpha_c, rel=1e-9)
+    assert np.all(res["T_gear"][1:] < 0)
+    assert res["T_gear"][-1] == pytest.approx(-jc * alpha_c, rel=1e-9)
+    # braking c instead (the load torque reversed): the gear now holds c back, T_gear > 0
+    res = simulate(chain.build(), (0, 1.0), {"T": -6.0}, options=OPTS)
+    assert res["T_gear"][-1] == pytest.approx(+jc * alpha_c, rel=1e-9)
+    # the load input is a torque and carries its unit; a command is a fraction
+    assert res.unit("T") == "N·m"
+    chain = Chain([Inertia("a", ja, load="T"), Inertia("c", jc)],
+                  [FrictionElement("clutch", make_model("coulomb-robust", F_c=5.0, F_s=6.0),
+                                   "com")])
+    system = chain.build({"com": 1.0})
+    assert dict(zip(system.input_names, system.input_units)) == {"T": "N·m", "com": "-"}

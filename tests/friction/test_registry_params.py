@@ -86,6 +86,41 @@ def test_list_sets_by_model():
     assert "coulomb" in list_parameter_sets("coulomb-robust")
 
 
+def test_every_set_has_a_domain_and_sets_list_by_domain():
+    rotational = {"rotational_friction", "mykhailevych2020_clutch"}
+    for name in list_parameter_sets():
+        assert load_parameter_set(name).domain in ("translational", "rotational")
+    assert set(list_parameter_sets(domain="rotational")) == rotational
+    assert list_parameter_sets("mykhailevych2020", "translational") == [
+        "mykhailevych2020_translational"]
+    with pytest.raises(ValueError, match="domain = 'angular'"):
+        list_parameter_sets(domain="angular")
+
+
+def test_rig_refuses_a_set_of_the_other_domain():
+    from clutchsim.friction import domain_problem, parameter_source
+    from clutchsim.rig import make_rig
+
+    clutch = make_model("mykhailevych2020", "mykhailevych2020_clutch")
+    assert parameter_source(clutch).domain == "rotational"
+    with pytest.raises(ValueError) as info:
+        make_rig(clutch)                      # translational by default
+    msg = str(info.value)
+    assert "'mykhailevych2020_clutch'" in msg and "rotational (N·m, rad, rad/s)" in msg
+    assert "translational units (N, m, m/s)" in msg and "mykhailevych2020_translational" in msg
+    assert "T_stat = 240 N·m would be read as 240 N" in msg
+    assert make_rig(clutch, domain="rotational").metadata["domain"] == "rotational"
+    with pytest.raises(ValueError, match="lugre has no rotational parameter set"):
+        make_rig(make_model("lugre"), domain="rotational")
+    # every parameter with a unit overridden: nothing of the set's domain is left
+    own = make_model("lugre", F_c=20.0, F_s=25.0, v_s=0.1, sigma0=1e4, sigma1=10.0, sigma2=0.0)
+    assert parameter_source(own).taken == ()
+    assert domain_problem(own, "rotational", "x") is None
+    # numbers given directly: their domain is the caller's, nothing to check
+    assert parameter_source(clutch.with_(k_v=0.1)) is None
+    make_rig(clutch.with_(k_v=0.1))
+
+
 def test_parameter_files_ship_inside_the_package():
     import clutchsim
 
@@ -180,3 +215,48 @@ def test_stick_force_flag_matches_the_kernel(name):
         f2 = friction_force(cls.code, p, z, v, float(rng.normal(scale=100.0)), 1.0, dz2)
         assert f1 == f2
         np.testing.assert_array_equal(dz1, dz2)
+
+
+def test_describe_models_gives_defaults_and_the_sets_with_their_domain():
+    m6 = next(d for d in describe_models("rotational") if d["name"] == "mykhailevych2020")
+    assert m6["default_parameter_set"] == "mykhailevych2020_translational"
+    assert m6["default_domain"] == "translational"
+    defaults = {p["name"]: p["default"] for p in m6["parameters"]}
+    assert defaults == dataclasses.asdict(make_model("mykhailevych2020"))
+    sets = {s["name"]: s for s in m6["parameter_sets"]}
+    assert sets["mykhailevych2020_clutch"]["domain"] == "rotational"
+    assert sets["mykhailevych2020_clutch"]["parameters"]["T_stat"] == 240.0
+    # the benchmark set says up front why it shows no Stribeck drop
+    assert "43 N·s/m" in sets["mykhailevych2020_translational"]["caveat"]
+    slope = 0.5 * np.sqrt(2 / np.e) / 0.01     # (T_stat - T_din)·sqrt(2/e)/omega0
+    assert round(slope) == 43 and make_model("mykhailevych2020").k_v > slope
+
+
+def test_models_command_shows_defaults_sets_and_domains():
+    import subprocess
+    import sys
+    r = subprocess.run([sys.executable, "-m", "clutchsim", "models", "mykhailevych2020",
+                        "--domain", "rotational"], capture_output=True, text=True,
+                       timeout=300, check=False)
+    assert r.returncode == 0, r.stderr
+    out = r.stdout
+    # rotational units: the values shown are the rotational set's, in N·m
+    line = next(s for s in out.splitlines() if s.strip().startswith("T_stat"))
+    assert "[N·m]" in line and "240" in line
+    assert "mykhailevych2020_clutch (rotational: N·m, rad, rad/s)" in out
+    assert "mykhailevych2020_translational (default, translational: N, m, m/s)" in out
+    assert "NOTE (mykhailevych2020_translational)" in out
+
+
+@pytest.mark.parametrize("model_name", EXPECTED_NAMES)
+def test_model_docs_list_every_set_with_its_domain(model_name):
+    text = (REPO / "docs" / "models" / f"{model_name}.md").read_text(encoding="utf-8")
+    section = text.split("## Parameter sets", 1)[1].split("\n## ", 1)[0]
+    for name in list_parameter_sets(model_name):
+        pset = load_parameter_set(name)
+        line = next(s for s in section.splitlines() if s.startswith(f"* `{name}`"))
+        assert f"**{pset.domain}**" in line
+        for key, value in pset.parameters.items():
+            shown = f"{value:g}" if isinstance(value, float) else str(value)
+            if not isinstance(value, list):
+                assert f"{key} = {shown}" in line

@@ -74,7 +74,9 @@ def test_fit_is_deterministic_for_a_seed_and_uses_validation():
     assert a.validation[0].t[-1] == pytest.approx(2.0)
     assert a.nrmse_validation is not None and a.nrmse_validation < 0.05
     doc = a.summary()
-    assert set(doc) == {"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation"}
+    assert set(doc) == {"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation",
+                        "at_bound", "unidentified", "warnings"}
+    assert doc["at_bound"] == [] and doc["unidentified"] == [] and doc["warnings"] == []
 
 
 def test_tuple_elements_and_plant_offset_can_be_fitted():
@@ -150,3 +152,24 @@ def test_presliding_models_recover_parameters(name, truth, start, params, rel):
               plant="rig-velocity", params=params)
     _close(res, truth, rel)
     assert res.nrmse_fit < 0.02
+
+
+def test_values_at_a_bound_and_unidentifiable_parameters_are_flagged():
+    # data without a Stribeck drop (F_s = F_c) and without viscous friction (sigma2 = 0)
+    truth = {"F_c": 1.0, "F_s": 1.0, "v_s": 1e-3, "sigma2": 0.0}
+    data = synthetic_velocity_record(make_model("stribeck", **truth), T, V, noise=1e-3,
+                                     seed=6)
+    start = make_model("stribeck", **{**truth, "F_s": 1.3, "v_s": 5e-3, "sigma2": 0.3})
+    res = fit(start, data, input="v", output="F", plant="rig-velocity",
+              params=["F_c", "F_s", "v_s", "sigma2"],
+              bounds={"sigma2": (0.0, 1.0), "v_s": (1e-4, 1e-1)})
+    p = res.parameters
+    assert p["F_c"] == pytest.approx(1.0, rel=1e-2)
+    assert abs(p["F_s"] - p["F_c"]) <= 1e-3 * p["F_c"]           # no drop found
+    assert p["sigma2"] <= 1e-3                                   # pushed onto its bound 0
+    assert "sigma2" in res.at_bound and "F_c" not in res.at_bound
+    assert "v_s" in res.unidentified and "F_c" not in res.unidentified
+    doc = res.summary()
+    assert doc["at_bound"] == list(res.at_bound) and doc["unidentified"] == list(res.unidentified)
+    assert any(w.startswith("sigma2 = ") and "lower bound" in w for w in doc["warnings"])
+    assert any(w.startswith("v_s cannot be identified") for w in doc["warnings"])

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ..core import Result, SolverOptions
+from ..core import Outcome, Result, SolverOptions
 from ..core.system import closest
 from ..friction import FrictionModel, get_model_class, load_parameter_set
 
@@ -74,7 +74,10 @@ class BenchmarkResult:
     models : mapping of str to str
         Model label -> description (model and parameter set), in run order.
     metrics : mapping of str to mapping
-        Model label -> metric name -> value (numbers in SI units, flags, lists).
+        Model label -> metric name -> value (numbers in SI units, flags, lists).  Every
+        model's metrics carry ``outcome`` (machine-readable: the first run of the model
+        that did not succeed decides, e.g. ``budget``; else ``completed``) and
+        ``warnings`` (those of all its runs), added from ``runs``.
     runs : mapping of str to mapping of str to Result
         Model label -> run/regime name -> simulation result.
     extra : mapping
@@ -92,6 +95,9 @@ class BenchmarkResult:
     references: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
 
     def __post_init__(self):
+        metrics = {label: _with_outcome(m, _results(self.runs.get(label, {})))
+                   for label, m in self.metrics.items()}
+        object.__setattr__(self, "metrics", metrics)
         for name in ("models", "metrics", "runs", "extra", "references"):
             object.__setattr__(self, name, freeze(getattr(self, name)))
 
@@ -194,15 +200,37 @@ def resolve_models(models, default: Sequence[str], applicable: Sequence[str] | N
     return tuple(out)
 
 
-def failure(*results: Result) -> dict | None:
-    """Metrics of a model whose run failed (``status``, ``message``), else None.
+def _results(runs) -> list[Result]:
+    """Every Result in a (nested) mapping of runs, in order."""
+    if isinstance(runs, Result):
+        return [runs]
+    if isinstance(runs, Mapping):
+        return [r for v in runs.values() for r in _results(v)]
+    if isinstance(runs, (list, tuple)):
+        return [r for v in runs for r in _results(v)]
+    return []
 
-    A benchmark does not stop at a failed model: it records this instead of the metrics
-    and goes on with the next model.
+
+def _with_outcome(metrics, results: list[Result]):
+    """``metrics`` with ``outcome`` and ``warnings`` of the model's ``results`` added."""
+    if not isinstance(metrics, Mapping) or not results:
+        return metrics
+    bad = [r for r in results if Outcome(r.outcome).status == "failed"]
+    outcome = str((bad[0] if bad else results[0]).outcome)
+    warnings = [w for r in results for w in r.warnings]
+    return {**metrics, "outcome": metrics.get("outcome", outcome),
+            "warnings": list(metrics.get("warnings", ())) + warnings}
+
+
+def failure(*results: Result) -> dict | None:
+    """Metrics of a model whose run failed (``status``, ``outcome``, ``message``), else None.
+
+    Decided on each run's machine-readable ``outcome``.  A benchmark does not stop at a
+    failed model: it records this instead of the metrics and goes on with the next model.
     """
     for res in results:
-        if res.status == "failed":
-            return {"status": "failed", "message": res.message}
+        if Outcome(res.outcome).status == "failed":
+            return {"status": "failed", "outcome": str(res.outcome), "message": res.message}
     return None
 
 

@@ -52,6 +52,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from ..core import Outcome
 from ._base import freeze, thaw
 
 __all__ = [
@@ -331,8 +332,12 @@ _fq = format_quantity
 # --------------------------------------------------------------------------- measurement
 
 def _failed_or_none(metrics: Mapping) -> Measurement | None:
-    if metrics.get("status") == "failed":
-        return Measurement(FAILED, message=str(metrics.get("message", "")))
+    """A FAILED measurement when a run of the benchmark did not succeed (decided on the
+    machine-readable ``outcome`` the benchmark result adds to every model's metrics)."""
+    outcome = metrics.get("outcome")
+    if outcome is not None and Outcome(outcome).status == "failed":
+        return Measurement(FAILED, message=str(metrics.get("message", "")) or
+                           f"a run ended with outcome {outcome!r}")
     return None
 
 

@@ -24,7 +24,9 @@ DATA is a CSV/TXT, NPZ or MAT file, or a TOML fit specification (see
 docs/identification.md); command-line options override the specification.
 Writes DIR/fit.json, DIR/fit.png (measured vs simulated), DIR/residuals.png,
 DIR/traces.csv and DIR/report.md.  --json prints one document:
-{"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation"}.
+{"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation", "at_bound",
+"unidentified", "warnings"} (at_bound: fitted values within 0.1 % of a bound;
+unidentified: parameters the data cannot determine; warnings: why, for each).
 """
 
 
@@ -243,7 +245,12 @@ def run(args) -> int:
     else:
         for name, value in result.parameters.items():
             se = result.stderr.get(name)
-            print(f"{name:>10} = {value:.6g} ± " + ("undetermined" if se is None else f"{se:.2g}"))
+            flag = " (at its bound)" if name in result.at_bound else ""
+            flag += " (cannot be identified)" if name in result.unidentified else ""
+            print(f"{name:>10} = {value:.6g} ± " + ("undetermined" if se is None else f"{se:.2g}")
+                  + flag)
+        for w in result.warnings:
+            log.warning("warning: %s", w)
         print(f"NRMSE fit = {result.nrmse_fit:.4g}"
               + ("" if result.nrmse_validation is None
                  else f", validation = {result.nrmse_validation:.4g}"))

@@ -169,6 +169,13 @@ class Chain:
                 names.append(fe.command)
         return tuple(names)
 
+    def input_units(self) -> tuple[str, ...]:
+        """Unit of each input of :meth:`input_names`: a load on an inertia is a torque
+        [N·m]; the throttle and the friction commands (COM, or a pedal position read
+        through a clamp table) are fractions [-]."""
+        loads = {i.load for i in self.inertias if i.load}
+        return tuple("N·m" if n in loads else "-" for n in self.input_names())
+
     def _omega0(self) -> np.ndarray:
         return np.array([i.omega0 for i in self.inertias])
 
@@ -453,7 +460,7 @@ class Chain:
                      "nodes": list(nodes)})
         return System(ChainPlant(), params, np.array(y0, dtype=float), tuple(snames),
                       tuple(sunits), input_names=inputs,
-                      input_units=tuple("-" for _ in inputs), output_names=tuple(onames),
+                      input_units=self.input_units(), output_names=tuple(onames),
                       output_units=tuple(ounits), event_names=tuple(ev_names),
                       event_directions=tuple(ev_dirs), name=self.name, metadata=meta,
                       quadratures=len(ENERGY_STATES))

@@ -10,7 +10,18 @@ import numpy as np
 from ..core import Outcome, Result, SolverOptions, simulate
 from .chain import ENERGY_STATES
 
-__all__ = ["LaunchResult", "energy_balance", "launch_metrics", "run_scenario"]
+__all__ = ["STEP_RATE_LIMIT", "LaunchResult", "energy_balance", "expects_lockup",
+           "launch_metrics", "launch_warnings", "run_scenario"]
+
+#: steps per simulated second above which a run is warned about [1/s].  The shipped
+#: scenarios take 7 to 1,900 (measured: default launch 365-530, ten launches 440-610, tip-out
+#: 1,850); a model-(6) clutch ringing after lock-up takes 17,000-37,000.
+STEP_RATE_LIMIT = 5000.0
+#: ... but never below this many steps in all (a very short run may be dense) [-]
+STEP_COUNT_FLOOR = 10_000
+#: slip below which an engaged clutch counts as held [rad/s], and for how long [s] at least
+LOCK_SLIP = 1.0
+LOCK_HOLD = 0.05
 
 
 @dataclass(frozen=True)
@@ -58,7 +69,23 @@ def run_scenario(scenario=None, model: str | None = None, *, overrides=None,
     res = simulate(system, (t0, scenario.t_end), inputs, solver=solver or scenario.solver,
                    options=opts)
     name = system.metadata["models"].get(scenario.clutch, model or "")
+    friction = any(isinstance(t, dict) and t.get("name") == scenario.clutch
+                   and t.get("type") == "clutch" for t in scenario.data.get("coupling", []))
+    res = res.with_warnings(*launch_warnings(res, scenario.clutch,
+                                             expect_lockup=expects_lockup(scenario),
+                                             friction=friction))
     return LaunchResult(name, res, launch_metrics(res, clutch=scenario.clutch))
+
+
+def expects_lockup(scenario) -> bool:
+    """Whether ``scenario`` expects its clutch element to lock up: ``[scenario]
+    expect_lockup``, by default true when that element is a friction clutch (a launch) and
+    false for the other kinds (a one-way clutch, a lossy gear, a brake)."""
+    value = scenario.data.get("scenario", {}).get("expect_lockup")
+    if value is not None:
+        return bool(value)
+    return any(isinstance(t, dict) and t.get("name") == scenario.clutch
+               and t.get("type") == "clutch" for t in scenario.data.get("coupling", []))
 
 
 def energy_balance(res: Result) -> dict:
@@ -98,8 +125,124 @@ def _first_lock(res: Result, clutch: str) -> float | None:
     return float(res.t[min(i, w.size - 1)])
 
 
+def _held(res: Result, clutch: str) -> bool:
+    """Did the engaged clutch hold (lock) at some time: a switching model's locked flag, or
+    a slip below LOCK_SLIP for LOCK_HOLD seconds on end while engaged."""
+    lk = f"{clutch}.locked"
+    if lk in res.signals and np.any((res[lk] > 0.5) & (res.t > res.t[0])):
+        return True
+    w_name, c_name = f"w_slip_{clutch}", f"capacity_{clutch}"
+    if w_name not in res.signals or c_name not in res.signals or res.t.size < 2:
+        return False
+    cap = res[c_name]
+    ok = (cap > 0.5 * np.max(cap)) & (np.abs(res[w_name]) < LOCK_SLIP) if np.max(cap) > 0 \
+        else np.zeros(res.t.size, dtype=bool)
+    start = None
+    for i, flag in enumerate(ok):
+        if not flag:
+            start = None
+        elif start is None:
+            start = res.t[i]
+        elif res.t[i] - start >= LOCK_HOLD:
+            return True
+    return False
+
+
+def _ringing(res: Result, clutch: str) -> str | None:
+    """The warning for a contact whose torque swings, after it first held, further both
+    ways than its capacity (half its peak-to-peak above the capacity), else None."""
+    t_name, w_name, c_name = f"T_friction_{clutch}", f"w_slip_{clutch}", f"capacity_{clutch}"
+    if not all(n in res.signals for n in (t_name, w_name, c_name)):
+        return None
+    cap, torque, w = res[c_name], res[t_name], np.abs(res[w_name])
+    if np.max(cap) <= 0:
+        return None
+    engaged = cap > 0.5 * np.max(cap)
+    touch = np.flatnonzero(engaged & (w < LOCK_SLIP))
+    if not touch.size:
+        return None
+    win = engaged & (np.arange(res.t.size) >= touch[0])
+    amplitude = 0.5 * (np.max(torque[win]) - np.min(torque[win]))
+    capacity = float(np.max(cap[win]))
+    if amplitude <= capacity:
+        return None
+    t0 = float(res.t[touch[0]])
+    crossings = [e.t for e in res.events if e.name.startswith(f"{clutch}:") and e.t >= t0]
+    rate = ""
+    if len(crossings) > 2 and crossings[-1] > crossings[0]:
+        hz = 0.5 * (len(crossings) - 1) / (crossings[-1] - crossings[0])
+        rate = (f" with {len(crossings):,} events of {clutch!r} (~{hz:.0f} Hz if each is a "
+                "slip reversal)")
+    return (f"contact {clutch!r} rings after lock-up: from t = {t0:.3g} s its torque swings "
+            f"±{amplitude:.0f} N·m{rate}, above its capacity {capacity:.0f} N·m, so it keeps "
+            f"slipping back and forth instead of holding (largest slip afterwards "
+            f"{float(np.max(w[win])):.3g} rad/s). Cause: a locked contact with too little "
+            "damping (model (6): its only damping is k_v) or a friction torque that falls "
+            "with slip speed (judder: k_din < 1 with a small omega0). Remedy: raise the "
+            "contact damping (k_v), use a friction curve that does not fall steeply "
+            "(k_din nearer 1, a larger omega0), add driveline damping, or compare with "
+            "coulomb-robust; do not trust this run's torques and lock-up time")
+
+
+def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool = True,
+                    friction: bool = True) -> list[str]:
+    """Reasons not to trust a run that completed, each with its cause and remedy.
+
+    * the clutch never held although ``expect_lockup`` (see :func:`expects_lockup`);
+    * (``friction``: the element is a friction clutch) its contact rings after lock-up
+      with a torque amplitude above its capacity;
+    * the step count is far above what the scenarios need: more than
+      :data:`STEP_RATE_LIMIT` steps per simulated second (and more than
+      :data:`STEP_COUNT_FLOOR` steps).
+
+    A failed run gets none (its outcome and message say what went wrong).
+    """
+    if res.status == "failed" or res.t.size < 2:
+        return []
+    out = []
+    span = float(res.t[-1] - res.t[0])
+    if expect_lockup and f"w_slip_{clutch}" in res.signals and not _held(res, clutch):
+        w = np.abs(res[f"w_slip_{clutch}"])
+        cap = res[f"capacity_{clutch}"]
+        engaged = cap > 0.5 * np.max(cap) if np.max(cap) > 0 else np.zeros(w.size, bool)
+        if not np.any(engaged):
+            cause = ("it never engaged (its capacity stayed below half its largest value "
+                     f"{float(np.max(cap)):.0f} N·m)")
+        elif np.min(w[engaged]) >= LOCK_SLIP:
+            cause = (f"its slip never fell below {LOCK_SLIP:g} rad/s while engaged (smallest "
+                     f"{float(np.min(w[engaged])):.3g} rad/s): the capacity "
+                     f"{float(np.max(cap)):.0f} N·m is too low for the torque it must carry, "
+                     "or the run is too short")
+        else:
+            cause = (f"its slip came near zero but never stayed below {LOCK_SLIP:g} rad/s for "
+                     f"{LOCK_HOLD:g} s (largest slip after engagement "
+                     f"{float(np.max(w[engaged])):.3g} rad/s): stick-slip or judder")
+        out.append(f"clutch {clutch!r} never locked up although the scenario expects it: "
+                   f"{cause}. Remedy: raise the clamp load or capacity, lengthen t_end, use "
+                   "a friction model or parameters that can hold (see the ringing warning if "
+                   "there is one), or, if the clutch is meant to slip, set [scenario] "
+                   "expect_lockup = false")
+    if friction:
+        ring = _ringing(res, clutch)
+        if ring:
+            out.append(ring)
+    steps = res.stats.steps
+    if span > 0 and steps > STEP_COUNT_FLOOR and steps / span > STEP_RATE_LIMIT:
+        n_ev = res.stats.events
+        out.append(f"the run took {steps:,} steps, {steps / span:,.0f} per simulated second, "
+                   f"far above the {STEP_RATE_LIMIT:,.0f}/s that clutchsim's scenarios need "
+                   f"(usually 300-2,000/s), with {n_ev:,} events. Cause: something fast was "
+                   "excited or keeps switching (an undamped contact mode, stick-slip, "
+                   "chattering events); the result may be right but is costly and suspect. "
+                   "Remedy: look at the slip speeds and the events; add contact damping or "
+                   "choose a smoother friction model or reset policy; if the fast dynamics is "
+                   "real, this warning can be ignored")
+    return out
+
+
 def launch_metrics(res: Result, clutch: str = "clutch") -> dict:
-    """Per-run metrics: completed, message, lockup_time_s, slip_energy_J, peak_lining_temp_C,
+    """Per-run metrics: completed, outcome, message, warnings (``res.warnings``: see
+    :func:`launch_warnings`), lockup_time_s, slip_energy_J, peak_lining_temp_C,
     max_jerk_mps3, engine_speed_min_rpm, engine_stalled, energy_balance_rel, steps, rhs_evals,
     events, min_step_s, wall_s."""
     m: dict = {"completed": res.status == "completed", "outcome": str(res.outcome),

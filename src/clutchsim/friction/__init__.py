@@ -25,7 +25,15 @@ from .kernels import (
 from .lugre import LuGre
 from .mykhailevych2020 import RESET_POLICIES, Mykhailevych2020
 from .params import ParameterSet, list_parameter_sets, load_parameter_set
-from .registry import MODELS, describe_models, get_model_class, make_model
+from .registry import (
+    MODELS,
+    ParameterSource,
+    describe_models,
+    domain_problem,
+    get_model_class,
+    make_model,
+    parameter_source,
+)
 from .rotational_friction import RotationalFriction
 from .stribeck import StribeckFriction
 from .tanh import TanhFriction
@@ -43,11 +51,13 @@ __all__ = [
     "LuGre",
     "Mykhailevych2020",
     "ParameterSet",
+    "ParameterSource",
     "RotationalFriction",
     "SelfExcitedWarning",
     "StribeckFriction",
     "TanhFriction",
     "describe_models",
+    "domain_problem",
     "friction_events",
     "friction_force",
     "friction_jacobian",
@@ -56,5 +66,6 @@ __all__ = [
     "list_parameter_sets",
     "load_parameter_set",
     "make_model",
+    "parameter_source",
     "uses_stick_force",
 ]

@@ -3,6 +3,12 @@
 Each set is ``clutchsim/params/friction/<name>.toml`` with a ``[meta]`` table
 (``model``: registry name or list of names, ``source``, ``notes``,
 ``domain``) and a ``[parameters]`` table (keyword arguments of the model).
+
+``domain`` is ``"translational"`` (the numbers are N, m, m/s) or ``"rotational"`` (N·m,
+rad, rad/s).  A model object does not know its units (the same numbers serve both), so the
+domain of the set it was built from is what tells a clutch from a 1 kg test mass: the
+places that put a model on an element of a known domain (scenario friction elements, the
+rig) refuse a set of the other domain (:func:`clutchsim.friction.registry.domain_problem`).
 """
 
 from __future__ import annotations
@@ -16,17 +22,31 @@ from dataclasses import dataclass, field
 from importlib import resources
 from typing import Any
 
-__all__ = ["ParameterSet", "list_parameter_sets", "load_parameter_set"]
+from .base import DOMAINS, UNIT_KINDS
+
+__all__ = ["DOMAIN_UNITS", "ParameterSet", "list_parameter_sets", "load_parameter_set"]
+
+#: the units a domain's numbers are read in, for messages
+DOMAIN_UNITS = {d: ", ".join(UNIT_KINDS[k][i] for k in ("force", "displacement", "velocity"))
+                for i, d in enumerate(DOMAINS)}
 
 
 @dataclass(frozen=True)
 class ParameterSet:
-    """A named parameter set: which models it is for, its values and provenance."""
+    """A named parameter set: which models it is for, its domain, values and provenance.
+
+    ``domain`` is ``"translational"`` (N, m, m/s) or ``"rotational"`` (N·m, rad, rad/s).
+    """
 
     name: str
     models: tuple[str, ...]
     parameters: dict[str, Any] = field(repr=False)
     meta: dict[str, Any] = field(repr=False)
+    domain: str = "translational"
+
+    def describe_domain(self) -> str:
+        """``"translational (N, m, m/s)"`` or ``"rotational (N·m, rad, rad/s)"``."""
+        return f"{self.domain} ({DOMAIN_UNITS[self.domain]})"
 
 
 @functools.lru_cache(maxsize=1)
@@ -86,12 +106,25 @@ def load_parameter_set(name: str) -> ParameterSet:
     models = (model,) if isinstance(model, str) else tuple(model or ())
     if not models:
         raise ValueError(f"parameter set {name!r}: [meta] has no 'model'")
-    return ParameterSet(name, models, dict(data.get("parameters", {})), meta)
+    domain = meta.get("domain")
+    if domain not in DOMAINS:
+        raise ValueError(f"parameter set {name!r}: [meta] domain = {domain!r} must be one of "
+                         f"{', '.join(DOMAINS)} (the units its numbers are in)")
+    return ParameterSet(name, models, dict(data.get("parameters", {})), meta, domain)
 
 
-def list_parameter_sets(model: str | None = None) -> list[str]:
-    """Names of the available parameter sets, optionally only those for ``model``."""
-    names = _all_names()
-    if model is None:
-        return list(names)
-    return [n for n in names if model in load_parameter_set(n).models]
+def list_parameter_sets(model: str | None = None, domain: str | None = None) -> list[str]:
+    """Names of the available parameter sets, optionally only those for ``model`` and
+    only those of ``domain`` ("translational" or "rotational")."""
+    if domain is not None and domain not in DOMAINS:
+        raise ValueError(f"domain = {domain!r} must be one of {', '.join(DOMAINS)}")
+    out = []
+    for n in _all_names():
+        if model is None and domain is None:
+            out.append(n)
+            continue
+        pset = load_parameter_set(n)
+        if (model is None or model in pset.models) and (domain is None
+                                                        or pset.domain == domain):
+            out.append(n)
+    return out

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import difflib
+from dataclasses import dataclass
 from typing import Any
 
-from .base import FrictionModel
+from .base import DOMAINS, UNIT_KINDS, FrictionModel
 from .coulomb_naive import CoulombNaive
 from .coulomb_robust import CoulombRobust
 from .dahl import Dahl
@@ -14,11 +15,13 @@ from .gms import GMS
 from .karnopp import Karnopp
 from .lugre import LuGre
 from .mykhailevych2020 import Mykhailevych2020
+from .params import DOMAIN_UNITS, list_parameter_sets, load_parameter_set
 from .rotational_friction import RotationalFriction
 from .stribeck import StribeckFriction
 from .tanh import TanhFriction
 
-__all__ = ["MODELS", "describe_models", "get_model_class", "make_model"]
+__all__ = ["MODELS", "ParameterSource", "describe_models", "domain_problem", "get_model_class",
+           "make_model", "parameter_source"]
 
 #: Registry name -> model class.
 MODELS: dict[str, type[FrictionModel]] = {
@@ -57,6 +60,25 @@ def get_model_class(name: str) -> type[FrictionModel]:
         ) from None
 
 
+@dataclass(frozen=True)
+class ParameterSource:
+    """Where the numbers of a model built by :func:`make_model` come from.
+
+    ``taken`` are the parameters with a unit (not ``[-]``) whose values are the set's own
+    (not overridden): they are in the set's ``domain`` units.
+    """
+
+    set: str
+    domain: str
+    taken: tuple[str, ...]
+
+
+#: instance attribute holding a model's :class:`ParameterSource` (set by make_model; not a
+#: dataclass field, so equality, repr and the packed parameters ignore it; ``with_`` and a
+#: constructor call give a model without one: numbers of unknown domain)
+_SOURCE = "_parameter_source"
+
+
 def make_model(name: str, params: str | None = None, **overrides: Any) -> FrictionModel:
     """Build model ``name`` from a parameter set (default: the model's own) plus overrides.
 
@@ -68,29 +90,118 @@ def make_model(name: str, params: str | None = None, **overrides: Any) -> Fricti
         Parameter-set name; default ``cls.default_parameter_set``.
     **overrides
         Parameters replacing those of the set (validated; unknown names raise TypeError).
+
+    The model remembers the set and its domain (:func:`parameter_source`), so that an
+    element of the other domain can refuse it (:func:`domain_problem`).
     """
     cls = get_model_class(name)
-    model = cls.from_parameters(params or cls.default_parameter_set)
-    return model.with_(**overrides) if overrides else model
+    set_name = params or cls.default_parameter_set
+    model = cls.from_parameters(set_name)
+    if overrides:
+        model = model.with_(**overrides)
+    pset = load_parameter_set(set_name)
+    taken = tuple(k for k in pset.parameters if k not in overrides
+                  and cls.parameter_info.get(k, ("1",))[0] != "1")
+    object.__setattr__(model, _SOURCE, ParameterSource(set_name, pset.domain, taken))
+    return model
+
+
+def parameter_source(model: FrictionModel) -> ParameterSource | None:
+    """The parameter set a model was built from by :func:`make_model` (None: numbers given
+    directly, their domain is the caller's)."""
+    return getattr(model, "__dict__", {}).get(_SOURCE)
+
+
+def _sets_of(domain: str) -> str:
+    """``"mykhailevych2020 (mykhailevych2020_clutch), ..."``: every model with a set of
+    ``domain``."""
+    items = []
+    for name in MODELS:
+        sets = list_parameter_sets(name, domain)
+        if sets:
+            items.append(f"{name} ({', '.join(sets)})")
+    return "; ".join(items) or "none"
+
+
+def domain_problem(model: FrictionModel, domain: str, element: str, *,
+                   choose_set: str = "parameter_set = NAME",
+                   give_params: str = "overrides") -> str | None:
+    """Why ``model`` cannot serve on ``element`` of ``domain``, or None when it can.
+
+    It cannot when it was built from a parameter set of the other domain and still takes
+    numbers with a unit from it (a translational LuGre set on a clutch would be read as
+    F_c = 1 N·m).  The message names the element, the model, the set, both domains, the
+    sets of ``domain`` that exist, and the two remedies (``choose_set``: how to pick a set
+    there; ``give_params``: how to give the parameters).
+    """
+    if domain not in DOMAINS:
+        raise ValueError(f"domain = {domain!r} must be one of {', '.join(DOMAINS)}")
+    src = parameter_source(model)
+    if src is None or src.domain == domain or not src.taken:
+        return None
+    pset = load_parameter_set(src.set)
+    i = DOMAINS.index(domain)
+    cls = type(model)
+    example = src.taken[0]
+    value = getattr(model, example)
+    shown = "(" + ", ".join(f"{x:g}" for x in value) + ")" if isinstance(value, tuple) \
+        else f"{value:g}"
+    wrong = UNIT_KINDS[cls.parameter_info[example][0]][i]
+    right = UNIT_KINDS[cls.parameter_info[example][0]][1 - i]
+    own = list_parameter_sets(model.name, domain)
+    if own:
+        fix = (f"choose a {domain} set of {model.name} ({', '.join(own)}) with {choose_set}, "
+               f"or give {', '.join(src.taken)} in {DOMAIN_UNITS[domain]} with {give_params}")
+    else:
+        fix = (f"{model.name} has no {domain} parameter set: give {', '.join(src.taken)} in "
+               f"{DOMAIN_UNITS[domain]} with {give_params}, or use a model that has one "
+               f"({_sets_of(domain)})")
+    return (f"{element} works in {domain} units ({DOMAIN_UNITS[domain]}), but friction model "
+            f"{model.name!r} takes {', '.join(src.taken)} from parameter set {src.set!r}, "
+            f"which is {pset.describe_domain()}: {example} = {shown} {right} would be read "
+            f"as {shown} {wrong}. To fix: {fix}")
+
+
+def _plain(value: Any) -> Any:
+    return list(value) if isinstance(value, tuple) else value
 
 
 def describe_models(domain: str = "translational") -> list[dict[str, Any]]:
-    """One dict per model: name, states, parameters (name, unit, description), citation.
+    """One dict per model: name, states, parameters, parameter sets, citation.
 
-    The states are those of the default parameter set. Units are given in
-    ``domain`` ("translational" or "rotational").
+    ``parameters``: name, unit (in ``domain``, "translational" or "rotational"),
+    description and ``default``, the value in the model's default parameter set
+    (``default_parameter_set``, whose domain is ``default_domain``: its numbers are in
+    that domain's units).  ``parameter_sets``: every set usable with the model, with its
+    ``domain``, its values, its source and, where it has one, a ``caveat`` (what it does
+    not show and why).  The states are those of the default parameter set.
     """
     out = []
     for name, cls in MODELS.items():
         model = make_model(name)
+        default = load_parameter_set(cls.default_parameter_set)
+        sets = []
+        for set_name in list_parameter_sets(name):
+            pset = load_parameter_set(set_name)
+            entry = {"name": set_name, "domain": pset.domain,
+                     "default": set_name == cls.default_parameter_set,
+                     "parameters": {k: _plain(v) for k, v in pset.parameters.items()},
+                     "source": pset.meta.get("source", "")}
+            if pset.meta.get("caveat"):
+                entry["caveat"] = " ".join(str(pset.meta["caveat"]).split())
+            sets.append(entry)
         out.append(
             {
                 "name": name,
                 "states": list(model.state_names()),
+                "default_parameter_set": cls.default_parameter_set,
+                "default_domain": default.domain,
                 "parameters": [
-                    {"name": p, "unit": cls.unit_of(p, domain), "description": info[1]}
+                    {"name": p, "unit": cls.unit_of(p, domain), "description": info[1],
+                     "default": _plain(getattr(model, p))}
                     for p, info in cls.parameter_info.items()
                 ],
+                "parameter_sets": sets,
                 "citation": cls.citation,
             }
         )

@@ -87,7 +87,16 @@ class FitResult:
     bounds : mapping of str to (float, float)
         Bounds used.
     at_bound : tuple of str
-        Fitted parameters that ended within 1e-6 (scaled) of a bound.
+        Fitted parameters that ended at a bound: within 0.1 % of it
+        (:data:`AT_BOUND_REL`; of the bound's value, or of the range for a bound of 0).
+        Such a value is the bound, not an estimate.
+    unidentified : tuple of str
+        Fitted parameters the data cannot determine: a direction of zero sensitivity (their
+        standard error is None), or a term that the fit switched off (a Stribeck drop
+        F_s = F_c leaves v_s and delta without effect; a Stribeck speed at its lower bound
+        hides F_s).
+    warnings : tuple of str
+        One sentence per parameter at a bound or unidentified: why and what to do.
     fixed : mapping of str to float
         Values held fixed (given by ``fixed=``).
     plant : str
@@ -116,6 +125,8 @@ class FitResult:
     stderr: Mapping[str, float]
     bounds: Mapping[str, tuple[float, float]]
     at_bound: tuple[str, ...]
+    unidentified: tuple[str, ...]
+    warnings: tuple[str, ...]
     fixed: Mapping[str, float]
     plant: str
     plant_parameters: Mapping[str, float]
@@ -153,7 +164,8 @@ class FitResult:
         """The short document ``clutchsim fit --json`` prints."""
         return {"model": self.model_name, "parameters": dict(self.parameters),
                 "stderr": dict(self.stderr), "nrmse_fit": self.nrmse_fit,
-                "nrmse_validation": self.nrmse_validation}
+                "nrmse_validation": self.nrmse_validation, "at_bound": list(self.at_bound),
+                "unidentified": list(self.unidentified), "warnings": list(self.warnings)}
 
     def as_dict(self) -> dict:
         """Everything but the traces, JSON-ready (fit.json)."""
@@ -163,7 +175,7 @@ class FitResult:
             "plant": self.plant, "plant_parameters": dict(self.plant_parameters),
             "input": self.input, "output": self.output, "signal": self.signal,
             "bounds": {k: list(v) for k, v in self.bounds.items()},
-            "at_bound": list(self.at_bound), "fixed": dict(self.fixed),
+            "fixed": dict(self.fixed),
             "model_values": {n: model_value(self.model, n)
                              for n in model_parameter_names(self.model)},
             "fit": self.fit_trace.as_dict(),
@@ -338,6 +350,56 @@ def _default_bounds(plant: PlantSpec, setup: Setup, names) -> dict:
                 b = (-amp, amp)
             out[name] = b
     return out
+
+
+#: a fitted value within this fraction of a bound is reported as at the bound [-]
+AT_BOUND_REL = 1e-3
+
+
+def _at_bound(value: float, lo: float, hi: float) -> str | None:
+    """``"lower"``/``"upper"`` when ``value`` is within AT_BOUND_REL of that bound."""
+    for side, b in (("lower", lo), ("upper", hi)):
+        scale = abs(b) if b != 0 else abs(hi - lo)
+        if abs(value - b) <= AT_BOUND_REL * scale:
+            return side
+    return None
+
+
+def _identifiability(params, values: Mapping[str, float], bounds, stderr, model
+                     ) -> tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+    """``(at_bound, unidentified, warnings)`` of a fit (see :class:`FitResult`)."""
+    at, warn = {}, []
+    for name in params:
+        side = _at_bound(values[name], *bounds[name])
+        if side:
+            at[name] = side
+            warn.append(f"{name} = {values[name]:.6g} is at its {side} bound "
+                        f"{bounds[name][0 if side == 'lower' else 1]:.6g} (within "
+                        f"{AT_BOUND_REL:.1%}): the data push it there, so this is the bound, "
+                        "not an estimate; widen the bound or fix the parameter")
+    why: dict[str, str] = {}
+    for name in params:
+        if name in stderr and stderr[name] is None:
+            why[name] = "the data do not constrain it (a direction of zero sensitivity)"
+
+    def value(n):
+        if n in values:
+            return values[n]
+        return model_value(model, n) if n in model_parameter_names(model) else None
+    f_c, f_s, v_s = value("F_c"), value("F_s"), value("v_s")
+    if f_c is not None and f_s is not None and abs(f_s - f_c) <= AT_BOUND_REL * abs(f_c):
+        for n in ("v_s", "delta"):
+            if n in params:
+                why.setdefault(n, f"the Stribeck drop vanished (F_s = {f_s:.6g} = F_c), so "
+                                  f"{n} has no effect")
+    if v_s is not None and "F_s" in params and at.get("v_s") == "lower":
+        why.setdefault("F_s", f"the Stribeck speed v_s is at its lower bound {v_s:.3g}: the "
+                              "drop from F_s happens below the speeds in the data")
+    unidentified = tuple(n for n in params if n in why)
+    for n in unidentified:
+        warn.append(f"{n} cannot be identified: {why[n]}; fix it (fixed=) or give data that "
+                    "excite it")
+    return tuple(n for n in params if n in at), unidentified, tuple(warn)
 
 
 def _standard_errors(jac, den, residual, space: ParameterSpace, x, params) -> dict:
@@ -562,9 +624,10 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
                 for n in params}
     trace = problem.evaluate(values, setup, meas.source, spec.kind)
     stderr = _standard_errors(best.jac, den, trace.residual, space, best.x, params)
-    lo, hi = space.scaled_bounds
-    at_bound = tuple(name for name, x, a, b in zip(params, best.x, lo, hi)
-                     if min(x - a, b - x) <= 1e-6 * (b - a) * 1.01)
+    phys_bounds = {n: (float(a), float(b)) for n, a, b in
+                   zip(params, space.lower, space.upper)}
+    at_bound, unidentified, fit_warnings = _identifiability(
+        params, {n: float(v) for n, v in reported.items()}, phys_bounds, stderr, fitted_model)
     val_traces = []
     if validate is not None:
         items = validate if isinstance(validate, (list, tuple)) else [validate]
@@ -575,9 +638,8 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
     return FitResult(
         model=fitted_model, model_name=fitted_model.name,
         parameters=MappingProxyType(reported), stderr=MappingProxyType(stderr),
-        bounds=MappingProxyType({n: (float(a), float(b)) for n, a, b in
-                                 zip(params, space.lower, space.upper)}),
-        at_bound=at_bound, fixed=MappingProxyType(fixed), plant=spec.kind,
+        bounds=MappingProxyType(phys_bounds), at_bound=at_bound,
+        unidentified=unidentified, warnings=fit_warnings, fixed=MappingProxyType(fixed), plant=spec.kind,
         plant_parameters=MappingProxyType(plant_vals), fit_trace=trace,
         validation=tuple(val_traces), cost_history=np.array(history),
         starts=tuple(records), evaluations=counters["n"],

@@ -57,6 +57,7 @@ td.txt{max-width:46em;overflow-wrap:anywhere}
 tr.failed td,tr.failed th{background:var(--badbg)}
 tr.failed th{color:var(--bad)}
 .st-ok{color:var(--ok);font-weight:600}.st-bad{color:var(--bad);font-weight:600}
+.st-warn{color:#8a5a00;font-weight:600}.banner.warn{background:var(--warnbg);color:#8a5a00}
 ul.warn{background:var(--warnbg);border-radius:6px;padding:8px 12px 8px 30px}
 ul.warn li{overflow-wrap:anywhere}
 .none{color:var(--mute)}
@@ -202,15 +203,26 @@ def _status(data: ReportData) -> str:
                    f'{"run" if len(judged) == 1 else "runs"} did not complete</div>')
     elif judged:
         n = len(judged)
-        out.append(f'<div class="banner ok">{"the run" if n == 1 else f"all {n} runs"} '
-                   "completed</div>")
+        warned = [s for s in judged if s.warnings]
+        if warned:
+            what = "the run completed with warnings" if n == 1 else \
+                f"all {n} runs completed, {len(warned)} with warnings"
+            out.append(f'<div class="banner warn">{what}: read them (below) before trusting '
+                       "a result</div>")
+        else:
+            out.append(f'<div class="banner ok">{"the run" if n == 1 else f"all {n} runs"} '
+                       "completed</div>")
     if data.status:
         rows = []
         for s in data.status:
-            cls = "st-bad" if s.ok is False else ("st-ok" if s.ok else "")
+            cls = "st-bad" if s.ok is False else ("st-warn" if s.warnings else
+                                                  ("st-ok" if s.ok else ""))
             tr = ' class="failed"' if s.ok is False else ""
+            word = s.status or "—"
+            if s.warnings:
+                word += f" · {s.warnings} warning{'s' if s.warnings > 1 else ''}"
             rows.append(f"<tr{tr}><th>{escape(s.where)}</th>"
-                        f'<td class="{cls}">{escape(s.status or "—")}</td>'
+                        f'<td class="{cls}">{escape(word)}</td>'
                         f'<td class="txt">{escape(s.message)}</td></tr>')
         out.append('<div class="scroll"><table><thead><tr><th>where</th><th>status</th>'
                    "<th>message</th></tr></thead><tbody>" + "".join(rows)

@@ -25,11 +25,13 @@ from .units import split_unit
 
 __all__ = ["MISSING", "STATS_KEYS", "Sections", "StatusEntry", "Table", "analyse", "is_scalar"]
 
-STATUS_KEYS = ("completed", "status", "success", "message")
+STATUS_KEYS = ("completed", "status", "outcome", "success", "message")
 STATS_KEYS = ("solver", "steps", "rejected", "rhs_evals", "jacobians", "lu_decompositions",
               "events", "min_step_s", "wall_s")
 META_KEYS = ("kind", "command")
 FAILED_WORDS = {"failed", "error", "aborted", "diverged", "stalled", "timeout"}
+#: machine-readable outcomes (clutchsim.core.Outcome and launch metrics) that are a success
+OK_OUTCOMES = {"completed", "stopped"}
 OK_WORDS = {"completed", "ok", "success", "succeeded", "converged", "done"}
 PARAM_SIBLINGS = ("unit", "units", "source", "sources")   # always joined, even if partial
 SHORT_LIST = 8
@@ -53,12 +55,14 @@ class Table:
 
 @dataclass(frozen=True)
 class StatusEntry:
-    """What a document says about one run: ``ok`` is True, False (failed) or None."""
+    """What a document says about one run: ``ok`` is True, False (failed) or None;
+    ``warnings`` is how many warnings the run carries (listed in :attr:`Sections.warnings`)."""
 
     where: str
     ok: bool | None
     status: str
     message: str
+    warnings: int = 0
 
 
 @dataclass
@@ -142,19 +146,21 @@ def _extract(obj: dict, path, out: Sections) -> tuple[dict, bool | None]:
     """Move status, warnings, statistics and parameters out of ``obj``; return the rest."""
     rest = dict(obj)
     ok = None
-    if any(k in obj for k in ("completed", "status", "success")) or \
-            (is_str(obj.get("message")) and len(path) > 1):
-        ok, status = _status_of(obj)
-        out.status.append(StatusEntry(_path(path), ok, status, str(obj.get("message") or "")))
-        for k in STATUS_KEYS:
-            rest.pop(k, None)
-    elif is_str(obj.get("message")):
-        out.status.append(StatusEntry(_path(path), None, "", obj["message"]))
-        rest.pop("message")
+    items = []
     if "warnings" in obj:
         w = rest.pop("warnings")
         items = w if isinstance(w, list) else ([] if w in (None, "") else [w])
         out.warnings.extend((_path(path), _text(x)) for x in items)
+    if any(k in obj for k in ("completed", "status", "outcome", "success")) or \
+            (is_str(obj.get("message")) and len(path) > 1):
+        ok, status = _status_of(obj)
+        out.status.append(StatusEntry(_path(path), ok, status, str(obj.get("message") or ""),
+                                      len(items)))
+        for k in STATUS_KEYS:
+            rest.pop(k, None)
+    elif is_str(obj.get("message")):
+        out.status.append(StatusEntry(_path(path), None, "", obj["message"], len(items)))
+        rest.pop("message")
     stats = {k: obj[k] for k in STATS_KEYS if k in obj and is_scalar(obj[k])}
     if sum(1 for k in stats if k != "solver") >= 2:
         out.stats.append((_path(path), stats))
@@ -181,6 +187,12 @@ def _status_of(obj: dict) -> tuple[bool | None, str]:
             words.append(f"{k}" if v else f"not {k}")
         elif v is not None:
             words.append(f"{k}: {_text(v)}")
+    outcome = obj.get("outcome")
+    if is_str(outcome):
+        # the machine-readable reason decides; the words show it beside the status
+        ok = outcome in OK_OUTCOMES if ok is None else (ok and outcome in OK_OUTCOMES)
+        if outcome != "completed":
+            words.append(f"outcome: {outcome}")
     st = obj.get("status")
     if st is not None:
         s = _text(st)

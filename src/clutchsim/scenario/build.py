@@ -21,41 +21,53 @@ from ..driveline.components import (
     Vehicle,
     has_losses,
 )
-from ..friction import get_model_class, make_model
+from ..friction import domain_problem, get_model_class, make_model
 from ..friction.base import SelfExcitedWarning
 from .schema import suggest
 
 __all__ = ["build_chain", "effective_model", "friction_model"]
 
 
-def friction_model(spec: dict, model: str | None, key: str, fail):
-    """The friction model of an element table ``spec`` (optionally another ``model``)."""
+def friction_model(spec: dict, model: str | None, key: str, fail, element: str = ""):
+    """The friction model of an element table ``spec`` (optionally another ``model``).
+
+    The model's own entry (``model``, ``parameter_set``, ``overrides``) and an entry of
+    ``alternatives`` (``{parameter_set = ..., key = value, ...}``) are read alike: the
+    parameters not given come from the set (default: the model's own).  Every element of
+    a scenario is rotational: a set of the other domain whose numbers would be read as
+    N·m and rad/s is refused (:func:`clutchsim.friction.domain_problem`).
+    """
     name = spec["model"] if model is None else model
     try:
         get_model_class(name)
     except ValueError as exc:
         fail(str(exc), f"{key}.model")
+    if name == spec["model"]:
+        entry = {k: v for k, v in spec.get("overrides", {}).items()}
+        pset, where = spec.get("parameter_set"), key
+        how = (f"{key}.parameter_set = \"NAME\"", f"{key}.overrides")
+    else:
+        alts = spec.get("alternatives", {})
+        if name not in alts:
+            fail(f"no parameters for model {name!r} on this element (available: "
+                 f"{', '.join([spec['model'], *alts]) or 'none'}): add them to its "
+                 f"friction table, e.g. friction = {{ model = \"{spec['model']}\", ..., "
+                 f"alternatives = {{ {name} = {{ parameter_set = \"...\" }} }} }}",
+                 f"{key}.alternatives")
+        entry = dict(alts[name])
+        pset, where = entry.pop("parameter_set", None), f"{key}.alternatives.{name}"
+        how = (f"{where}.parameter_set = \"NAME\"", where)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", SelfExcitedWarning)
-            if name == spec["model"]:
-                return make_model(name, spec.get("parameter_set"), **spec.get("overrides", {}))
-            alts = spec.get("alternatives", {})
-            if name not in alts:
-                fail(f"no parameters for model {name!r} on this element (available: "
-                     f"{', '.join([spec['model'], *alts]) or 'none'}): add them to its "
-                     f"friction table, e.g. friction = {{ model = \"{spec['model']}\", ..., "
-                     f"alternatives = {{ {name} = {{ parameter_set = \"...\" }} }} }}",
-                     f"{key}.alternatives")
-            alt = dict(alts[name])
-            pset = alt.pop("parameter_set", None)
-            if pset is None:
-                cls = get_model_class(name)
-                return cls(**alt)
-            return make_model(name, pset, **alt)
+            built = make_model(name, pset, **entry)
     except (TypeError, ValueError, SelfExcitedWarning) as exc:
-        fail(str(exc), f"{key}")
-    raise AssertionError  # pragma: no cover
+        fail(str(exc), where)
+    label = f"friction element {element!r}" if element else "this friction element"
+    problem = domain_problem(built, "rotational", label, choose_set=how[0], give_params=how[1])
+    if problem:
+        fail(problem, where)
+    return built
 
 
 def _replaced(t, model, scenario) -> bool:
@@ -208,7 +220,8 @@ def build_chain(scenario, model: str | None = None) -> Chain:
         else:
             need_input(kw["command"], f"{key}.command")
             m = model if _replaced(t, model, scenario) else None
-            kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail)
+            kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
+                                         kw.get("name", ""))
             kw["clamp_table"] = _pairs(kw.get("clamp_table"), "position", "force",
                                        f"{key}.clamp_table", fail)
             kw["mu_temperature"] = _pairs(kw.get("mu_temperature"), "theta", "factor",
@@ -222,7 +235,8 @@ def build_chain(scenario, model: str | None = None) -> Chain:
         kw = dict(t)
         need_input(kw["command"], f"{key}.command")
         m = model if _replaced(t, model, scenario) else None
-        kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail)
+        kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
+                                     kw.get("name", ""))
         kw["mu_slip"] = _pairs(kw.get("mu_slip"), "slip", "factor", f"{key}.mu_slip", fail)
         brakes.append(guard(lambda kw=kw: Brake(**kw), key))
     engine = None

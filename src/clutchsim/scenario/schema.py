@@ -41,6 +41,9 @@ SCENARIO = (
         "(default: the element's own model)."),
     Key("clutch", "str", "Name of the friction element the models replace and the launch "
         "metrics refer to (default `clutch`)."),
+    Key("expect_lockup", "bool", "Whether that element should lock up during the run: if it "
+        "never does, the run gets a warning (default: true when it is a `clutch`, as in a "
+        "launch; false for the other kinds)."),
 )
 SOLVER = (
     Key("method", "str", "rodas4 (default), ros34pw2, dopri5, scipy-radau, scipy-lsoda, "

@@ -306,5 +306,5 @@ def _count_statuses(path: Path) -> tuple[dict, dict, int]:
 
     def count(name):
         return {d["values"]: d["counts"] for d in pc.value_counts(table[name]).to_pylist()}
-    warned = int(pc.sum(pc.not_equal(table["warnings"], "")).as_py() or 0)
+    warned = int(pc.sum(pc.greater(pc.list_value_length(table["warnings"]), 0)).as_py() or 0)
     return count("status"), count("outcome"), warned

@@ -7,10 +7,9 @@ from dataclasses import replace
 
 from .design import toml_value
 
-__all__ = ["DEFAULT_METRICS", "METRICS", "WARNING_SEPARATOR", "run_chunk", "run_variant"]
+__all__ = ["DEFAULT_METRICS", "METRICS", "run_chunk", "run_variant"]
 
 #: the ``warnings`` column joins a run's warnings with this
-WARNING_SEPARATOR = " | "
 
 #: metric -> (unit, kind) ; kind: float, int or bool
 METRICS = {
@@ -35,12 +34,14 @@ def run_variant(job: dict, values: tuple) -> tuple[dict, object]:
     """One run: ``(row, frame)``; ``frame`` is the time series (only with keep_traces).
 
     A run that fails (stall, NaN, budget) or whose parameters are invalid becomes a row
-    with its status, outcome (``launch_metrics``' machine-readable reason, ``error`` for
-    invalid parameters), warnings and message; this function does not raise for those.
+    with its status and message; this function does not raise for those.  ``outcome`` is
+    the machine-readable reason (the launch metrics' ``outcome``: ``completed``,
+    ``stalled``, ``chatter``, ``budget``, ...; ``error`` for invalid parameters) and
+    ``warnings`` the run's warnings (a list of str).
     """
     from ..driveline.run import run_scenario
     from ..scenario.loader import apply_overrides, parse_scenario
-    row: dict = {"status": "error", "outcome": "error", "warnings": "", "message": ""}
+    row: dict = {"status": "error", "outcome": "error", "message": "", "warnings": []}
     frame = None
     try:
         overrides = [f"{k}={toml_value(v)}" for k, v in zip(job["keys"], values)]
@@ -56,8 +57,8 @@ def run_variant(job: dict, values: tuple) -> tuple[dict, object]:
         return row, frame
     row["status"] = lr.result.status
     row["outcome"] = lr.metrics["outcome"]
-    row["warnings"] = WARNING_SEPARATOR.join(lr.metrics["warnings"])
     row["message"] = lr.metrics["message"]
+    row["warnings"] = list(lr.metrics["warnings"])
     for m in job["metrics"]:
         v = lr.metrics.get(m)
         if isinstance(v, float) and not math.isfinite(v):

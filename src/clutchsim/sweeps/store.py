@@ -27,7 +27,7 @@ __all__ = ["SweepStore", "read_results", "table_schema"]
 
 MANIFEST = "sweep.json"
 RESULTS = "results.parquet"
-FORMAT = "clutchsim-sweep/2"   # 2: outcome and warnings columns
+FORMAT = "clutchsim-sweep/2"     # 2: outcome and warnings columns
 
 
 def digest(obj) -> str:
@@ -50,8 +50,8 @@ def table_schema(keys, units: dict, metrics):
     fields += [pa.field(k, pa.float64(), metadata={"unit": units.get(k, "")}) for k in keys]
     fields += [pa.field("status", pa.string(), metadata={"unit": "-"}),
                pa.field("outcome", pa.string(), metadata={"unit": "-"}),
-               pa.field("warnings", pa.string(), metadata={"unit": "-"}),
-               pa.field("message", pa.string(), metadata={"unit": "-"})]
+               pa.field("message", pa.string(), metadata={"unit": "-"}),
+               pa.field("warnings", pa.list_(pa.string()), metadata={"unit": "-"})]
     fields += [pa.field(m, kinds[METRICS[m][1]], metadata={"unit": METRICS[m][0]})
                for m in metrics]
     return pa.schema(fields)
