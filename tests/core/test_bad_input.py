@@ -60,3 +60,19 @@ def test_non_finite_parameters_are_rejected():
 def test_unknown_option_keyword_is_a_type_error():
     with pytest.raises(TypeError):
         SolverOptions(tolerance=1e-3)
+
+
+def test_solver_options_from_a_mapping_name_the_bad_key():
+    from clutchsim.core.controllers import StepController
+    opts = SolverOptions.from_mapping({"rtol": 1e-7, "max_steps": 10, "controller": "pid"},
+                                      dt_out=0.01)
+    assert opts.rtol == 1e-7 and opts.max_steps == 10 and opts.dt_out == 0.01
+    assert opts.controller == StepController(kind="pid")
+    with pytest.raises(ValueError, match="unknown solver option 'rtl'.*did you mean 'rtol'"):
+        SolverOptions.from_mapping({"rtl": 1e-6})
+    with pytest.raises(ValueError, match="max_steps = 2.5 must be an integer"):
+        SolverOptions.from_mapping({"max_steps": 2.5})
+    with pytest.raises(ValueError, match="atol = 'x' must be a number"):
+        SolverOptions.from_mapping({"atol": "x"})
+    with pytest.raises(ValueError, match="kind = 'PID' is not known"):
+        SolverOptions.from_mapping({"controller": "PID"})

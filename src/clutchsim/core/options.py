@@ -4,12 +4,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 from .controllers import JacobianPolicy, StepController
 from .methods import METHODS
 from .system import closest
 
-__all__ = ["SOLVERS", "SolverOptions", "check_solver"]
+__all__ = ["DEFAULT_METHOD", "SOLVERS", "SolverOptions", "check_solver"]
+
+#: the method every entry point uses unless told otherwise (written here only)
+DEFAULT_METHOD = "rodas4"
 
 _DEFAULT_POLICY = JacobianPolicy()
 
@@ -113,6 +117,38 @@ class SolverOptions:
         if self.rtol < 1e-14:
             raise ValueError(f"SolverOptions: rtol = {self.rtol!r} must be >= 1e-14 "
                              "(below double-precision round-off)")
+
+    #: keys a scenario's [solver] table or a command line may set, and their types
+    MAPPING_KEYS: ClassVar[dict[str, type]] = {
+        "rtol": float, "atol": float, "h0": float, "h_max": float, "h_min": float,
+        "dt_out": float, "max_steps": int, "wall_time": float, "chatter_events": int,
+        "chatter_window": float, "event_tol": float, "max_output": int, "controller": str}
+
+    @classmethod
+    def from_mapping(cls, mapping, **defaults) -> SolverOptions:
+        """Options from a plain mapping (a scenario's ``[solver]`` table, ``KEY=VALUE``
+        items of a command line): the one place that reads them, so every entry point
+        accepts the same keys.  ``controller`` names a :class:`StepController` kind.
+        Unknown keys and values of the wrong type raise ValueError naming the key."""
+        kw = dict(defaults)
+        for key, value in dict(mapping).items():
+            kind = cls.MAPPING_KEYS.get(key)
+            if kind is None:
+                raise ValueError(f"unknown solver option {key!r}"
+                                 f"{closest(str(key), cls.MAPPING_KEYS)}; options: "
+                                 f"{', '.join(cls.MAPPING_KEYS)}")
+            if kind is str:
+                if not isinstance(value, str):
+                    raise ValueError(f"solver option {key} = {value!r} must be a string")
+                kw[key] = StepController(kind=value)
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ValueError(  # noqa: TRY004 - a bad value in a file is a ValueError
+                    f"solver option {key} = {value!r} must be a number")
+            if kind is int and float(value) != int(value):
+                raise ValueError(f"solver option {key} = {value!r} must be an integer")
+            kw[key] = kind(value)
+        return cls(**kw)
 
     def chatter_window_for(self, span: float) -> float:
         """The chatter window [s] for a run over ``span`` seconds."""

@@ -12,7 +12,7 @@ from . import _driver as drv
 from .compile_notice import compile_notice
 from .controllers import StepController
 from .methods import EXPLICIT, get_method
-from .options import SolverOptions, check_solver
+from .options import DEFAULT_METHOD, SolverOptions, check_solver
 from .result import Event, Result, Stats
 from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
@@ -165,7 +165,7 @@ def _load_or_compile(args) -> None:
 
 
 def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
-             solver: str = "rodas4", options: SolverOptions | None = None) -> Result:
+             solver: str = DEFAULT_METHOD, options: SolverOptions | None = None) -> Result:
     """Integrate a plant over ``t_span`` and return a :class:`Result`.
 
     Parameters

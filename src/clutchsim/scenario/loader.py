@@ -341,16 +341,13 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
     for key, spec in raw_inputs.items():
         inputs[key] = _signal(spec, f"inputs.{key}", base_dir, fail)
     solver_tab = dict(data.get("solver", {}))
-    method = solver_tab.pop("method", "rodas4")
-    from ..core.options import SOLVERS
+    from ..core.options import DEFAULT_METHOD, SOLVERS
+    method = solver_tab.pop("method", DEFAULT_METHOD)
     if method not in SOLVERS:
         fail(f"solver {method!r} is not known{suggest(method, SOLVERS)} "
              f"(solvers: {', '.join(SOLVERS)})", "solver.method")
-    opt_kw = {k: (int(v) if k in ("max_steps", "chatter_events") else float(v))
-              for k, v in solver_tab.items()}
-    opt_kw.setdefault("dt_out", 0.0)
     try:
-        options = SolverOptions(**opt_kw)
+        options = SolverOptions.from_mapping(solver_tab, dt_out=0.0)
     except ValueError as exc:
         fail(str(exc), "solver")
     clutch = sc.get("clutch", "clutch")

@@ -11,6 +11,8 @@ import math
 from dataclasses import dataclass
 
 from .._util import quote
+from ..core.controllers import CONTROLLERS
+from ..core.options import DEFAULT_METHOD, SOLVERS
 
 __all__ = ["COUPLING_TYPES", "SECTIONS", "Key", "check_table", "reference_markdown"]
 
@@ -46,8 +48,8 @@ SCENARIO = (
         "launch; false for the other kinds)."),
 )
 SOLVER = (
-    Key("method", "str", "rodas4 (default), ros34pw2, dopri5, scipy-radau, scipy-lsoda, "
-        "scipy-rk45."),
+    Key("method", "str", f"{DEFAULT_METHOD} (default), "
+        + ", ".join(m for m in SOLVERS if m != DEFAULT_METHOD) + "."),
     _n("rtol", "Relative tolerance.", low=1e-14, high=1.0),
     _n("atol", "Absolute tolerance.", low=0.0, strict=True, high=1.0),
     _n("h_max", "Largest step (0: none).", "s", low=0.0, high=1e6),
@@ -57,6 +59,8 @@ SOLVER = (
     Key("chatter_events", "int", "Chatter detection: this many events ...", low=0, high=1e9),
     _n("chatter_window", "... within this time stop the run (default: 1e-4 of t_end).", "s",
        low=0.0, high=1e6),
+    Key("controller", "str", "Step-size controller: " + ", ".join(CONTROLLERS)
+        + " (default: the method's own; see docs/core.md)."),
 )
 INERTIA = (
     Key("name", "str", "Unique name; state `omega_<name>` [rad/s].", required=True),
