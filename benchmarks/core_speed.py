@@ -114,6 +114,8 @@ def main():
         "cold_start_s": round(cold_start_s, 3), "first_process_s": round(first_process_s, 3),
         "max_force_error_N": err, "matched": matched, "ladder": rungs,
         "steps": res.stats.steps, "rhs_evals": res.stats.rhs_evals,
+        "rhs_per_step": round(res.stats.rhs_evals / res.stats.steps, 2),
+        "jacobians": res.stats.jacobians,
     })
 
 

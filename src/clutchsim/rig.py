@@ -142,9 +142,10 @@ def _rig_reset(t, y, u, p, k, code):
 
 @jit
 def _rig_outputs(t, y, u, p, out, code):
+    # the rates of the friction states are outputs too, so the model writes its dz into
+    # them (an allocation per output row cost ~0.1 µs, 10 % of a LuGre run at dt_out 10 ms)
     nz = int(p[_NZ])
-    dz = np.empty(nz)
-    f, f_ext, spring = _rig_forces(t, y, u, p, dz, code)
+    f, f_ext, spring = _rig_forces(t, y, u, p, out[4:4 + nz], code)
     v = y[1] if p[_DRIVE] == _FORCE else u[0]
     out[0] = f
     out[1] = f_ext
@@ -182,6 +183,11 @@ _UNITS = {
 }
 
 
+def _rate_unit(unit: str) -> str:
+    """Unit of the rate of a state in ``unit``."""
+    return "1/s" if unit in ("-", "") else f"{unit}/s"
+
+
 def make_rig(model: FrictionModel, *, domain: str = "translational", drive: str = "force",
              mass: float = 1.0, spring: float = 0.0, pull_speed: float = 0.0,
              spring_offset: float = 0.0, x0: float = 0.0, v0: float = 0.0,
@@ -215,8 +221,8 @@ def make_rig(model: FrictionModel, *, domain: str = "translational", drive: str 
     -------
     System
         Inputs ``force`` (or ``v``) and ``scale`` (capacity multiplier, usually 1);
-        outputs the friction force, the external force, the spring force and the
-        friction power.
+        outputs the friction force, the external force, the spring force, the
+        friction power and the rate ``d<state>/dt`` of each friction state.
     """
     if not isinstance(model, FrictionModel):
         raise TypeError(f"model must be a clutchsim friction model, got {type(model).__name__}")
@@ -267,8 +273,10 @@ def make_rig(model: FrictionModel, *, domain: str = "translational", drive: str 
         inputs, iunits = (v_name, "scale"), (v_unit, "-")
     return System(
         RIG_TAGS[model.code](), p, y0, states, sunits, input_names=inputs, input_units=iunits,
-        output_names=(f_name, f"{f_name}_ext", f"{f_name}_spring", "friction power"),
-        output_units=(f_unit, f_unit, f_unit, units["power"]),
+        output_names=(f_name, f"{f_name}_ext", f"{f_name}_spring", "friction power")
+        + tuple(f"d{z}/dt" for z in z_names),
+        output_units=(f_unit, f_unit, f_unit, units["power"])
+        + tuple(_rate_unit(zu) for zu in z_units),
         event_names=tuple(f"{model.name}: {e}" for e in model.event_names()),
         event_directions=tuple(int(d) for d in model.event_directions()),
         name=f"{domain} rig with {model.name}",
