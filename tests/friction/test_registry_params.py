@@ -260,3 +260,11 @@ def test_model_docs_list_every_set_with_its_domain(model_name):
             shown = f"{value:g}" if isinstance(value, float) else str(value)
             if not isinstance(value, list):
                 assert f"{key} = {shown}" in line
+
+
+def test_an_unknown_override_names_the_models_parameters_and_the_closest():
+    with pytest.raises(TypeError, match=r"lugre has no parameter 'sigma_0' \(did you mean "
+                                        r"'sigma0'\?\); its parameters: F_c, F_s"):
+        make_model("lugre", sigma_0=1.0)
+    with pytest.raises(TypeError, match="its parameters: T_stat, k_din"):
+        make_model("mykhailevych2020", F_c=1.0)

@@ -257,7 +257,16 @@ class FrictionModel(abc.ABC):
 
     # ------------------------------------------------------------ helpers
     def with_(self, **changes: Any) -> FrictionModel:
-        """Copy with some parameters changed (validated like the constructor)."""
+        """Copy with some parameters changed (validated like the constructor; an unknown
+        parameter name raises TypeError listing the model's parameters)."""
+        names = [f.name for f in dataclasses.fields(self)]
+        unknown = [k for k in changes if k not in names]
+        if unknown:
+            import difflib
+            close = difflib.get_close_matches(unknown[0], names, n=1, cutoff=0.5)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise TypeError(f"{self.name} has no parameter {unknown[0]!r}{hint}; its "
+                            f"parameters: {', '.join(names)}")
         return dataclasses.replace(self, **changes)  # type: ignore[type-var]
 
     @classmethod
