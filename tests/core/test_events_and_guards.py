@@ -119,11 +119,11 @@ def test_truncated_output_is_said_in_the_message():
 
 
 @pytest.mark.parametrize("solver", ["dopri5", "rodas4", "ros34pw2", "scipy-radau"])
-def test_static_argument_and_event_index_reach_the_plant(solver):
-    from clutchsim.core.reference_problems import static_probe
-    res = simulate(static_probe(), (0.0, 1.0), solver=solver,
+def test_parameters_and_event_index_reach_the_plant(solver):
+    from clutchsim.core.reference_problems import probe
+    res = simulate(probe(7.0), (0.0, 1.0), solver=solver,
                    options=SolverOptions(rtol=1e-10, atol=1e-12))
     # y' = 7: events at t = 1/7 (k = 0) and 2/7 (k = 1); log = (0*100 + 7)*1000 + 107
     assert [round(e.t, 9) for e in res.events] == [round(1 / 7, 9), round(2 / 7, 9)]
     assert res.final("log") == pytest.approx(7 * 1000 + 107)
-    assert np.all(res["static"] == 7.0)
+    assert np.all(res["c"] == 7.0)

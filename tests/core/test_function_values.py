@@ -28,7 +28,7 @@ def test_plants_without_static_share_one_compiled_integrator():
     np.testing.assert_allclose(res["y"], 1.0 / (1.0 + res.t ** 2), rtol=1e-5)
 
 
-def test_kernels_are_typed_as_function_values_and_static_plants_keep_their_tag():
+def test_kernels_are_typed_as_function_values_also_for_every_rig_model():
     ks = kernels(oscillator().tag)
     assert [numba.typeof(k) for k in ks] == [types.FunctionType(KERNEL_SIG)] * 2 + [
         types.FunctionType(RESET_SIG), types.FunctionType(KERNEL_SIG),
@@ -36,5 +36,11 @@ def test_kernels_are_typed_as_function_values_and_static_plants_keep_their_tag()
     assert kernels(oscillator().tag) is ks               # built once per tag type
     from clutchsim.friction import make_model
     from clutchsim.rig import make_rig
-    rig = make_rig(make_model("lugre"), spring=2.0, pull_speed=0.1)
-    assert kernels(rig.tag) is rig.tag                    # static argument: per-tag compile
+    for name in ("lugre", "dahl"):
+        rig = make_rig(make_model(name), spring=2.0, pull_speed=0.1)
+        rk = kernels(rig.tag)
+        assert [numba.typeof(k) for k in rk] == [numba.typeof(k) for k in ks]
+        res = simulate(rig, (0.0, 0.5), {"force": 0.0, "scale": 1.0}, solver="ros34pw2")
+        assert res.status == "completed", res.message
+    # two friction models, one compiled integrator: the models reach it as function values
+    assert len(_function_value_signatures()) == 1

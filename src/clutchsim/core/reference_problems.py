@@ -172,41 +172,41 @@ def riccati():
     return System(Riccati(), np.zeros(1), np.ones(1), ("y",), ("-",), name="riccati")
 
 
-class StaticProbe(NamedTuple):
-    """y0' = static; two events (y0 crossing 1 and 2) whose reset records k·100 + static in
-    y1: checks that the static argument and the event index both reach the plant."""
+class ProbePlant(NamedTuple):
+    """y0' = c (the parameter p[0]); two events (y0 crossing 1 and 2) whose reset records
+    k·100 + c in y1: checks that the parameters and the event index reach the plant."""
 
     k: int = 0
 
 
 @jit
-def _probe_rhs(t, y, u, p, dy, static):
-    dy[0] = static
+def _probe_rhs(t, y, u, p, dy):
+    dy[0] = p[0]
     dy[1] = 0.0
 
 
 @jit
-def _probe_events(t, y, u, p, g, static):
+def _probe_events(t, y, u, p, g):
     g[0] = y[0] - 1.0
     g[1] = y[0] - 2.0
 
 
 @jit
-def _probe_reset(t, y, u, p, k, static):
-    y[1] = y[1] * 1000.0 + k * 100.0 + static
+def _probe_reset(t, y, u, p, k):
+    y[1] = y[1] * 1000.0 + k * 100.0 + p[0]
     return 1
 
 
 @jit
-def _probe_outputs(t, y, u, p, out, static):
-    out[0] = static
+def _probe_outputs(t, y, u, p, out):
+    out[0] = p[0]
 
 
-register_system(StaticProbe, rhs=_probe_rhs, events=_probe_events, reset=_probe_reset,
-                outputs=_probe_outputs, static=7)
+register_system(ProbePlant, rhs=_probe_rhs, events=_probe_events, reset=_probe_reset,
+                outputs=_probe_outputs)
 
 
-def static_probe():
-    return System(StaticProbe(), np.zeros(1), np.zeros(2), ("y", "log"), ("-", "-"),
-                  output_names=("static",), output_units=("-",),
-                  event_names=("y = 1", "y = 2"), event_directions=(1, 1), name="static probe")
+def probe(c: float = 7.0):
+    return System(ProbePlant(), np.array([c]), np.zeros(2), ("y", "log"), ("-", "-"),
+                  output_names=("c",), output_units=("-",),
+                  event_names=("y = 1", "y = 2"), event_directions=(1, 1), name="probe")

@@ -157,10 +157,8 @@ def _load_or_compile(args) -> None:
     """Get the plant's functions and the integrator's specialisation for ``args`` ready
     (from numba's cache or by compiling), so that only this, not the run, is timed by
     :func:`compile_notice`."""
-    plant = args[0]
-    if not hasattr(plant, "_fields"):     # function values, not a tag: compile each one
-        for fn in plant:
-            fn.__wrapper_address__()
+    for fn in args[0]:      # the plant's function values: compile (or load) each one
+        fn.__wrapper_address__()
     drv.integrate.compile(tuple(numba.typeof(a) for a in args))
 
 

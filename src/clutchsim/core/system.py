@@ -22,17 +22,14 @@ where ``t`` is time [s], ``y`` the state vector, ``u`` the input vector and ``p`
 parameter vector (all arrays float64, C-contiguous).  It registers them under a *tag
 type* (a ``NamedTuple`` subclass) with :func:`register_system`.
 
-The integrators reach the plant's functions in one of two ways (:func:`kernels`):
-
-* **as function values** (the default): the four functions are passed as first-class
-  numba functions of fixed signatures (:data:`KERNEL_SIG`, :data:`RESET_SIG`), so the
-  integrators are compiled, and cached on disk, once for all such plants.  A new plant
-  only compiles its own four functions (seconds) instead of the integrators (~20 s per
-  plant type on the 2-core machine).  Each call is indirect (not inlined): 1.3 % of the
-  default launch.
-* **through the tag type**, for a plant registered with a ``static`` argument: the
-  integrators are compiled for that tag type and the compiler folds the branches that
-  depend on ``static`` (the rig folds its friction-model dispatch this way).
+The plant's functions reach the integrators as first-class numba function values of fixed
+signatures (:data:`KERNEL_SIG`, :data:`RESET_SIG`, :data:`JAC_SIG`; :func:`kernels`), so the
+integrators are compiled, and cached on disk, once for all plants: a new plant only
+compiles its own functions (seconds) instead of the integrators (~30 s on the 2-core
+machine).  Each call is indirect (not inlined): 1.3 % of the default launch.  A plant
+family with variants (the rig, one per friction model) registers one tag per variant with
+functions that fold the variant in (closures over a constant compiled under their own
+names), not a run-time dispatch.
 
 The core knows nothing of friction: only these four functions.
 """
@@ -82,7 +79,6 @@ class _Functions(NamedTuple):
     reset: object
     outputs: object
     jac: object
-    static: object
     has_jac: bool
 
 
@@ -107,8 +103,7 @@ class _Kernel(WrapperAddressProtocol):
 
     numba types an object of this class as a first-class ``FunctionType`` of its
     signature, not as the particular function: the integrator is then compiled (and cached
-    on disk) once for every plant without a static argument, instead of once per plant
-    type (~20 s each).  The price: each call goes through numba's C wrapper and cannot be
+    on disk) once for every plant, instead of once per plant type (~30 s each).  The price: each call goes through numba's C wrapper and cannot be
     inlined (1.3 % of the default launch), and unboxing the four values costs ~0.1 ms per
     integrator call (numba looks each address up through Python).  numba types an object
     by signature alone only through this protocol; a compiled function passed as itself
@@ -137,12 +132,9 @@ _KERNELS: dict[type, tuple] = {}
 
 
 def kernels(tag):
-    """What the integrators receive for ``tag``: the tag itself for a plant registered
-    with a static argument (compiled per tag type, so that the compiler folds on it), else
-    the tuple (rhs, events, reset, outputs, jac) of :class:`_Kernel` function values."""
+    """What the integrators receive for ``tag``: the tuple (rhs, events, reset, outputs,
+    jac) of :class:`_Kernel` function values."""
     fns = _REGISTRY[type(tag)]
-    if fns.static is not None:
-        return tag
     with _kernel_lock:
         out = _KERNELS.get(type(tag))
         if out is None:
@@ -183,37 +175,20 @@ def _no_jac(t, y, u, p, J):
     pass
 
 
-@jit
-def _no_jac_static(t, y, u, p, J, static):
-    pass
-
-
-def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None, jac=None,
-                    static: int | None = None) -> type:
+def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None,
+                    jac=None) -> type:
     """Register the compiled functions of a plant under the ``NamedTuple`` type ``tag``.
 
-    Without ``static`` the functions reach the integrators as function values (see the
-    module docstring), so they must accept float64 C-contiguous arrays.
-
-    ``static``: an integer known when the integrator is compiled for this tag; it is passed
-    as an extra last argument to all four functions (``rhs(t, y, u, p, dy, static)``, ...),
-    and the integrators are compiled for this tag type.  A plant that registers one tag per
-    variant (e.g. per friction model) lets the compiler fold the branches that depend on
-    it; measured: the rig's right-hand side with LuGre drops from ~117 ns to ~18 ns when
-    the friction-model dispatch is folded.
+    The functions reach the integrators as function values (see the module docstring),
+    so they must accept float64 C-contiguous arrays.
 
     ``jac``: the exact Jacobian ``jac(t, y, u, p, J)`` (see the module docstring); the
     implicit integrators use it instead of finite differences.
     """
     if not (isinstance(tag, type) and issubclass(tag, tuple) and hasattr(tag, "_fields")):
         raise TypeError(f"tag must be a NamedTuple class, got {tag!r}")
-    if static is not None and (isinstance(static, bool) or not isinstance(static, int)):
-        raise TypeError(f"static must be an int or None, got {static!r}")
-    if static is not None and (events is None or reset is None or outputs is None):
-        raise TypeError("a plant with a static argument must define all four functions")
-    no_jac = _no_jac if static is None else _no_jac_static
     _REGISTRY[tag] = _Functions(rhs, events or _no_events, reset or _no_reset,
-                                outputs or _no_outputs, jac or no_jac, static, jac is not None)
+                                outputs or _no_outputs, jac or _no_jac, jac is not None)
     return tag
 
 
@@ -257,13 +232,10 @@ def _ol_rhs(tag, t, y, u, p, dy):
     fns = _functions(tag)
     if fns is None:
         return None
-    f, static = fns.rhs, fns.static
-    if static is None:
-        def impl(tag, t, y, u, p, dy):
-            f(t, y, u, p, dy)
-    else:
-        def impl(tag, t, y, u, p, dy):
-            f(t, y, u, p, dy, static)
+    f = fns.rhs
+
+    def impl(tag, t, y, u, p, dy):
+        f(t, y, u, p, dy)
     return impl
 
 
@@ -276,13 +248,10 @@ def _ol_events(tag, t, y, u, p, g):
     fns = _functions(tag)
     if fns is None:
         return None
-    f, static = fns.events, fns.static
-    if static is None:
-        def impl(tag, t, y, u, p, g):
-            f(t, y, u, p, g)
-    else:
-        def impl(tag, t, y, u, p, g):
-            f(t, y, u, p, g, static)
+    f = fns.events
+
+    def impl(tag, t, y, u, p, g):
+        f(t, y, u, p, g)
     return impl
 
 
@@ -295,13 +264,10 @@ def _ol_reset(tag, t, y, u, p, k):
     fns = _functions(tag)
     if fns is None:
         return None
-    f, static = fns.reset, fns.static
-    if static is None:
-        def impl(tag, t, y, u, p, k):
-            return f(t, y, u, p, k)
-    else:
-        def impl(tag, t, y, u, p, k):
-            return f(t, y, u, p, k, static)
+    f = fns.reset
+
+    def impl(tag, t, y, u, p, k):
+        return f(t, y, u, p, k)
     return impl
 
 
@@ -314,13 +280,10 @@ def _ol_outputs(tag, t, y, u, p, out):
     fns = _functions(tag)
     if fns is None:
         return None
-    f, static = fns.outputs, fns.static
-    if static is None:
-        def impl(tag, t, y, u, p, out):
-            f(t, y, u, p, out)
-    else:
-        def impl(tag, t, y, u, p, out):
-            f(t, y, u, p, out, static)
+    f = fns.outputs
+
+    def impl(tag, t, y, u, p, out):
+        f(t, y, u, p, out)
     return impl
 
 
@@ -333,13 +296,10 @@ def _ol_jac(tag, t, y, u, p, J):
     fns = _functions(tag)
     if fns is None:
         return None
-    f, static = fns.jac, fns.static
-    if static is None:
-        def impl(tag, t, y, u, p, J):
-            f(t, y, u, p, J)
-    else:
-        def impl(tag, t, y, u, p, J):
-            f(t, y, u, p, J, static)
+    f = fns.jac
+
+    def impl(tag, t, y, u, p, J):
+        f(t, y, u, p, J)
     return impl
 
 
