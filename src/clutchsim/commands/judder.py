@@ -52,8 +52,9 @@ def register(sub, common):
 
 
 def _table(result) -> str:
-    lines = [f"judder analysis of {result.model!r} at t = {result.point.t_s:g} s "
-             f"({result.linear.n} states, {result.linear.method} Jacobian)"]
+    head = (f"judder analysis of {result.model!r} at t = {result.point.t_s:g} s "
+            f"({result.linear.n} states, {result.linear.method} Jacobian)")
+    lines = [head]
     for e in result.point.elements:
         slope = "-" if e.friction_slope_Nms is None else f"{e.friction_slope_Nms:.4g} N·m·s/rad"
         lines.append(f"  element {e.name}: {e.state}, slip {e.slip_rad_s:.4g} rad/s, "
