@@ -95,3 +95,30 @@ def test_judder_amplitude_measures_a_band_oscillation_during_slip():
     assert judder_amplitude(_result(t, ramp, np.zeros_like(t), cap)) is None
     with pytest.raises(ValueError, match="band"):
         judder_amplitude(_result(t, ramp, slip, cap), band=(5.0, 1.0))
+
+
+def test_judder_map_grid_table_and_figure(tmp_path):
+    from clutchsim.analysis import judder_map
+    from clutchsim.plot.judder import plot_map
+    jm = judder_map(None, "coulomb-robust", x=("coupling[1].d", [0.05, 3.0]),
+                    y=("vehicle.grade", [0.0, 10.0]), classic="x")
+    assert jm.damping_ratio.shape == (2, 2) and jm.stable.all()
+    # more damper damping: a larger margin (the damper mode is the least damped at 0.05)
+    assert np.all(jm.damping_ratio[:, 1] > jm.damping_ratio[:, 0])
+    doc = jm.as_dict()
+    assert doc["kind"] == "judder_map" and len(doc["points"]) == 4
+    assert set(doc["points"][0]) == {"coupling[1].d", "vehicle.grade", "damping_ratio",
+                                     "growth_rate_1_s", "frequency_hz",
+                                     "friction_slope_Nms", "stable"}
+    json.dumps(doc, allow_nan=False)
+    plot_map(jm, tmp_path / "map.png")
+    assert (tmp_path / "map.png").stat().st_size > 1000
+    with pytest.raises(ValueError, match="must be"):
+        judder_map(None, x=("coupling[1].d", []), y=("vehicle.grade", [0.0]))
+
+
+def test_cli_map_needs_two_axes():
+    p = _cli("--map", "coupling[1].d=0.1:1:2")
+    assert p.returncode == 2 and "exactly twice" in p.stderr
+    p = _cli("--map", "coupling[1].d=0.1:1", "--map", "vehicle.grade=0:1:2")
+    assert p.returncode == 2 and "KEY=LO:HI:N" in p.stderr

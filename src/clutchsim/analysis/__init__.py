@@ -1,6 +1,6 @@
 """Analyses of a plant beyond time simulation: linearisation, modes, judder."""
 
-from .judder import JudderResult, judder_amplitude, judder_analysis
+from .judder import JudderMap, JudderResult, judder_amplitude, judder_analysis, judder_map
 from .linear import (
     ElementPoint,
     LinearModel,
@@ -13,6 +13,6 @@ from .linear import (
     operating_point,
 )
 
-__all__ = ["ElementPoint", "JudderResult", "LinearModel", "Mode", "OperatingPoint",
+__all__ = ["ElementPoint", "JudderMap", "JudderResult", "LinearModel", "Mode", "OperatingPoint",
            "OperatingPointError", "element_points", "judder_amplitude", "judder_analysis",
-           "linearise", "modes", "operating_point"]
+           "judder_map", "linearise", "modes", "operating_point"]

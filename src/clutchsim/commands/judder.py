@@ -22,6 +22,12 @@ enter through their friction slope dT/d(slip).  Every mode is listed by frequenc
 and first-order modes with frequency 0): natural frequency [Hz], damping ratio [-], growth
 rate [1/s], stable, the states that dominate it.
 
+--map KEY=LO:HI:N --map KEY=LO:HI:N: the judder margin (smallest damping ratio of the
+oscillatory modes) at --at over that grid of scenario variants; --out writes judder_map.csv
+and judder_map.png; --json prints {"kind": "judder_map", "model", "t_s", "x": {"key",
+"values"}, "y": {...}, "points": [{KEY_X, KEY_Y, "damping_ratio", "growth_rate_1_s",
+"frequency_hz", "friction_slope_Nms", "stable"}]}.
+
 --json prints {"kind": "judder", "model", "operating_point": {"t_s", "elements": {NAME:
 {"slip_rad_s", "friction_slope_Nms", "state"}}}, "modes": [{"frequency_hz",
 "damping_ratio", "growth_rate_1_s", "stable", "dominant_states"}], "stable"}.  --out DIR
@@ -48,6 +54,12 @@ def register(sub, common):
                    help="report only this switching element (repeatable)")
     p.add_argument("--out", default=None, metavar="DIR",
                    help="write judder.json and judder.png to DIR")
+    p.add_argument("--map", action="append", default=None, metavar="KEY=LO:HI:N",
+                   help="stability map: give twice (x, then y axis), N values from LO to HI "
+                   "of a scenario key")
+    p.add_argument("--classic", choices=("x", "y"), default=None,
+                   help="with --map: that axis is a driveline damping c [N·m·s/rad]; draw the "
+                   "classic boundary c + dT/dω = 0")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
 
@@ -82,6 +94,10 @@ def run(args) -> int:
                         "seconds")
     if args.out is not None:
         check_output_dir(args.out)
+    if args.map is not None:
+        return _run_map(args)
+    if args.classic is not None:
+        raise UserError("--classic needs --map")
     sc = load_scenario(args.scenario, overrides=args.set)
     try:
         result = judder_analysis(sc, args.model, args.at, elements=args.element)
@@ -99,6 +115,65 @@ def run(args) -> int:
         emit_json(doc)
     else:
         print(_table(result), file=sys.stdout)
+    return 0
+
+
+def _axis(text: str):
+    import numpy as np
+    key, sep, rng = text.partition("=")
+    parts = rng.split(":")
+    if not sep or not key or len(parts) != 3:
+        raise UserError(f"--map {text!r}: expected KEY=LO:HI:N, e.g. "
+                        "coupling[1].d=0.1:5:8")
+    try:
+        lo, hi, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise UserError(f"--map {text!r}: LO and HI must be numbers and N an integer") \
+            from None
+    if not (np.isfinite(lo) and np.isfinite(hi)) or not 1 <= n <= 200:
+        raise UserError(f"--map {text!r}: LO and HI must be finite and N in 1..200")
+    return key, np.linspace(lo, hi, n)
+
+
+def _run_map(args) -> int:
+    import csv
+    import json
+
+    from ..analysis import OperatingPointError, judder_map
+    from ..core.result import atomic_directory, atomic_write
+    if len(args.map) != 2:
+        raise UserError(f"--map: give it exactly twice (x and y axes), got {len(args.map)}")
+    if args.element:
+        raise UserError("--element does not apply to --map")
+    x, y = _axis(args.map[0]), _axis(args.map[1])
+    if x[0] == y[0]:
+        raise UserError(f"--map: both axes are {x[0]!r}")
+    try:
+        jm = judder_map(args.scenario, args.model, x=x, y=y, at=args.at, overrides=args.set,
+                        classic=args.classic)
+    except OperatingPointError as exc:
+        raise SimulationFailed(str(exc)) from None
+    doc = jm.as_dict()
+    if args.out is not None:
+        from ..plot.judder import plot_map
+        rows = jm.rows()
+
+        def write_csv(path):
+            with open(path, "w", newline="", encoding="utf-8") as fh:
+                w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+                w.writeheader()
+                w.writerows(rows)
+        with atomic_directory(args.out) as part:
+            atomic_write(part / "judder_map.csv", write_csv)
+            atomic_write(part / "judder_map.json", lambda p: p.write_text(
+                json.dumps(doc, indent=2, allow_nan=False)))
+            plot_map(jm, part / "judder_map.png")
+    if args.json:
+        emit_json(doc)
+    else:
+        n_bad = sum(not r["stable"] for r in doc["points"])
+        print(f"judder map of {jm.model!r} at t = {jm.t_s:g} s: {len(doc['points'])} points, "
+              f"{n_bad} unstable")
     return 0
 
 

@@ -6,7 +6,7 @@ import math
 
 from ._style import new_figure, save_png
 
-__all__ = ["plot_modes"]
+__all__ = ["plot_map", "plot_modes"]
 
 
 def plot_modes(result, path=None):
@@ -35,6 +35,44 @@ def plot_modes(result, path=None):
     a.set_xlabel("natural frequency [Hz]")
     a.set_ylabel("damping ratio [-]")
     a.set_title("oscillatory modes (below 0: judder)")
+    if path is not None:
+        save_png(fig, path)
+    return fig, ax
+
+
+def plot_map(jmap, path=None):
+    """A :class:`~clutchsim.analysis.JudderMap`: the judder margin (smallest damping ratio
+    of the oscillatory modes) over the grid, unstable points marked, the computed boundary
+    (damping ratio 0) and, where the map names a driveline-damping axis, the classic
+    boundary ``c + dT/dω = 0``.  Saved to ``path`` (PNG) when given; returns
+    ``(figure, axes)``."""
+    import numpy as np
+    fig, ax = new_figure(1, 1, figsize=(7.5, 5.5))
+    a = ax[0, 0]
+    z = jmap.damping_ratio
+    lim = float(np.nanmax(np.abs(z))) if np.any(np.isfinite(z)) else 1.0
+    lim = lim if lim > 0 else 1.0
+    X, Y = np.meshgrid(jmap.x, jmap.y)
+    if jmap.x.size > 1 and jmap.y.size > 1:
+        mesh = a.pcolormesh(X, Y, z, cmap="RdBu", vmin=-lim, vmax=lim, shading="nearest")
+        fig.colorbar(mesh, ax=a, label="smallest damping ratio [-]")
+        if np.nanmin(z) < 0 < np.nanmax(z):
+            a.contour(X, Y, z, levels=[0.0], colors="k", linewidths=1.5)
+        if jmap.classic is not None and np.any(np.isfinite(jmap.friction_slope_Nms)):
+            c = X if jmap.classic == "x" else Y
+            g = c + jmap.friction_slope_Nms
+            if np.nanmin(g) < 0 < np.nanmax(g):
+                a.contour(X, Y, g, levels=[0.0], colors="tab:red", linestyles="--")
+    bad = ~jmap.stable
+    a.plot(X[bad], Y[bad], "x", color="tab:red", label="unstable")
+    a.plot(X[~bad], Y[~bad], ".", color="tab:blue", label="stable")
+    a.set_xlabel(jmap.x_key)
+    a.set_ylabel(jmap.y_key)
+    title = f"judder margin at t = {jmap.t_s:g} s ({jmap.model}); black: ζ = 0"
+    if jmap.classic is not None:
+        title += "; red dashed: c + dT/dω = 0"
+    a.set_title(title, fontsize=9)
+    a.legend(loc="best", fontsize=8)
     if path is not None:
         save_png(fig, path)
     return fig, ax
