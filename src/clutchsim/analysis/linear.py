@@ -29,9 +29,21 @@ import numpy as np
 
 from ..core.system import System, call_jac, call_outputs, call_rhs, closest, has_jacobian
 
-__all__ = ["DISCRETE_SUFFIXES", "ElementPoint", "LinearModel", "Mode", "OperatingPoint",
-           "OperatingPointError", "element_points", "linearise", "modes", "operating_point",
-           "rigid_constraints"]
+__all__ = [
+    "DISCRETE_SUFFIXES",
+    "ElementPoint",
+    "FrequencyResponse",
+    "LinearModel",
+    "Mode",
+    "OperatingPoint",
+    "OperatingPointError",
+    "element_points",
+    "frequency_response",
+    "linearise",
+    "modes",
+    "operating_point",
+    "rigid_constraints",
+]
 
 #: state-name suffixes of discrete mode flags (frozen, not linearised)
 DISCRETE_SUFFIXES = (".locked", ".mode")
@@ -98,6 +110,11 @@ class LinearModel:
     locked: tuple[str, ...]
     merged: tuple[str, ...]
     method: str
+    #: indices (into the plant's state vector) of the continuous states, and the basis
+    #: ``x_continuous = basis·x`` of the linearised states in them (identity without
+    #: merged constraints)
+    continuous: tuple[int, ...] = ()
+    basis: np.ndarray | None = None
 
     @property
     def n(self) -> int:
@@ -303,6 +320,7 @@ def linearise(system: System, t: float, y, u, *, constraints=()) -> LinearModel:
     locked = tuple(e for e in _element_names(system) if _locked(system, y, e))
     merged: list[str] = []
     keep = list(range(len(cont)))
+    T = np.eye(len(cont))
     rows = []
     for c in constraints:
         row = np.zeros(len(cont))
@@ -341,7 +359,7 @@ def linearise(system: System, t: float, y, u, *, constraints=()) -> LinearModel:
     idx = [cont[k] for k in keep]
     return LinearModel(_readonly(A), tuple(names[j] for j in idx),
                        tuple(system.state_units[j] for j in idx), float(t), frozen, locked,
-                       tuple(merged), method)
+                       tuple(merged), method, tuple(cont), _readonly(T))
 
 
 def modes(lin: LinearModel, *, n_dominant: int = 3, share: float = 0.2) -> tuple[Mode, ...]:
@@ -448,3 +466,72 @@ def operating_point(scenario, model: str | None = None, t: float = 0.0, *,
     elems = element_points(system, t, y, u, elements)
     return OperatingPoint(system, t, _readonly(y), _readonly(u), elems, steps,
                           rigid_constraints(chain, system, y))
+
+
+@dataclass(frozen=True)
+class FrequencyResponse:
+    """``H(f) = output/input`` of the linear model: ``gain`` [output unit per input unit]
+    and ``phase_rad`` at ``freqs_hz``."""
+
+    input: str
+    output: str
+    input_unit: str
+    output_unit: str
+    freqs_hz: np.ndarray
+    gain: np.ndarray
+    phase_rad: np.ndarray
+
+    def as_dict(self) -> dict:
+        return {"kind": "frequency_response", "input": self.input, "output": self.output,
+                "unit": f"{self.output_unit}/{self.input_unit}",
+                "points": [{"frequency_hz": float(f), "gain": float(g), "phase_rad": float(p)}
+                           for f, g, p in zip(self.freqs_hz, self.gain, self.phase_rad)]}
+
+
+def frequency_response(system: System, lin: LinearModel, y, u, input: str, output: str,
+                       freqs_hz) -> FrequencyResponse:
+    """Small-signal response of ``output`` (an output or state of ``system``) to the input
+    channel ``input`` about the operating point of ``lin``:
+    ``H(jω) = C·(jω·I − A)⁻¹·B + D``, with ``B``, ``C``, ``D`` differenced from the plant
+    at ``(lin.t_s, y, u)`` (central differences, Richardson-extrapolated).
+
+    This is forced judder in the linear range: an oscillating clamp load (the friction
+    command, e.g. pressure-plate runout) or an engine-torque pulsation (the throttle) to
+    the clutch torque or the vehicle acceleration.
+    """
+    y, u = _arr(y).copy(), _arr(u).copy()
+    if input not in system.input_names:
+        raise ValueError(f"input {input!r} is not an input of {system.name}"
+                         f"{closest(input, system.input_names)} (inputs: "
+                         f"{', '.join(system.input_names) or 'none'})")
+    names = (*system.output_names, *system.state_names)
+    if output not in names:
+        raise ValueError(f"output {output!r} is not an output or state of {system.name}"
+                         f"{closest(output, names)}")
+    f = np.asarray(freqs_hz, dtype=float).ravel()
+    if f.size == 0 or not np.all(np.isfinite(f)) or np.any(f < 0):
+        raise ValueError(f"freqs_hz = {freqs_hz!r} must be finite frequencies >= 0 Hz")
+    t = lin.t_s
+    cont = list(lin.continuous)
+    keep = [cont.index(system.state_names.index(n)) for n in lin.state_names]
+    k_in = system.input_names.index(input)
+
+    def out(yy, uu):
+        if output in system.output_names:
+            return _outputs(system, t, yy, uu)[system.output_names.index(output)]
+        return yy[system.state_names.index(output)]
+
+    def rhs_u(uu):
+        return _rhs(system, t, y, uu)[cont]
+
+    h = FD_STEP * max(abs(float(u[k_in])), 1e-2)
+    B = _jacobian_fd(rhs_u, u, [k_in], [h])[keep, 0]
+    C = _jacobian_fd(lambda yy: np.array([out(yy, u)]), y, cont, _steps(y, cont))[0] @ lin.basis
+    D = float(_jacobian_fd(lambda uu: np.array([out(y, uu)]), u, [k_in], [h])[0, 0])
+    A = lin.A
+    eye = np.eye(A.shape[0])
+    H = np.array([C @ np.linalg.solve(2j * math.pi * fk * eye - A, B) + D for fk in f])
+    unit_of = dict(zip(system.output_names, system.output_units)) | \
+        dict(zip(system.state_names, system.state_units))
+    return FrequencyResponse(input, output, system.input_units[k_in], unit_of[output], f,
+                             np.abs(H), np.angle(H))
