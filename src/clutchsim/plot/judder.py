@@ -31,6 +31,8 @@ def plot_modes(result, path=None):
             a.annotate(m.dominant_states[0] if m.dominant_states else "",
                        (m.frequency_hz, m.damping_ratio), fontsize=7,
                        textcoords="offset points", xytext=(4, 4))
+        from matplotlib.ticker import NullFormatter
+        a.xaxis.set_minor_formatter(NullFormatter())   # decade labels only
     a.axhline(0.0, color="k", lw=0.8)
     a.set_xlabel("natural frequency [Hz]")
     a.set_ylabel("damping ratio [-]")
