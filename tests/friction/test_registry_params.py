@@ -81,6 +81,7 @@ def test_list_sets_by_model():
     assert list_parameter_sets("mykhailevych2020") == [
         "mykhailevych2020_clutch",
         "mykhailevych2020_translational",
+        "mykhailevych2020_translational_damped",
     ]
     assert "coulomb" in list_parameter_sets("coulomb-naive")
     assert "coulomb" in list_parameter_sets("coulomb-robust")
@@ -92,7 +93,7 @@ def test_every_set_has_a_domain_and_sets_list_by_domain():
         assert load_parameter_set(name).domain in ("translational", "rotational")
     assert set(list_parameter_sets(domain="rotational")) == rotational
     assert list_parameter_sets("mykhailevych2020", "translational") == [
-        "mykhailevych2020_translational"]
+        "mykhailevych2020_translational", "mykhailevych2020_translational_damped"]
     with pytest.raises(ValueError, match="domain = 'angular'"):
         list_parameter_sets(domain="angular")
 

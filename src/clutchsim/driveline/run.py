@@ -243,7 +243,8 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
 def launch_metrics(res: Result, clutch: str = "clutch") -> dict:
     """Per-run metrics: completed, outcome, message, warnings (``res.warnings``: see
     :func:`launch_warnings`), lockup_time_s, slip_energy_J, peak_lining_temp_C,
-    max_jerk_mps3, engine_speed_min_rpm, engine_stalled, energy_balance_rel, steps, rhs_evals,
+    max_jerk_mps3, engine_speed_min_rpm, engine_stalled, energy_balance_rel,
+    judder_amplitude_Nm (:func:`clutchsim.analysis.judder_amplitude`), steps, rhs_evals,
     events, min_step_s, wall_s."""
     m: dict = {"completed": res.status == "completed", "outcome": str(res.outcome),
                "message": res.message, "warnings": list(res.warnings)}
@@ -272,6 +273,8 @@ def launch_metrics(res: Result, clutch: str = "clutch") -> dict:
     if m["engine_stalled"]:
         m["outcome"] = "stalled"
     m["energy_balance_rel"] = energy_balance(res)["energy_balance_rel"]
+    from ..analysis.judder import judder_amplitude
+    m["judder_amplitude_Nm"] = judder_amplitude(res, clutch)
     st = res.stats
     m.update(steps=st.steps, rhs_evals=st.rhs_evals, events=st.events,
              min_step_s=st.min_step_s, wall_s=st.wall_s)

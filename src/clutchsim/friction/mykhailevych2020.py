@@ -38,7 +38,7 @@ class Mykhailevych2020(FrictionModel):
 
     One state, the integrated slip ``phi`` (m or rad)::
 
-        T      = scale·[ T_stat·tanh(phi/phi0) + k_v·v
+        T      = scale·[ T_stat·tanh(phi/phi0) + k_v·v + c_ps·v·sech²(phi/phi0)
                          - sign(v)·(T_stat - T_din)·(1 - exp(-|v/omega0|^p)) ]
         T_din  = k_din·T_stat
         dphi/dt = v
@@ -80,6 +80,15 @@ class Mykhailevych2020(FrictionModel):
     sign); ``c_eff < 0`` makes it self-excited, and the constructor then
     emits a :class:`~clutchsim.friction.SelfExcitedWarning`.
 
+    Pre-sliding damping (clutchsim's extension, off by default). ``c_ps·v·sech²(phi/phi0)``
+    damps the elastic contact where its spring acts (``sech²`` is the spring's own
+    shape, ``d tanh/dphi·phi0``) and vanishes in gross sliding (``|phi| >> phi0``:
+    ``sech²(5) = 1.8e-4``), so it damps the locked contact without flattening the
+    Stribeck drop as a large ``k_v`` does.  It adds no state; ``c_ps = 0`` is the seed's
+    model (6) exactly.  The locked contact (``phi`` near ``phi*``) is then a spring
+    ``scale·T_stat·sech²(phi*/phi0)/phi0`` with the damper ``scale·(c_eff +
+    c_ps·sech²(phi*/phi0))`` (docs/judder.md derives its frequency and damping ratio).
+
     Parameters
     ----------
     T_stat : float
@@ -98,6 +107,9 @@ class Mykhailevych2020(FrictionModel):
         Reset policy, one of ``RESET_POLICIES`` (default ``"clamp"``).
     reset_c : float, optional
         Clamp factor c of the ``clamp`` policy [-], > 0, default 2.
+    c_ps : float, optional
+        Pre-sliding damping [N·s/m or N·m·s/rad], >= 0, default 0 (off: the seed's
+        equations).
 
     References
     ----------
@@ -114,6 +126,7 @@ class Mykhailevych2020(FrictionModel):
     p: float = 2.0
     reset: str = "clamp"
     reset_c: float = 2.0
+    c_ps: float = 0.0
 
     name: ClassVar[str] = "mykhailevych2020"
     code: ClassVar[int] = 11
@@ -132,6 +145,8 @@ class Mykhailevych2020(FrictionModel):
         "p": ("1", "exponent of the Stribeck term (1 or 2)"),
         "reset": ("1", "reset policy of phi at v = 0: " + ", ".join(RESET_POLICIES)),
         "reset_c": ("1", "clamp factor c of the clamp policy (|phi| <= c·phi0)"),
+        "c_ps": ("force/velocity",
+                 "pre-sliding damping c_ps·v·sech²(phi/phi0), 0 in sliding (0 = off)"),
     }
     phenomena: ClassVar[dict[str, str]] = {
         "stiction": "yes (capacity T_stat)",
@@ -165,6 +180,7 @@ class Mykhailevych2020(FrictionModel):
         self._require(self.p in (1.0, 2.0), "p", "1 or 2")
         self._require(self.reset in RESET_POLICIES, "reset", "one of " + ", ".join(RESET_POLICIES))
         self._require(self.reset_c > 0.0, "reset_c", "> 0")
+        self._require(self.c_ps >= 0.0, "c_ps", ">= 0")
         if self.c_eff < 0.0:
             warnings.warn(
                 f"Mykhailevych2020: small-slip damping c_eff = {self.c_eff:g} N·s/m < 0 "
@@ -178,7 +194,7 @@ class Mykhailevych2020(FrictionModel):
     def _pack(self) -> list[float]:
         return [
             self.T_stat, self.k_din, self.phi0, self.omega0, self.k_v, self.p,
-            float(RESET_POLICIES[self.reset]), self.reset_c,
+            float(RESET_POLICIES[self.reset]), self.reset_c, self.c_ps,
         ]  # fmt: skip
 
     def _state_spec(self) -> tuple[tuple[str, str], ...]:
@@ -201,7 +217,9 @@ def mykhailevych2020_force(p, z, v, F_e, scale, dz):
     x = abs(v / p[3])
     xp = x * x if p[5] == 2.0 else x        # p is 1 or 2 (checked): no call to pow
     drop = (T_stat - p[1] * T_stat) * (1.0 - math.exp(-xp))
-    return scale * (T_stat * math.tanh(z[0] / p[2]) + p[4] * v - sgn(v) * drop)
+    th = math.tanh(z[0] / p[2])
+    damp = p[8] * v * (1.0 - th * th)       # c_ps·v·sech²(phi/phi0): 0 in sliding
+    return scale * (T_stat * th + p[4] * v + damp - sgn(v) * drop)
 
 
 @jit
@@ -214,11 +232,14 @@ def mykhailevych2020_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     x = abs(v / p[3])
     xp, slope = (x * x, 2.0 * x) if p[5] == 2.0 else (x, 1.0)
     th = math.tanh(z[0] / p[2])
+    sech2 = 1.0 - th * th
     Jz[0, 0], Jz[0, 1] = 0.0, 1.0
-    dF[0] = scale * T_stat * (1.0 - th * th) / p[2]
-    dF[1] = scale * (p[4] - (T_stat - p[1] * T_stat) * slope * math.exp(-xp) / p[3])
+    # c_ps·v·sech²(u), u = phi/phi0: d/dphi = -2·c_ps·v·sech²·tanh/phi0
+    dF[0] = scale * (T_stat * sech2 - 2.0 * p[8] * v * sech2 * th) / p[2]
+    dF[1] = scale * (p[4] + p[8] * sech2
+                     - (T_stat - p[1] * T_stat) * slope * math.exp(-xp) / p[3])
     dF[2] = 0.0
-    dF[3] = (T_stat * th + p[4] * v
+    dF[3] = (T_stat * th + p[4] * v + p[8] * v * sech2
              - sgn(v) * (T_stat - p[1] * T_stat) * (1.0 - math.exp(-xp)))
     return F
 

@@ -20,6 +20,7 @@ METRICS = {
     "engine_speed_min_rpm": ("rpm", "float"),
     "engine_stalled": ("-", "bool"),
     "energy_balance_rel": ("-", "float"),
+    "judder_amplitude_Nm": ("N·m", "float"),
     "steps": ("-", "int"),
     "rhs_evals": ("-", "int"),
     "events": ("-", "int"),

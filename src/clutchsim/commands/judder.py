@@ -1,0 +1,180 @@
+"""``clutchsim judder``: the modes of a scenario's driveline at an operating time."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+
+from ..cli import SimulationFailed, UserError, emit_json
+
+log = logging.getLogger("clutchsim")
+
+HELP = """\
+examples:
+  clutchsim judder                                     # the default launch at t = 0
+  clutchsim judder examples/launch.toml --at 0.9 --json
+  clutchsim judder --model coulomb-robust --at 3 --out modes/
+  clutchsim judder --at 0.9 --set "clutch.friction.k_din=0.8" --element clutch
+
+The scenario is simulated from 0 to --at (default 0), its inputs frozen there, and the
+driveline linearised: locked elements are merged (their constraint holds), slipping ones
+enter through their friction slope dT/d(slip).  Every mode is listed by frequency (rigid-body
+and first-order modes with frequency 0): natural frequency [Hz], damping ratio [-], growth
+rate [1/s], stable, the states that dominate it.
+
+--map KEY=LO:HI:N --map KEY=LO:HI:N: the judder margin (smallest damping ratio of the
+oscillatory modes) at --at over that grid of scenario variants; --out writes judder_map.csv
+and judder_map.png; --json prints {"kind": "judder_map", "model", "t_s", "x": {"key",
+"values"}, "y": {...}, "points": [{KEY_X, KEY_Y, "damping_ratio", "growth_rate_1_s",
+"frequency_hz", "friction_slope_Nms", "stable"}]}.
+
+--json prints {"kind": "judder", "model", "operating_point": {"t_s", "elements": {NAME:
+{"slip_rad_s", "friction_slope_Nms", "state"}}}, "modes": [{"frequency_hz",
+"damping_ratio", "growth_rate_1_s", "stable", "dominant_states"}], "stable"}.  --out DIR
+writes judder.json and judder.png (atomically: DIR.partial renamed when complete).
+
+exit status: 0 done (whether or not the point is stable: see "stable"), 1 the run to --at
+did not complete, 2 bad input (--at past t_end, an unknown element, a bad scenario).
+"""
+
+
+def register(sub, common):
+    p = sub.add_parser("judder", parents=[common],
+                       help="modes and friction slopes of a driveline at an operating time",
+                       description="Linearise a driveline scenario at an operating time and "
+                       "report its modes (judder analysis).", epilog=HELP,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+    p.add_argument("--model", default=None, help="friction model of the clutch element")
+    p.add_argument("--at", type=float, default=0.0, metavar="T",
+                   help="operating time [s], 0 <= T <= t_end (default 0)")
+    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
+                   help="override a scenario key, e.g. vehicle.grade=12")
+    p.add_argument("--element", action="append", default=None, metavar="NAME",
+                   help="report only this switching element (repeatable)")
+    p.add_argument("--out", default=None, metavar="DIR",
+                   help="write judder.json and judder.png to DIR")
+    p.add_argument("--map", action="append", default=None, metavar="KEY=LO:HI:N",
+                   help="stability map: give twice (x, then y axis), N values from LO to HI "
+                   "of a scenario key")
+    p.add_argument("--classic", choices=("x", "y"), default=None,
+                   help="with --map: that axis is a driveline damping c [N·m·s/rad]; draw the "
+                   "classic boundary c + dT/dω = 0")
+    p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
+
+
+def _table(result) -> str:
+    head = (f"judder analysis of {result.model!r} at t = {result.point.t_s:g} s "
+            f"({result.linear.n} states, {result.linear.method} Jacobian)")
+    lines = [head]
+    for e in result.point.elements:
+        slope = "-" if e.friction_slope_Nms is None else f"{e.friction_slope_Nms:.4g} N·m·s/rad"
+        lines.append(f"  element {e.name}: {e.state}, slip {e.slip_rad_s:.4g} rad/s, "
+                     f"friction slope {slope}")
+    lines.append(f"  {'f [Hz]':>10} {'zeta [-]':>10} {'growth [1/s]':>13} stable  dominant")
+    for m in result.modes:
+        flag = "yes" if m.stable else "NO"
+        lines.append(f"  {m.frequency_hz:10.4g} {m.damping_ratio:10.4g} "
+                     f"{m.growth_rate_1_s:13.4g} {flag:6}  {', '.join(m.dominant_states)}")
+    lines.append("stable" if result.stable else "UNSTABLE: a mode grows")
+    return "\n".join(lines)
+
+
+def run(args) -> int:
+    import json
+    import math
+    import sys
+
+    from .._util import check_output_dir
+    from ..analysis import OperatingPointError, judder_analysis
+    from ..core.result import atomic_directory, atomic_write
+    from ..scenario import load_scenario
+    if not math.isfinite(args.at):
+        raise UserError(f"--at {args.at!r}: the operating time must be a finite number of "
+                        "seconds")
+    if args.out is not None:
+        check_output_dir(args.out)
+    if args.map is not None:
+        return _run_map(args)
+    if args.classic is not None:
+        raise UserError("--classic needs --map")
+    sc = load_scenario(args.scenario, overrides=args.set)
+    try:
+        result = judder_analysis(sc, args.model, args.at, elements=args.element)
+    except OperatingPointError as exc:
+        raise SimulationFailed(str(exc)) from None
+    doc = result.as_dict()
+    if args.out is not None:
+        from ..plot.judder import plot_modes
+        with atomic_directory(args.out) as part:
+            atomic_write(part / "judder.json", lambda p: p.write_text(
+                json.dumps(doc, indent=2, allow_nan=False)))
+            plot_modes(result, part / "judder.png")
+        log.info("wrote %s", args.out)
+    if args.json:
+        emit_json(doc)
+    else:
+        print(_table(result), file=sys.stdout)
+    return 0
+
+
+def _axis(text: str):
+    import numpy as np
+    key, sep, rng = text.partition("=")
+    parts = rng.split(":")
+    if not sep or not key or len(parts) != 3:
+        raise UserError(f"--map {text!r}: expected KEY=LO:HI:N, e.g. "
+                        "coupling[1].d=0.1:5:8")
+    try:
+        lo, hi, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise UserError(f"--map {text!r}: LO and HI must be numbers and N an integer") \
+            from None
+    if not (np.isfinite(lo) and np.isfinite(hi)) or not 1 <= n <= 200:
+        raise UserError(f"--map {text!r}: LO and HI must be finite and N in 1..200")
+    return key, np.linspace(lo, hi, n)
+
+
+def _run_map(args) -> int:
+    import csv
+    import json
+
+    from ..analysis import OperatingPointError, judder_map
+    from ..core.result import atomic_directory, atomic_write
+    if len(args.map) != 2:
+        raise UserError(f"--map: give it exactly twice (x and y axes), got {len(args.map)}")
+    if args.element:
+        raise UserError("--element does not apply to --map")
+    x, y = _axis(args.map[0]), _axis(args.map[1])
+    if x[0] == y[0]:
+        raise UserError(f"--map: both axes are {x[0]!r}")
+    try:
+        jm = judder_map(args.scenario, args.model, x=x, y=y, at=args.at, overrides=args.set,
+                        classic=args.classic)
+    except OperatingPointError as exc:
+        raise SimulationFailed(str(exc)) from None
+    doc = jm.as_dict()
+    if args.out is not None:
+        from ..plot.judder import plot_map
+        rows = jm.rows()
+
+        def write_csv(path):
+            with open(path, "w", newline="", encoding="utf-8") as fh:
+                w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+                w.writeheader()
+                w.writerows(rows)
+        with atomic_directory(args.out) as part:
+            atomic_write(part / "judder_map.csv", write_csv)
+            atomic_write(part / "judder_map.json", lambda p: p.write_text(
+                json.dumps(doc, indent=2, allow_nan=False)))
+            plot_map(jm, part / "judder_map.png")
+    if args.json:
+        emit_json(doc)
+    else:
+        n_bad = sum(not r["stable"] for r in doc["points"])
+        print(f"judder map of {jm.model!r} at t = {jm.t_s:g} s: {len(doc['points'])} points, "
+              f"{n_bad} unstable")
+    return 0
+
+
+__all__ = ["UserError", "register", "run"]
