@@ -22,6 +22,7 @@ import numpy as np
 
 from ._jit import jit
 from .core import Signal, SolverOptions, System, register_system, simulate
+from .core.status import Action
 from .friction import (
     MODELS,
     domain_problem,
@@ -30,7 +31,7 @@ from .friction import (
     friction_jacobian,
     friction_reset,
 )
-from .friction.base import FrictionModel
+from .friction.base import RESET_NONE, RESET_STUCK, FrictionModel
 
 __all__ = ["RIG_HEADER", "make_rig", "run_rig"]
 
@@ -38,6 +39,7 @@ __all__ = ["RIG_HEADER", "make_rig", "run_rig"]
 _DRIVE, _MASS, _K, _V_PULL, _Y0, _CODE, _NZ, _NEV = range(8)
 RIG_HEADER = 8
 _FORCE, _VELOCITY = 0.0, 1.0
+_CONTINUE, _STATE_CHANGED = int(Action.CONTINUE), int(Action.STATE_CHANGED)
 
 
 class FrictionRig(NamedTuple):
@@ -133,11 +135,11 @@ def _rig_reset(t, y, u, p, k, code):
     if p[_DRIVE] == _FORCE:
         spring = p[_K] * (p[_Y0] + p[_V_PULL] * t - y[0]) if p[_K] != 0.0 else 0.0
         action = friction_reset(code, pf, y[2:2 + nz], y[1], u[0] + spring, u[1], k)
-        if action == 2:
+        if action == RESET_STUCK:
             y[1] = 0.0   # stuck: the body's slip velocity is exactly zero
     else:
         action = friction_reset(code, pf, y[1:1 + nz], u[0], 0.0, u[1], k)
-    return 1 if action != 0 else 0
+    return _STATE_CHANGED if action != RESET_NONE else _CONTINUE
 
 
 @jit

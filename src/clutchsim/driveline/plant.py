@@ -49,7 +49,9 @@ import math
 import numpy as np
 
 from .._jit import jit
+from ..core.status import Action
 from ..friction import friction_events, friction_force, friction_reset, uses_stick_force
+from ..friction.base import RESET_CHANGED, RESET_NONE, RESET_RELEASED, RESET_STUCK
 
 # ---------------------------------------------------------------- header of p
 (H_N, H_NF, H_NTH, H_ENG, H_VEH, H_NODE, H_CPL, H_FE, H_TH, H_ENGB, H_VEHB,
@@ -88,6 +90,9 @@ N_ENERGY = 6        # W_in, W_friction, W_damping, W_road, E_grade, W_sync
 EN_IN, EN_FRIC, EN_DAMP, EN_ROAD, EN_GRADE, EN_SYNC = range(6)
 
 NO_EVENT = 1.0
+#: the plant's answers to the integrator (core.Action)
+_CONTINUE, _STATE_CHANGED, _FAIL = (int(Action.CONTINUE), int(Action.STATE_CHANGED),
+                                    int(Action.FAIL))
 #: rows of the per-call workspace ``W`` (:func:`workspace`): coupling torques, element
 #: torque / stick torque / capacity scale / slip / auxiliary (lossy flange-a torque), node
 #: torques, speed factors, node torques of pass 1, holding scratch, pass-1 element torques,
@@ -896,8 +901,9 @@ def kinetic_energy(p, y):
 
 @jit
 def _element_reset(p, y, e, j, W):
-    """Apply event ``j`` of element ``e`` to its own states.  Returns the action code of
-    :mod:`clutchsim.friction.base` (0 nothing, 1 states changed, 2 now stuck, 3 freed)."""
+    """Apply event ``j`` of element ``e`` to its own states.  Returns a
+    :class:`~clutchsim.friction.base.FrictionReset` code (nothing, states changed, now
+    stuck, freed)."""
     f = int(p[H_FE]) + e * FE_W
     nz = int(p[f + F_NZ])
     yz = int(p[f + F_YZ])
@@ -910,36 +916,36 @@ def _element_reset(p, y, e, j, W):
         if j == 0:      # stop: the freewheel blocks unless the clutch is overloaded
             if W[R_FE, e] <= one_way_limit(p, f, W[R_FS, e]):
                 y[yz] = 0.0
-                return 2
+                return RESET_STUCK
             y[yz] = 1.0
-            return 0
+            return RESET_NONE
         y[yz] = 1.0     # breakaway: slide forward
-        return 3
+        return RESET_RELEASED
     lo, up = lossy_bounds(p, f, W[R_FA, e])
     if j == 0:          # stop: stick, or roll on in the direction of the torque
         if lo - LOSSY_TOL <= W[R_FE, e] <= up + LOSSY_TOL:
             y[yz] = 0.0
-            return 2
+            return RESET_STUCK
         y[yz] = 1.0 if W[R_FE, e] > up else -1.0
-        return 1
+        return RESET_CHANGED
     # breakaway: roll towards the limit that is reached (at the located event the stick
     # torque sits on it, within round-off)
     y[yz] = 1.0 if up - W[R_FE, e] <= W[R_FE, e] - lo else -1.0
-    return 3
+    return RESET_RELEASED
 
 
 @jit
 def _restructure(p, y, e, action, W):
-    """Lock (action 2, merging the cluster and booking the lost kinetic energy) or free
-    (action 3) element ``e``."""
+    """Lock (``RESET_STUCK``: merging the cluster and booking the lost kinetic energy) or
+    free (``RESET_RELEASED``) element ``e``."""
     f = int(p[H_FE]) + e * FE_W
-    if action == 2:
+    if action == RESET_STUCK:
         y[int(p[f + F_YLK])] = 1.0
         ke0 = kinetic_energy(p, y)
         m = int(p[f + F_IDX])
         _merge(p, y, _left(p, y, m), _right(p, y, m), W)
         y[int(p[H_YEN]) + EN_SYNC] += ke0 - kinetic_energy(p, y)
-    elif action == 3:
+    elif action == RESET_RELEASED:
         y[int(p[f + F_YLK])] = 0.0
 
 
@@ -991,7 +997,7 @@ def _settle(t, y, u, p, e0, W):
             return
         done[hit] = 1.0
         action = _element_reset(p, y, hit, slot, W)
-        if action == 2 or action == 3:
+        if action == RESET_STUCK or action == RESET_RELEASED:
             _restructure(p, y, hit, action, W)
 
 
@@ -1010,13 +1016,13 @@ def chain_reset(t, y, u, p, k):
         if ne == 0 or k < off or k >= off + ne:
             continue
         action = _element_reset(p, y, e, k - off, W)
-        if action == 2 or action == 3:
+        if action == RESET_STUCK or action == RESET_RELEASED:
             _restructure(p, y, e, action, W)
-        if _switching(p, f) and action != 0:
+        if _switching(p, f) and action != RESET_NONE:
             _settle(t, y, u, p, e, W)
-        return 1 if action != 0 else 0
+        return _STATE_CHANGED if action != RESET_NONE else _CONTINUE
     if p[H_ENG] > 0.0 and k == int(p[H_EVSTALL]):
-        return 3
+        return _FAIL
     for kk in range(n - 1):
         c = int(p[H_CPL]) + kk * CPL_W
         if p[c + C_KIND] == SHIFT_GEAR:
@@ -1035,8 +1041,8 @@ def chain_reset(t, y, u, p, k):
                     y[i] = ref * W[R_S, i]
                 y[yen + EN_SYNC] += ke0 - kinetic_energy(p, y)
                 _settle(t, y, u, p, -1, W)
-                return 1
-    return 0
+                return _STATE_CHANGED
+    return _CONTINUE
 
 
 @jit

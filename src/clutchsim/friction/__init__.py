@@ -8,7 +8,7 @@ whose compiled kernels are reached through :func:`friction_force`,
 exact partial derivatives of the force and of the state derivatives.
 """
 
-from .base import FrictionModel, SelfExcitedWarning
+from .base import FrictionModel, FrictionReset, SelfExcitedWarning
 from .coulomb_naive import CoulombNaive
 from .coulomb_robust import CoulombRobust
 from .dahl import Dahl
@@ -47,6 +47,7 @@ __all__ = [
     "Dahl",
     "ElastoPlastic",
     "FrictionModel",
+    "FrictionReset",
     "Karnopp",
     "LuGre",
     "Mykhailevych2020",

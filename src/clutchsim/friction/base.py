@@ -27,10 +27,13 @@ Events
     Models that need the integrator to locate something declare event
     functions ``g_k``; an event fires when ``g_k`` crosses zero in the declared
     direction (-1 falling, +1 rising, 0 both). At a located event the
-    integrator calls the model's reset, which returns 0 (nothing changed,
-    monitoring event), 1 (states changed), 2 (states changed and the element
-    is now stuck: the plant sets the relative velocity to exactly zero,
-    conserving momentum) or 3 (the element has just left the stuck mode).
+    integrator calls the model's reset, which returns a :class:`FrictionReset`:
+    ``NONE`` (nothing changed, a monitoring event), ``CHANGED`` (states
+    changed), ``STUCK`` (states changed and the element is now stuck: the plant
+    sets the relative velocity to exactly zero, conserving momentum) or
+    ``RELEASED`` (the element has just left the stuck mode).  These are the
+    model's words to its plant; the plant answers the integrator with a
+    :class:`clutchsim.core.Action`.
 
 Compiled kernels
 ----------------
@@ -60,12 +63,33 @@ from __future__ import annotations
 
 import abc
 import dataclasses
+import enum
 import math
 from typing import Any, ClassVar
 
 import numpy as np
 
-__all__ = ["DOMAINS", "UNIT_KINDS", "FrictionModel", "SelfExcitedWarning"]
+__all__ = ["DOMAINS", "UNIT_KINDS", "FrictionModel", "FrictionReset", "SelfExcitedWarning"]
+
+
+class FrictionReset(enum.IntEnum):
+    """What a friction model's reset kernel did at its event (one meaning each)."""
+
+    #: nothing changed (a monitoring event)
+    NONE = 0
+    #: the model's states changed
+    CHANGED = 1
+    #: the states changed and the element is now stuck (its slip is set to exactly zero)
+    STUCK = 2
+    #: the element has just left the stuck mode
+    RELEASED = 3
+
+
+#: the same codes as plain ints for the compiled kernels and plants
+RESET_NONE = int(FrictionReset.NONE)
+RESET_CHANGED = int(FrictionReset.CHANGED)
+RESET_STUCK = int(FrictionReset.STUCK)
+RESET_RELEASED = int(FrictionReset.RELEASED)
 
 DOMAINS = ("translational", "rotational")
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import FrictionModel
+from .base import RESET_NONE, FrictionModel
 
 __all__ = [
     "CoulombNaive",
@@ -115,4 +115,4 @@ def coulomb_naive_events(p, z, v, F_e, scale, g):
 
 @jit
 def coulomb_naive_reset(p, z, v, F_e, scale, k):
-    return 0
+    return RESET_NONE

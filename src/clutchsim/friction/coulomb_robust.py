@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import NO_EVENT, clip, clip_partials, sgn, stribeck_level, stribeck_partials
-from .base import FrictionModel
+from .base import RESET_CHANGED, RESET_NONE, RESET_RELEASED, RESET_STUCK, FrictionModel
 
 __all__ = [
     "CoulombRobust",
@@ -177,13 +177,13 @@ def coulomb_robust_reset(p, z, v, F_e, scale, k):
     if k == 0:
         if abs(F_e) <= scale * p[1]:
             z[0] = 0.0
-            return 2
+            return RESET_STUCK
         z[0] = sgn(F_e)
-        return 1
+        return RESET_CHANGED
     if k == 1:
         direction = sgn(F_e)
         if direction == 0.0:
-            return 0
+            return RESET_NONE
         z[0] = direction
-        return 3
-    return 0
+        return RESET_RELEASED
+    return RESET_NONE

@@ -10,6 +10,7 @@ the arguments.
 from __future__ import annotations
 
 from .._jit import jit
+from .base import RESET_NONE
 from .coulomb_naive import (
     coulomb_naive_events,
     coulomb_naive_force,
@@ -131,11 +132,12 @@ def friction_events(code, p, z, v, F_e, scale, g):
 
 @jit
 def friction_reset(code, p, z, v, F_e, scale, k):
-    """Apply the reset of event ``k`` of model ``code``; see base for the return codes."""
+    """Apply the reset of event ``k`` of model ``code``; returns a
+    :class:`~clutchsim.friction.base.FrictionReset` code."""
     if code == 11:
         return mykhailevych2020_reset(p, z, v, F_e, scale, k)
     elif code == 2:
         return coulomb_robust_reset(p, z, v, F_e, scale, k)
     elif code == 1:
         return coulomb_naive_reset(p, z, v, F_e, scale, k)
-    return 0
+    return RESET_NONE

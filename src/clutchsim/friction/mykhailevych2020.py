@@ -11,7 +11,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn
-from .base import FrictionModel, SelfExcitedWarning
+from .base import RESET_CHANGED, RESET_NONE, FrictionModel, SelfExcitedWarning
 
 __all__ = [
     "RESET_POLICIES",
@@ -265,6 +265,6 @@ def mykhailevych2020_reset(p, z, v, F_e, scale, k):
     else:
         new = phi
     if new == phi:
-        return 0
+        return RESET_NONE
     z[0] = new
-    return 1
+    return RESET_CHANGED
