@@ -126,7 +126,8 @@ def make_emps(model: FrictionModel, *, M: float = 95.11, gtau: float = 35.1507,
     q0, dq0 : float
         Initial position [m] and velocity [m/s].
     z0 : array_like, optional
-        Initial friction states (default: the model's ``initial_state()``).
+        Initial friction states (default: the model's ``initial_state()`` when ``dq0 = 0``,
+        its steady sliding state ``sliding_state(dq0)`` otherwise).
 
     Returns
     -------
@@ -145,7 +146,10 @@ def make_emps(model: FrictionModel, *, M: float = 95.11, gtau: float = 35.1507,
     for name, value in (("kp", kp), ("kv", kv), ("offset", offset), ("q0", q0), ("dq0", dq0)):
         if not np.isfinite(value):
             raise ValueError(f"EMPS plant: {name} = {value!r} must be finite")
-    z_init = model.initial_state() if z0 is None else np.asarray(z0, dtype=float).ravel()
+    if z0 is not None:
+        z_init = np.asarray(z0, dtype=float).ravel()
+    else:   # a drive that starts moving starts sliding (a switching model's mode follows dq0)
+        z_init = model.sliding_state(dq0) if dq0 != 0.0 else model.initial_state()
     if z_init.size != model.n_states:
         raise ValueError(f"EMPS plant: z0 has {z_init.size} entries; {model.name} has "
                          f"{model.n_states} states")
