@@ -50,7 +50,8 @@ def test_json_document_and_output_files(record, tmp_path, capsys):
     assert code == 0, captured.err
     doc = json.loads(captured.out)
     assert set(doc) == {"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation",
-                        "at_bound", "unidentified", "warnings"}
+                        "nrmse_pooled", "records", "validation", "at_bound", "unidentified",
+                        "warnings", "notes"}
     assert doc["model"] == "tanh"
     assert doc["parameters"]["F_c"] == pytest.approx(1.0, rel=0.02)
     assert doc["parameters"]["sigma2"] == pytest.approx(3.0, rel=0.05)

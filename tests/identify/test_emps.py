@@ -22,7 +22,8 @@ def test_emps_synthetic_coulomb_viscous_recovery():
     q_ref = 0.05 * (1 - np.cos(2 * np.pi * 0.5 * t)) + 0.01 * np.sin(2 * np.pi * 1.3 * t)
     truth = make_model("tanh", F_c=20.0, v_t=1e-3, sigma2=200.0)
     system = make_emps(truth, M=95.0, offset=-3.0, tau_v=0.0015, **GAINS)
-    res = simulate(system, (0.0, 3.0), {"q_ref": Table(t, q_ref, hit_knots=False)},
+    res = simulate(system, (0.0, 3.0), {"q_ref": Table(t, q_ref, hit_knots=False), "u_d": 0.0,
+                                        "F_d": 0.0},
                    solver="dopri5", options=SolverOptions(rtol=1e-10, atol=1e-13,
                                                           dt_out=1e-3))
     assert res.status == "completed", res.message
