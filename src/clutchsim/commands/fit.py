@@ -16,12 +16,16 @@ HELP = """\
 examples:
   clutchsim fit examples/fit_emps.toml --model lugre --out emps_lugre/ --json
   clutchsim fit examples/fit_emps.toml --model tanh --params F_c,sigma2,M,offset --out cv/
+  clutchsim fit examples/fit_brfd_loads.toml --model dahl --out loads/ --validate a.npz b.npz
   clutchsim fit test.npz --model lugre --plant rig-velocity --input v --output F \\
       --column v=v --column F=F --scale v=0.0254 --scale F=4448.222 \\
       --params F_c,F_s,sigma0 --bounds sigma0=1e4:1e8 --validate other.npz --out brfd/
 
 DATA is a CSV/TXT, NPZ or MAT file, or a TOML fit specification (see
-docs/identification.md); command-line options override the specification.
+docs/identification.md); command-line options override the specification.  A
+specification may fit several records at once ([[records]]), declare measured inputs
+([inputs.COLUMN]), derive columns ([data] derived) and choose how validation records
+start ([validate] initial, warmup).
 Writes DIR/fit.json, DIR/fit.png (measured vs simulated), DIR/residuals.png,
 DIR/traces.csv and DIR/report.md.  --json prints one document:
 {"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation", "nrmse_pooled",
