@@ -141,3 +141,16 @@ def test_column_expressions():
             evaluate_column(text, cols)
     with pytest.raises(ValueError, match="not finite at row 0"):
         evaluate_column("a / (b - 3)", cols)
+
+
+def test_solver_options_object_or_loose_tolerances():
+    from clutchsim.core import SolverOptions
+    rec = _record(1.0, seed=7)
+    kw = {"input": "v", "output": "F", "plant": "rig-velocity", "params": ["F_c"],
+          "plant_options": {"scale": "s"}}
+    start = make_model("tanh", **{**TRUTH, "F_c": 1.0})
+    loose = fit(start, rec, rtol=1e-8, atol=1e-9, **kw)
+    one = fit(start, rec, options=SolverOptions(rtol=1e-8, atol=1e-9, wall_time=30.0), **kw)
+    assert one.parameters["F_c"] == pytest.approx(loose.parameters["F_c"], rel=1e-9)
+    with pytest.raises(ValueError, match="either in options= .* or as rtol=/atol=, not both"):
+        fit(start, rec, options=SolverOptions(), atol=1e-9, **kw)

@@ -29,6 +29,7 @@ correlated in time, so read them as a lower bound and as a conditioning diagnost
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import threading
@@ -213,15 +214,32 @@ class FitResult:
 
 
 # ---------------------------------------------------------------- simulation
-def _options(setup: Setup, rtol: float, atol: float | None, wall_time: float) -> SolverOptions:
+def _base_options(options: SolverOptions | None, rtol: float, atol: float | None,
+                  wall_time: float) -> tuple[SolverOptions, bool]:
+    """The solver options every simulation of a fit starts from, and whether its atol is
+    to be set from each record's output scale.  ``options`` (one object) or the loose
+    ``rtol``/``atol``/``wall_time`` (the defaults), not both."""
+    if options is None:
+        base = SolverOptions(rtol=rtol, atol=1.0 if atol is None else atol,
+                             wall_time=wall_time, max_steps=5_000_000)
+        return base, atol is None
+    if not isinstance(options, SolverOptions):
+        raise TypeError(f"options must be a SolverOptions, got {type(options).__name__}")
+    if rtol != FIT_RTOL or atol is not None:
+        raise ValueError("give the tolerances either in options= (a SolverOptions) or as "
+                         "rtol=/atol=, not both")
+    return options, False
+
+
+def _options(setup: Setup, base: SolverOptions, auto_atol: bool) -> SolverOptions:
+    """``base`` with the record's output grid (and, if asked, an atol from its scale)."""
     dt = float(np.min(np.diff(setup.t)))
     span = float(setup.t[-1] - setup.t[0])
     n_out = int(span / dt) + 10
-    if atol is None:
-        atol = rtol * max(float(np.max(np.abs(setup.measured))), 1e-300) * 1e-2
+    atol = base.rtol * max(float(np.max(np.abs(setup.measured))), 1e-300) * 1e-2 \
+        if auto_atol else base.atol
     # room for the extra rows stored at located events
-    return SolverOptions(rtol=rtol, atol=atol, dt_out=dt, max_output=2 * n_out + 10_000,
-                         wall_time=wall_time, max_steps=5_000_000)
+    return dataclasses.replace(base, atol=atol, dt_out=dt, max_output=2 * n_out + 10_000)
 
 
 def _run(setup: Setup, p, solver, options, load_fraction):
@@ -266,7 +284,7 @@ class _Problem:
         self.names = tuple(names)
         self.fixed_plant = dict(fixed_plant)
         self.solver = solver
-        self.tolerances = tolerances        # (rtol, atol, wall_time)
+        self.tolerances = tolerances        # (base SolverOptions, atol from the output?)
         self.options = _options(setup, *tolerances)
 
     def split(self, values: np.ndarray):
@@ -515,7 +533,7 @@ def evaluate(model: FrictionModel | str, data, *, input: str, output: str,
              plant: str | PlantSpec = "rig-force", plant_options: Mapping | None = None,
              signal: str | None = None, solver: str = "rodas4", rtol: float = FIT_RTOL,
              atol: float | None = None, wall_time: float = 60.0, inputs=(), z0=None,
-             warmup: float = 0.0) -> Trace:
+             warmup: float = 0.0, options: SolverOptions | None = None) -> Trace:
     """Simulate a plant with given parameters against a record (no fitting).
 
     Same arguments as :func:`fit` (``z0``: initial friction states; ``warmup`` [s]: leading
@@ -527,7 +545,8 @@ def evaluate(model: FrictionModel | str, data, *, input: str, output: str,
     meas = _as_measurement(data, "data")
     setup = build_setup(spec, model, meas, input=input, output=output, signal=signal,
                         inputs=inputs, z0=z0, warmup=warmup)
-    problem = _Problem(model, setup, (), {}, solver, (rtol, atol, wall_time))
+    problem = _Problem(model, setup, (), {}, solver,
+                       _base_options(options, rtol, atol, wall_time))
     return problem.evaluate(np.empty(0), setup, meas.source, spec.kind)
 
 
@@ -560,7 +579,8 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         max_workers: int = 2, tol: float = 1e-8,
         t_span: tuple[float | None, float | None] | None = None, progress=None,
         inputs=(), per_record: Sequence[str] = (), weights: Sequence[float] | None = None,
-        validate_initial=None, validate_warmup: float = 0.0) -> FitResult:
+        validate_initial=None, validate_warmup: float = 0.0,
+        options: SolverOptions | None = None) -> FitResult:
     """Fit friction (and plant) parameters to one or several measured records by output error.
 
     Parameters
@@ -595,6 +615,9 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         Records simulated with the fitted values (not used for fitting).
     solver, rtol, atol : str, float, float
         Integrator and tolerances of every simulation (atol default from the output scale).
+    options : SolverOptions, optional
+        Tolerances and budgets of every simulation in one object, instead of ``rtol``,
+        ``atol`` and ``wall_time`` (its ``dt_out`` and ``max_output`` are set per record).
     diff_step : float
         Finite-difference step in scaled coordinates.
     progress : callable, optional
@@ -684,7 +707,7 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
             for k in range(n_rec):
                 bounds.setdefault(f"{n}@{k + 1}", b)
     space = ParameterSpace.build(names, start, bounds, _default_bounds(spec, setups, names))
-    tolerances = (rtol, atol, wall_time)
+    tolerances = _base_options(options, rtol, atol, wall_time)
     problems = [_Problem(model, s, names, fixed_plant, solver, tolerances, record=k + 1)
                 for k, s in enumerate(setups)]
     dens = [float(np.linalg.norm(s.normaliser)) for s in setups]
