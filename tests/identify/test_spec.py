@@ -21,6 +21,15 @@ def test_shipped_emps_spec_parses():
     assert "shared" in str(spec.data["file"]) and "${" not in str(spec.data["file"])
 
 
+def test_shipped_brfd_loads_spec_parses():
+    spec = load_spec(ROOT / "examples" / "fit_brfd_loads.toml")
+    assert len(spec.records) == 3 and spec.fit["per_record"] == ["offset"]
+    assert spec.weights() == [1.0, 1.0, 1.0] and "s" in spec.data["derived"]
+    for name in ("dahl", "lugre", "gms", "mykhailevych2020"):
+        model, entry = spec.model_entry(name)
+        assert model.name == name and "load_fraction" in entry["params"]
+
+
 def _spec(tmp_path, text):
     path = tmp_path / "s.toml"
     path.write_text(text)
