@@ -246,7 +246,10 @@ def make_rig(model: FrictionModel, *, domain: str = "translational", drive: str 
     x0, v0 : float
         Initial position and velocity (v0 only for the force drive).
     z0 : array_like, optional
-        Initial friction states (default: the model's ``initial_state()``).
+        Initial friction states.  Default: the model's ``initial_state()`` (at rest,
+        unloaded; a switching model stuck) when ``v0 = 0``, and its steady sliding state
+        ``sliding_state(v0)`` when the force-driven body starts moving (a switching model
+        then starts in the sliding mode of the direction of ``v0``).
 
     Returns
     -------
@@ -277,7 +280,14 @@ def make_rig(model: FrictionModel, *, domain: str = "translational", drive: str 
     if drive == "velocity" and (spring or pull_speed):
         raise ValueError("rig: a spring is only available with the force drive")
     units = _UNITS[domain]
-    z_init = model.initial_state() if z0 is None else np.asarray(z0, dtype=float).ravel()
+    if z0 is not None:
+        z_init = np.asarray(z0, dtype=float).ravel()
+    elif drive == "force" and v0 != 0.0:
+        # a body that starts moving starts sliding: a switching model's mode (and any
+        # other model's states) follow the initial velocity, not the stuck rest state
+        z_init = model.sliding_state(v0)
+    else:
+        z_init = model.initial_state()
     if z_init.size != model.n_states:
         raise ValueError(f"rig: z0 has {z_init.size} entries; {model.name} has "
                          f"{model.n_states} states ({', '.join(model.state_names())})")

@@ -50,7 +50,8 @@ def test_json_document_and_output_files(record, tmp_path, capsys):
     assert code == 0, captured.err
     doc = json.loads(captured.out)
     assert set(doc) == {"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation",
-                        "at_bound", "unidentified", "warnings"}
+                        "nrmse_pooled", "records", "validation", "at_bound", "unidentified",
+                        "warnings", "notes"}
     assert doc["model"] == "tanh"
     assert doc["parameters"]["F_c"] == pytest.approx(1.0, rel=0.02)
     assert doc["parameters"]["sigma2"] == pytest.approx(3.0, rel=0.05)
@@ -110,3 +111,81 @@ def test_emps_spec_runs_from_the_command_line(tmp_path, capsys):
     doc = json.loads(captured.out)
     assert doc["model"] == "tanh" and doc["nrmse_validation"] is None
     assert 5.0 < doc["parameters"]["F_c"] < 50.0
+
+
+def _load_records(folder: Path):
+    """Two CSV records of tanh friction at loads 0.5 and 1.5 (capacity 0.4 + 0.6·s) and a
+    third at load 1 with a fixture force column Fx (declared, absent from the others)."""
+    t = np.linspace(0.0, 2.0, 1001)
+    v = 0.05 * np.sin(2 * np.pi * t)
+    paths = []
+    for name, s, fx in (("a", 0.5, 0.0), ("b", 1.5, 0.0), ("c", 1.0, 0.2)):
+        model = make_model("tanh", F_c=2.0, v_t=1e-2, sigma2=3.0)
+        res = simulate(make_rig(model, drive="velocity"), (0.0, 2.0),
+                       {"v": Table(t, v, hit_knots=False), "scale": 0.4 + 0.6 * s},
+                       options=SolverOptions(rtol=1e-10, atol=1e-12, dt_out=0.002))
+        F = np.interp(t, res.t, res["F"]) + fx * np.cos(3 * t)
+        cols = [t, v, F, np.full(t.size, 20.0 * s)] + ([fx * np.cos(3 * t)] if fx else [])
+        head = "t,v,F,N" + (",Fx" if fx else "")
+        path = folder / f"{name}.csv"
+        np.savetxt(path, np.column_stack(cols), delimiter=",", header=head, comments="")
+        paths.append(path)
+    return paths
+
+
+def test_spec_with_several_records_and_several_validation_files(tmp_path, capsys):
+    _load_records(tmp_path)
+    spec = tmp_path / "loads.toml"
+    spec.write_text('''[data]
+derived = { s = { expr = "N / 20.0", unit = "-" } }
+
+[plant]
+kind = "rig-velocity"
+options = { scale = "s", load_fraction = 0.9 }
+
+[inputs.Fx]
+to = "force"
+unit = "N"
+
+[fit]
+model = "tanh"
+input = "v"
+output = "F"
+
+[[records]]
+file = "a.csv"
+
+[[records]]
+file = "c.csv"
+
+[models.tanh]
+start = { F_c = 1.0, v_t = 1e-2, sigma2 = 1.0 }
+params = ["F_c", "sigma2", "load_fraction"]
+''')
+    code = main(["fit", str(spec), "--validate", str(tmp_path / "b.csv"),
+                 str(tmp_path / "c.csv"), "--out", str(tmp_path / "o"), "--json", "--quiet",
+                 "--no-plots"])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    doc = json.loads(captured.out)
+    assert doc["parameters"]["load_fraction"] == pytest.approx(0.6, abs=0.01)
+    assert doc["parameters"]["F_c"] == pytest.approx(2.0, rel=0.01)
+    assert [Path(r["source"]).name for r in doc["records"]] == ["a.csv", "c.csv"]
+    assert [Path(r["source"]).name for r in doc["validation"]] == ["b.csv", "c.csv"]
+    assert all(r["nrmse"] < 1e-3 for r in doc["records"] + doc["validation"])
+    assert doc["nrmse_pooled"] < 1e-3
+    assert any("a.csv" in n and "'Fx'" in n for n in doc["notes"])
+    report = (tmp_path / "o" / "report.md").read_text()
+    assert "fit 2" in report and "validation 2" in report and "pooled" in report
+    # text output: one line per record
+    code = main(["fit", str(spec), "--validate", str(tmp_path / "b.csv"),
+                 "--out", str(tmp_path / "o2"), "--quiet", "--no-plots"])
+    out = capsys.readouterr().out
+    assert code == 0 and "NRMSE fit a.csv" in out and "NRMSE pooled" in out
+    assert "NRMSE validation b.csv" in out
+    # bad input: a declared column that no record has, with the spec file, line and key
+    spec.write_text(spec.read_text().replace('file = "c.csv"', 'file = "b.csv"'))
+    code = main(["fit", str(spec), "--out", str(tmp_path / "o3"), "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert "loads.toml:8: [inputs.Fx]: declared input column 'Fx' is in none" in err[0]

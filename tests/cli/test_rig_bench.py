@@ -103,3 +103,35 @@ def test_bench_unknown_names_exit_2(tmp_path):
     assert not (tmp_path / "x").exists()
     p = cli("bench", "drift", "--model", "lugr")
     assert p.returncode == 2 and "lugre" in p.stderr
+
+
+def test_rig_v0_slides_with_friction_and_scale(tmp_path):
+    """coulomb-robust with v0 = 1 m/s: the body slides and friction F_c = 1 N brakes it.
+
+    Before the fix it started stuck (mode 0), applied no friction and slid at 1 m/s for ever.
+    With --scale 0.5 the capacity halves: the deceleration is 0.5 m/s², so it stops at 2 s.
+    """
+    p = cli("rig", "--model", "coulomb-robust", "--force", "0", "--v0", "1", "--t-end", "0.5",
+            "--json")
+    assert p.returncode == 0, p.stderr
+    doc = json.loads(p.stdout)
+    assert doc["final"]["v [m/s]"] == pytest.approx(0.5, abs=1e-6)      # 1 - F_c/m·t
+    out = tmp_path / "half.csv"
+    p = cli("rig", "--model", "coulomb-robust", "--force", "0", "--v0", "1", "--t-end", "3",
+            "--scale", "0.5", "--out", str(out), "--json")
+    assert p.returncode == 0, p.stderr
+    doc = json.loads(p.stdout)
+    assert doc["final"]["v [m/s]"] == 0.0                       # stuck after 2 s
+    assert doc["final"]["x [m]"] == pytest.approx(1.0, abs=1e-6)   # v0²/(2·0.5)
+    assert "scale [-]" in out.read_text().splitlines()[0].split(",")
+
+
+def test_rig_scale_and_v0_bad_input():
+    p = cli("rig", "--model", "coulomb-robust", "--force", "0", "--t-end", "1",
+            "--scale", "0.5 - step(0.5, 1)")
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+    assert "--scale" in p.stderr and "t = 0.5 s" in p.stderr and ">= 0" in p.stderr
+    p = cli("rig", "--model", "lugre", "--velocity", "1", "--v0", "1", "--t-end", "1")
+    assert p.returncode == 2 and "--v0" in p.stderr and "force drive" in p.stderr
+    p = cli("rig", "--model", "lugre", "--force", "0", "--v0", "nan", "--t-end", "1")
+    assert p.returncode == 2 and "--v0" in p.stderr

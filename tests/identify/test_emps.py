@@ -22,7 +22,8 @@ def test_emps_synthetic_coulomb_viscous_recovery():
     q_ref = 0.05 * (1 - np.cos(2 * np.pi * 0.5 * t)) + 0.01 * np.sin(2 * np.pi * 1.3 * t)
     truth = make_model("tanh", F_c=20.0, v_t=1e-3, sigma2=200.0)
     system = make_emps(truth, M=95.0, offset=-3.0, tau_v=0.0015, **GAINS)
-    res = simulate(system, (0.0, 3.0), {"q_ref": Table(t, q_ref, hit_knots=False)},
+    res = simulate(system, (0.0, 3.0), {"q_ref": Table(t, q_ref, hit_knots=False), "u_d": 0.0,
+                                        "F_d": 0.0},
                    solver="dopri5", options=SolverOptions(rtol=1e-10, atol=1e-13,
                                                           dt_out=1e-3))
     assert res.status == "completed", res.message
@@ -80,3 +81,30 @@ def test_read_the_mat_file_with_gains(emps_data):
     assert len(emps_data) == 24841 and emps_data.units["q"] == "m"
     with pytest.raises(ValueError, match=r"missing column\(s\) 'qx'.*'qm'"):
         read_measurements(shared_file("data", "emps", "DATA_EMPS.mat"), columns={"q": "qx"})
+
+
+def test_emps_controller_and_force_disturbances_are_inputs():
+    """Pulses added to the controller output (u_d [V]) and a disturbance force (F_d [N]):
+    a declared input reproduces the record; without it the same parameters do not."""
+    from clutchsim.identify import InputSpec
+    t = np.linspace(0.0, 2.0, 2001)
+    q_ref = 0.05 * (1 - np.cos(2 * np.pi * 0.5 * t))
+    pulse = np.where((t % 0.5) < 0.05, 0.3, 0.0)           # V
+    push = 5.0 * np.sin(2 * np.pi * 2 * t)                   # N
+    truth = make_model("tanh", F_c=20.0, v_t=1e-3, sigma2=200.0)
+    system = make_emps(truth, M=95.0, **GAINS)
+    res = simulate(system, (0.0, 2.0), {"q_ref": Table(t, q_ref, hit_knots=False),
+                                        "u_d": Table(t, pulse, hit_knots=False),
+                                        "F_d": Table(t, push, hit_knots=False)},
+                   solver="dopri5", options=SolverOptions(rtol=1e-10, atol=1e-13,
+                                                          dt_out=1e-3))
+    assert res.status == "completed", res.message
+    data = Measurement.from_arrays(t, q=np.interp(t, res.t, res["q"]), q_ref=q_ref,
+                                   pulse=pulse, push=push)
+    kw = {"input": "q_ref", "output": "q", "plant": "emps", "solver": "dopri5",
+          "plant_options": {**GAINS, "M": 95.0}}
+    inputs = [InputSpec("pulse", "controller", unit="V"), InputSpec("push", "force", unit="N")]
+    with_inputs = evaluate(truth, data, inputs=inputs, **kw)
+    without = evaluate(truth, data, **kw)
+    assert with_inputs.nrmse < 1e-3
+    assert without.nrmse > 100 * with_inputs.nrmse

@@ -75,7 +75,8 @@ def test_fit_is_deterministic_for_a_seed_and_uses_validation():
     assert a.nrmse_validation is not None and a.nrmse_validation < 0.05
     doc = a.summary()
     assert set(doc) == {"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation",
-                        "at_bound", "unidentified", "warnings"}
+                        "nrmse_pooled", "records", "validation", "at_bound", "unidentified",
+                        "warnings", "notes"}
     assert doc["at_bound"] == [] and doc["unidentified"] == [] and doc["warnings"] == []
 
 

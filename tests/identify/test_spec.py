@@ -21,6 +21,15 @@ def test_shipped_emps_spec_parses():
     assert "shared" in str(spec.data["file"]) and "${" not in str(spec.data["file"])
 
 
+def test_shipped_brfd_loads_spec_parses():
+    spec = load_spec(ROOT / "examples" / "fit_brfd_loads.toml")
+    assert len(spec.records) == 3 and spec.fit["per_record"] == ["offset"]
+    assert spec.weights() == [1.0, 1.0, 1.0] and "s" in spec.data["derived"]
+    for name in ("dahl", "lugre", "gms", "mykhailevych2020"):
+        model, entry = spec.model_entry(name)
+        assert model.name == name and "load_fraction" in entry["params"]
+
+
 def _spec(tmp_path, text):
     path = tmp_path / "s.toml"
     path.write_text(text)
@@ -63,3 +72,94 @@ def test_unknown_model_and_entry_keys(tmp_path):
         spec.model_entry("lugree")
     with pytest.raises(ValueError, match=r"\[models.lugre\] unknown key\(s\) parms"):
         spec.model_entry("lugre")
+
+
+def _damper_files(tmp_path):
+    """Two records with actuator forces (normal-load proxy) and one at another rate."""
+    t = np.linspace(0.0, 1.0, 101)
+    for name, level in (("a", 10.0), ("b", 30.0)):
+        np.savez(tmp_path / f"{name}.npz", t=t, x=np.sin(t), F=np.cos(t) * level,
+                 F_act1=np.full(t.size, level), F_act2=np.full(t.size, level))
+    t2 = np.linspace(0.0, 1.0, 51)
+    np.savez(tmp_path / "c.npz", t=t2, x=np.sin(t2), F=np.cos(t2), F_act1=np.ones(t2.size),
+             F_act2=np.ones(t2.size))
+
+
+SPEC = '''[data]
+columns = ["x", "F", "F_act1", "F_act2"]
+derived = { s = { expr = "(F_act1 + F_act2) / 40.0", unit = "-" } }
+
+[plant]
+kind = "rig-velocity"
+options = { scale = "s" }
+
+[inputs.F_fix]
+to = "force"
+gain = 2.0
+unit = "N"
+
+[fit]
+input = "x"
+output = "F"
+per_record = ["offset"]
+
+[[records]]
+file = "a.npz"
+window = [0.0, 0.5]
+
+[[records]]
+file = "b.npz"
+weight = 2.0
+
+[validate]
+initial = [0.0]
+warmup = 0.1
+'''
+
+
+def test_spec_records_derived_columns_and_inputs(tmp_path):
+    _damper_files(tmp_path)
+    np.savez(tmp_path / "a.npz", **{**np.load(tmp_path / "a.npz"), "F_fix": np.zeros(101)})
+    spec = load_spec(_spec(tmp_path, SPEC))
+    recs = spec.fit_data()
+    assert [len(r) for r in recs] == [51, 101]
+    np.testing.assert_allclose(recs[0]["s"], 0.5)
+    np.testing.assert_allclose(recs[1]["s"], 1.5)
+    assert recs[0].units["s"] == "-"
+    assert spec.weights() == [1.0, 2.0]
+    assert spec.inputs[0].column == "F_fix" and spec.inputs[0].gain == 2.0
+    from clutchsim.friction import make_model
+    assert spec.validation_initial(make_model("lugre")).tolist() == [0.0]
+
+
+def test_spec_bad_input_names_file_line_and_key(tmp_path):
+    _damper_files(tmp_path)
+    from clutchsim.friction import make_model
+    # a declared input column that no record has (line of [inputs.F_fix])
+    spec = load_spec(_spec(tmp_path, SPEC))
+    with pytest.raises(ValueError, match=r"s.toml:9: \[inputs.F_fix\]: declared input column "
+                                         r"'F_fix' is in none of the fitting records"):
+        spec.fit_data()
+    # an initial state of the wrong size
+    with pytest.raises(ValueError, match=r"s.toml:28: \[validate\] initial has 1 entries; "
+                                         r"gms has 4 state"):
+        spec.validation_initial(make_model("gms"))
+    # a derived expression naming an unknown column
+    bad = SPEC.replace("(F_act1 + F_act2)", "(F_act1 + F_act3)")
+    with pytest.raises(ValueError, match=r"s.toml:3: \[data\] s: derived column .* unknown "
+                                         r"column 'F_act3'"):
+        load_spec(_spec(tmp_path, bad)).fit_data()
+    # records at different sampling rates: refused, the second record's file line named
+    mixed = SPEC.replace('file = "b.npz"', 'file = "c.npz"').replace("[inputs.F_fix]\nto = "
+                                                                     '"force"\ngain = 2.0\n'
+                                                                     'unit = "N"\n', "")
+    with pytest.raises(ValueError, match=r"s.toml:20: \[\[records\]\] #2 file: .*c.npz is "
+                                         r"sampled every 0.02 s.*refused, not resampled"):
+        load_spec(_spec(tmp_path, mixed)).fit_data()
+    # an input target the plant does not have
+    wrong = SPEC.replace('to = "force"', 'to = "controller"')
+    with pytest.raises(ValueError, match=r"s.toml:10: \[inputs.F_fix\] to: to = 'controller' "
+                                         r"is not available for plant 'rig-velocity'"):
+        load_spec(_spec(tmp_path, wrong))
+    with pytest.raises(ValueError, match=r"\[\[records\]\] #1 wieght: unknown key 'wieght'"):
+        load_spec(_spec(tmp_path, SPEC.replace("window = [0.0, 0.5]", "wieght = 1")))

@@ -16,16 +16,21 @@ HELP = """\
 examples:
   clutchsim fit examples/fit_emps.toml --model lugre --out emps_lugre/ --json
   clutchsim fit examples/fit_emps.toml --model tanh --params F_c,sigma2,M,offset --out cv/
+  clutchsim fit examples/fit_brfd_loads.toml --model dahl --out loads/ --validate a.npz b.npz
   clutchsim fit test.npz --model lugre --plant rig-velocity --input v --output F \\
       --column v=v --column F=F --scale v=0.0254 --scale F=4448.222 \\
       --params F_c,F_s,sigma0 --bounds sigma0=1e4:1e8 --validate other.npz --out brfd/
 
 DATA is a CSV/TXT, NPZ or MAT file, or a TOML fit specification (see
-docs/identification.md); command-line options override the specification.
+docs/identification.md); command-line options override the specification.  A
+specification may fit several records at once ([[records]]), declare measured inputs
+([inputs.COLUMN]), derive columns ([data] derived) and choose how validation records
+start ([validate] initial, warmup).
 Writes DIR/fit.json, DIR/fit.png (measured vs simulated), DIR/residuals.png,
 DIR/traces.csv and DIR/report.md.  --json prints one document:
-{"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation", "at_bound",
-"unidentified", "warnings"} (at_bound: fitted values within 0.1 % of a bound;
+{"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation", "nrmse_pooled",
+"records", "validation", "at_bound", "unidentified", "warnings", "notes"} (records and
+validation: {"source", "nrmse"} per record; notes: declared inputs a record lacks; at_bound: fitted values within 0.1 % of a bound;
 unidentified: parameters the data cannot determine; warnings: why, for each).
 """
 
@@ -46,8 +51,9 @@ def register(sub, common):
                    help="hold a parameter at a value (repeatable)")
     p.add_argument("--start", action="append", default=[], metavar="NAME=VALUE",
                    help="start value of a model or plant parameter (repeatable)")
-    p.add_argument("--validate", action="append", default=[], metavar="OTHER_DATA",
-                   help="validation record, read with the same column mapping (repeatable)")
+    p.add_argument("--validate", action="extend", nargs="+", default=[], metavar="OTHER_DATA",
+                   help="validation record(s), read with the same column mapping (several "
+                   "files, repeatable); each is reported")
     p.add_argument("--plant", help="rig-force, rig-velocity or emps (default rig-force)")
     p.add_argument("--plant-option", action="append", default=[], metavar="KEY=VALUE",
                    help="plant option, e.g. mass=2 or scale=N (repeatable)")
@@ -62,7 +68,8 @@ def register(sub, common):
     p.add_argument("--starts", type=int, default=None, help="number of starts (default 1)")
     p.add_argument("--seed", type=int, default=None, help="seed of the random starts")
     p.add_argument("--solver", default=None, help="integrator (default rodas4)")
-    p.add_argument("--rtol", type=float, default=None, help="relative tolerance (default 1e-8)")
+    p.add_argument("--rtol", type=float, default=None,
+                   help="relative tolerance (default FIT_RTOL, 1e-8)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
     p.add_argument("--json", action="store_true", help="print one JSON document")
@@ -141,10 +148,11 @@ def _check_numbers(args) -> None:
 
 
 def _from_spec(args):
-    from ..identify import load_spec
+    from ..identify import FIT_RTOL, load_spec
     spec = load_spec(args.data)
     model, entry = spec.model_entry(args.model)
-    data = spec.read(window=_window(args.window))
+    records = spec.fit_data(window=_window(args.window))
+    data = records if len(records) > 1 else records[0]
     validate = spec.validation_data() + [spec.read(f) for f in args.validate]
     f = spec.fit
     params = args.params.split(",") if args.params else list(entry.get("params", []))
@@ -169,7 +177,11 @@ def _from_spec(args):
           "starts": args.starts or int(f.get("starts", 1)),
           "seed": args.seed if args.seed is not None else int(f.get("seed", 0)),
           "solver": args.solver or f.get("solver", "rodas4"),
-          "rtol": args.rtol or float(f.get("rtol", 1e-8))}
+          "rtol": args.rtol or float(f.get("rtol", FIT_RTOL)),
+          "inputs": spec.inputs, "per_record": list(f.get("per_record", [])),
+          "weights": spec.weights(),
+          "validate_initial": spec.validation_initial(model),
+          "validate_warmup": float(spec.validate.get("warmup", 0.0))}
     for key in ("atol", "max_nfev", "diff_step", "wall_time", "tol"):
         if key in f:
             kw[key] = f[key]
@@ -179,6 +191,7 @@ def _from_spec(args):
 def _from_data(args):
     from ..data import read_measurements
     from ..friction import make_model
+    from ..identify import FIT_RTOL
     if not args.model:
         raise UserError("--model is required with a data file")
     missing = [o for o, v in (("--input", args.input), ("--output", args.output),
@@ -204,7 +217,7 @@ def _from_data(args):
           "bounds": _bounds(args.bounds), "fixed": _pairs(args.fixed, "fixed"),
           "plant": args.plant or "rig-force", "plant_options": options,
           "starts": args.starts or 1, "seed": args.seed or 0,
-          "solver": args.solver or "rodas4", "rtol": args.rtol or 1e-8}
+          "solver": args.solver or "rodas4", "rtol": args.rtol or FIT_RTOL}
     return model, data, validate, kw
 
 
@@ -219,7 +232,8 @@ def run(args) -> int:
         model, data, validate, kw = _from_spec(args)
     else:
         model, data, validate, kw = _from_data(args)
-    log.info("fitting %s (%s) to %s: %s", model.name, kw["plant"], data.source,
+    sources = [d.source for d in (data if isinstance(data, list) else [data])]
+    log.info("fitting %s (%s) to %s: %s", model.name, kw["plant"], ", ".join(sources),
              ", ".join(kw["params"]))
     try:
         from ..progress import progress_for
@@ -232,7 +246,8 @@ def run(args) -> int:
     from ..report import build_report
     with atomic_directory(args.out) as part:
         files = write_outputs(result, part, plots=not args.no_plots,
-                              unit=data.units.get(kw["output"], ""))
+                              unit=(data[0] if isinstance(data, list) else data).units.get(
+                                  kw["output"], ""))
         write_command(part)
         build_report(part)
     files = {name: Path(args.out) / path.name for name, path in files.items()}
@@ -251,7 +266,14 @@ def run(args) -> int:
                   + flag)
         for w in result.warnings:
             log.warning("warning: %s", w)
-        print(f"NRMSE fit = {result.nrmse_fit:.4g}"
-              + ("" if result.nrmse_validation is None
-                 else f", validation = {result.nrmse_validation:.4g}"))
+        for note in result.notes:
+            log.info("note: %s", note)
+        if len(result.records) > 1:
+            for tr in result.records:
+                print(f"NRMSE fit {Path(tr.source).name} = {tr.nrmse:.4g}")
+            print(f"NRMSE pooled = {result.nrmse_pooled:.4g}")
+        else:
+            print(f"NRMSE fit = {result.nrmse_fit:.4g}")
+        for tr in result.validation:
+            print(f"NRMSE validation {Path(tr.source).name} = {tr.nrmse:.4g}")
     return 0

@@ -21,7 +21,11 @@ examples:
   clutchsim rig --model mykhailevych2020 --params mykhailevych2020_clutch \\
                 --domain rotational --mass 0.2 --force torque.csv --t-end 5
 
-signals (--force/--velocity): a CSV file (header row, then time [s], value; linear
+--scale multiplies the friction capacity (normal-load ratio N(t)/N_ref [-], >= 0;
+same syntax as --force).  --v0 starts the force-driven body moving: the friction
+state then starts in steady sliding at v0 (a switching model in its sliding mode).
+
+signals (--force/--velocity/--scale): a CSV file (header row, then time [s], value; linear
 interpolation, held after the last row) or a formula of numbers, pi, + - and * by a
 number, and const(v), step(t, height[, offset]), ramp(start, duration, height[, offset]),
 sine(amplitude, freq[, phase, offset, start]), pulse(amplitude, width_percent, period[,
@@ -51,6 +55,12 @@ def register(sub, common):
                        help="applied force [N] (torque [N·m] with --domain rotational)")
     drive.add_argument("--velocity", metavar="CSV_OR_EXPR",
                        help="imposed velocity [m/s] (rad/s with --domain rotational)")
+    p.add_argument("--scale", metavar="CSV_OR_EXPR", default=None,
+                   help="capacity multiplier [-] (normal-load proxy, e.g. N(t)/N_ref), a "
+                   "formula or CSV like --force; must stay >= 0 (default 1)")
+    p.add_argument("--v0", type=float, default=0.0,
+                   help="initial velocity [m/s or rad/s] (force drive only; the friction "
+                   "state starts in steady sliding at v0; default 0: at rest)")
     p.add_argument("--mass", type=float, default=1.0,
                    help="mass [kg] or inertia [kg·m²] (default 1)")
     p.add_argument("--spring", type=float, default=0.0,
@@ -107,8 +117,11 @@ def run(args) -> int:
     from ..signal_expr import parse_signal
     _finite("--t-end", args.t_end, positive=True, unit="s")
     for flag, value in (("--mass", args.mass), ("--spring", args.spring),
-                        ("--pull-speed", args.pull_speed)):
+                        ("--pull-speed", args.pull_speed), ("--v0", args.v0)):
         _finite(flag, value, positive=flag == "--mass")
+    if args.v0 != 0.0 and args.velocity is not None:
+        raise UserError(f"--v0 {args.v0!r}: the initial velocity is only for the force drive "
+                        "(with --velocity the imposed velocity sets it)")
     if args.out:
         if not args.out.lower().endswith(".csv"):
             raise UserError(f"--out {args.out!r}: the trace file must end in .csv")
@@ -120,6 +133,13 @@ def run(args) -> int:
     except ValueError as exc:
         raise UserError(f"{flag}: {exc}") from None
     drive = {"force": signal} if args.force is not None else {"velocity": signal}
+    scale = 1.0
+    if args.scale is not None:
+        try:
+            scale = parse_signal(args.scale)
+        except ValueError as exc:
+            raise UserError(f"--scale: {exc}") from None
+        _check_scale(scale, args.t_end)
     options = SolverOptions(h_max=args.t_end / 100.0)
     options = check_run_size(estimate_run(args.t_end, options, 0), options,
                              what="rig", max_rows=args.max_output_rows)
@@ -129,7 +149,7 @@ def run(args) -> int:
             bar(0, 1)
         res = run_rig(model, args.t_end, domain=args.domain, mass=args.mass,
                       spring=args.spring, pull_speed=args.pull_speed, solver=args.solver,
-                      options=options, **drive)
+                      options=options, scale=scale, v0=args.v0, **drive)
         if bar is not None:
             bar(1, 1)
     if args.out:
@@ -150,6 +170,20 @@ def run(args) -> int:
     if res.status == "failed":
         raise SimulationFailed(res.message)
     return 0
+
+
+def _check_scale(scale, t_end: float) -> None:
+    """A capacity multiplier must be >= 0 (a negative one would reverse the friction)."""
+    import numpy as np
+    t = np.linspace(0.0, t_end, 2001)
+    bp = np.asarray(scale.breakpoints(), dtype=float)
+    t = np.union1d(t, bp[(bp >= 0.0) & (bp <= t_end)])
+    values = scale(t)
+    bad = np.flatnonzero(~np.isfinite(values) | (values < 0))
+    if bad.size:
+        i = bad[0]
+        raise UserError(f"--scale: the capacity multiplier is {values[i]:g} at t = {t[i]:g} s; "
+                        "it must be finite and >= 0 (a normal-load ratio)")
 
 
 def _frame(res, domain: str):

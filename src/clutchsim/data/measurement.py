@@ -225,7 +225,8 @@ def read_measurements(path: str | Path, *, time: str = "t",
                       columns: Mapping[str, str] | Sequence[str] | None = None,
                       scale: Mapping[str, float] | None = None,
                       units: Mapping[str, str] | None = None,
-                      tare: Sequence[str] = (), nan: str = "error") -> Measurement:
+                      tare: Sequence[str] = (), nan: str = "error",
+                      optional: Sequence[str] = ()) -> Measurement:
     """Read a measured record from a CSV/TXT, NPZ or MAT file.
 
     Parameters
@@ -248,6 +249,10 @@ def read_measurements(path: str | Path, *, time: str = "t",
     nan : {"error", "drop", "interpolate"}
         NaN/inf samples: report them (default), drop their rows, or interpolate linearly in
         time (the gap must have finite neighbours).
+    optional : sequence of str
+        New column names that may be missing from the file (they are then left out, not an
+        error), e.g. a declared disturbance input that only some records have.  A name
+        not in ``columns`` is read under its own name when the file has it.
 
     Returns
     -------
@@ -269,6 +274,11 @@ def read_measurements(path: str | Path, *, time: str = "t",
         mapping = {str(k): str(v) for k, v in columns.items()}
     else:
         mapping = {str(c): str(c) for c in columns}
+    for name in optional:
+        if name not in mapping and name != time:
+            mapping[name] = name
+        if mapping.get(name) not in raw:
+            mapping.pop(name, None)
     wanted = [time] + [c for c in mapping.values()]
     missing = [c for c in wanted if c not in raw]
     if missing:
@@ -279,7 +289,7 @@ def read_measurements(path: str | Path, *, time: str = "t",
     cols = {new: raw[old].astype(float).copy() for new, old in mapping.items()}
     scale = dict(scale or {})
     for name in scale:
-        if name != "t" and name not in cols:
+        if name != "t" and name not in cols and name not in optional:
             raise ValueError(f"{path}: scale given for unknown column {name!r}; columns: "
                              f"{', '.join(cols)}")
     if not np.all(np.isfinite(t)):

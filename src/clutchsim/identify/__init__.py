@@ -7,15 +7,19 @@ specifications.
 """
 
 from .emps import EMPSPlant, make_emps
-from .fit import FitResult, Trace, evaluate, fit, nrmse
-from .plants import PLANTS, PlantSpec
+from .fit import FIT_RTOL, INITIAL_STATES, FitResult, Trace, evaluate, fit, nrmse
+from .plants import INPUT_TARGETS, PLANTS, InputSpec, PlantSpec
 from .spec import FitSpec, load_spec
 
 __all__ = [
+           "FIT_RTOL",
+           "INITIAL_STATES",
+           "INPUT_TARGETS",
            "PLANTS",
            "EMPSPlant",
            "FitResult",
            "FitSpec",
+           "InputSpec",
            "PlantSpec",
            "Trace",
            "evaluate",

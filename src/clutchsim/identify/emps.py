@@ -4,11 +4,13 @@ Janot, Gautier, Brunot (2019) describe an electro-mechanical positioning system 
 ball screw, load) run in closed loop.  Its rigid-body model, with the cascade position /
 velocity controller of the benchmark, is::
 
-    u      = sat_{±u_max}( kv·(kp·(q_ref − q) − w) )           [V]
-    M·ddq  = gtau·u − F(dq) − offset                            [N]
+    u      = sat_{±u_max}( kv·(kp·(q_ref − q) − w) ) + u_d      [V]
+    M·ddq  = gtau·u + F_d − F(dq) − offset                      [N]
     tau_v·dw/dt = dq − w        (w = dq when tau_v = 0)
 
 with ``q`` the load position [m], ``q_ref`` the reference position (the plant's input),
+``u_d`` a measured disturbance added to the controller output [V] and ``F_d`` a measured
+disturbance force [N] (both inputs; 0 when the record has none),
 ``gtau`` the drive gain [N/V] and ``F`` the force of any friction model of
 :mod:`clutchsim.friction` (transmitted in the direction of ``dq``).  The benchmark's
 controller works on a sampled (1 kHz) position and a difference quotient for the velocity;
@@ -48,16 +50,16 @@ def _voltage(y, u, p):
     w = y[2] if p[_TAUV] > 0.0 else y[1]
     c = p[_KV] * (p[_KP] * (u[0] - y[0]) - w)
     if c > p[_UMAX]:
-        return p[_UMAX]
+        return p[_UMAX] + u[1]
     if c < -p[_UMAX]:
-        return -p[_UMAX]
-    return c
+        return -p[_UMAX] + u[1]
+    return c + u[1]
 
 
 @jit
 def _emps_rhs(t, y, u, p, dy):
     nz = int(p[_NZ])
-    f_e = p[_GTAU] * _voltage(y, u, p) - p[_OFFSET]
+    f_e = p[_GTAU] * _voltage(y, u, p) + u[2] - p[_OFFSET]
     f = friction_force(int(p[_CODE]), p[EMPS_HEADER:], y[_NS:_NS + nz], y[1], f_e, 1.0,
                        dy[_NS:_NS + nz])
     dy[0] = y[1]
@@ -68,14 +70,14 @@ def _emps_rhs(t, y, u, p, dy):
 @jit
 def _emps_events(t, y, u, p, g):
     nz = int(p[_NZ])
-    f_e = p[_GTAU] * _voltage(y, u, p) - p[_OFFSET]
+    f_e = p[_GTAU] * _voltage(y, u, p) + u[2] - p[_OFFSET]
     friction_events(int(p[_CODE]), p[EMPS_HEADER:], y[_NS:_NS + nz], y[1], f_e, 1.0, g)
 
 
 @jit
 def _emps_reset(t, y, u, p, k):
     nz = int(p[_NZ])
-    f_e = p[_GTAU] * _voltage(y, u, p) - p[_OFFSET]
+    f_e = p[_GTAU] * _voltage(y, u, p) + u[2] - p[_OFFSET]
     action = friction_reset(int(p[_CODE]), p[EMPS_HEADER:], y[_NS:_NS + nz], y[1], f_e, 1.0, k)
     if action == 2:
         y[1] = 0.0
@@ -89,7 +91,7 @@ def _emps_outputs(t, y, u, p, out):
     nz = int(p[_NZ])
     dz = np.empty(nz)
     v = _voltage(y, u, p)
-    f_e = p[_GTAU] * v - p[_OFFSET]
+    f_e = p[_GTAU] * v + u[2] - p[_OFFSET]
     out[0] = friction_force(int(p[_CODE]), p[EMPS_HEADER:], y[_NS:_NS + nz], y[1], f_e, 1.0, dz)
     out[1] = v
     out[2] = p[_GTAU] * v
@@ -126,7 +128,8 @@ def make_emps(model: FrictionModel, *, M: float = 95.11, gtau: float = 35.1507,
     q0, dq0 : float
         Initial position [m] and velocity [m/s].
     z0 : array_like, optional
-        Initial friction states (default: the model's ``initial_state()``).
+        Initial friction states (default: the model's ``initial_state()`` when ``dq0 = 0``,
+        its steady sliding state ``sliding_state(dq0)`` otherwise).
 
     Returns
     -------
@@ -145,7 +148,10 @@ def make_emps(model: FrictionModel, *, M: float = 95.11, gtau: float = 35.1507,
     for name, value in (("kp", kp), ("kv", kv), ("offset", offset), ("q0", q0), ("dq0", dq0)):
         if not np.isfinite(value):
             raise ValueError(f"EMPS plant: {name} = {value!r} must be finite")
-    z_init = model.initial_state() if z0 is None else np.asarray(z0, dtype=float).ravel()
+    if z0 is not None:
+        z_init = np.asarray(z0, dtype=float).ravel()
+    else:   # a drive that starts moving starts sliding (a switching model's mode follows dq0)
+        z_init = model.sliding_state(dq0) if dq0 != 0.0 else model.initial_state()
     if z_init.size != model.n_states:
         raise ValueError(f"EMPS plant: z0 has {z_init.size} entries; {model.name} has "
                          f"{model.n_states} states")
@@ -157,7 +163,7 @@ def make_emps(model: FrictionModel, *, M: float = 95.11, gtau: float = 35.1507,
         np.concatenate([[q0, dq0, dq0], z_init]),
         ("q", "dq", "w") + tuple(model.state_names()),
         ("m", "m/s", "m/s") + tuple(model.state_units("translational")),
-        input_names=("q_ref",), input_units=("m",),
+        input_names=("q_ref", "u_d", "F_d"), input_units=("m", "V", "N"),
         output_names=("F", "u", "F_motor"), output_units=("N", "V", "N"),
         event_names=tuple(f"{model.name}: {e}" for e in model.event_names()),
         event_directions=tuple(int(d) for d in model.event_directions()),

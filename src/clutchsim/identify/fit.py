@@ -13,6 +13,15 @@ because the position itself follows the reference to 1e-4 and any simulation wou
 perfect against it; the benchmark's own measure ``100·||q_sim − q||/||q||`` [%] is reported
 as ``metrics["position_error_pct"]``.
 
+Several records at once: ``data`` may be a list of records (each already windowed).  The
+residual is the concatenation of the records' normalised residuals, each times
+``sqrt(w_k/Σw)`` (``weights``, default equal), so the cost is ``½·Σ (w_k/Σw)·NRMSE_k²`` and a
+record at a low load counts as much as one at a high load.  The pooled NRMSE is
+``sqrt(Σ (w_k/Σw)·NRMSE_k²)``.  Plant parameters named in ``per_record`` (e.g. an offset)
+are fitted once per record, as ``name@1``, ``name@2``, ...; validation records use their mean.
+All records of one fit must share the sampling interval (within 1 %): they are refused
+otherwise (resample them first), because the solver's output step is the sampling interval.
+
 Standard errors come from the Jacobian at the optimum, ``(JᵀJ)⁻¹·s²`` with
 ``s² = ||r||²/(m − n)``.  They assume independent residuals; measured residuals are strongly
 correlated in time, so read them as a lower bound and as a conditioning diagnostic.
@@ -20,6 +29,7 @@ correlated in time, so read them as a lower bound and as a conditioning diagnost
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import threading
@@ -39,9 +49,15 @@ from ..data import Measurement, read_measurements
 from ..friction import make_model
 from ..friction.base import FrictionModel
 from .parameters import ParameterSpace, apply_to_model, model_parameter_names, model_value
-from .plants import PlantSpec, Setup, build_setup
+from .plants import POST, PlantSpec, Setup, build_setup
 
-__all__ = ["FitResult", "Trace", "evaluate", "fit", "nrmse", "simulate_setup"]
+__all__ = ["FIT_RTOL", "INITIAL_STATES", "FitResult", "Trace", "evaluate", "fit", "nrmse",
+           "simulate_setup"]
+
+#: default relative tolerance of every simulation of a fit (the one place it is written)
+FIT_RTOL = 1e-8
+#: how a validation record's friction state starts (or an array of the states)
+INITIAL_STATES = ("rest", "fit-end")
 
 
 def nrmse(residual: np.ndarray, normaliser: np.ndarray) -> float:
@@ -107,6 +123,10 @@ class FitResult:
         Error measures on the fitting record.
     nrmse_validation : float or None
         Mean NRMSE over the validation records (None without ``validate=``).
+    records : tuple of Trace
+        Every fitting record (``fit_trace`` is the first); ``nrmse_pooled`` their pooled NRMSE.
+    notes : tuple of str
+        Declared inputs that a record lacks (taken as zero), and how validation started.
     cost_history : ndarray
         Lowest cost (½·NRMSE²) reached after each simulation, over all starts.
     starts : tuple of dict
@@ -141,6 +161,9 @@ class FitResult:
     input: str
     output: str
     message: str
+    records: tuple[Trace, ...] = ()
+    nrmse_pooled: float | None = None
+    notes: tuple[str, ...] = ()
 
     @property
     def nrmse_fit(self) -> float:
@@ -164,8 +187,11 @@ class FitResult:
         """The short document ``clutchsim fit --json`` prints."""
         return {"model": self.model_name, "parameters": dict(self.parameters),
                 "stderr": dict(self.stderr), "nrmse_fit": self.nrmse_fit,
-                "nrmse_validation": self.nrmse_validation, "at_bound": list(self.at_bound),
-                "unidentified": list(self.unidentified), "warnings": list(self.warnings)}
+                "nrmse_validation": self.nrmse_validation, "nrmse_pooled": self.nrmse_pooled,
+                "records": [{"source": r.source, "nrmse": r.nrmse} for r in self.records],
+                "validation": [{"source": v.source, "nrmse": v.nrmse} for v in self.validation],
+                "at_bound": list(self.at_bound), "unidentified": list(self.unidentified),
+                "warnings": list(self.warnings), "notes": list(self.notes)}
 
     def as_dict(self) -> dict:
         """Everything but the traces, JSON-ready (fit.json)."""
@@ -179,6 +205,7 @@ class FitResult:
             "model_values": {n: model_value(self.model, n)
                              for n in model_parameter_names(self.model)},
             "fit": self.fit_trace.as_dict(),
+            "records": [r.as_dict() for r in self.records],
             "validation": [v.as_dict() for v in self.validation],
             "starts": list(self.starts), "evaluations": self.evaluations,
             "failed_evaluations": self.failed_evaluations,
@@ -187,56 +214,93 @@ class FitResult:
 
 
 # ---------------------------------------------------------------- simulation
-def _options(setup: Setup, rtol: float, atol: float | None, wall_time: float) -> SolverOptions:
+def _base_options(options: SolverOptions | None, rtol: float, atol: float | None,
+                  wall_time: float) -> tuple[SolverOptions, bool]:
+    """The solver options every simulation of a fit starts from, and whether its atol is
+    to be set from each record's output scale.  ``options`` (one object) or the loose
+    ``rtol``/``atol``/``wall_time`` (the defaults), not both."""
+    if options is None:
+        base = SolverOptions(rtol=rtol, atol=1.0 if atol is None else atol,
+                             wall_time=wall_time, max_steps=5_000_000)
+        return base, atol is None
+    if not isinstance(options, SolverOptions):
+        raise TypeError(f"options must be a SolverOptions, got {type(options).__name__}")
+    if rtol != FIT_RTOL or atol is not None:
+        raise ValueError("give the tolerances either in options= (a SolverOptions) or as "
+                         "rtol=/atol=, not both")
+    return options, False
+
+
+def _options(setup: Setup, base: SolverOptions, auto_atol: bool) -> SolverOptions:
+    """``base`` with the record's output grid (and, if asked, an atol from its scale)."""
     dt = float(np.min(np.diff(setup.t)))
     span = float(setup.t[-1] - setup.t[0])
     n_out = int(span / dt) + 10
-    if atol is None:
-        atol = rtol * max(float(np.max(np.abs(setup.measured))), 1e-300) * 1e-2
+    atol = base.rtol * max(float(np.max(np.abs(setup.measured))), 1e-300) * 1e-2 \
+        if auto_atol else base.atol
     # room for the extra rows stored at located events
-    return SolverOptions(rtol=rtol, atol=atol, dt_out=dt, max_output=2 * n_out + 10_000,
-                         wall_time=wall_time, max_steps=5_000_000)
+    return dataclasses.replace(base, atol=atol, dt_out=dt, max_output=2 * n_out + 10_000)
+
+
+def _run(setup: Setup, p, solver, options, load_fraction):
+    system = setup.system.with_params(p)
+    res = simulate(system, (float(setup.t[0]), float(setup.t[-1])),
+                   setup.signals(load_fraction), y0=setup.y0, solver=solver, options=options)
+    if res.status != "completed" or res.t[-1] < setup.t[-1] - 1e-9 * max(1.0, abs(setup.t[-1])):
+        return None
+    return res
 
 
 def simulate_setup(setup: Setup, p: np.ndarray, *, solver: str, options: SolverOptions,
-                   post_offset: float = 0.0, extra: Sequence[str] = ()):
-    """Simulated signal on the measurement grid, or None if the run did not complete.
+                   post_offset: float = 0.0, extra: Sequence[str] = (),
+                   load_fraction: float | None = None):
+    """Simulated signal on the error grid (after any warm-up), or None if the run did not
+    complete.
 
     With ``extra`` signal names, returns ``(y, {name: values on the grid})``.
     """
-    system = setup.system.with_params(p)
-    res = simulate(system, (float(setup.t[0]), float(setup.t[-1])), setup.inputs,
-                   y0=setup.y0, solver=solver, options=options)
-    if res.status != "completed" or res.t[-1] < setup.t[-1] - 1e-9 * max(1.0, abs(setup.t[-1])):
+    res = _run(setup, p, solver, options, load_fraction)
+    if res is None:
         return None
-    y = np.interp(setup.t, res.t, res[setup.signal]) + post_offset
+    grid = setup.grid
+    y = np.interp(grid, res.t, res[setup.signal]) + post_offset
+    if setup.output_add is not None:
+        y = y + setup.output_add[setup.skip:]
     if not np.all(np.isfinite(y)):
         return None
     if extra:
-        return y, {n: np.interp(setup.t, res.t, res[n]) for n in extra}
+        return y, {n: np.interp(grid, res.t, res[n]) for n in extra}
     return y
 
 
 class _Problem:
     """Maps fitted values to parameter vectors and runs the simulations of one record."""
 
-    def __init__(self, model, setup: Setup, names, fixed_plant, solver, tolerances):
+    def __init__(self, model, setup: Setup, names, fixed_plant, solver, tolerances,
+                 record: int = 1):
+        self.record = record        # 1-based record of name@k values; 0: their mean
         self.model = model
         self.setup = setup
         self.names = tuple(names)
         self.fixed_plant = dict(fixed_plant)
         self.solver = solver
-        self.tolerances = tolerances        # (rtol, atol, wall_time)
+        self.tolerances = tolerances        # (base SolverOptions, atol from the output?)
         self.options = _options(setup, *tolerances)
 
     def split(self, values: np.ndarray):
         model_vals, plant_vals = {}, dict(self.setup.plant_values)
-        plant_vals.update(self.fixed_plant)
-        for name, value in zip(self.names, values):
-            if name in self.setup.plant_index:
+        per: dict = {}
+        for name, value in list(self.fixed_plant.items()) + list(zip(self.names, values)):
+            base, at, k = name.partition("@")
+            if at:
+                per.setdefault(base, {})[int(k)] = float(value)
+            elif name in self.setup.plant_index:
                 plant_vals[name] = float(value)
             else:
                 model_vals[name] = float(value)
+        for base, by_record in per.items():
+            plant_vals[base] = (float(np.mean(list(by_record.values()))) if self.record == 0
+                                else by_record.get(self.record, plant_vals[base]))
         return apply_to_model(self.model, model_vals), plant_vals
 
     def vector(self, model: FrictionModel, plant_vals) -> tuple[np.ndarray, float]:
@@ -245,14 +309,15 @@ class _Problem:
         post = 0.0
         for name, value in plant_vals.items():
             idx = s.plant_index[name]
-            if idx < 0:
+            if idx == POST:
                 post = value
-            else:
+            elif idx >= 0:
                 p[idx] = value
         p = np.concatenate([p[:s.header], model.pack()])
         return p, post
 
-    def run(self, values: np.ndarray, setup: Setup | None = None, extra: Sequence[str] = ()):
+    def parameters(self, values: np.ndarray, setup: Setup | None = None):
+        """Parameter vector, output offset and load fraction of ``setup`` at ``values``."""
         model, plant_vals = self.split(values)
         p, post = self.vector(model, plant_vals)
         setup = setup or self.setup
@@ -261,10 +326,26 @@ class _Problem:
             for name, value in plant_vals.items():
                 if setup.plant_index[name] >= 0:
                     p[setup.plant_index[name]] = value
+        return p, post, plant_vals.get("load_fraction")
+
+    def _opts(self, setup):
         # output grid and atol follow the record simulated (validation records differ)
-        options = self.options if setup is self.setup else _options(setup, *self.tolerances)
-        return simulate_setup(setup, p, solver=self.solver, options=options,
-                              post_offset=post, extra=extra)
+        return self.options if setup is self.setup else _options(setup, *self.tolerances)
+
+    def run(self, values: np.ndarray, setup: Setup | None = None, extra: Sequence[str] = ()):
+        setup = setup or self.setup
+        p, post, lam = self.parameters(values, setup)
+        return simulate_setup(setup, p, solver=self.solver, options=self._opts(setup),
+                              post_offset=post, extra=extra, load_fraction=lam)
+
+    def final_state(self, values: np.ndarray) -> np.ndarray | None:
+        """Friction states at the end of this record, simulated at ``values``."""
+        s = self.setup
+        p, _, lam = self.parameters(values, s)
+        res = _run(s, p, self.solver, self.options, lam)
+        if res is None:
+            return None
+        return np.array([res.final(n) for n in s.system.state_names[s.n_plant:]])
 
     def evaluate(self, values: np.ndarray, setup: Setup, source: str, plant: str) -> Trace:
         """Simulate ``setup`` at ``values`` and measure the errors."""
@@ -293,7 +374,7 @@ def _trace(setup: Setup, y: np.ndarray, source: str, plant: str) -> Trace:
         metrics["position_error_pct"] = float(100.0 * np.linalg.norm(res)
                                               / np.linalg.norm(setup.measured))
     metrics["rmse"] = float(np.sqrt(np.mean(res ** 2)))
-    return Trace(source, setup.t, setup.measured, y, e, 1.0 - e * e,
+    return Trace(source, setup.grid, setup.measured, y, e, 1.0 - e * e,
                  MappingProxyType(metrics), setup.extras.get("q_ref"))
 
 
@@ -330,26 +411,44 @@ def _check_names(names, model, plant: PlantSpec, what: str):
                 f"parameters: {', '.join(plant.parameters) or '(none)'}")
 
 
-def _start_values(model, setup: Setup, names, fixed_plant) -> dict:
+def _record_of(name: str, setups) -> tuple[str, Setup]:
+    base, at, k = name.partition("@")
+    return base, setups[int(k) - 1] if at else setups[0]
+
+
+def _start_values(model, setups, names, fixed_plant) -> dict:
     out = {}
     for name in names:
-        if name in setup.plant_index:
-            out[name] = fixed_plant.get(name, setup.plant_values[name])
+        base, setup = _record_of(name, setups)
+        if base in setup.plant_index:
+            out[name] = fixed_plant.get(name, fixed_plant.get(base, setup.plant_values[base]))
         else:
             out[name] = model_value(model, name)
     return out
 
 
-def _default_bounds(plant: PlantSpec, setup: Setup, names) -> dict:
+def _default_bounds(plant: PlantSpec, setups, names) -> dict:
     out = {}
     for name in names:
-        if name in plant.parameters:
-            b = plant.parameters[name]
-            if b is None and name == "offset":
+        base, setup = _record_of(name, setups)
+        if base in plant.parameters:
+            b = plant.parameters[base]
+            if b is None and base == "offset":
                 amp = float(np.max(np.abs(setup.measured)))
                 b = (-amp, amp)
             out[name] = b
     return out
+
+
+def _check_rates(records: Sequence[Measurement]) -> None:
+    """Records of one joint fit must share the sampling interval (refused otherwise)."""
+    dts = [float(np.median(np.diff(m.t))) for m in records]
+    for m, dt in zip(records[1:], dts[1:]):
+        if abs(dt - dts[0]) > 0.01 * dts[0]:
+            raise ValueError(
+                f"records of one fit have different sampling intervals: {records[0].source} "
+                f"{dts[0]:.6g} s, {m.source} {dt:.6g} s; resample them to one rate first "
+                "(a joint fit refuses mixed rates rather than resampling silently)")
 
 
 #: a fitted value within this fraction of a bound is reported as at the bound [-]
@@ -432,19 +531,41 @@ def _standard_errors(jac, den, residual, space: ParameterSpace, x, params) -> di
 # ---------------------------------------------------------------- evaluate
 def evaluate(model: FrictionModel | str, data, *, input: str, output: str,
              plant: str | PlantSpec = "rig-force", plant_options: Mapping | None = None,
-             signal: str | None = None, solver: str = "rodas4", rtol: float = 1e-8,
-             atol: float | None = None, wall_time: float = 60.0) -> Trace:
+             signal: str | None = None, solver: str = "rodas4", rtol: float = FIT_RTOL,
+             atol: float | None = None, wall_time: float = 60.0, inputs=(), z0=None,
+             warmup: float = 0.0, options: SolverOptions | None = None) -> Trace:
     """Simulate a plant with given parameters against a record (no fitting).
 
-    Same arguments as :func:`fit`; returns the :class:`Trace` with its error measures.
+    Same arguments as :func:`fit` (``z0``: initial friction states; ``warmup`` [s]: leading
+    part simulated but not compared); returns the :class:`Trace` with its error measures.
     Raises RuntimeError if the simulation does not complete.
     """
     model = make_model(model) if isinstance(model, str) else model
     spec = plant if isinstance(plant, PlantSpec) else PlantSpec(plant, dict(plant_options or {}))
     meas = _as_measurement(data, "data")
-    setup = build_setup(spec, model, meas, input=input, output=output, signal=signal)
-    problem = _Problem(model, setup, (), {}, solver, (rtol, atol, wall_time))
+    setup = build_setup(spec, model, meas, input=input, output=output, signal=signal,
+                        inputs=inputs, z0=z0, warmup=warmup)
+    problem = _Problem(model, setup, (), {}, solver,
+                       _base_options(options, rtol, atol, wall_time))
     return problem.evaluate(np.empty(0), setup, meas.source, spec.kind)
+
+
+def _initial_state(initial, model: FrictionModel):
+    """``None`` (rest), ``"fit-end"`` or an array of the model's states (checked)."""
+    if initial is None or (isinstance(initial, str) and initial == "rest"):
+        return None
+    if isinstance(initial, str):
+        if initial != "fit-end":
+            raise ValueError(f"validate_initial = {initial!r} must be one of "
+                             f"{', '.join(INITIAL_STATES)} or an array of {model.name}'s "
+                             f"{model.n_states} state(s)")
+        return initial
+    z = np.asarray(initial, dtype=float).ravel()
+    if z.size != model.n_states or not np.all(np.isfinite(z)):
+        raise ValueError(f"validate_initial has {z.size} entries; {model.name} has "
+                         f"{model.n_states} state(s) ({', '.join(model.state_names()) or 'none'})"
+                         ", all finite")
+    return z
 
 
 # ---------------------------------------------------------------- fit
@@ -453,25 +574,30 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         fixed: Mapping[str, float] | None = None, starts: int | Sequence[Mapping] = 1,
         plant: str | PlantSpec = "rig-force", plant_options: Mapping | None = None,
         signal: str | None = None, seed: int = 0, validate=None,
-        solver: str = "rodas4", rtol: float = 1e-8, atol: float | None = None,
+        solver: str = "rodas4", rtol: float = FIT_RTOL, atol: float | None = None,
         diff_step: float = 1e-5, max_nfev: int = 200, wall_time: float = 30.0,
         max_workers: int = 2, tol: float = 1e-8,
-        t_span: tuple[float | None, float | None] | None = None, progress=None) -> FitResult:
-    """Fit friction (and plant) parameters to a measured record by output error.
+        t_span: tuple[float | None, float | None] | None = None, progress=None,
+        inputs=(), per_record: Sequence[str] = (), weights: Sequence[float] | None = None,
+        validate_initial=None, validate_warmup: float = 0.0,
+        options: SolverOptions | None = None) -> FitResult:
+    """Fit friction (and plant) parameters to one or several measured records by output error.
 
     Parameters
     ----------
     model : FrictionModel or str
         Model with the start values (a name uses its default parameter set).
-    data : Measurement, mapping of arrays (with ``"t"``) or path
-        Fitting record.
+    data : Measurement, mapping of arrays (with ``"t"``) or path, or a list of them
+        Fitting record(s); a list is fitted jointly (see the module notes).
     input, output : str
         Measured columns: the plant's driving input and the compared output.
     params : sequence of str
-        Parameters to fit: model fields (``"k[0]"`` for tuple elements) or plant parameters.
+        Parameters to fit: model fields (``"k[0]"`` for tuple elements) or plant parameters
+        (shared by all records).
     bounds : mapping of str to (lo, hi), optional
         Per fitted parameter; default ``start/100 ... start·100`` (plant parameters have
-        their own defaults).  ``lo < hi`` is required.
+        their own defaults).  ``lo < hi`` is required.  A bound of a ``per_record`` name
+        applies to each record's copy.
     fixed : mapping of str to float, optional
         Values set before fitting and held (model fields or plant parameters).
     starts : int or sequence of mappings
@@ -489,6 +615,9 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         Records simulated with the fitted values (not used for fitting).
     solver, rtol, atol : str, float, float
         Integrator and tolerances of every simulation (atol default from the output scale).
+    options : SolverOptions, optional
+        Tolerances and budgets of every simulation in one object, instead of ``rtol``,
+        ``atol`` and ``wall_time`` (its ``dt_out`` and ``max_output`` are set per record).
     diff_step : float
         Finite-difference step in scaled coordinates.
     progress : callable, optional
@@ -505,6 +634,18 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         Wall-time budget of one simulation [s].
     t_span : (float or None, float or None), optional
         Window of the data used (validation records are used whole).
+    inputs : sequence of InputSpec
+        Measured inputs beyond the drive signal, and where they enter (:mod:`.plants`).
+    per_record : sequence of str
+        Plant parameters fitted separately for each record (``name@1``, ``name@2``, ...).
+    weights : sequence of float, optional
+        Weight of each record in the cost (default equal).
+    validate_initial : "rest", "fit-end" or array, optional
+        Friction state the validation records start from: the plant's default (``"rest"``,
+        None), the state at the end of the (last) fitting record at the fitted values
+        (``"fit-end"``, for a record that continues it), or the given states.
+    validate_warmup : float
+        Leading part of each validation record [s] simulated and left out of its error.
 
     Returns
     -------
@@ -516,28 +657,63 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         raise TypeError(f"model must be a friction model or a model name, got "
                         f"{type(model).__name__}")
     spec = plant if isinstance(plant, PlantSpec) else PlantSpec(plant, dict(plant_options or {}))
-    meas = _as_measurement(data, "data")
+    items = list(data) if isinstance(data, (list, tuple)) else [data]
+    if not items:
+        raise ValueError("data: give at least one record")
+    multi = len(items) > 1
+    meas_list = [_as_measurement(d, f"data[{k}]" if multi else "data")
+                 for k, d in enumerate(items)]
     if t_span is not None:
-        meas = meas.window(*t_span)
+        meas_list = [m.window(*t_span) for m in meas_list]
+    _check_rates(meas_list)
+    n_rec = len(meas_list)
+    w = np.ones(n_rec) if weights is None else np.asarray(weights, dtype=float).ravel()
+    if w.size != n_rec or not np.all(np.isfinite(w)) or np.any(w < 0) or not w.sum() > 0:
+        raise ValueError(f"weights = {list(np.ravel(weights))}: give one finite weight >= 0 "
+                         f"per record ({n_rec}), not all zero")
+    w = w / w.sum()
     params = list(params)
-    if not params:
+    per_record = list(per_record)
+    for name in per_record:
+        if name not in spec.parameters:
+            raise ValueError(f"per_record: {name!r} is not a plant parameter of "
+                             f"{spec.kind!r}{closest(name, spec.parameters)}; plant parameters: "
+                             f"{', '.join(spec.parameters)}")
+        if name in params:
+            raise ValueError(f"{name!r} is in both params and per_record: list it once")
+    if not params and not per_record:
         raise ValueError("params: give at least one parameter to fit")
     if len(set(params)) != len(params):
         raise ValueError(f"params: repeated names in {params}")
     _check_names(params, model, spec, "params")
     fixed = dict(fixed or {})
-    _check_names(fixed, model, spec, "fixed")
-    both = [n for n in fixed if n in params]
+    _check_names([n.partition("@")[0] for n in fixed], model, spec, "fixed")
+    both = [n for n in fixed if n in params or n.partition("@")[0] in per_record]
     if both:
         raise ValueError(f"parameter(s) {', '.join(both)} are both fitted and fixed")
-    fixed_plant = {n: float(v) for n, v in fixed.items() if n in spec.parameters}
-    model = apply_to_model(model, {n: v for n, v in fixed.items() if n not in spec.parameters})
-    setup = build_setup(spec, model, meas, input=input, output=output, signal=signal)
-    start = _start_values(model, setup, params, fixed_plant)
-    space = ParameterSpace.build(params, start, bounds, _default_bounds(spec, setup, params))
-    problem = _Problem(model, setup, params, fixed_plant, solver, (rtol, atol, wall_time))
-    den = float(np.linalg.norm(setup.normaliser))
-    penalty = 3.0 * setup.normaliser / den      # a failed run counts as NRMSE = 3
+    fixed_plant = {n: float(v) for n, v in fixed.items()
+                   if n.partition("@")[0] in spec.parameters}
+    model = apply_to_model(model, {n: v for n, v in fixed.items()
+                                   if n.partition("@")[0] not in spec.parameters})
+    initial = _initial_state(validate_initial, model)
+    setups = [build_setup(spec, model, m, input=input, output=output, signal=signal,
+                          inputs=inputs) for m in meas_list]
+    names = params + [f"{n}@{k + 1}" for n in per_record for k in range(n_rec)]
+    start = _start_values(model, setups, names, fixed_plant)
+    bounds = dict(bounds or {})
+    for n in per_record:
+        if n in bounds:
+            b = bounds.pop(n)
+            for k in range(n_rec):
+                bounds.setdefault(f"{n}@{k + 1}", b)
+    space = ParameterSpace.build(names, start, bounds, _default_bounds(spec, setups, names))
+    tolerances = _base_options(options, rtol, atol, wall_time)
+    problems = [_Problem(model, s, names, fixed_plant, solver, tolerances, record=k + 1)
+                for k, s in enumerate(setups)]
+    dens = [float(np.linalg.norm(s.normaliser)) for s in setups]
+    factors = [math.sqrt(wk) / d for wk, d in zip(w, dens)]
+    # a failed run counts as NRMSE = 3 for its record
+    penalties = [3.0 * math.sqrt(wk) * s.normaliser / d for wk, s, d in zip(w, setups, dens)]
     counters = {"n": 0, "failed": 0, "best": math.inf}
     history: list[float] = []
 
@@ -545,17 +721,21 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
     last: dict = {}
 
     def evaluate(x):
-        try:
-            y = problem.run(space.to_physical(x))
-        except ValueError:      # a model constraint the repairs do not cover
-            y = None
-        with lock:
-            counters["n"] += 1
-            if y is None:
-                counters["failed"] += 1
-            if progress is not None:
-                progress(min(counters["n"], budget), budget)
-        return penalty if y is None else (y - setup.measured) / den
+        values = space.to_physical(x)
+        parts = []
+        for prob, s, f, pen in zip(problems, setups, factors, penalties):
+            try:
+                y = prob.run(values)
+            except ValueError:      # a model constraint the repairs do not cover
+                y = None
+            with lock:
+                counters["n"] += 1
+                if y is None:
+                    counters["failed"] += 1
+                if progress is not None:
+                    progress(min(counters["n"], budget), budget)
+            parts.append(pen if y is None else (y - s.measured) * f)
+        return np.concatenate(parts)
 
     def residual(x):
         r = evaluate(x)
@@ -582,9 +762,9 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
             else [column(j) for j in range(len(x))]
         return np.column_stack(cols)
 
-    workers = max(1, min(len(params), os.cpu_count() or 1, max_workers))
+    workers = max(1, min(len(names), os.cpu_count() or 1, max_workers))
     rng = np.random.default_rng(seed)
-    x_first = space.clip_inside(space.to_scaled(np.array([start[n] for n in params])))
+    x_first = space.clip_inside(space.to_scaled(np.array([start[n] for n in names])))
     if isinstance(starts, (int, np.integer)) and not isinstance(starts, bool):
         if starts < 1:
             raise ValueError(f"starts = {starts} must be >= 1")
@@ -592,16 +772,16 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
     else:
         points = []
         for k, pt in enumerate(starts):
-            _check_names(pt, model, spec, f"starts[{k}]")
-            bad = [n for n in pt if n not in params]
+            _check_names([n.partition("@")[0] for n in pt], model, spec, f"starts[{k}]")
+            bad = [n for n in pt if n not in names]
             if bad:
                 raise ValueError(f"starts[{k}]: {', '.join(bad)} not fitted")
-            vals = np.array([float(pt.get(n, start[n])) for n in params])
+            vals = np.array([float(pt.get(n, start[n])) for n in names])
             points.append(space.clip_inside(space.to_scaled(vals)))
         if not points:
             raise ValueError("starts: give at least one start point")
     # an upper bound of the simulations (each Jacobian column is one) for the progress bar
-    budget = max(1, len(points) * max_nfev * (len(params) + 1))
+    budget = max(1, len(points) * max_nfev * (len(names) + 1) * n_rec)
     best = None
     records = []
     for x0 in points:
@@ -609,7 +789,7 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         sol = least_squares(residual, x0, jac=jacobian, bounds=space.scaled_bounds,
                             method="trf", max_nfev=max_nfev, x_scale=1.0, ftol=tol,
                             xtol=tol)
-        records.append({"start": dict(zip(params, space.to_physical(x0).tolist())),
+        records.append({"start": dict(zip(names, space.to_physical(x0).tolist())),
                         "cost": float(sol.cost), "evaluations": counters["n"] - n0,
                         "message": str(sol.message)})
         if best is None or sol.cost < best.cost:
@@ -618,30 +798,52 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         progress(budget, budget)
     assert best is not None
     values = space.to_physical(best.x)
-    fitted_model, plant_vals = problem.split(values)
+    fitted_model, plant_vals = problems[0].split(values)
     # report the values actually simulated (after order-constraint repairs)
-    reported = {n: (plant_vals[n] if n in setup.plant_index else model_value(fitted_model, n))
-                for n in params}
-    trace = problem.evaluate(values, setup, meas.source, spec.kind)
-    stderr = _standard_errors(best.jac, den, trace.residual, space, best.x, params)
+    reported = {}
+    for n in names:
+        base, setup = _record_of(n, setups)
+        if base in setup.plant_index:
+            reported[n] = problems[int(n.partition("@")[2] or 1) - 1].split(values)[1][base]
+        else:
+            reported[n] = model_value(fitted_model, n)
+    traces = [prob.evaluate(values, s, m.source, spec.kind)
+              for prob, s, m in zip(problems, setups, meas_list)]
+    r_all = np.concatenate([(tr.residual) * f for tr, f in zip(traces, factors)])
+    stderr = _standard_errors(best.jac, 1.0, r_all, space, best.x, names)
     phys_bounds = {n: (float(a), float(b)) for n, a, b in
-                   zip(params, space.lower, space.upper)}
+                   zip(names, space.lower, space.upper)}
     at_bound, unidentified, fit_warnings = _identifiability(
-        params, {n: float(v) for n, v in reported.items()}, phys_bounds, stderr, fitted_model)
+        names, {n: float(v) for n, v in reported.items()}, phys_bounds, stderr, fitted_model)
+    notes = [note for s in setups for note in s.notes]
     val_traces = []
     if validate is not None:
-        items = validate if isinstance(validate, (list, tuple)) else [validate]
-        for k, item in enumerate(items):
+        vitems = validate if isinstance(validate, (list, tuple)) else [validate]
+        if isinstance(initial, str):     # "fit-end"
+            initial = problems[-1].final_state(values)
+            if initial is None:
+                raise RuntimeError(f"{meas_list[-1].source}: the simulation at the fitted "
+                                   "parameters did not complete (for the final state)")
+            notes.append(f"validation starts from the friction state at the end of "
+                         f"{meas_list[-1].source}: {', '.join(f'{z:.6g}' for z in initial)}")
+        val_problem = _Problem(fitted_model, setups[0], names, fixed_plant, solver,
+                               tolerances, record=0 if multi else 1)
+        for k, item in enumerate(vitems):
             vm = _as_measurement(item, f"validate[{k}]")
-            vs = build_setup(spec, fitted_model, vm, input=input, output=output, signal=signal)
-            val_traces.append(problem.evaluate(values, vs, vm.source, spec.kind))
+            vs = build_setup(spec, fitted_model, vm, input=input, output=output,
+                             signal=signal, inputs=inputs, z0=initial,
+                             warmup=validate_warmup)
+            notes.extend(vs.notes)
+            val_traces.append(val_problem.evaluate(values, vs, vm.source, spec.kind))
+    pooled = float(math.sqrt(sum(wk * tr.nrmse ** 2 for wk, tr in zip(w, traces))))
     return FitResult(
         model=fitted_model, model_name=fitted_model.name,
         parameters=MappingProxyType(reported), stderr=MappingProxyType(stderr),
         bounds=MappingProxyType(phys_bounds), at_bound=at_bound,
-        unidentified=unidentified, warnings=fit_warnings, fixed=MappingProxyType(fixed), plant=spec.kind,
-        plant_parameters=MappingProxyType(plant_vals), fit_trace=trace,
+        unidentified=unidentified, warnings=fit_warnings, fixed=MappingProxyType(fixed),
+        plant=spec.kind, plant_parameters=MappingProxyType(plant_vals), fit_trace=traces[0],
         validation=tuple(val_traces), cost_history=np.array(history),
         starts=tuple(records), evaluations=counters["n"],
         failed_evaluations=counters["failed"], wall_time=time.perf_counter() - wall0,
-        signal=setup.signal, input=input, output=output, message=str(best.message))
+        signal=setups[0].signal, input=input, output=output, message=str(best.message),
+        records=tuple(traces), nrmse_pooled=pooled, notes=tuple(notes))

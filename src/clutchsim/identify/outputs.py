@@ -50,11 +50,18 @@ def report_markdown(result) -> str:
         shown = "undetermined" if se is None else f"{se:.2g}"
         lines.append(f"| {name} | {value:.6g}{flag} | {shown} | {lo:g} … {hi:g} |")
     lines += ["", "| record | NRMSE | R² | other |", "|---|---|---|---|"]
-    for what, tr in [("fit", result.fit_trace)] + [(f"validation {k + 1}", v) for k, v in
-                                                    enumerate(result.validation)]:
+    fits = list(result.records) or [result.fit_trace]
+    rows = [("fit" if len(fits) == 1 else f"fit {k + 1}", tr) for k, tr in enumerate(fits)]
+    for what, tr in rows + [(f"validation {k + 1}", v) for k, v in
+                            enumerate(result.validation)]:
         other = ", ".join(f"{k} = {v:.4g}" for k, v in tr.metrics.items())
         lines.append(f"| {what}: `{Path(tr.source).name}` | {tr.nrmse:.4g} | {tr.r2:.4g} | "
                      f"{other} |")
+    if len(fits) > 1:
+        lines.append(f"| pooled (RMS of the fit records' NRMSE) | {result.nrmse_pooled:.4g} | "
+                     "| |")
+    if result.notes:
+        lines += [""] + [f"- {note}" for note in result.notes]
     lines += ["", (f"{result.evaluations} simulations ({result.failed_evaluations} failed), "
                    f"{len(result.starts)} start(s), wall time {result.wall_time:.1f} s; "
                    f"optimiser: {result.message}"), ""]

@@ -32,7 +32,32 @@ same thing.  Layout (every table but ``[data]`` and ``[fit]`` optional)::
 
     [validate]                      # optional: other records, same mapping
     files = ["other.mat"]
+    initial = "rest"                # or "fit-end", or [z, ...] (the model's states)
+    warmup = 0.0                    # [s] simulated at the start, not compared
+
+Measured inputs beyond the drive signal, one table per column (after mapping and derived)::
+
+    [inputs.F_pulse]
+    to = "force"                    # force, controller (emps) or scale (rig kinds)
+    gain = 1.0
+    unit = "N"
+
+Derived columns (``[data] derived``), by the grammar of :mod:`clutchsim.data.column_expr`,
+computed on the whole file before the window::
+
+    derived = { s = { expr = "(F_act1 + F_act2) / 60.0", unit = "-" } }   # or s = "expr"
+
+Several records fitted at once replace ``[data] file`` (the mapping stays in ``[data]``)::
+
+    [[records]]
+    file = "a.npz"
+    window = [0.0, 10.0]            # optional
+    weight = 1.0                    # optional
+
+with ``[fit] per_record = ["offset"]`` for plant parameters fitted once per record.  Errors
+name the spec file, the line and the key.
 """
+
 
 from __future__ import annotations
 
@@ -44,16 +69,46 @@ from ..core.system import closest
 from ..data import Measurement, read_measurements
 from ..friction import get_model_class, make_model
 from ..friction.base import FrictionModel
-from .plants import PlantSpec
+from .plants import INPUT_TARGETS, InputSpec, PlantSpec
 
 __all__ = ["FitSpec", "load_spec"]
 
-_TABLES = {"data": ("file", "time", "columns", "scale", "tare", "nan", "window", "units"),
+_TABLES = {"data": ("file", "time", "columns", "scale", "tare", "nan", "window", "units",
+                    "derived"),
            "plant": ("kind", "options"),
            "fit": ("model", "input", "output", "signal", "solver", "rtol", "atol", "starts",
-                   "seed", "max_nfev", "diff_step", "wall_time", "tol"),
-           "validate": ("files", "window"),
+                   "seed", "max_nfev", "diff_step", "wall_time", "tol", "per_record"),
+           "validate": ("files", "window", "initial", "warmup"),
+           "inputs": None,
+           "records": None,
            "models": None}
+_INPUT_KEYS = ("to", "gain", "unit")
+_RECORD_KEYS = ("file", "window", "weight")
+
+
+def line_of(text: str, table: str, key: str | None = None) -> int | None:
+    """1-based line of ``key`` in ``[table]`` of a TOML text (of the table header without
+    a key; None if not found).  ``table`` may be ``"inputs.F"`` or ``"records"`` (the first
+    ``[[records]]``, or ``"records#k"`` for the k-th, 0-based)."""
+    import re
+    name, _, nth = table.partition("#")
+    want = int(nth) if nth else 0
+    current, seen, header_line = None, -1, None
+    for i, raw in enumerate(text.splitlines(), 1):
+        line = raw.split("#", 1)[0].strip() if not raw.lstrip().startswith("#") else ""
+        m = re.match(r"^\[\[?\s*([^\]]+?)\s*\]\]?$", line)
+        if m:
+            current = m.group(1).replace('"', "")
+            if current == name:
+                seen += 1
+                if seen == want:
+                    header_line = i
+            continue
+        if current == name and seen == want and key is not None and (
+                re.match(rf'^"?{re.escape(key)}"?\s*=', line)
+                or re.search(rf'[{{,]\s*"?{re.escape(key)}"?\s*=', line)):
+            return i
+    return header_line
 
 
 @dataclass(frozen=True, eq=False)
@@ -66,19 +121,103 @@ class FitSpec:
     fit: dict
     models: dict
     validate: dict = field(default_factory=dict)
+    inputs: tuple = ()
+    records: tuple = ()
+    text: str = ""
+
+    def where(self, table: str, key: str | None = None) -> str:
+        """``"FILE:LINE: [table] key"`` for messages."""
+        line = line_of(self.text, table, key)
+        shown = (f"[[{table.partition('#')[0]}]] #{int(table.partition('#')[2] or 0) + 1}"
+                 if table.startswith("records") else f"[{table}]")
+        return f"{self.path}" + (f":{line}" if line else "") + f": {shown}" + \
+            (f" {key}" if key else "")
 
     def read(self, file: str | Path | None = None, window=None) -> Measurement:
-        """Read the spec's data file (or ``file`` with the same mapping)."""
+        """Read the spec's data file (or ``file`` with the same mapping), derived columns
+        computed, then the window applied."""
         d = self.data
         m = read_measurements(file or d["file"], time=d.get("time", "t"),
                               columns=d.get("columns"), scale=d.get("scale"),
                               units=d.get("units"), tare=d.get("tare", ()),
-                              nan=d.get("nan", "error"))
+                              nan=d.get("nan", "error"),
+                              optional=[i.column for i in self.inputs])
+        m = self._derive(m)
         window = window if window is not None else (d.get("window") if file is None else None)
         return m.window(*window) if window else m
 
+    def _derive(self, m: Measurement) -> Measurement:
+        from ..data.column_expr import evaluate_column
+        for name, entry in dict(self.data.get("derived", {})).items():
+            expr, unit = (entry, "") if isinstance(entry, str) else \
+                (entry.get("expr"), str(entry.get("unit", "")))
+            try:
+                values = evaluate_column(expr, {"t": m.t, **m.columns})
+            except ValueError as exc:
+                raise ValueError(f"{self.where('data', name)}: {exc} (in {m.source})") from None
+            m = m.with_column(name, values, unit)
+        return m
+
+    def fit_data(self, window=None) -> list[Measurement]:
+        """The fitting records: ``[data] file``, or every ``[[records]]`` with its window.
+
+        ``window`` (the CLI's --window) overrides every record's own window."""
+        if not self.records:
+            return [self.read(window=window)]
+        out = []
+        for r in self.records:
+            w = window if window is not None else r.get("window")
+            out.append(self.read(r["file"], w))
+        self._check_rates(out)
+        self._check_inputs(out)
+        return out
+
+    def weights(self) -> list[float] | None:
+        if not self.records:
+            return None
+        return [float(r.get("weight", 1.0)) for r in self.records]
+
+    def _check_rates(self, records) -> None:
+        import numpy as np
+        dts = [float(np.median(np.diff(m.t))) for m in records]
+        for k, (m, dt) in enumerate(zip(records, dts)):
+            if abs(dt - dts[0]) > 0.01 * dts[0]:
+                raise ValueError(
+                    f"{self.where(f'records#{k}', 'file')}: {m.source} is sampled every "
+                    f"{dt:.6g} s, {records[0].source} every {dts[0]:.6g} s; records of one "
+                    "fit must share the sampling interval (refused, not resampled: resample "
+                    "the files to one rate)")
+
+    def _check_inputs(self, records) -> None:
+        for inp in self.inputs:
+            if not any(inp.column in m.columns for m in records):
+                cols = sorted(set().union(*(m.columns for m in records)))
+                raise ValueError(f"{self.where('inputs.' + inp.column)}: declared input column "
+                                 f"{inp.column!r} is in none of the fitting records "
+                                 f"({', '.join(m.source for m in records)}); columns: "
+                                 f"{', '.join(cols)}")
+
     def validation_data(self) -> list[Measurement]:
         return [self.read(f, self.validate.get("window")) for f in self.validate.get("files", [])]
+
+    def validation_initial(self, model: FrictionModel):
+        """``[validate] initial`` checked against ``model`` (None: rest)."""
+        import numpy as np
+        init = self.validate.get("initial")
+        if init is None or init == "rest":
+            return None
+        if isinstance(init, str):
+            if init != "fit-end":
+                raise ValueError(f"{self.where('validate', 'initial')} = {init!r} must be "
+                                 "'rest', 'fit-end' or a list of the model's states")
+            return init
+        z = np.asarray(init, dtype=float).ravel() if isinstance(init, list) else None
+        if z is None or z.size != model.n_states:
+            n = "?" if z is None else z.size
+            raise ValueError(f"{self.where('validate', 'initial')} has {n} entries; "
+                             f"{model.name} has {model.n_states} state(s) "
+                             f"({', '.join(model.state_names()) or 'none'})")
+        return z
 
     def model_entry(self, name: str | None) -> tuple[FrictionModel, dict]:
         """The start model and its ``[models.NAME]`` entry (params, bounds, fixed)."""
@@ -117,7 +256,8 @@ def load_spec(path: str | Path) -> FitSpec:
     """Read and check a TOML fit specification."""
     path = Path(path)
     try:
-        doc = tomllib.loads(path.read_text())
+        text = path.read_text()
+        doc = tomllib.loads(text)
     except OSError as exc:
         raise ValueError(f"{path}: cannot read fit specification ({exc.strerror})") from None
     except tomllib.TOMLDecodeError as exc:
@@ -130,9 +270,10 @@ def load_spec(path: str | Path) -> FitSpec:
         if table not in doc:
             raise ValueError(f"{path}: missing table [{table}]")
     data = dict(doc["data"])
-    if "file" not in data:
-        raise ValueError(f"{path}: [data] needs file = \"...\"")
-    data["file"] = _resolve(path, data["file"])
+    if "file" not in data and not doc.get("records"):
+        raise ValueError(f"{path}: [data] needs file = \"...\" (or give [[records]])")
+    if "file" in data:
+        data["file"] = _resolve(path, data["file"])
     fitd = dict(doc["fit"])
     for key in ("input", "output"):
         if key not in fitd:
@@ -141,7 +282,62 @@ def load_spec(path: str | Path) -> FitSpec:
     spec = PlantSpec(plant.get("kind", "rig-force"), dict(plant.get("options", {})))
     validate = dict(doc.get("validate", {}))
     validate["files"] = [_resolve(path, f) for f in validate.get("files", [])]
-    return FitSpec(path, data, spec, fitd, dict(doc.get("models", {})), validate)
+    partial = FitSpec(path, data, spec, fitd, {}, validate, text=text)
+    if not isinstance(data.get("derived", {}), dict):
+        raise ValueError(  # noqa: TRY004
+            f"{partial.where('data', 'derived')}: must be a table name = "
+            "\"expression\" or name = {{ expr = \"...\", unit = \"...\" }}")
+    for name, entry in data.get("derived", {}).items():
+        if not (isinstance(entry, str) or (isinstance(entry, dict) and "expr" in entry
+                                           and set(entry) <= {"expr", "unit"})):
+            raise ValueError(f"{partial.where('data', name)}: derived column {name!r} must be "
+                             "\"expression\" or { expr = \"...\", unit = \"...\" }")
+    if "warmup" in validate and not (isinstance(validate["warmup"], (int, float))
+                                     and validate["warmup"] >= 0):
+        raise ValueError(f"{partial.where('validate', 'warmup')} = {validate['warmup']!r} "
+                         "must be a number of seconds >= 0")
+    inputs = []
+    for name, entry in dict(doc.get("inputs", {})).items():
+        where = partial.where(f"inputs.{name}")
+        if not isinstance(entry, dict):
+            raise ValueError(  # noqa: TRY004
+                f"{where}: must be a table with to = \"force\" (or controller, scale), gain, "
+                "unit")
+        bad = [k for k in entry if k not in _INPUT_KEYS]
+        if bad or "to" not in entry:
+            raise ValueError(f"{where}: " + (f"unknown key {bad[0]!r}; keys: "
+                                             f"{', '.join(_INPUT_KEYS)}" if bad else
+                                             "needs to = \"force\", \"controller\" or "
+                                             "\"scale\""))
+        try:
+            inp = InputSpec(name, str(entry["to"]), entry.get("gain", 1.0),
+                            str(entry.get("unit", "")))
+        except ValueError as exc:
+            raise ValueError(f"{partial.where(f'inputs.{name}', 'to')}: {exc}") from None
+        if inp.to not in INPUT_TARGETS[spec.kind]:
+            raise ValueError(f"{partial.where(f'inputs.{name}', 'to')}: to = {inp.to!r} is not "
+                             f"available for plant {spec.kind!r}; targets: "
+                             f"{', '.join(INPUT_TARGETS[spec.kind])}")
+        inputs.append(inp)
+    records = []
+    raw_records = doc.get("records", [])
+    if not isinstance(raw_records, list):
+        raise ValueError(  # noqa: TRY004
+            f"{partial.where('records')}: write each record as [[records]]")
+    for k, r in enumerate(raw_records):
+        bad = [key for key in r if key not in _RECORD_KEYS]
+        if bad or "file" not in r:
+            raise ValueError(f"{partial.where(f'records#{k}', bad[0] if bad else None)}: "
+                             + (f"unknown key {bad[0]!r}; keys: {', '.join(_RECORD_KEYS)}"
+                                if bad else "needs file = \"...\""))
+        rec = dict(r)
+        rec["file"] = _resolve(path, r["file"])
+        if "weight" in r and not (isinstance(r["weight"], (int, float)) and r["weight"] >= 0):
+            raise ValueError(f"{partial.where(f'records#{k}', 'weight')} = {r['weight']!r} "
+                             "must be a number >= 0")
+        records.append(rec)
+    return FitSpec(path, data, spec, fitd, dict(doc.get("models", {})), validate,
+                   tuple(inputs), tuple(records), text)
 
 
 def _resolve(spec_path: Path, file: str) -> Path:
