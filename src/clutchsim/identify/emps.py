@@ -27,8 +27,11 @@ import numpy as np
 
 from .._jit import jit
 from ..core import System, register_system
+from ..core.status import Action
 from ..friction import friction_events, friction_force, friction_reset
-from ..friction.base import FrictionModel
+from ..friction.base import RESET_NONE, RESET_STUCK, FrictionModel
+
+_CONTINUE, _STATE_CHANGED = int(Action.CONTINUE), int(Action.STATE_CHANGED)
 
 __all__ = ["EMPS_HEADER", "EMPS_PARAMS", "EMPSPlant", "make_emps"]
 
@@ -79,11 +82,11 @@ def _emps_reset(t, y, u, p, k):
     nz = int(p[_NZ])
     f_e = p[_GTAU] * _voltage(y, u, p) + u[2] - p[_OFFSET]
     action = friction_reset(int(p[_CODE]), p[EMPS_HEADER:], y[_NS:_NS + nz], y[1], f_e, 1.0, k)
-    if action == 2:
+    if action == RESET_STUCK:
         y[1] = 0.0
         if p[_TAUV] <= 0.0:
             y[2] = 0.0
-    return 1 if action != 0 else 0
+    return _STATE_CHANGED if action != RESET_NONE else _CONTINUE
 
 
 @jit
