@@ -14,6 +14,18 @@ def cli(*args, cwd=None):
                           text=True, cwd=cwd, timeout=600, check=False)
 
 
+def test_rig_takes_the_solver_options_of_a_scenario():
+    """--option KEY=VALUE: the keys of a scenario's [solver] table (one reader for both)."""
+    steps = {}
+    for rtol in ("1e-4", "1e-8"):
+        p = cli("rig", "--model", "lugre", "--force", "0", "--spring", "2", "--pull-speed", "0.1",
+                "--t-end", "20", "--option", f"rtol={rtol}", "--option", "controller=pid",
+                "--json")
+        assert p.returncode == 0, p.stderr
+        steps[rtol] = json.loads(p.stdout)["stats"]["steps"]
+    assert steps["1e-8"] > 1.4 * steps["1e-4"]   # measured 581 against 365
+
+
 def test_rig_json_and_csv(tmp_path):
     out = tmp_path / "rig.csv"
     p = cli("rig", "--model", "lugre", "--force", "0.5 + sine(0.4, 1)", "--t-end", "2",
@@ -68,6 +80,9 @@ def test_rig_bad_csv_exit_2(tmp_path, content, needle):
     (["--model", "lugr", "--force", "1"], "lugre"),
     (["--model", "lugre", "--force", "__import__('os')"], "__import__"),
     (["--model", "lugre", "--set", "sigma0=-1", "--force", "1"], "sigma0"),
+    (["--model", "lugre", "--force", "1", "--option", "rtl=1e-6"], "did you mean 'rtol'"),
+    (["--model", "lugre", "--force", "1", "--option", "controller=PI"], "valid kinds"),
+    (["--model", "lugre", "--force", "1", "--option", "rtol"], "expected KEY=VALUE"),
 ])
 def test_rig_bad_input_exit_2(args, needle):
     p = cli("rig", *args, "--t-end", "1")

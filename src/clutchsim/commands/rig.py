@@ -70,7 +70,13 @@ def register(sub, common):
     p.add_argument("--domain", choices=("translational", "rotational"),
                    default="translational")
     p.add_argument("--t-end", type=float, required=True, help="end time [s]")
-    p.add_argument("--solver", default="rodas4", help="integrator (default rodas4)")
+    p.add_argument("--solver", default=None,
+                   help="integrator (default: the core's, rodas4; 'clutchsim models' and "
+                        "docs/core.md list them)")
+    p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
+                   help="a solver option, the same keys as a scenario's [solver] table "
+                        "(rtol, atol, h_max, dt_out, max_steps, wall_time, chatter_events, "
+                        "chatter_window, controller, ...); repeatable")
     p.add_argument("--out", metavar="FILE.csv", help="write the traces as CSV")
     p.add_argument("--json", action="store_true", help="print one JSON document")
     add_limit_flags(p)
@@ -109,9 +115,41 @@ def _finite(flag: str, value: float, *, positive: bool = False, unit: str = "") 
         raise UserError(f"{flag} {value!r}: must be {rule}{' ' + unit if unit else ''}")
 
 
+def _solver_options(items: list[str]) -> dict:
+    """``--option KEY=VALUE`` items as a mapping (values are numbers except
+    ``controller``); errors name the item."""
+    from ..core import SolverOptions
+    out = {}
+    for item in items:
+        key, sep, text = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise UserError(f"--option {item!r}: expected KEY=VALUE")
+        kind = SolverOptions.MAPPING_KEYS.get(key)
+        if kind is None:
+            try:
+                SolverOptions.from_mapping({key: 0})
+            except ValueError as exc:
+                raise UserError(f"--option {item!r}: {exc}") from None
+        if kind is str:
+            out[key] = text.strip()
+            continue
+        try:
+            value = float(text)
+        except ValueError:
+            raise UserError(f"--option {item!r}: {text.strip()!r} is not a number") from None
+        out[key] = int(value) if kind is int and value == int(value) else value
+    try:
+        SolverOptions.from_mapping(out)
+    except (TypeError, ValueError) as exc:
+        raise UserError(f"--option: {exc}") from None
+    return out
+
+
 def run(args) -> int:
     from .._util import check_output_file, check_run_size, estimate_run
     from ..core import SolverOptions
+    from ..core.options import DEFAULT_METHOD
     from ..progress import progress_for
     from ..rig import run_rig
     from ..signal_expr import parse_signal
@@ -140,7 +178,7 @@ def run(args) -> int:
         except ValueError as exc:
             raise UserError(f"--scale: {exc}") from None
         _check_scale(scale, args.t_end)
-    options = SolverOptions(h_max=args.t_end / 100.0)
+    options = SolverOptions.from_mapping(_solver_options(args.option), h_max=args.t_end / 100.0)
     options = check_run_size(estimate_run(args.t_end, options, 0), options,
                              what="rig", max_rows=args.max_output_rows)
     log.info("rig: %s, %s, 0-%g s", model.name, args.domain, args.t_end)
@@ -148,7 +186,7 @@ def run(args) -> int:
         if bar is not None:
             bar(0, 1)
         res = run_rig(model, args.t_end, domain=args.domain, mass=args.mass,
-                      spring=args.spring, pull_speed=args.pull_speed, solver=args.solver,
+                      spring=args.spring, pull_speed=args.pull_speed, solver=args.solver or DEFAULT_METHOD,
                       options=options, scale=scale, v0=args.v0, **drive)
         if bar is not None:
             bar(1, 1)
