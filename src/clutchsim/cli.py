@@ -137,7 +137,9 @@ def build_parser(mods=None) -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     mods = _available()
     parser = build_parser(mods)
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
+    args.argv = argv     # the command line as given, for command.txt
     if not args.command:
         parser.print_help(sys.stderr)
         return 2

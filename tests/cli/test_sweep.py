@@ -25,7 +25,7 @@ def test_sweep_writes_the_table_and_resumes(tmp_path, capsys):
                                "warnings", "lockup_time_s", "slip_energy_J"]
     assert (t["outcome"] == "completed").all() and (t["warnings"].map(len) == 0).all()
     # like run, bench and fit: the command line and the report
-    assert (tmp_path / "mc" / "command.txt").read_text().startswith("clutchsim ")
+    assert (tmp_path / "mc" / "command.txt").read_text().startswith("clutchsim sweep ")
     assert "<html" in (tmp_path / "mc" / "report.html").read_text()
     assert main(argv) == 0
     again = json.loads(capsys.readouterr().out)

@@ -9,8 +9,8 @@ from _dl_paths import EXAMPLES
 from clutchsim.driveline.run import run_scenario
 from clutchsim.scenario import load_scenario
 
-#: every driveline scenario in examples/ (fit_emps.toml is an identification file)
-ALL_EXAMPLES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if p.stem != "fit_emps")
+#: every driveline scenario in examples/ (fit_*.toml are identification specs)
+ALL_EXAMPLES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if not p.stem.startswith("fit_"))
 
 #: tip-out slip threshold [rad/s].  With the torque far below the capacity (|T| < 95 N·m
 #: against 240 N·m) a locked clutch must not slip: a real slip burst reaches rad/s within

@@ -20,7 +20,7 @@ def test_reference_doc_is_generated_from_the_schema():
         "print(r())' > docs/scenario-reference.md"
 
 
-DRIVELINE_EXAMPLES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if p.stem != "fit_emps")
+DRIVELINE_EXAMPLES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if not p.stem.startswith("fit_"))
 
 
 @pytest.mark.parametrize("name", DRIVELINE_EXAMPLES)

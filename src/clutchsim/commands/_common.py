@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -44,8 +43,12 @@ def checked_scenario(sc, model, max_rows: int):
     return sc if options is sc.options else replace(sc, options=options)
 
 
-def write_command(directory: Path) -> None:
-    """``command.txt``: the command line that made an output directory (atomically)."""
+def write_command(directory: Path, argv: list[str]) -> None:
+    """``command.txt``: the command line that made an output directory (atomically).
+    ``argv`` is what :func:`clutchsim.cli.main` parsed (not ``sys.argv``: main may be
+    called with its own list)."""
+    import shlex
+
     from ..core.result import atomic_write
-    text = " ".join(["clutchsim", *sys.argv[1:]]) + "\n"
+    text = shlex.join(["clutchsim", *argv]) + "\n"
     atomic_write(Path(directory, "command.txt"), lambda p: Path(p).write_text(text))

@@ -58,7 +58,7 @@ def run(args) -> int:
         from ..report import build_report
         with atomic_directory(out) as part:
             write_outputs(result, part)
-            write_command(part)
+            write_command(part, args.argv)
             build_report(part)
         log.info("wrote %s", out)
     if args.json:

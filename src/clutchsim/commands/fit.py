@@ -248,7 +248,7 @@ def run(args) -> int:
         files = write_outputs(result, part, plots=not args.no_plots,
                               unit=(data[0] if isinstance(data, list) else data).units.get(
                                   kw["output"], ""))
-        write_command(part)
+        write_command(part, args.argv)
         build_report(part)
     files = {name: Path(args.out) / path.name for name, path in files.items()}
     log.info("NRMSE fit %.4g%s; wall time %.1f s; wrote %s", result.nrmse_fit,

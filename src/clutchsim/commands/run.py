@@ -69,7 +69,7 @@ def run(args) -> int:
                                  if not m["completed"]]
             atomic_write(part / "summary.json", lambda p: p.write_text(
                 json.dumps(summary, indent=2, allow_nan=False, default=float)))
-            write_command(part)
+            write_command(part, args.argv)
             build_report(part)
     finally:
         if bar is not None:

@@ -96,7 +96,7 @@ def run(args) -> int:
                 keep_traces=args.keep_traces, plots=not args.no_plots, load=not args.no_plots,
                 progress=progress_for(args, "runs"), max_runs=args.max_runs,
                 max_output_rows=args.max_output_rows)
-    write_command(res.path)
+    write_command(res.path, args.argv)
     build_report(res.path)
     bad = {k: v for k, v in res.outcome_counts.items() if k != "completed"}
     log.info("sweep: %d runs (%d chunks, %d resumed) in %.1f s -> %s%s%s", res.runs,
