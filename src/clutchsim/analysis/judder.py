@@ -70,13 +70,8 @@ def judder_analysis(scenario=None, model: str | None = None, at: float = 0.0, *,
     ``scenario``: a loaded :class:`~clutchsim.scenario.Scenario`, a path or None (the
     default launch), with ``overrides`` (``key=value`` strings) for a path or None.
     """
-    from ..scenario import Scenario, load_scenario
-    if not isinstance(scenario, Scenario):
-        scenario = load_scenario(scenario, overrides=overrides)
-    elif overrides:
-        from ..scenario.loader import apply_overrides, parse_scenario
-        data = apply_overrides(scenario.data, overrides, scenario.file)
-        scenario = parse_scenario(data, text=scenario.text, file=scenario.file)
+    from ..scenario import resolve_scenario
+    scenario = resolve_scenario(scenario, overrides)
     if model is None and scenario.models:
         model = scenario.models[0]
     point = operating_point(scenario, model, at, elements=elements)

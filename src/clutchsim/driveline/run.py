@@ -51,13 +51,8 @@ def run_scenario(scenario=None, model: str | None = None, *, overrides=None,
     options : SolverOptions, optional
         Replace the scenario's solver settings.
     """
-    from ..scenario import Scenario, load_scenario
-    from ..scenario.loader import apply_overrides, parse_scenario
-    if not isinstance(scenario, Scenario):
-        scenario = load_scenario(scenario, overrides=overrides)
-    elif overrides:
-        data = apply_overrides(scenario.data, overrides, scenario.file)
-        scenario = parse_scenario(data, text=scenario.text, file=scenario.file)
+    from ..scenario import resolve_scenario
+    scenario = resolve_scenario(scenario, overrides)
     if model is None and scenario.models:
         model = scenario.models[0]
     chain = scenario.chain(model)

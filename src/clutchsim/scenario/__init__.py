@@ -1,7 +1,13 @@
 """Scenario files: TOML schema, loader and errors (file, key path, line)."""
 
 from .errors import ScenarioError
-from .loader import Scenario, apply_overrides, default_scenario_text, load_scenario
+from .loader import (
+    Scenario,
+    apply_overrides,
+    default_scenario_text,
+    load_scenario,
+    resolve_scenario,
+)
 from .schema import reference_markdown
 
 __all__ = [
@@ -11,4 +17,5 @@ __all__ = [
     "default_scenario_text",
     "load_scenario",
     "reference_markdown",
+    "resolve_scenario",
 ]

@@ -23,6 +23,7 @@ __all__ = [
     "default_scenario_text",
     "load_scenario",
     "parse_scenario",
+    "resolve_scenario",
 ]
 
 DEFAULT_NAME = "launch.toml"
@@ -177,6 +178,18 @@ def load_scenario(path: str | Path | None = None, *, overrides=None) -> Scenario
 
 #: largest scenario file [bytes]
 MAX_FILE_BYTES = 10_000_000
+
+
+def resolve_scenario(scenario, overrides=None) -> Scenario:
+    """A :class:`Scenario` from a loaded one, a path or None (the packaged default), with
+    ``overrides`` (``key=value`` strings) applied: the one place that does "apply the
+    overrides, then parse" for the functions that accept any of the three."""
+    if not isinstance(scenario, Scenario):
+        return load_scenario(scenario, overrides=overrides)
+    if overrides:
+        data = apply_overrides(scenario.data, overrides, scenario.file)
+        return parse_scenario(data, text=scenario.text, file=scenario.file)
+    return scenario
 
 
 def apply_overrides(data: dict, overrides, file: str = "<scenario>") -> dict:

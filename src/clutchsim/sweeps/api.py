@@ -60,14 +60,12 @@ def _check_keys(sc, vary, model, max_rows: int) -> None:
     """Every key must be a scenario key the loader accepts (unknown: suggest the closest),
     and the extreme values must give runs within the output limit."""
     from .._util import ResourceError, check_run_size
-    from ..scenario import ScenarioError
-    from ..scenario.loader import apply_overrides, parse_scenario
+    from ..scenario import ScenarioError, resolve_scenario
     from .design import toml_value
     for key, spec in vary.items():
         for v in _probe_values(spec):
             try:
-                data = apply_overrides(sc.data, [f"{key}={toml_value(v)}"], sc.file)
-                probe = parse_scenario(data, text=sc.text, file=sc.file)
+                probe = resolve_scenario(sc, [f"{key}={toml_value(v)}"])
                 check_run_size(probe.estimate(model), probe.options,
                                what=f"{key} = {v:g}", max_rows=max_rows)
             except ResourceError as exc:
@@ -141,13 +139,8 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
     created.
     """
     from .. import __version__
-    from ..scenario import Scenario, load_scenario
-    from ..scenario.loader import apply_overrides, parse_scenario
-    if not isinstance(scenario, Scenario):
-        scenario = load_scenario(scenario, overrides=overrides)
-    elif overrides:
-        scenario = parse_scenario(apply_overrides(scenario.data, overrides, scenario.file),
-                                  text=scenario.text, file=scenario.file)
+    from ..scenario import resolve_scenario
+    scenario = resolve_scenario(scenario, overrides)
     if model is None and scenario.models:
         model = scenario.models[0]
     vary = parse_vary(vary if vary is not None else {})
