@@ -49,7 +49,7 @@ def _loop_jac(tag, n, t, y, u, p, J):
 
 
 @numba.njit
-def _loop_lu(J, n, M, piv, b, nd):
+def _loop_lu(J, n, M, piv, nd):
     s = 0.0
     for _ in range(n):
         J[0, 0] += 1e-14
@@ -100,8 +100,8 @@ def _costs(system, y, u, n=100_000):
     M = np.empty((ns, ns))
     piv = np.empty(ns, dtype=np.int64)
     b = np.ones(ns)
-    _loop_lu(J, 10, M, piv, b, nd)
-    out["lu_ns"] = _best_ns(_loop_lu, (J, n, M, piv, b, nd), n)
+    _loop_lu(J, 10, M, piv, nd)
+    out["lu_ns"] = _best_ns(_loop_lu, (J, n, M, piv, nd), n)
     _loop_solve(M, piv, b, 10, nd)
     out["solve_ns"] = _best_ns(_loop_solve, (M, piv, b, n, nd), n)
     return out

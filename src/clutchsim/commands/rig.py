@@ -115,40 +115,35 @@ def _finite(flag: str, value: float, *, positive: bool = False, unit: str = "") 
         raise UserError(f"{flag} {value!r}: must be {rule}{' ' + unit if unit else ''}")
 
 
-def _solver_options(items: list[str]) -> dict:
-    """``--option KEY=VALUE`` items as a mapping (values are numbers except
-    ``controller``); errors name the item."""
+def _solver_options(items: list[str], **defaults):
+    """``SolverOptions`` from ``--option KEY=VALUE`` items (values are numbers except
+    ``controller``) over ``defaults``; SolverOptions.from_mapping reads and checks them, as
+    it does a scenario's [solver] table."""
     from ..core import SolverOptions
-    out = {}
+    raw = {}
     for item in items:
         key, sep, text = item.partition("=")
         key = key.strip()
         if not sep or not key:
             raise UserError(f"--option {item!r}: expected KEY=VALUE")
         kind = SolverOptions.MAPPING_KEYS.get(key)
-        if kind is None:
+        if kind in (int, float):
             try:
-                SolverOptions.from_mapping({key: 0})
-            except ValueError as exc:
-                raise UserError(f"--option {item!r}: {exc}") from None
-        if kind is str:
-            out[key] = text.strip()
-            continue
-        try:
-            value = float(text)
-        except ValueError:
-            raise UserError(f"--option {item!r}: {text.strip()!r} is not a number") from None
-        out[key] = int(value) if kind is int and value == int(value) else value
+                value = float(text)
+            except ValueError:
+                raise UserError(f"--option {item!r}: {text.strip()!r} is not a number") \
+                    from None
+            raw[key] = int(value) if kind is int and value == int(value) else value
+        else:       # controller, or an unknown key that from_mapping names
+            raw[key] = text.strip()
     try:
-        SolverOptions.from_mapping(out)
+        return SolverOptions.from_mapping(raw, **defaults)
     except (TypeError, ValueError) as exc:
         raise UserError(f"--option: {exc}") from None
-    return out
 
 
 def run(args) -> int:
     from .._util import check_output_file, check_run_size, estimate_run
-    from ..core import SolverOptions
     from ..core.options import DEFAULT_METHOD
     from ..progress import progress_for
     from ..rig import run_rig
@@ -178,7 +173,7 @@ def run(args) -> int:
         except ValueError as exc:
             raise UserError(f"--scale: {exc}") from None
         _check_scale(scale, args.t_end)
-    options = SolverOptions.from_mapping(_solver_options(args.option), h_max=args.t_end / 100.0)
+    options = _solver_options(args.option, h_max=args.t_end / 100.0)
     options = check_run_size(estimate_run(args.t_end, options, 0), options,
                              what="rig", max_rows=args.max_output_rows)
     log.info("rig: %s, %s, 0-%g s", model.name, args.domain, args.t_end)

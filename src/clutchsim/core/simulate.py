@@ -106,6 +106,9 @@ def _failure_message(code: int, t: float, k: int, i: int, system: System, opts: 
 
 
 _METHOD_DATA: dict = {}
+#: the packed default controller of each family (explicit or not), built once
+_DEFAULT_CONTROLLERS = {explicit: StepController.default_for(explicit).packed()
+                        for explicit in (False, True)}
 
 
 def _method_data(solver: str, opts: SolverOptions):
@@ -122,8 +125,9 @@ def _method_data(solver: str, opts: SolverOptions):
         mopt[drv.M_W] = m.w_method
         mopt[drv.M_FSAL] = getattr(m, "fsal", False)
         data = _METHOD_DATA[solver] = (tab, mopt)
-    ctrl = opts.controller or StepController.default_for(m.family == EXPLICIT)
-    return data[0], data[1], ctrl.packed()
+    if opts.controller is not None:
+        return data[0], data[1], opts.controller.packed()
+    return data[0], data[1], _DEFAULT_CONTROLLERS[m.family == EXPLICIT]
 
 
 #: tags whose registered Jacobian passed :func:`check_jacobian` in this process
