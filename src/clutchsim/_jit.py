@@ -11,7 +11,10 @@ A user-provided ``NUMBA_CACHE_DIR`` is respected as is.
 from __future__ import annotations
 
 import hashlib
+import importlib.machinery
+import importlib.util
 import os
+import sys
 from pathlib import Path
 
 import numba
@@ -72,6 +75,52 @@ def _tolerate_foreign_index_entries() -> None:
 
 
 _tolerate_foreign_index_entries()
+
+
+def _scipy_blas_findable() -> bool:
+    """Is ``scipy.linalg.cython_blas`` installed?  Found on disk, not imported."""
+    try:
+        linalg = importlib.util.find_spec("scipy.linalg")   # imports scipy, not scipy.linalg
+        locations = linalg and linalg.submodule_search_locations
+        return bool(locations) and importlib.machinery.PathFinder.find_spec(
+            "scipy.linalg.cython_blas", list(locations)) is not None
+    except (ImportError, ValueError):
+        return False
+
+
+def _defer_blas_import() -> None:
+    """Keep numba's start-up from importing ``scipy.linalg`` (~0.2–0.4 s of a cold start).
+
+    The first compilation or cache load of any numba function imports
+    ``numba.np.arraymath``, which calls ``numba.np.linalg.ensure_blas()`` at import to set
+    its ``_HAVE_BLAS`` flag, and that imports ``scipy.linalg`` (and with it
+    scipy's array-API layer, ``numpy.f2py`` and ``numpy.testing``), whether or not any
+    compiled function uses linear algebra; clutchsim's do not (``core/_linalg.py`` is its
+    own LU).  For that one call the flag is answered by finding
+    ``scipy.linalg.cython_blas`` on disk; every later call (when a function that does use
+    ``np.linalg`` or ``np.dot`` is compiled) runs numba's own check, imports included.
+    numba has no option for this, hence the narrow patch of one function.
+    """
+    from numba.np import linalg
+
+    original = getattr(linalg, "ensure_blas", None)
+    if original is None or getattr(original, "_clutchsim_deferred", False):
+        return
+
+    def ensure_blas():
+        arraymath = sys.modules.get("numba.np.arraymath")
+        if arraymath is not None and not hasattr(arraymath, "_HAVE_BLAS"):
+            # arraymath is being imported and asks only whether BLAS exists
+            if not _scipy_blas_findable():
+                raise ImportError("scipy 0.16+ is required for linear algebra")
+            return None
+        return original()
+
+    ensure_blas._clutchsim_deferred = True
+    linalg.ensure_blas = ensure_blas
+
+
+_defer_blas_import()
 
 
 def jit(func=None, **kwargs):

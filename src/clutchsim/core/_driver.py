@@ -18,12 +18,11 @@ how much it changed over this step and the previous one (:func:`_may_hide_crossi
 from __future__ import annotations
 
 import math
-import time
 
-import numba
 import numpy as np
 
 from .._jit import jit
+from ._clock import now as _now
 from ._engine import dense_coefficients, dense_eval, erk_step, inputs_at, jacobian, ros_step
 from ._linalg import factor_iteration_matrix
 from .controllers import C_B1, C_B2, C_B3, C_KIND, C_MAX, C_MIN, C_SAFETY
@@ -61,13 +60,6 @@ N_STATS = 8
 # event functions are sampled at this many points of a step that needs it (the last one
 # is the step end)
 N_SAMPLES = 4
-
-
-@jit(nogil=False)
-def _now():
-    with numba.objmode(t="float64"):
-        t = time.perf_counter()
-    return t
 
 
 @jit
