@@ -109,7 +109,9 @@ CASES = [
     (FIT + ["--window", "5:3"], ["--window", "T0 = 5 s > T1 = 3 s"]),
     (FIT + ["--window", "a:b"], ["--window", "numbers"]),
     (FIT + ["--starts", "0"], ["--starts 0", ">= 1"]),
-    (FIT + ["--rtol", "-1"], ["--rtol"]),
+    (FIT + ["--option", "rtol=-1"], ["rtol = -1.0 must be > 0"]),
+    (FIT + ["--option", "rtoll=1e-8"], ["'rtoll'", "did you mean 'rtol'", "options: rtol, atol"]),
+    (FIT + ["--option", "rtol"], ["--option 'rtol'", "KEY=VALUE"]),
     # sweep flags
     (SWEEP + ["--vary", "vehicle.mass=1500:1100:3"], ["LO > HI"]),
     (SWEEP + ["--vary", "vehicle.mass=uniform(1100,1500)"], ["--samples"]),

@@ -68,12 +68,32 @@ def test_json_document_and_output_files(record, tmp_path, capsys):
     (["--params", "F_c,sigma9"], "tanh has no parameter 'sigma9'"),
     (["--params", "F_c", "--bounds", "F_c=abc"], "expected NAME=LO:HI"),
     (["--params", "F_c", "--column", "v=speed"], "missing column(s) 'speed'"),
+    (["--params", "F_c", "--option", "rtoll=1e-9"],
+     "unknown solver option 'rtoll' (did you mean 'rtol'?); options: rtol, atol, h0"),
+    (["--params", "F_c", "--option", "max_steps=abc"],
+     "--option 'max_steps=abc': 'abc' is not a number"),
 ])
 def test_bad_input_exits_2_with_one_line(record, tmp_path, capsys, extra, message):
     code = main(_args(record, tmp_path / "o", *extra, "--quiet"))
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2
     assert len(err) == 1 and message in err[0], err
+
+
+def test_solver_options_reach_every_simulation(record, tmp_path, capsys):
+    """--option is read into the fit's SolverOptions: 20 steps cannot cover the record, so
+    no simulation completes and the command reports exit status 1; with other options the
+    fit completes."""
+    code = main(_args(record, tmp_path / "o", "--params", "F_c", "--option", "max_steps=20",
+                      "--quiet", "--no-plots"))
+    err = capsys.readouterr().err
+    assert code == 1 and "did not complete" in err, err
+    code = main(_args(record, tmp_path / "o2", "--params", "F_c,sigma2", "--option",
+                      "rtol=1e-7", "--option", "wall_time=20", "--json", "--quiet",
+                      "--no-plots"))
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert json.loads(captured.out)["parameters"]["F_c"] == pytest.approx(1.0, rel=0.02)
 
 
 def test_bad_files_exit_2(tmp_path, capsys):
@@ -189,3 +209,37 @@ params = ["F_c", "sigma2", "load_fraction"]
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1
     assert "loads.toml:8: [inputs.Fx]: declared input column 'Fx' is in none" in err[0]
+
+
+@pytest.mark.parametrize("table, message", [
+    ("[solver]\nrtol = 1e-9\nmax_steps = 20\n", None),
+    ("[solver]\nrtoll = 1e-9\n",
+     "[solver] unknown key 'rtoll' (did you mean 'rtol'?); keys: rtol, atol"),
+    ("[solver]\nrtol = \"tight\"\n",
+     "spec.toml:15: [solver] rtol: solver option rtol = 'tight' must be a number"),
+    ("", "spec.toml:11: [fit] rtol: solver options are written in a [solver] table"),
+])
+def test_a_spec_sets_solver_options_in_its_solver_table(record, tmp_path, capsys, table,
+                                                        message):
+    spec = tmp_path / "spec.toml"
+    fit_rtol = "" if table else "rtol = 1e-8\n"
+    spec.write_text(f'''[data]
+file = "{record}"
+time = "time"
+columns = {{ v = "v_mm_s", F = "force" }}
+scale = {{ v = 1e-3 }}
+[plant]
+kind = "rig-velocity"
+[fit]
+input = "v"
+output = "F"
+{fit_rtol}[models.tanh]
+start = {{ F_c = 2.0, v_t = 1e-2, sigma2 = 1.0 }}
+{table}'''.replace("[models.tanh]", "[models.tanh]\nparams = [\"F_c\"]", 1))
+    code = main(["fit", str(spec), "--model", "tanh", "--out", str(tmp_path / "o"), "--quiet",
+                 "--no-plots"])
+    err = capsys.readouterr().err.strip().splitlines()
+    if message is None:      # max_steps = 20 from the spec reaches the simulations
+        assert code == 1 and "did not complete" in err[-1], err
+        return
+    assert code == 2 and len(err) == 1 and message in err[0], err

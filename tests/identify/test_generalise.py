@@ -143,14 +143,30 @@ def test_column_expressions():
         evaluate_column("a / (b - 3)", cols)
 
 
-def test_solver_options_object_or_loose_tolerances():
+def test_solver_options_as_one_object_or_a_mapping_over_the_fit_defaults():
     from clutchsim.core import SolverOptions
+    from clutchsim.identify import FIT_SOLVER_DEFAULTS, solver_options
     rec = _record(1.0, seed=7)
     kw = {"input": "v", "output": "F", "plant": "rig-velocity", "params": ["F_c"],
           "plant_options": {"scale": "s"}}
     start = make_model("tanh", **{**TRUTH, "F_c": 1.0})
-    loose = fit(start, rec, rtol=1e-8, atol=1e-9, **kw)
-    one = fit(start, rec, options=SolverOptions(rtol=1e-8, atol=1e-9, wall_time=30.0), **kw)
-    assert one.parameters["F_c"] == pytest.approx(loose.parameters["F_c"], rel=1e-9)
-    with pytest.raises(ValueError, match="either in options= .* or as rtol=/atol=, not both"):
-        fit(start, rec, options=SolverOptions(), atol=1e-9, **kw)
+    mapping = fit(start, rec, options={"rtol": 1e-8, "atol": 1e-9}, **kw)
+    one = fit(start, rec, options=SolverOptions(**FIT_SOLVER_DEFAULTS, atol=1e-9), **kw)
+    assert one.parameters["F_c"] == pytest.approx(mapping.parameters["F_c"], rel=1e-9)
+    # the defaults: atol from the output scale unless given; an object is taken as it is
+    base, auto = solver_options()
+    assert auto and base.rtol == FIT_SOLVER_DEFAULTS["rtol"] == 1e-8
+    assert base.wall_time == FIT_SOLVER_DEFAULTS["wall_time"]
+    base, auto = solver_options({"rtol": 1e-9, "wall_time": 5})
+    assert auto and (base.rtol, base.wall_time) == (1e-9, 5.0)
+    assert base.max_steps == FIT_SOLVER_DEFAULTS["max_steps"]
+    assert solver_options({"atol": 1e-7})[1] is False
+    given = SolverOptions(rtol=1e-5)
+    assert solver_options(given) == (given, False)
+    with pytest.raises(ValueError, match=r"unknown solver option 'rtoll' \(did you mean "
+                       r"'rtol'\?\); options: rtol, atol"):
+        fit(start, rec, options={"rtoll": 1e-8}, **kw)
+    with pytest.raises(TypeError, match="options must be a SolverOptions or a mapping"):
+        fit(start, rec, options=1e-8, **kw)
+    with pytest.raises(TypeError, match="rtol"):
+        fit(start, rec, rtol=1e-8, **kw)            # the loose tolerances are gone

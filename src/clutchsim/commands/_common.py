@@ -7,7 +7,7 @@ from pathlib import Path
 
 from .._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
 
-__all__ = ["add_limit_flags", "checked_scenario", "write_command"]
+__all__ = ["add_limit_flags", "checked_scenario", "solver_option_items", "write_command"]
 
 
 def _positive_int(text: str) -> int:
@@ -52,3 +52,27 @@ def write_command(directory: Path, argv: list[str]) -> None:
     from ..core.result import atomic_write
     text = shlex.join(["clutchsim", *argv]) + "\n"
     atomic_write(Path(directory, "command.txt"), lambda p: Path(p).write_text(text))
+
+
+def solver_option_items(items: list[str]) -> dict:
+    """``--option KEY=VALUE`` items as a mapping for ``SolverOptions.from_mapping`` (values
+    are numbers except ``controller``; from_mapping names unknown keys and bad values)."""
+    from ..cli import UserError
+    from ..core import SolverOptions
+    raw = {}
+    for item in items:
+        key, sep, text = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise UserError(f"--option {item!r}: expected KEY=VALUE")
+        kind = SolverOptions.MAPPING_KEYS.get(key)
+        if kind in (int, float):
+            try:
+                value = float(text)
+            except ValueError:
+                raise UserError(f"--option {item!r}: {text.strip()!r} is not a number") \
+                    from None
+            raw[key] = int(value) if kind is int and value == int(value) else value
+        else:       # controller, or an unknown key that from_mapping names
+            raw[key] = text.strip()
+    return raw

@@ -8,7 +8,7 @@ import math
 from pathlib import Path
 
 from ..cli import SimulationFailed, UserError, emit_json
-from ._common import write_command
+from ._common import solver_option_items, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -16,6 +16,8 @@ HELP = """\
 examples:
   clutchsim fit examples/fit_emps.toml --model lugre --out emps_lugre/ --json
   clutchsim fit examples/fit_emps.toml --model tanh --params F_c,sigma2,M,offset --out cv/
+  clutchsim fit examples/fit_emps.toml --model lugre --option rtol=1e-9 --option wall_time=60 \
+      --out tight/
   clutchsim fit examples/fit_brfd_loads.toml --model dahl --out loads/ --validate a.npz b.npz
   clutchsim fit test.npz --model lugre --plant rig-velocity --input v --output F \\
       --column v=v --column F=F --scale v=0.0254 --scale F=4448.222 \\
@@ -25,7 +27,9 @@ DATA is a CSV/TXT, NPZ or MAT file, or a TOML fit specification (see
 docs/identification.md); command-line options override the specification.  A
 specification may fit several records at once ([[records]]), declare measured inputs
 ([inputs.COLUMN]), derive columns ([data] derived) and choose how validation records
-start ([validate] initial, warmup).
+start ([validate] initial, warmup).  Solver options (--option, a spec's [solver] table)
+default to clutchsim.identify.FIT_SOLVER_DEFAULTS, with atol from the output scale unless
+it is given; --option overrides the spec.
 Writes DIR/fit.json, DIR/fit.png (measured vs simulated), DIR/residuals.png,
 DIR/traces.csv and DIR/report.md.  --json prints one document:
 {"model", "parameters", "stderr", "nrmse_fit", "nrmse_validation", "nrmse_pooled",
@@ -67,9 +71,12 @@ def register(sub, common):
     p.add_argument("--window", metavar="T0:T1", help="time window of the fitting data [s]")
     p.add_argument("--starts", type=int, default=None, help="number of starts (default 1)")
     p.add_argument("--seed", type=int, default=None, help="seed of the random starts")
-    p.add_argument("--solver", default=None, help="integrator (default rodas4)")
-    p.add_argument("--rtol", type=float, default=None,
-                   help="relative tolerance (default FIT_RTOL, 1e-8)")
+    p.add_argument("--solver", default=None,
+                   help="integrator (default: the spec's [fit] solver, else the core's, rodas4)")
+    p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
+                   help="a solver option of every simulation, the same keys as a scenario's "
+                        "[solver] table (rtol, atol, h_max, max_steps, wall_time, "
+                        "controller, ...); repeatable")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
     p.add_argument("--json", action="store_true", help="print one JSON document")
@@ -141,14 +148,12 @@ def _check_numbers(args) -> None:
     """The numeric options, before any file is read."""
     if args.starts is not None and args.starts < 1:
         raise UserError(f"--starts {args.starts}: the number of starts must be >= 1")
-    if args.rtol is not None and not (math.isfinite(args.rtol) and 1e-14 <= args.rtol <= 1):
-        raise UserError(f"--rtol {args.rtol!r}: must be a relative tolerance in [1e-14, 1]")
     if args.seed is not None and args.seed < 0:
         raise UserError(f"--seed {args.seed}: must be >= 0")
 
 
 def _from_spec(args):
-    from ..identify import FIT_RTOL, load_spec
+    from ..identify import load_spec
     spec = load_spec(args.data)
     model, entry = spec.model_entry(args.model)
     records = spec.fit_data(window=_window(args.window))
@@ -176,22 +181,22 @@ def _from_spec(args):
           "signal": f.get("signal"),
           "starts": args.starts or int(f.get("starts", 1)),
           "seed": args.seed if args.seed is not None else int(f.get("seed", 0)),
-          "solver": args.solver or f.get("solver", "rodas4"),
-          "rtol": args.rtol or float(f.get("rtol", FIT_RTOL)),
+          "options": spec.solver | solver_option_items(args.option),
           "inputs": spec.inputs, "per_record": list(f.get("per_record", [])),
           "weights": spec.weights(),
           "validate_initial": spec.validation_initial(model),
           "validate_warmup": float(spec.validate.get("warmup", 0.0))}
-    for key in ("atol", "max_nfev", "diff_step", "wall_time", "tol"):
+    for key in ("max_nfev", "diff_step", "tol"):
         if key in f:
             kw[key] = f[key]
+    if args.solver or "solver" in f:          # else fit()'s default, the core's
+        kw["solver"] = args.solver or f["solver"]
     return model, data, validate, kw
 
 
 def _from_data(args):
     from ..data import read_measurements
     from ..friction import make_model
-    from ..identify import FIT_RTOL
     if not args.model:
         raise UserError("--model is required with a data file")
     missing = [o for o, v in (("--input", args.input), ("--output", args.output),
@@ -217,7 +222,9 @@ def _from_data(args):
           "bounds": _bounds(args.bounds), "fixed": _pairs(args.fixed, "fixed"),
           "plant": args.plant or "rig-force", "plant_options": options,
           "starts": args.starts or 1, "seed": args.seed or 0,
-          "solver": args.solver or "rodas4", "rtol": args.rtol or FIT_RTOL}
+          "options": solver_option_items(args.option)}
+    if args.solver:
+        kw["solver"] = args.solver
     return model, data, validate, kw
 
 

@@ -8,7 +8,7 @@ import logging
 import math
 
 from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_limit_flags
+from ._common import add_limit_flags, solver_option_items
 
 log = logging.getLogger("clutchsim")
 
@@ -116,28 +116,12 @@ def _finite(flag: str, value: float, *, positive: bool = False, unit: str = "") 
 
 
 def _solver_options(items: list[str], **defaults):
-    """``SolverOptions`` from ``--option KEY=VALUE`` items (values are numbers except
-    ``controller``) over ``defaults``; SolverOptions.from_mapping reads and checks them, as
-    it does a scenario's [solver] table."""
+    """``SolverOptions`` from ``--option KEY=VALUE`` items over ``defaults``;
+    SolverOptions.from_mapping reads and checks them, as it does a scenario's [solver]
+    table."""
     from ..core import SolverOptions
-    raw = {}
-    for item in items:
-        key, sep, text = item.partition("=")
-        key = key.strip()
-        if not sep or not key:
-            raise UserError(f"--option {item!r}: expected KEY=VALUE")
-        kind = SolverOptions.MAPPING_KEYS.get(key)
-        if kind in (int, float):
-            try:
-                value = float(text)
-            except ValueError:
-                raise UserError(f"--option {item!r}: {text.strip()!r} is not a number") \
-                    from None
-            raw[key] = int(value) if kind is int and value == int(value) else value
-        else:       # controller, or an unknown key that from_mapping names
-            raw[key] = text.strip()
     try:
-        return SolverOptions.from_mapping(raw, **defaults)
+        return SolverOptions.from_mapping(solver_option_items(items), **defaults)
     except (TypeError, ValueError) as exc:
         raise UserError(f"--option: {exc}") from None
 

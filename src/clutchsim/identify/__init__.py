@@ -7,12 +7,21 @@ specifications.
 """
 
 from .emps import EMPSPlant, make_emps
-from .fit import FIT_RTOL, INITIAL_STATES, FitResult, Trace, evaluate, fit, nrmse
+from .fit import (
+    FIT_SOLVER_DEFAULTS,
+    INITIAL_STATES,
+    FitResult,
+    Trace,
+    evaluate,
+    fit,
+    nrmse,
+    solver_options,
+)
 from .plants import INPUT_TARGETS, PLANTS, InputSpec, PlantSpec
 from .spec import FitSpec, load_spec
 
 __all__ = [
-           "FIT_RTOL",
+           "FIT_SOLVER_DEFAULTS",
            "INITIAL_STATES",
            "INPUT_TARGETS",
            "PLANTS",
@@ -27,4 +36,5 @@ __all__ = [
            "load_spec",
            "make_emps",
            "nrmse",
+           "solver_options",
 ]

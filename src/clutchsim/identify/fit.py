@@ -4,7 +4,7 @@ The plant is driven by the measured input, and the residual is the simulated out
 the measured output on the measurement grid.  ``scipy.optimize.least_squares`` (trust-region
 reflective, bounds) minimises it from one or more starts, with finite-difference Jacobians.
 Every simulation reuses one compiled system (:meth:`System.with_params`) and runs at a tight
-tolerance (rtol 1e-8 by default), because finite differences of a loosely integrated
+tolerance (:data:`FIT_SOLVER_DEFAULTS`), because finite differences of a loosely integrated
 trajectory are dominated by the integrator's error.
 
 Error measures: ``NRMSE = ||y_sim − y|| / ||y − mean(y)||`` and ``R² = 1 − NRMSE²``.  For
@@ -44,6 +44,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..core import SolverOptions, simulate
+from ..core.options import DEFAULT_METHOD
 from ..core.system import closest
 from ..data import Measurement, read_measurements
 from ..friction import make_model
@@ -51,11 +52,15 @@ from ..friction.base import FrictionModel
 from .parameters import ParameterSpace, apply_to_model, model_parameter_names, model_value
 from .plants import POST, PlantSpec, Setup, build_setup
 
-__all__ = ["FIT_RTOL", "INITIAL_STATES", "FitResult", "Trace", "evaluate", "fit", "nrmse",
-           "simulate_setup"]
+__all__ = ["FIT_SOLVER_DEFAULTS", "INITIAL_STATES", "FitResult", "Trace", "evaluate", "fit",
+           "nrmse", "simulate_setup", "solver_options"]
 
-#: default relative tolerance of every simulation of a fit (the one place it is written)
-FIT_RTOL = 1e-8
+#: solver options of every simulation of a fit or an evaluation where ``options`` does not
+#: set them (the one place they are written); ``atol`` is then set for each record from its
+#: output scale, ``ATOL_FRACTION · rtol · max|output|``
+FIT_SOLVER_DEFAULTS = MappingProxyType({"rtol": 1e-8, "wall_time": 30.0,
+                                        "max_steps": 5_000_000})
+ATOL_FRACTION = 1e-2
 #: how a validation record's friction state starts (or an array of the states)
 INITIAL_STATES = ("rest", "fit-end")
 
@@ -214,21 +219,25 @@ class FitResult:
 
 
 # ---------------------------------------------------------------- simulation
-def _base_options(options: SolverOptions | None, rtol: float, atol: float | None,
-                  wall_time: float) -> tuple[SolverOptions, bool]:
-    """The solver options every simulation of a fit starts from, and whether its atol is
-    to be set from each record's output scale.  ``options`` (one object) or the loose
-    ``rtol``/``atol``/``wall_time`` (the defaults), not both."""
-    if options is None:
-        base = SolverOptions(rtol=rtol, atol=1.0 if atol is None else atol,
-                             wall_time=wall_time, max_steps=5_000_000)
-        return base, atol is None
-    if not isinstance(options, SolverOptions):
-        raise TypeError(f"options must be a SolverOptions, got {type(options).__name__}")
-    if rtol != FIT_RTOL or atol is not None:
-        raise ValueError("give the tolerances either in options= (a SolverOptions) or as "
-                         "rtol=/atol=, not both")
-    return options, False
+def solver_options(options: SolverOptions | Mapping | None = None
+                   ) -> tuple[SolverOptions, bool]:
+    """The solver options every simulation of a fit starts from, and whether their atol is
+    to be set from each record's output scale.
+
+    ``options``: a :class:`SolverOptions`, used as it is; or a mapping of the keys of a
+    scenario's ``[solver]`` table (``SolverOptions.from_mapping``, which names a bad key and
+    lists the valid ones) over :data:`FIT_SOLVER_DEFAULTS`, with atol from the output scale
+    unless the mapping sets it; ``None`` is the empty mapping.
+    """
+    if isinstance(options, SolverOptions):
+        return options, False
+    if options is not None and not isinstance(options, Mapping):
+        raise TypeError(f"options must be a SolverOptions or a mapping of solver options, "
+                        f"got {type(options).__name__}")
+    mapping = dict(options or {})
+    auto_atol = "atol" not in mapping
+    # atol 1.0 is a placeholder: replaced per record (see _options)
+    return SolverOptions.from_mapping(mapping, **FIT_SOLVER_DEFAULTS, atol=1.0), auto_atol
 
 
 def _options(setup: Setup, base: SolverOptions, auto_atol: bool) -> SolverOptions:
@@ -236,7 +245,7 @@ def _options(setup: Setup, base: SolverOptions, auto_atol: bool) -> SolverOption
     dt = float(np.min(np.diff(setup.t)))
     span = float(setup.t[-1] - setup.t[0])
     n_out = int(span / dt) + 10
-    atol = base.rtol * max(float(np.max(np.abs(setup.measured))), 1e-300) * 1e-2 \
+    atol = ATOL_FRACTION * base.rtol * max(float(np.max(np.abs(setup.measured))), 1e-300) \
         if auto_atol else base.atol
     # room for the extra rows stored at located events
     return dataclasses.replace(base, atol=atol, dt_out=dt, max_output=2 * n_out + 10_000)
@@ -531,22 +540,22 @@ def _standard_errors(jac, den, residual, space: ParameterSpace, x, params) -> di
 # ---------------------------------------------------------------- evaluate
 def evaluate(model: FrictionModel | str, data, *, input: str, output: str,
              plant: str | PlantSpec = "rig-force", plant_options: Mapping | None = None,
-             signal: str | None = None, solver: str = "rodas4", rtol: float = FIT_RTOL,
-             atol: float | None = None, wall_time: float = 60.0, inputs=(), z0=None,
-             warmup: float = 0.0, options: SolverOptions | None = None) -> Trace:
+             signal: str | None = None, solver: str = DEFAULT_METHOD,
+             options: SolverOptions | Mapping | None = None, inputs=(), z0=None,
+             warmup: float = 0.0) -> Trace:
     """Simulate a plant with given parameters against a record (no fitting).
 
     Same arguments as :func:`fit` (``z0``: initial friction states; ``warmup`` [s]: leading
     part simulated but not compared); returns the :class:`Trace` with its error measures.
     Raises RuntimeError if the simulation does not complete.
     """
+    tolerances = solver_options(options)
     model = make_model(model) if isinstance(model, str) else model
     spec = plant if isinstance(plant, PlantSpec) else PlantSpec(plant, dict(plant_options or {}))
     meas = _as_measurement(data, "data")
     setup = build_setup(spec, model, meas, input=input, output=output, signal=signal,
                         inputs=inputs, z0=z0, warmup=warmup)
-    problem = _Problem(model, setup, (), {}, solver,
-                       _base_options(options, rtol, atol, wall_time))
+    problem = _Problem(model, setup, (), {}, solver, tolerances)
     return problem.evaluate(np.empty(0), setup, meas.source, spec.kind)
 
 
@@ -574,13 +583,11 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         fixed: Mapping[str, float] | None = None, starts: int | Sequence[Mapping] = 1,
         plant: str | PlantSpec = "rig-force", plant_options: Mapping | None = None,
         signal: str | None = None, seed: int = 0, validate=None,
-        solver: str = "rodas4", rtol: float = FIT_RTOL, atol: float | None = None,
-        diff_step: float = 1e-5, max_nfev: int = 200, wall_time: float = 30.0,
-        max_workers: int = 2, tol: float = 1e-8,
+        solver: str = DEFAULT_METHOD, options: SolverOptions | Mapping | None = None,
+        diff_step: float = 1e-5, max_nfev: int = 200, max_workers: int = 2, tol: float = 1e-8,
         t_span: tuple[float | None, float | None] | None = None, progress=None,
         inputs=(), per_record: Sequence[str] = (), weights: Sequence[float] | None = None,
-        validate_initial=None, validate_warmup: float = 0.0,
-        options: SolverOptions | None = None) -> FitResult:
+        validate_initial=None, validate_warmup: float = 0.0) -> FitResult:
     """Fit friction (and plant) parameters to one or several measured records by output error.
 
     Parameters
@@ -613,11 +620,14 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         Seed of the random starts (the fit is deterministic for a seed).
     validate : data or sequence of data, optional
         Records simulated with the fitted values (not used for fitting).
-    solver, rtol, atol : str, float, float
-        Integrator and tolerances of every simulation (atol default from the output scale).
-    options : SolverOptions, optional
-        Tolerances and budgets of every simulation in one object, instead of ``rtol``,
-        ``atol`` and ``wall_time`` (its ``dt_out`` and ``max_output`` are set per record).
+    solver : str
+        Integrator of every simulation (a method of :mod:`clutchsim.core.methods`).
+    options : SolverOptions or mapping, optional
+        Tolerances and budgets of every simulation (its ``dt_out`` and ``max_output`` are
+        set per record): a :class:`SolverOptions` as it is, or a mapping of solver options
+        (``{"rtol": 1e-9, "wall_time": 60}``, the keys of a scenario's ``[solver]`` table)
+        over :data:`FIT_SOLVER_DEFAULTS`, with atol from each record's output scale unless
+        it is given.  See :func:`solver_options`.
     diff_step : float
         Finite-difference step in scaled coordinates.
     progress : callable, optional
@@ -630,8 +640,6 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
     tol : float
         ``ftol`` and ``xtol`` of ``least_squares`` (relative change of cost and of the
         scaled parameters that ends a start).
-    wall_time : float
-        Wall-time budget of one simulation [s].
     t_span : (float or None, float or None), optional
         Window of the data used (validation records are used whole).
     inputs : sequence of InputSpec
@@ -652,6 +660,7 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
     FitResult
     """
     wall0 = time.perf_counter()
+    tolerances = solver_options(options)
     model = make_model(model) if isinstance(model, str) else model
     if not isinstance(model, FrictionModel):
         raise TypeError(f"model must be a friction model or a model name, got "
@@ -707,7 +716,6 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
             for k in range(n_rec):
                 bounds.setdefault(f"{n}@{k + 1}", b)
     space = ParameterSpace.build(names, start, bounds, _default_bounds(spec, setups, names))
-    tolerances = _base_options(options, rtol, atol, wall_time)
     problems = [_Problem(model, s, names, fixed_plant, solver, tolerances, record=k + 1)
                 for k, s in enumerate(setups)]
     dens = [float(np.linalg.norm(s.normaliser)) for s in setups]

@@ -20,9 +20,12 @@ same thing.  Layout (every table but ``[data]`` and ``[fit]`` optional)::
     model = "lugre"                 # default model (the CLI's --model overrides it)
     input = "q_ref"
     output = "q"
-    solver = "dopri5"
-    rtol = 1e-8
+    solver = "dopri5"               # integrator (default the core's, rodas4)
     starts = 1
+
+    [solver]                        # optional: solver options, the keys of a scenario's
+    rtol = 1e-8                     # [solver] table, over identify.FIT_SOLVER_DEFAULTS
+    wall_time = 30.0                # (atol from the output scale unless given)
 
     [models.lugre]                  # per model: start values, fitted parameters, bounds
     start = {F_c = 20.0, ...}
@@ -65,6 +68,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..core import SolverOptions
 from ..core.system import closest
 from ..data import Measurement, read_measurements
 from ..friction import get_model_class, make_model
@@ -76,8 +80,9 @@ __all__ = ["FitSpec", "load_spec"]
 _TABLES = {"data": ("file", "time", "columns", "scale", "tare", "nan", "window", "units",
                     "derived"),
            "plant": ("kind", "options"),
-           "fit": ("model", "input", "output", "signal", "solver", "rtol", "atol", "starts",
-                   "seed", "max_nfev", "diff_step", "wall_time", "tol", "per_record"),
+           "fit": ("model", "input", "output", "signal", "solver", "starts", "seed",
+                   "max_nfev", "diff_step", "tol", "per_record"),
+           "solver": tuple(SolverOptions.MAPPING_KEYS),
            "validate": ("files", "window", "initial", "warmup"),
            "inputs": None,
            "records": None,
@@ -121,6 +126,8 @@ class FitSpec:
     fit: dict
     models: dict
     validate: dict = field(default_factory=dict)
+    #: the [solver] table (keys checked on load; values by SolverOptions.from_mapping)
+    solver: dict = field(default_factory=dict)
     inputs: tuple = ()
     records: tuple = ()
     text: str = ""
@@ -263,6 +270,12 @@ def load_spec(path: str | Path) -> FitSpec:
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: invalid TOML ({exc})") from None
     _check_keys(path, "top level", doc, _TABLES)
+    moved = [k for k in ("rtol", "atol", "wall_time") if k in doc.get("fit", {})]
+    if moved:
+        line = line_of(text, "fit", moved[0])
+        raise ValueError(f"{path}{f':{line}' if line else ''}: [fit] {moved[0]}: solver "
+                         "options are written in a [solver] table (keys: "
+                         f"{', '.join(SolverOptions.MAPPING_KEYS)})")
     for table, allowed in _TABLES.items():
         if allowed is not None and table in doc:
             _check_keys(path, table, doc[table], allowed)
@@ -282,7 +295,13 @@ def load_spec(path: str | Path) -> FitSpec:
     spec = PlantSpec(plant.get("kind", "rig-force"), dict(plant.get("options", {})))
     validate = dict(doc.get("validate", {}))
     validate["files"] = [_resolve(path, f) for f in validate.get("files", [])]
-    partial = FitSpec(path, data, spec, fitd, {}, validate, text=text)
+    solver = dict(doc.get("solver", {}))
+    partial = FitSpec(path, data, spec, fitd, {}, validate, solver, text=text)
+    for key, value in solver.items():       # each value, with its line (the fit reads
+        try:                                # them again, all at once)
+            SolverOptions.from_mapping({key: value})
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{partial.where('solver', key)}: {exc}") from None
     if not isinstance(data.get("derived", {}), dict):
         raise ValueError(  # noqa: TRY004
             f"{partial.where('data', 'derived')}: must be a table name = "
@@ -336,7 +355,7 @@ def load_spec(path: str | Path) -> FitSpec:
             raise ValueError(f"{partial.where(f'records#{k}', 'weight')} = {r['weight']!r} "
                              "must be a number >= 0")
         records.append(rec)
-    return FitSpec(path, data, spec, fitd, dict(doc.get("models", {})), validate,
+    return FitSpec(path, data, spec, fitd, dict(doc.get("models", {})), validate, solver,
                    tuple(inputs), tuple(records), text)
 
 
