@@ -212,12 +212,15 @@ params = ["F_c", "sigma2", "load_fraction"]
 
 
 @pytest.mark.parametrize("table, message", [
-    ("[solver]\nrtol = 1e-9\nmax_steps = 20\n", None),
+    ("[solver]\nmethod = \"dopri5\"\nrtol = 1e-9\nmax_steps = 20\n", None),
+    ("[solver]\nmethod = \"rodas9\"\n",
+     "spec.toml:15: [solver] method: solver = 'rodas9' is not known (did you mean"),
     ("[solver]\nrtoll = 1e-9\n",
-     "[solver] unknown key 'rtoll' (did you mean 'rtol'?); keys: rtol, atol"),
+     "[solver] unknown key 'rtoll' (did you mean 'rtol'?); keys: method, rtol, atol"),
     ("[solver]\nrtol = \"tight\"\n",
      "spec.toml:15: [solver] rtol: solver option rtol = 'tight' must be a number"),
-    ("", "spec.toml:11: [fit] rtol: solver options are written in a [solver] table"),
+    ("", ("spec.toml:11: [fit] rtol: the integrator and its options are written in a "
+          "[solver] table, as in a scenario (keys: method, rtol, atol")),
 ])
 def test_a_spec_sets_solver_options_in_its_solver_table(record, tmp_path, capsys, table,
                                                         message):

@@ -16,7 +16,7 @@ HELP = """\
 examples:
   clutchsim fit examples/fit_emps.toml --model lugre --out emps_lugre/ --json
   clutchsim fit examples/fit_emps.toml --model tanh --params F_c,sigma2,M,offset --out cv/
-  clutchsim fit examples/fit_emps.toml --model lugre --option rtol=1e-9 --option wall_time=60 \
+  clutchsim fit examples/fit_emps.toml --model lugre --option rtol=1e-9 --option wall_time=60 \\
       --out tight/
   clutchsim fit examples/fit_brfd_loads.toml --model dahl --out loads/ --validate a.npz b.npz
   clutchsim fit test.npz --model lugre --plant rig-velocity --input v --output F \\
@@ -72,7 +72,8 @@ def register(sub, common):
     p.add_argument("--starts", type=int, default=None, help="number of starts (default 1)")
     p.add_argument("--seed", type=int, default=None, help="seed of the random starts")
     p.add_argument("--solver", default=None,
-                   help="integrator (default: the spec's [fit] solver, else the core's, rodas4)")
+                   help="integrator (default: the spec's [solver] method, else the core's, "
+                        "rodas4)")
     p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
                    help="a solver option of every simulation, the same keys as a scenario's "
                         "[solver] table (rtol, atol, h_max, max_steps, wall_time, "
@@ -181,7 +182,8 @@ def _from_spec(args):
           "signal": f.get("signal"),
           "starts": args.starts or int(f.get("starts", 1)),
           "seed": args.seed if args.seed is not None else int(f.get("seed", 0)),
-          "options": spec.solver | solver_option_items(args.option),
+          "options": {k: v for k, v in spec.solver.items() if k != "method"}
+          | solver_option_items(args.option),
           "inputs": spec.inputs, "per_record": list(f.get("per_record", [])),
           "weights": spec.weights(),
           "validate_initial": spec.validation_initial(model),
@@ -189,8 +191,8 @@ def _from_spec(args):
     for key in ("max_nfev", "diff_step", "tol"):
         if key in f:
             kw[key] = f[key]
-    if args.solver or "solver" in f:          # else fit()'s default, the core's
-        kw["solver"] = args.solver or f["solver"]
+    if args.solver or "method" in spec.solver:      # else fit()'s default, the core's
+        kw["solver"] = args.solver or spec.solver["method"]
     return model, data, validate, kw
 
 

@@ -20,12 +20,12 @@ same thing.  Layout (every table but ``[data]`` and ``[fit]`` optional)::
     model = "lugre"                 # default model (the CLI's --model overrides it)
     input = "q_ref"
     output = "q"
-    solver = "dopri5"               # integrator (default the core's, rodas4)
     starts = 1
 
-    [solver]                        # optional: solver options, the keys of a scenario's
-    rtol = 1e-8                     # [solver] table, over identify.FIT_SOLVER_DEFAULTS
-    wall_time = 30.0                # (atol from the output scale unless given)
+    [solver]                        # optional, the keys of a scenario's [solver] table:
+    method = "dopri5"               # integrator (default the core's, rodas4)
+    rtol = 1e-8                     # options over identify.FIT_SOLVER_DEFAULTS (atol from
+    wall_time = 30.0                # the output scale unless given)
 
     [models.lugre]                  # per model: start values, fitted parameters, bounds
     start = {F_c = 20.0, ...}
@@ -69,6 +69,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..core import SolverOptions
+from ..core.options import check_solver
 from ..core.system import closest
 from ..data import Measurement, read_measurements
 from ..friction import get_model_class, make_model
@@ -80,9 +81,9 @@ __all__ = ["FitSpec", "load_spec"]
 _TABLES = {"data": ("file", "time", "columns", "scale", "tare", "nan", "window", "units",
                     "derived"),
            "plant": ("kind", "options"),
-           "fit": ("model", "input", "output", "signal", "solver", "starts", "seed",
-                   "max_nfev", "diff_step", "tol", "per_record"),
-           "solver": tuple(SolverOptions.MAPPING_KEYS),
+           "fit": ("model", "input", "output", "signal", "starts", "seed", "max_nfev",
+                   "diff_step", "tol", "per_record"),
+           "solver": ("method", *SolverOptions.MAPPING_KEYS),
            "validate": ("files", "window", "initial", "warmup"),
            "inputs": None,
            "records": None,
@@ -126,7 +127,7 @@ class FitSpec:
     fit: dict
     models: dict
     validate: dict = field(default_factory=dict)
-    #: the [solver] table (keys checked on load; values by SolverOptions.from_mapping)
+    #: the [solver] table (checked on load): ``method`` and the solver options
     solver: dict = field(default_factory=dict)
     inputs: tuple = ()
     records: tuple = ()
@@ -270,12 +271,13 @@ def load_spec(path: str | Path) -> FitSpec:
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: invalid TOML ({exc})") from None
     _check_keys(path, "top level", doc, _TABLES)
-    moved = [k for k in ("rtol", "atol", "wall_time") if k in doc.get("fit", {})]
+    moved = [k for k in ("solver", "rtol", "atol", "wall_time") if k in doc.get("fit", {})]
     if moved:
         line = line_of(text, "fit", moved[0])
-        raise ValueError(f"{path}{f':{line}' if line else ''}: [fit] {moved[0]}: solver "
-                         "options are written in a [solver] table (keys: "
-                         f"{', '.join(SolverOptions.MAPPING_KEYS)})")
+        raise ValueError(f"{path}{f':{line}' if line else ''}: [fit] {moved[0]}: the "
+                         "integrator and its options are written in a [solver] table, as in "
+                         f"a scenario (keys: {', '.join(_TABLES['solver'])}; the integrator "
+                         "is method = \"NAME\")")
     for table, allowed in _TABLES.items():
         if allowed is not None and table in doc:
             _check_keys(path, table, doc[table], allowed)
@@ -299,7 +301,10 @@ def load_spec(path: str | Path) -> FitSpec:
     partial = FitSpec(path, data, spec, fitd, {}, validate, solver, text=text)
     for key, value in solver.items():       # each value, with its line (the fit reads
         try:                                # them again, all at once)
-            SolverOptions.from_mapping({key: value})
+            if key == "method":
+                check_solver(value)
+            else:
+                SolverOptions.from_mapping({key: value})
         except (TypeError, ValueError) as exc:
             raise ValueError(f"{partial.where('solver', key)}: {exc}") from None
     if not isinstance(data.get("derived", {}), dict):
