@@ -211,6 +211,11 @@ def test_bad_names_and_grids(scenario_file):
         frequency_grid(1.0, 2.0, 1)
     with pytest.raises(ValueError, match="f_min = 0 Hz must be a finite frequency > 0"):
         frequency_grid(0.0, 2.0, 10)
+    with pytest.raises(ValueError, match="not finite at 0 Hz"):     # the rigid-body mode
+        frf_analysis(scenario_file, input="tau", output="omega_c", freqs_hz=[0.0, 1.0],
+                     overrides=["inertia[0].bearing_damping=0", "inertia[2].bearing_damping=0"])
+    with pytest.raises(ValueError, match="'ratio_gearbox' is a discrete value held"):
+        frf_analysis(None, input="throttle", output="ratio_gearbox")
     assert ratio_unit("m/s²", "N·m") == "m/s²/(N·m)"
     assert ratio_unit("N·m", "N·m") == "-" and ratio_unit("N·m", "-") == "N·m"
 

@@ -278,8 +278,13 @@ def frequency_response(ss: StateSpace, input: str, output: str, freqs_hz) -> Fre
     try:
         resp = np.concatenate([H(f[j:j + 2000]) for j in range(0, f.size, 2000)])
     except np.linalg.LinAlgError:
-        raise ValueError("freqs_hz holds 0 Hz, and the linear model has a rigid-body "
-                         "(zero) eigenvalue there: start the grid above 0") from None
+        resp = np.full(f.shape, np.nan, dtype=complex)
+    if not np.all(np.isfinite(resp)):
+        bad = f[~np.isfinite(resp)]
+        raise ValueError(f"the response is not finite at {bad[0]:g} Hz ({bad.size} of "
+                         f"{f.size} frequencies): jω·I − A is singular there (a rigid-body "
+                         "eigenvalue at 0 Hz or an undamped mode on the grid) or the plant "
+                         "is not finite at the point; leave that frequency out of the grid")
     warn = []
     bad = [m for m in modes(ss.linear) if not m.stable]
     if bad:
