@@ -44,7 +44,8 @@ frf.png.
 writes judder.json and judder.png (atomically: DIR.partial renamed when complete).
 
 exit status: 0 done (whether or not the point is stable: see "stable"), 1 the run to --at
-did not complete, 2 bad input (--at past t_end, an unknown element, a bad scenario).
+did not complete, 2 bad input (--at past t_end, an unknown element, a bad scenario, an
+unknown --frf input or output: the valid names are listed, --f-min >= --f-max, --points < 2).
 """
 
 
@@ -52,7 +53,8 @@ def register(sub, common):
     p = sub.add_parser("judder", parents=[common],
                        help="modes and friction slopes of a driveline at an operating time",
                        description="Linearise a driveline scenario at an operating time and "
-                       "report its modes (judder analysis).", epilog=HELP,
+                       "report its modes (judder analysis), or with --frf the frequency response from an "
+                       "input to an output.", epilog=HELP,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--model", default=None, help="friction model of the clutch element")
@@ -63,7 +65,8 @@ def register(sub, common):
     p.add_argument("--element", action="append", default=None, metavar="NAME",
                    help="report only this switching element (repeatable)")
     p.add_argument("--out", default=None, metavar="DIR",
-                   help="write judder.json and judder.png to DIR")
+                   help="write judder.json and judder.png to DIR (--map: judder_map.*, --frf: "
+                   "frf.csv, frf.json, frf.png)")
     p.add_argument("--map", action="append", default=None, metavar="KEY=LO:HI:N",
                    help="stability map: give twice (x, then y axis), N values from LO to HI "
                    "of a scenario key")
