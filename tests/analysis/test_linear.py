@@ -143,7 +143,7 @@ def test_free_element_and_bad_inputs():
 def test_frequency_response_matches_a_forced_simulation():
     """Clamp-load oscillation (the brake command) to the disc speed: |H| and phase of the
     linear model against a time simulation driven at 10 Hz (the mode is at 15.9 Hz)."""
-    from clutchsim.analysis import frequency_response
+    from clutchsim.analysis import frequency_response, state_space
     from clutchsim.core import Sine
     brake = make_model("stribeck", F_c=F_C, F_s=F_S, v_s=V_S, delta=2.0, v_t=1e-5,
                        sigma2=0.0)
@@ -158,7 +158,8 @@ def test_frequency_response_matches_a_forced_simulation():
     lin = linearise(system, 0.0, y0, u)
     assert all(m.stable for m in modes(lin))          # c + dT/dω = 3.05 > 0
     f, amp = 10.0, 1e-3
-    fr = frequency_response(system, lin, y0, u, "com", "omega_disc", [f])
+    ss = state_space(system, lin, y0, u)
+    fr = frequency_response(ss, "com", "omega_disc", [f])
     res = simulate(system, (0.0, 2.0), {"com": Sine(amp, f, offset=1.0)}, y0=y0,
                    options=SolverOptions(rtol=1e-10, atol=1e-13, dt_out=2e-4))
     assert res.status == "completed"
@@ -166,8 +167,9 @@ def test_frequency_response_matches_a_forced_simulation():
     t, x = res.t[sel], res["omega_disc"][sel] - W0
     s_ = 2 * np.trapezoid(x * np.sin(2 * np.pi * f * t), t) / (t[-1] - t[0])
     c_ = 2 * np.trapezoid(x * np.cos(2 * np.pi * f * t), t) / (t[-1] - t[0])
-    assert math.hypot(s_, c_) == pytest.approx(fr.gain[0] * amp, rel=0.02)
-    assert math.atan2(c_, s_) == pytest.approx(fr.phase_rad[0], abs=0.03)
-    assert fr.input_unit == "-" and fr.output_unit == "rad/s"
+    assert math.hypot(s_, c_) == pytest.approx(fr.magnitude[0] * amp, rel=0.02)
+    assert math.atan2(c_, s_) == pytest.approx(math.radians(fr.phase_deg[0]), abs=0.03)
+    assert fr.input_unit == "-" and fr.output_unit == "rad/s" and fr.unit == "rad/s"
+    assert fr.warnings == ()
     with pytest.raises(ValueError, match="not an input"):
-        frequency_response(system, lin, y0, u, "throttle", "omega_disc", [f])
+        frequency_response(ss, "throttle", "omega_disc", [f])

@@ -32,13 +32,11 @@ from ..core.system import System, call_jac, call_outputs, call_rhs, closest, has
 __all__ = [
     "DISCRETE_SUFFIXES",
     "ElementPoint",
-    "FrequencyResponse",
     "LinearModel",
     "Mode",
     "OperatingPoint",
     "OperatingPointError",
     "element_points",
-    "frequency_response",
     "linearise",
     "modes",
     "operating_point",
@@ -428,9 +426,11 @@ def rigid_constraints(chain, system: System, y) -> tuple[dict, ...]:
 
 
 def operating_point(scenario, model: str | None = None, t: float = 0.0, *,
-                    elements=None) -> OperatingPoint:
+                    elements=None, check=None) -> OperatingPoint:
     """Simulate ``scenario`` with ``model`` on its clutch from 0 to ``t`` [s] and return
-    the state, the inputs at ``t`` and every switching element there.
+    the state, the inputs at ``t`` and every switching element there.  ``check``, when
+    given, is called with the built system before the run (to refuse a bad name before a
+    simulation).
 
     Raises ``ValueError`` for ``t`` outside ``[0, t_end]`` or an unknown element, and
     :class:`OperatingPointError` when the run ends (fails or stops) before ``t``.
@@ -448,6 +448,8 @@ def operating_point(scenario, model: str | None = None, t: float = 0.0, *,
     chain = scenario.chain(model)
     u0 = {n: float(np.asarray(s(0.0)).ravel()[0]) for n, s in scenario.inputs.items()}
     system = chain.build(u0)
+    if check is not None:
+        check(system)
     steps = 0
     if t == 0.0:
         y = system.y0.copy()
@@ -466,72 +468,3 @@ def operating_point(scenario, model: str | None = None, t: float = 0.0, *,
     elems = element_points(system, t, y, u, elements)
     return OperatingPoint(system, t, _readonly(y), _readonly(u), elems, steps,
                           rigid_constraints(chain, system, y))
-
-
-@dataclass(frozen=True)
-class FrequencyResponse:
-    """``H(f) = output/input`` of the linear model: ``gain`` [output unit per input unit]
-    and ``phase_rad`` at ``freqs_hz``."""
-
-    input: str
-    output: str
-    input_unit: str
-    output_unit: str
-    freqs_hz: np.ndarray
-    gain: np.ndarray
-    phase_rad: np.ndarray
-
-    def as_dict(self) -> dict:
-        return {"kind": "frequency_response", "input": self.input, "output": self.output,
-                "unit": f"{self.output_unit}/{self.input_unit}",
-                "points": [{"frequency_hz": float(f), "gain": float(g), "phase_rad": float(p)}
-                           for f, g, p in zip(self.freqs_hz, self.gain, self.phase_rad)]}
-
-
-def frequency_response(system: System, lin: LinearModel, y, u, input: str, output: str,
-                       freqs_hz) -> FrequencyResponse:
-    """Small-signal response of ``output`` (an output or state of ``system``) to the input
-    channel ``input`` about the operating point of ``lin``:
-    ``H(jω) = C·(jω·I − A)⁻¹·B + D``, with ``B``, ``C``, ``D`` differenced from the plant
-    at ``(lin.t_s, y, u)`` (central differences, Richardson-extrapolated).
-
-    This is forced judder in the linear range: an oscillating clamp load (the friction
-    command, e.g. pressure-plate runout) or an engine-torque pulsation (the throttle) to
-    the clutch torque or the vehicle acceleration.
-    """
-    y, u = _arr(y).copy(), _arr(u).copy()
-    if input not in system.input_names:
-        raise ValueError(f"input {input!r} is not an input of {system.name}"
-                         f"{closest(input, system.input_names)} (inputs: "
-                         f"{', '.join(system.input_names) or 'none'})")
-    names = (*system.output_names, *system.state_names)
-    if output not in names:
-        raise ValueError(f"output {output!r} is not an output or state of {system.name}"
-                         f"{closest(output, names)}")
-    f = np.asarray(freqs_hz, dtype=float).ravel()
-    if f.size == 0 or not np.all(np.isfinite(f)) or np.any(f < 0):
-        raise ValueError(f"freqs_hz = {freqs_hz!r} must be finite frequencies >= 0 Hz")
-    t = lin.t_s
-    cont = list(lin.continuous)
-    keep = [cont.index(system.state_names.index(n)) for n in lin.state_names]
-    k_in = system.input_names.index(input)
-
-    def out(yy, uu):
-        if output in system.output_names:
-            return _outputs(system, t, yy, uu)[system.output_names.index(output)]
-        return yy[system.state_names.index(output)]
-
-    def rhs_u(uu):
-        return _rhs(system, t, y, uu)[cont]
-
-    h = FD_STEP * max(abs(float(u[k_in])), 1e-2)
-    B = _jacobian_fd(rhs_u, u, [k_in], [h])[keep, 0]
-    C = _jacobian_fd(lambda yy: np.array([out(yy, u)]), y, cont, _steps(y, cont))[0] @ lin.basis
-    D = float(_jacobian_fd(lambda uu: np.array([out(y, uu)]), u, [k_in], [h])[0, 0])
-    A = lin.A
-    eye = np.eye(A.shape[0])
-    H = np.array([C @ np.linalg.solve(2j * math.pi * fk * eye - A, B) + D for fk in f])
-    unit_of = dict(zip(system.output_names, system.output_units)) | \
-        dict(zip(system.state_names, system.state_units))
-    return FrequencyResponse(input, output, system.input_units[k_in], unit_of[output], f,
-                             np.abs(H), np.angle(H))

@@ -15,6 +15,7 @@ examples:
   clutchsim judder examples/launch.toml --at 0.9 --json
   clutchsim judder --model coulomb-robust --at 3 --out modes/
   clutchsim judder --at 0.9 --set "clutch.friction.k_din=0.8" --element clutch
+  clutchsim judder --at 3 --frf throttle:a_vehicle --f-min 0.5 --f-max 100 --json
 
 The scenario is simulated from 0 to --at (default 0), its inputs frozen there, and the
 driveline linearised: locked elements are merged (their constraint holds), slipping ones
@@ -28,13 +29,23 @@ and judder_map.png; --json prints {"kind": "judder_map", "model", "t_s", "x": {"
 "values"}, "y": {...}, "points": [{KEY_X, KEY_Y, "damping_ratio", "growth_rate_1_s",
 "frequency_hz", "friction_slope_Nms", "stable"}]}.
 
+--frf INPUT:OUTPUT: the frequency response H = output/input of the linearised driveline at
+--at, from an input channel of the scenario (a load torque [N·m], a clutch command [-], the
+throttle [-]) to an output or state (a_vehicle, T_clutch, omega_wheels, ...), over --points
+frequencies log-spaced from --f-min to --f-max [Hz] (default 0.1 to 1000, 400 points).
+--json prints {"kind": "frf", "model", "t_s", "input", "output", "unit", "input_unit",
+"output_unit", "frequency_hz": [...], "magnitude": [...], "phase_deg": [...], "peaks":
+[{"frequency_hz", "magnitude"}], "warnings": [...]}; --out writes frf.csv, frf.json and
+frf.png.
+
 --json prints {"kind": "judder", "model", "operating_point": {"t_s", "elements": {NAME:
 {"slip_rad_s", "friction_slope_Nms", "state"}}}, "modes": [{"frequency_hz",
 "damping_ratio", "growth_rate_1_s", "stable", "dominant_states"}], "stable"}.  --out DIR
 writes judder.json and judder.png (atomically: DIR.partial renamed when complete).
 
 exit status: 0 done (whether or not the point is stable: see "stable"), 1 the run to --at
-did not complete, 2 bad input (--at past t_end, an unknown element, a bad scenario).
+did not complete, 2 bad input (--at past t_end, an unknown element, a bad scenario, an
+unknown --frf input or output: the valid names are listed, --f-min >= --f-max, --points < 2).
 """
 
 
@@ -42,7 +53,8 @@ def register(sub, common):
     p = sub.add_parser("judder", parents=[common],
                        help="modes and friction slopes of a driveline at an operating time",
                        description="Linearise a driveline scenario at an operating time and "
-                       "report its modes (judder analysis).", epilog=HELP,
+                       "report its modes (judder analysis), or with --frf the frequency response from an "
+                       "input to an output.", epilog=HELP,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--model", default=None, help="friction model of the clutch element")
@@ -53,13 +65,23 @@ def register(sub, common):
     p.add_argument("--element", action="append", default=None, metavar="NAME",
                    help="report only this switching element (repeatable)")
     p.add_argument("--out", default=None, metavar="DIR",
-                   help="write judder.json and judder.png to DIR")
+                   help="write judder.json and judder.png to DIR (--map: judder_map.*, --frf: "
+                   "frf.csv, frf.json, frf.png)")
     p.add_argument("--map", action="append", default=None, metavar="KEY=LO:HI:N",
                    help="stability map: give twice (x, then y axis), N values from LO to HI "
                    "of a scenario key")
     p.add_argument("--classic", choices=("x", "y"), default=None,
                    help="with --map: that axis is a driveline damping c [N·m·s/rad]; draw the "
                    "classic boundary c + dT/dω = 0")
+    p.add_argument("--frf", default=None, metavar="INPUT:OUTPUT",
+                   help="frequency response from a scenario input to an output or state, "
+                   "e.g. throttle:a_vehicle")
+    p.add_argument("--f-min", type=float, default=None, metavar="HZ",
+                   help="with --frf: lowest frequency [Hz] (default 0.1)")
+    p.add_argument("--f-max", type=float, default=None, metavar="HZ",
+                   help="with --frf: highest frequency [Hz] (default 1000)")
+    p.add_argument("--points", type=int, default=None, metavar="N",
+                   help="with --frf: number of frequencies, log-spaced (default 400)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
 
@@ -81,19 +103,22 @@ def _table(result) -> str:
 
 
 def run(args) -> int:
-    import json
     import math
     import sys
 
     from .._util import check_output_dir
     from ..analysis import OperatingPointError, judder_analysis
-    from ..core.result import atomic_directory, atomic_write
     from ..scenario import load_scenario
     if not math.isfinite(args.at):
         raise UserError(f"--at {args.at!r}: the operating time must be a finite number of "
                         "seconds")
     if args.out is not None:
         check_output_dir(args.out)
+    if args.frf is not None:
+        return _run_frf(args)
+    for flag in ("f_min", "f_max", "points"):
+        if getattr(args, flag) is not None:
+            raise UserError(f"--{flag.replace('_', '-')} needs --frf")
     if args.map is not None:
         return _run_map(args)
     if args.classic is not None:
@@ -106,16 +131,34 @@ def run(args) -> int:
     doc = result.as_dict()
     if args.out is not None:
         from ..plot.judder import plot_modes
-        with atomic_directory(args.out) as part:
-            atomic_write(part / "judder.json", lambda p: p.write_text(
-                json.dumps(doc, indent=2, allow_nan=False)))
-            plot_modes(result, part / "judder.png")
-        log.info("wrote %s", args.out)
+        _write_out(args.out, "judder", doc, lambda p: plot_modes(result, p))
     if args.json:
         emit_json(doc)
     else:
         print(_table(result), file=sys.stdout)
     return 0
+
+
+def _write_out(out, stem: str, doc: dict, plot, rows=None) -> None:
+    """``STEM.json``, ``STEM.png`` (``plot(path)``) and, with ``rows``, ``STEM.csv`` in the
+    directory ``out``, atomically (``out.partial`` renamed when complete)."""
+    import csv
+    import json
+
+    from ..core.result import atomic_directory, atomic_write
+
+    def write_csv(path):
+        with open(path, "w", newline="", encoding="utf-8") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+    with atomic_directory(out) as part:
+        if rows:
+            atomic_write(part / f"{stem}.csv", write_csv)
+        atomic_write(part / f"{stem}.json", lambda p: p.write_text(
+            json.dumps(doc, indent=2, allow_nan=False)))
+        plot(part / f"{stem}.png")
+    log.info("wrote %s", out)
 
 
 def _axis(text: str):
@@ -136,11 +179,8 @@ def _axis(text: str):
 
 
 def _run_map(args) -> int:
-    import csv
-    import json
 
     from ..analysis import OperatingPointError, judder_map
-    from ..core.result import atomic_directory, atomic_write
     if len(args.map) != 2:
         raise UserError(f"--map: give it exactly twice (x and y axes), got {len(args.map)}")
     if args.element:
@@ -156,24 +196,62 @@ def _run_map(args) -> int:
     doc = jm.as_dict()
     if args.out is not None:
         from ..plot.judder import plot_map
-        rows = jm.rows()
-
-        def write_csv(path):
-            with open(path, "w", newline="", encoding="utf-8") as fh:
-                w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-                w.writeheader()
-                w.writerows(rows)
-        with atomic_directory(args.out) as part:
-            atomic_write(part / "judder_map.csv", write_csv)
-            atomic_write(part / "judder_map.json", lambda p: p.write_text(
-                json.dumps(doc, indent=2, allow_nan=False)))
-            plot_map(jm, part / "judder_map.png")
+        _write_out(args.out, "judder_map", doc, lambda p: plot_map(jm, p), jm.rows())
     if args.json:
         emit_json(doc)
     else:
         n_bad = sum(not r["stable"] for r in doc["points"])
         print(f"judder map of {jm.model!r} at t = {jm.t_s:g} s: {len(doc['points'])} points, "
               f"{n_bad} unstable")
+    return 0
+
+
+def _run_frf(args) -> int:
+    import sys
+
+    from ..analysis import OperatingPointError, frequency_grid, frf_analysis
+    from ..analysis.frf import DEFAULT_BAND_HZ, DEFAULT_POINTS
+    from ..scenario import load_scenario
+    for flag, bad in (("--map", args.map is not None), ("--element", bool(args.element)),
+                      ("--classic", args.classic is not None)):
+        if bad:
+            raise UserError(f"{flag} does not apply to --frf")
+    parts = args.frf.split(":")
+    if len(parts) != 2 or not all(p.strip() for p in parts):
+        raise UserError(f"--frf {args.frf!r}: expected INPUT:OUTPUT, e.g. throttle:a_vehicle")
+    inp, outp = (p.strip() for p in parts)
+    f_min = DEFAULT_BAND_HZ[0] if args.f_min is None else args.f_min
+    f_max = DEFAULT_BAND_HZ[1] if args.f_max is None else args.f_max
+    points = DEFAULT_POINTS if args.points is None else args.points
+    try:
+        freqs = frequency_grid(f_min, f_max, points)
+    except ValueError as exc:
+        raise UserError(f"--f-min {f_min:g} --f-max {f_max:g} --points {points}: {exc}") \
+            from None
+    sc = load_scenario(args.scenario, overrides=args.set)
+    try:
+        fr = frf_analysis(sc, args.model, args.at, input=inp, output=outp, freqs_hz=freqs)
+    except OperatingPointError as exc:
+        raise SimulationFailed(str(exc)) from None
+    for w in fr.warnings:
+        log.warning("frf: %s", w)
+    doc = fr.as_dict()
+    if args.out is not None:
+        from ..plot.judder import plot_frf
+        _write_out(args.out, "frf", doc, lambda p: plot_frf(fr, p), fr.rows())
+    if args.json:
+        emit_json(doc)
+    else:
+        head = (f"frequency response {fr.output}/{fr.input} [{fr.unit}] of {fr.model!r} at "
+                f"t = {fr.t_s:g} s, {fr.frequency_hz[0]:g} to {fr.frequency_hz[-1]:g} Hz "
+                f"({fr.frequency_hz.size} points; {fr.method})")
+        lines = [head]
+        if fr.peaks:
+            lines.append(f"  {'peak f [Hz]':>12} {'|H| [' + fr.unit + ']':>20}")
+            lines += [f"  {p.frequency_hz:12.5g} {p.magnitude:20.5g}" for p in fr.peaks]
+        else:
+            lines.append("  no peak inside the grid")
+        print("\n".join(lines), file=sys.stdout)
     return 0
 
 

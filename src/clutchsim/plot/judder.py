@@ -6,7 +6,7 @@ import math
 
 from ._style import new_figure, save_png
 
-__all__ = ["plot_map", "plot_modes"]
+__all__ = ["plot_frf", "plot_map", "plot_modes"]
 
 
 def plot_modes(result, path=None):
@@ -75,6 +75,38 @@ def plot_map(jmap, path=None):
         title += "; red dashed: c + dT/dω = 0"
     a.set_title(title, fontsize=9)
     a.legend(loc="best", fontsize=8)
+    if path is not None:
+        save_png(fig, path)
+    return fig, ax
+
+
+def plot_frf(fr, path=None):
+    """Bode diagram of a :class:`~clutchsim.analysis.FrequencyResponse`: ``|H|`` (log-log,
+    the peaks marked) over the phase (unwrapped along the grid, so that it reads as a curve)
+    [deg].  Saved to ``path`` (PNG) when given; returns ``(figure, axes)``."""
+    import numpy as np
+    fig, ax = new_figure(2, 1, figsize=(8.0, 6.5), sharex=True)
+    a = ax[0, 0]
+    mag = fr.magnitude
+    if np.all(mag > 0):
+        a.loglog(fr.frequency_hz, mag)
+    else:                                   # a zero response somewhere: a linear axis
+        a.semilogx(fr.frequency_hz, mag)
+    for p in fr.peaks:
+        a.plot(p.frequency_hz, p.magnitude, "v", color="tab:red")
+        a.annotate(f"{p.frequency_hz:.4g} Hz", (p.frequency_hz, p.magnitude), fontsize=7,
+                   textcoords="offset points", xytext=(4, 4))
+    a.set_ylabel(f"|{fr.output}/{fr.input}| [{fr.unit}]")
+    title = f"frequency response at t = {fr.t_s:g} s ({fr.model})"
+    if fr.warnings:
+        title += f"; {len(fr.warnings)} warning(s), see the JSON"
+    a.set_title(title, fontsize=9)
+    a.grid(True, which="both", lw=0.3)
+    a = ax[1, 0]
+    a.semilogx(fr.frequency_hz, np.degrees(np.unwrap(np.angle(fr.response))))
+    a.set_xlabel("frequency [Hz]")
+    a.set_ylabel("phase [deg]")
+    a.grid(True, which="both", lw=0.3)
     if path is not None:
         save_png(fig, path)
     return fig, ax
