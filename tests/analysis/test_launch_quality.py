@@ -206,3 +206,34 @@ def test_default_launch_metrics_and_weighted_signal(tmp_path):
     assert bare["friction_power_density_peak_W_mm2"] is None
     assert bare["vdv_mps175"] == m["vdv_mps175"]
 
+
+
+def test_quality_metrics_of_a_built_result_and_non_finite_values():
+    from clutchsim.core.result import Result, Stats
+    from clutchsim.driveline.run import _quality
+    t = np.linspace(0.0, 2.0, 1001)
+    slip = np.where(t < 1.0, 20.0 * (1.0 - t), 0.0)
+    cap = np.clip(300.0 * (t - 0.2), 0.0, 240.0)
+    torque = -np.minimum(cap, 150.0)
+    a = np.where(t < 1.0, 2.0, 2.6)
+    cols = [("w_slip_clutch", "rad/s", slip), ("capacity_clutch", "N·m", cap),
+            ("T_friction_clutch", "N·m", torque), ("P_clutch", "W", torque * slip),
+            ("a_vehicle", "m/s²", a), ("omega_engine", "rad/s", np.full(t.size, 80.0))]
+    stats = Stats(0, 0, 0, 0, 0, 0, 0.0, 0.0)
+    res = Result.build(t, cols, outcome="completed", message="", stats=stats)
+    m = _quality(res, "clutch", (0.08, 0.115, 2))
+    assert m["lockup_time_s"] == pytest.approx(1.0)
+    assert m["engagement_start_s"] == pytest.approx(0.2 + 0.02 * 150.0 / 300.0)
+    # the step sits in the 2 ms sample before 1 s: 0.6 less its half sample of 20 ms
+    assert m["lockup_shock_mps2"] == pytest.approx(0.6 - 0.6 * 0.001 / 0.02)
+    assert m["friction_power_density_peak_W_mm2"] == pytest.approx(
+        float(np.max(np.abs(torque * slip))) / lq.lining_area_mm2(0.08, 0.115, 2))
+    assert m["engine_dip_rpm"] == pytest.approx(0.0, abs=1e-9)
+    assert _quality(res, "clutch", None)["friction_energy_density_J_mm2"] is None
+    a_bad = a.copy()
+    a_bad[500:] = np.nan
+    cols[4] = ("a_vehicle", "m/s²", a_bad)
+    bad = Result.build(t, cols, outcome="nan", message="", stats=stats)
+    m = _quality(bad, "clutch", None)
+    assert m["vdv_mps175"] is None and m["jerk_peak_mps3"] is None
+    assert m["lockup_time_s"] == pytest.approx(1.0)

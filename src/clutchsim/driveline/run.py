@@ -260,7 +260,7 @@ def _lockup_time(res: Result, clutch: str) -> float | None:
 
 def _quality(res: Result, clutch: str, lining: tuple | None) -> dict:
     """The launch-quality metrics of docs/launch-quality.md (None where a signal is
-    missing)."""
+    missing or a value is not finite)."""
     keys = ("engagement_start_s", "lockup_time_s", "vdv_mps175", "aw_rms_mps2",
             "jerk_peak_mps3", "jerk_rms_mps3", "lockup_shock_mps2",
             "friction_energy_density_J_mm2", "friction_power_density_peak_W_mm2",
@@ -288,7 +288,8 @@ def _quality(res: Result, clutch: str, lining: tuple | None) -> dict:
     if "omega_engine" in sig:
         m["engine_dip_rpm"], m["engine_flare_rpm"] = lq.engine_dip_flare_rpm(
             t, res["omega_engine"], t_eng, t_lock)
-    return m
+    # a run that failed on a non-finite state has no value to report (JSON has no NaN)
+    return {k: v if v is None or math.isfinite(v) else None for k, v in m.items()}
 
 
 def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None = None
