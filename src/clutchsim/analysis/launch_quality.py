@@ -248,9 +248,10 @@ def lockup_time_s(t_s, slip_radps, engaged, locked=None, event_times_s=None,
     if the clutch does not end the run locked.
 
     * ``locked`` (a switching model's flag, 1 when stuck) given and set during the run:
-      the first time the flag is set (``t_s[0]`` for a clutch locked throughout).  The output grid holds a sample at each
-      located event, so that is the located stick event; a located event in
-      ``event_times_s`` inside the sample interval that set the flag is taken directly.
+      the first time the flag is set (``t_s[0]`` for a clutch locked throughout).  The
+      output grid holds a sample at each located event, so that is the located stick
+      event; a located event in ``event_times_s`` inside the sample interval that set
+      the flag is taken directly.
     * otherwise (a smooth model): the last sample where the ``engaged`` clutch slips at
       ``lock_slip_radps`` or more is found; lock-up is the first zero crossing of the
       slip after it, interpolated linearly between the two samples around it (or the

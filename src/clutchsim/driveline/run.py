@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from types import MappingProxyType
 
 import numpy as np
 
@@ -92,8 +93,6 @@ def with_weighted_acceleration(res: Result) -> Result:
     ``res`` itself when it has no ``a_vehicle``."""
     if "a_vehicle" not in res.signals or "a_weighted" in res.signals:
         return res
-    from dataclasses import replace
-    from types import MappingProxyType
     aw = lq.weighted_acceleration_mps2(res.t, res["a_vehicle"])
     aw.flags.writeable = False
     return replace(res, data=MappingProxyType({**res.data, "a_weighted": aw}),
