@@ -551,11 +551,10 @@ def simulate_plain(par: LaunchParams, method: str = "LSODA", rtol: float = 1e-6,
 
 
 def lockup_time(t: np.ndarray, slip: np.ndarray, capacity: np.ndarray) -> float | None:
-    """Lock-up time [s] by the definition of clutchsim's launch metrics.
-
-    From the returned time on, the engaged clutch (capacity above half its maximum) never
-    slips at 1 rad/s or faster again (``clutchsim.driveline.run._first_lock`` for a
-    non-switching model).
+    """Lock-up time [s] by the definition of clutchsim's launch metrics
+    (:func:`clutchsim.analysis.launch_quality.lockup_time_s` for a non-switching model:
+    the slip's first zero crossing after the engaged clutch, capacity above half its
+    maximum, last slipped at 1 rad/s or faster, interpolated between samples).
 
     Parameters
     ----------
@@ -569,15 +568,10 @@ def lockup_time(t: np.ndarray, slip: np.ndarray, capacity: np.ndarray) -> float 
     float or None
         ``None`` when the clutch is not locked at the end.
     """
-    w = np.abs(slip)
-    if w.size < 2 or np.max(capacity) <= 0:
+    from clutchsim.analysis.launch_quality import lockup_time_s
+    if np.size(slip) < 2 or np.max(capacity) <= 0:
         return None
-    engaged = capacity > 0.5 * np.max(capacity)
-    if not engaged[-1] or w[-1] >= 1.0:
-        return None
-    slipping = np.flatnonzero(engaged & (w >= 1.0))
-    i = slipping[-1] + 1 if slipping.size else int(np.argmax(engaged))
-    return float(t[min(i, w.size - 1)])
+    return lockup_time_s(t, slip, capacity > 0.5 * np.max(capacity))
 
 
 # ------------------------------------------------------------------ validation

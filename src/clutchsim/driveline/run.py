@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from types import MappingProxyType
 
 import numpy as np
 
+from ..analysis import launch_quality as lq
 from ..core import Outcome, Result, SolverOptions, simulate
 from .chain import ENERGY_STATES
 
 __all__ = ["STEP_RATE_LIMIT", "LaunchResult", "energy_balance", "expects_lockup",
-           "launch_metrics", "launch_warnings", "run_scenario"]
+           "launch_metrics", "launch_warnings", "lining_geometry", "run_scenario",
+           "with_weighted_acceleration"]
 
 #: steps per simulated second above which a run is warned about [1/s].  The shipped
 #: scenarios take 7 to 1,900 (measured: default launch 365-530, ten launches 440-610, tip-out
@@ -69,7 +72,31 @@ def run_scenario(scenario=None, model: str | None = None, *, overrides=None,
     res = res.with_warnings(*launch_warnings(res, scenario.clutch,
                                              expect_lockup=expects_lockup(scenario),
                                              friction=friction))
-    return LaunchResult(name, res, launch_metrics(res, clutch=scenario.clutch))
+    res = with_weighted_acceleration(res)
+    return LaunchResult(name, res, launch_metrics(res, clutch=scenario.clutch,
+                                                  lining=lining_geometry(scenario)))
+
+
+def lining_geometry(scenario) -> tuple | None:
+    """``(r_inner [m], r_outer [m], faces [-])`` of the scenario's clutch coupling (its
+    keys ``r_inner``, ``r_outer``, ``faces``, checked by the scenario loader), or None
+    when the element has no lining radii."""
+    for t in scenario.data.get("coupling", []):
+        if isinstance(t, dict) and t.get("name") == scenario.clutch and "r_outer" in t:
+            return float(t["r_inner"]), float(t["r_outer"]), int(t.get("faces", 2))
+    return None
+
+
+def with_weighted_acceleration(res: Result) -> Result:
+    """``res`` with the signal ``a_weighted`` [m/s²]: ``a_vehicle`` weighted with ISO
+    2631-1 W_d (:func:`clutchsim.analysis.launch_quality.weighted_acceleration_mps2`);
+    ``res`` itself when it has no ``a_vehicle``."""
+    if "a_vehicle" not in res.signals or "a_weighted" in res.signals:
+        return res
+    aw = lq.weighted_acceleration_mps2(res.t, res["a_vehicle"])
+    aw.flags.writeable = False
+    return replace(res, data=MappingProxyType({**res.data, "a_weighted": aw}),
+                   units=MappingProxyType({**res.units, "a_weighted": "m/s²"}))
 
 
 def expects_lockup(scenario) -> bool:
@@ -97,27 +124,6 @@ def energy_balance(res: Result) -> dict:
     out.update(delta_E_kinetic=d_ke, delta_E_spring=d_pe, residual=resid,
                energy_balance_rel=abs(resid) / scale)
     return out
-
-
-def _first_lock(res: Result, clutch: str) -> float | None:
-    lk = f"{clutch}.locked"
-    if lk in res.signals and np.any(res[lk] > 0.5):   # a switching model: the first lock
-        idx = np.flatnonzero((res[lk] > 0.5) & (res.t > 0))
-        return float(res.t[idx[0]]) if idx.size else None
-    name = f"w_slip_{clutch}"
-    if name not in res.signals:
-        return None
-    w = np.abs(res[name])
-    cap = res[f"capacity_{clutch}"]
-    if w.size < 2 or np.max(cap) <= 0:
-        return None
-    engaged = cap > 0.5 * np.max(cap)
-    # lock-up: from here on the engaged clutch never slips faster than 1 rad/s again
-    slipping = np.flatnonzero(engaged & (w >= 1.0))
-    if not engaged[-1] or w[-1] >= 1.0:
-        return None
-    i = slipping[-1] + 1 if slipping.size else int(np.argmax(engaged))
-    return float(res.t[min(i, w.size - 1)])
 
 
 def _held(res: Result, clutch: str) -> bool:
@@ -235,10 +241,65 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
     return out
 
 
-def launch_metrics(res: Result, clutch: str = "clutch") -> dict:
+def _lockup_time(res: Result, clutch: str) -> float | None:
+    """:func:`clutchsim.analysis.launch_quality.lockup_time_s` of ``clutch`` in ``res``:
+    engaged = capacity above half its largest value; the clutch's located events."""
+    name, c_name = f"w_slip_{clutch}", f"capacity_{clutch}"
+    if name not in res.signals or c_name not in res.signals:
+        return None
+    cap = res[c_name]
+    if res.t.size < 2 or np.max(cap) <= 0:
+        return None
+    lk = f"{clutch}.locked"
+    events = [e.t for e in res.events if e.name.startswith(f"{clutch}:")]
+    return lq.lockup_time_s(res.t, res[name], cap > 0.5 * np.max(cap),
+                            locked=res[lk] if lk in res.signals else None,
+                            event_times_s=events, lock_slip_radps=LOCK_SLIP)
+
+
+def _quality(res: Result, clutch: str, lining: tuple | None) -> dict:
+    """The launch-quality metrics of docs/launch-quality.md (None where a signal is
+    missing or a value is not finite)."""
+    keys = ("engagement_start_s", "lockup_time_s", "vdv_mps175", "aw_rms_mps2",
+            "jerk_peak_mps3", "jerk_rms_mps3", "lockup_shock_mps2",
+            "friction_energy_density_J_mm2", "friction_power_density_peak_W_mm2",
+            "engine_dip_rpm", "engine_flare_rpm")
+    m: dict = dict.fromkeys(keys)
+    if res.t.size < 2:
+        return m
+    t, sig = res.t, res.signals
+    t_lock = m["lockup_time_s"] = _lockup_time(res, clutch)
+    t_eng = None
+    if f"T_friction_{clutch}" in sig:
+        t_eng = m["engagement_start_s"] = lq.engagement_start_s(t, res[f"T_friction_{clutch}"])
+    if "a_vehicle" in sig:
+        a = res["a_vehicle"]
+        aw = res["a_weighted"] if "a_weighted" in sig else lq.weighted_acceleration_mps2(t, a)
+        m["vdv_mps175"] = lq.vdv_mps175(t, aw)
+        m["aw_rms_mps2"] = lq.rms(t, aw)
+        tu, jerk = lq.jerk_mps3(t, a)
+        m["jerk_peak_mps3"] = float(np.max(np.abs(jerk)))
+        m["jerk_rms_mps3"] = lq.rms(tu, jerk)
+        m["lockup_shock_mps2"] = lq.lockup_shock_mps2(t, a, t_lock)
+    if lining is not None and f"P_{clutch}" in sig:
+        e, p = lq.friction_densities(t, res[f"P_{clutch}"], lq.lining_area_mm2(*lining))
+        m["friction_energy_density_J_mm2"], m["friction_power_density_peak_W_mm2"] = e, p
+    if "omega_engine" in sig:
+        m["engine_dip_rpm"], m["engine_flare_rpm"] = lq.engine_dip_flare_rpm(
+            t, res["omega_engine"], t_eng, t_lock)
+    # a run that failed on a non-finite state has no value to report (JSON has no NaN)
+    return {k: v if v is None or math.isfinite(v) else None for k, v in m.items()}
+
+
+def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None = None
+                   ) -> dict:
     """Per-run metrics: completed, outcome, message, warnings (``res.warnings``: see
-    :func:`launch_warnings`), lockup_time_s, slip_energy_J, peak_lining_temp_C,
-    max_jerk_mps3, engine_speed_min_rpm, engine_stalled, energy_balance_rel,
+    :func:`launch_warnings`), the launch-quality metrics of docs/launch-quality.md
+    (engagement_start_s, lockup_time_s, vdv_mps175, aw_rms_mps2, jerk_peak_mps3,
+    jerk_rms_mps3, lockup_shock_mps2, friction_energy_density_J_mm2,
+    friction_power_density_peak_W_mm2, engine_dip_rpm, engine_flare_rpm; the densities
+    need ``lining`` = ``(r_inner [m], r_outer [m], faces [-])``), slip_energy_J,
+    peak_lining_temp_C, engine_speed_min_rpm, engine_stalled, energy_balance_rel,
     judder_amplitude_Nm (:func:`clutchsim.analysis.judder_amplitude`), steps, rhs_evals,
     events, min_step_s, wall_s."""
     m: dict = {"completed": res.status == "completed", "outcome": str(res.outcome),
@@ -247,20 +308,12 @@ def launch_metrics(res: Result, clutch: str = "clutch") -> dict:
         m["message"] = ("stopped by chatter detection at clutch lock-up (the slip speed of "
                         f"{clutch!r} reached zero and the switching law re-fired): "
                         + res.message)
-    m["lockup_time_s"] = _first_lock(res, clutch)
+    m.update(_quality(res, clutch, lining))
     p_name = f"P_{clutch}"
     m["slip_energy_J"] = float(np.trapezoid(np.abs(res[p_name]), res.t)) \
         if p_name in res.signals and len(res.t) > 1 else None
     temps = [s for s in res.signals if s.startswith("theta_")]
     m["peak_lining_temp_C"] = float(np.max(res[temps[0]])) if temps else None
-    if "a_vehicle" in res.signals and len(res.t) > 2:
-        a = res["a_vehicle"]
-        dt = np.diff(res.t)
-        ok = dt > 1e-9
-        jerk = np.diff(a)[ok] / dt[ok]
-        m["max_jerk_mps3"] = float(np.max(np.abs(jerk))) if jerk.size else 0.0
-    else:
-        m["max_jerk_mps3"] = None
     eng = [s for s in res.signals if s == "omega_engine"]
     m["engine_speed_min_rpm"] = float(np.min(res[eng[0]]) * 30 / math.pi) if eng else None
     m["engine_stalled"] = (res.outcome == Outcome.EVENT_FAILED

@@ -11,8 +11,8 @@ from ._style import new_figure, save_png
 __all__ = ["plot_heatmap", "plot_histograms", "plot_scatter", "write_figures"]
 
 #: metrics shown by default, most telling first
-MAIN_METRICS = ("lockup_time_s", "slip_energy_J", "peak_lining_temp_C", "max_jerk_mps3",
-                "engine_speed_min_rpm")
+MAIN_METRICS = ("lockup_time_s", "slip_energy_J", "peak_lining_temp_C", "jerk_peak_mps3",
+                "vdv_mps175", "engine_speed_min_rpm")
 
 
 def _label(table, col: str) -> str:

@@ -18,7 +18,8 @@ SUFFIX_UNITS = {
     "m": "m", "mm": "mm", "km": "km", "kg": "kg", "Pa": "Pa", "kPa": "kPa", "bar": "bar",
     "rpm": "rpm", "rad": "rad", "deg": "°", "radps": "rad/s", "rads": "rad/s",
     "radps2": "rad/s²", "mps": "m/s", "mps2": "m/s²", "mps3": "m/s³", "kmh": "km/h",
-    "C": "°C", "K": "K", "pct": "%", "percent": "%",
+    "C": "°C", "K": "K", "pct": "%", "percent": "%", "mps175": "m/s^1.75",
+    "J_mm2": "J/mm²", "W_mm2": "W/mm²",
 }
 
 _MIN_STEM = 3
@@ -33,10 +34,14 @@ def split_unit(name: str) -> tuple[str, str | None]:
     ('lockup_time', 's')
     >>> split_unit("F_s")
     ('F_s', None)
+    >>> split_unit("friction_energy_density_J_mm2")
+    ('friction_energy_density', 'J/mm²')
     """
-    stem, sep, suffix = str(name).rpartition("_")
-    if sep and len(stem) >= _MIN_STEM and suffix in SUFFIX_UNITS:
-        return stem, SUFFIX_UNITS[suffix]
+    parts = str(name).split("_")
+    for n in (2, 1):   # a per-area unit (``_J_mm2``) before a plain one
+        stem, suffix = "_".join(parts[:-n]), "_".join(parts[-n:])
+        if len(parts) > n and len(stem) >= _MIN_STEM and suffix in SUFFIX_UNITS:
+            return stem, SUFFIX_UNITS[suffix]
     return str(name), None
 
 

@@ -23,7 +23,7 @@ from ..driveline.components import (
 )
 from ..friction import domain_problem, get_model_class, make_model
 from ..friction.base import SelfExcitedWarning
-from .schema import suggest
+from .schema import LINING_KEYS, suggest
 
 __all__ = ["build_chain", "effective_model", "friction_model"]
 
@@ -188,7 +188,7 @@ def build_chain(scenario, model: str | None = None) -> Chain:
 
     for i, t in enumerate(data.get("coupling", [])):
         key = f"coupling[{i}]"
-        kw = {k: v for k, v in t.items() if k != "type"}
+        kw = {k: v for k, v in t.items() if k != "type" and k not in LINING_KEYS}
         ctype = t["type"]
         if ctype == "gear":
             couplings.append(guard(lambda kw=kw: Gear(**kw), key))

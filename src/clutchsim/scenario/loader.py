@@ -15,7 +15,7 @@ import numpy as np
 from .._util import quote
 from ..core import Constant, Ramp, Signal, Sine, SolverOptions, Step, Table
 from .errors import ScenarioError, find_line
-from .schema import COUPLING_TYPES, FRICTION, SECTIONS, check_table, suggest
+from .schema import COUPLING_TYPES, FRICTION, SECTIONS, check_lining, check_table, suggest
 
 __all__ = [
     "Scenario",
@@ -334,6 +334,8 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
                              f"{suggest(str(ctype), COUPLING_TYPES)} (types: "
                              f"{', '.join(COUPLING_TYPES)})", f"{path}.type")
                     check_table(tab, COUPLING_TYPES[ctype], path, fail)
+                    if ctype == "clutch":
+                        check_lining(tab, path, fail)
                 else:
                     check_table(tab, keys, path, fail)
                 if "friction" in tab:

@@ -14,7 +14,8 @@ from .._util import quote
 from ..core.controllers import CONTROLLERS
 from ..core.options import DEFAULT_METHOD, SOLVERS
 
-__all__ = ["COUPLING_TYPES", "SECTIONS", "Key", "check_table", "reference_markdown"]
+__all__ = ["COUPLING_TYPES", "LINING_KEYS", "SECTIONS", "Key", "check_lining", "check_table",
+           "reference_markdown"]
 
 
 @dataclass(frozen=True)
@@ -94,7 +95,16 @@ CLUTCH = (
         "friction power |T·w| goes."),
     _n("drag", "Drag torque of the open element.", "N·m", low=0.0, high=1e6),
     _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
+    _n("r_inner", "Inner radius of the friction linings (with `r_outer`; only for the "
+       "launch-quality metrics per lining area, docs/launch-quality.md).", "m", low=0.0,
+       strict=True, high=2.0),
+    _n("r_outer", "Outer radius of the friction linings (> `r_inner`).", "m", low=0.0,
+       strict=True, high=2.0),
+    Key("faces", "int", "Number of friction faces (default 2: a single-plate dry clutch).",
+        "-", low=1, high=100),
 )
+#: the lining geometry keys of a clutch: the launch metrics read them, the chain does not
+LINING_KEYS = ("r_inner", "r_outer", "faces")
 SPRING = (
     Key("name", "str", "Unique name; state `phi_<name>` [rad].", required=True),
     Key("type", "str", "spring_damper.", required=True),
@@ -272,6 +282,22 @@ def check_table(table: dict, keys: tuple, path: str, fail) -> None:
         elif k.kind == "tables" and not (isinstance(v, list) and
                                          all(isinstance(x, dict) for x in v)):
             fail(f"must be a list of tables [{{...}}, ...], got {quote(v)}", kp)
+
+
+def check_lining(table: dict, path: str, fail) -> None:
+    """The lining geometry of a clutch coupling: ``r_inner`` and ``r_outer`` together,
+    ``r_inner < r_outer`` (each key's own range is checked by :func:`check_table`)."""
+    given = [k for k in ("r_inner", "r_outer") if k in table]
+    if len(given) == 1:
+        other = "r_outer" if given[0] == "r_inner" else "r_inner"
+        fail(f"{given[0]} = {table[given[0]]!r} m needs {other} too (the lining area "
+             "faces·π·(r_outer² − r_inner²) takes both)", f"{path}.{given[0]}")
+    if len(given) == 2 and not table["r_inner"] < table["r_outer"]:
+        fail(f"= {table['r_inner']!r} m must be below r_outer = {table['r_outer']!r} m "
+             "(rule: 0 < r_inner < r_outer)", f"{path}.r_inner")
+    if "faces" in table and not given:
+        fail(f"faces = {table['faces']!r} needs r_inner and r_outer (the lining radii)",
+             f"{path}.faces")
 
 
 def range_text(k: Key) -> str:

@@ -13,10 +13,19 @@ __all__ = ["DEFAULT_METRICS", "METRICS", "run_chunk", "run_variant"]
 
 #: metric -> (unit, kind) ; kind: float, int or bool
 METRICS = {
+    "engagement_start_s": ("s", "float"),
     "lockup_time_s": ("s", "float"),
+    "vdv_mps175": ("m/s^1.75", "float"),
+    "aw_rms_mps2": ("m/s²", "float"),
+    "jerk_peak_mps3": ("m/s³", "float"),
+    "jerk_rms_mps3": ("m/s³", "float"),
+    "lockup_shock_mps2": ("m/s²", "float"),
+    "friction_energy_density_J_mm2": ("J/mm²", "float"),
+    "friction_power_density_peak_W_mm2": ("W/mm²", "float"),
+    "engine_dip_rpm": ("rpm", "float"),
+    "engine_flare_rpm": ("rpm", "float"),
     "slip_energy_J": ("J", "float"),
     "peak_lining_temp_C": ("°C", "float"),
-    "max_jerk_mps3": ("m/s³", "float"),
     "engine_speed_min_rpm": ("rpm", "float"),
     "engine_stalled": ("-", "bool"),
     "energy_balance_rel": ("-", "float"),
