@@ -85,3 +85,27 @@ def test_casadi_launch_matches_clutchsim(cas, tight, solver):
     lk_ref = plain.lockup_time(ref.t[rows], ref["w_slip_clutch"][rows],
                                ref["capacity_clutch"][rows])
     assert plain.lockup_time(run.t, run.slip, run.capacity) == pytest.approx(lk_ref, abs=1e-3)
+
+
+@pytest.mark.parametrize("installed", [None, "3.5.5"])
+def test_launch_speed_without_casadi_reports_null_rows(monkeypatch, installed):
+    """Without casadi >= 3.6 the benchmark still runs: CasADi keys null, a reason given."""
+    if not (_DIR / "launch_speed.py").is_file():
+        pytest.skip(f"{_DIR / 'launch_speed.py'} not present (benchmarks are not installed)")
+    for name in ("_common", "_launch_plain"):
+        _load(name)
+    bench = _load("launch_speed")
+
+    def version(dist):
+        if installed is None:
+            raise bench.importlib.metadata.PackageNotFoundError(dist)
+        return installed
+
+    monkeypatch.setattr(bench.importlib.metadata, "version", version)
+    monkeypatch.setattr(bench, "run_baseline", lambda *args: pytest.fail("child started"))
+    out = {}
+    bench.casadi_rows(None, out, {"ms": 1.0, "ref": None, "dt": 0.002, "err": None})
+    assert out["ratio_vs_casadi"] is None and out["casadi_version"] is None
+    for key in ("casadi_cvodes", "casadi_idas"):
+        assert out[f"{key}_ms"] is None and out[f"ratio_vs_{key}"] is None
+    assert ("not installed" if installed is None else "3.5.5") in out["casadi_note"]
