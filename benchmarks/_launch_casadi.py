@@ -274,10 +274,10 @@ def _locate(m: CasadiLaunch, call: _Counter, g, t_a: float, y_a: np.ndarray, t_b
     """
     H = t_b - t_a
     ys = call(m.scan, y_a, t_a, H)
-    gs = [g(ys[:, i]) for i in range(SCAN_POINTS)]
+    gs = g(ys)                                       # g works on columns of states
     pos = g(y_b) > 0.0
-    i = next((k for k in range(SCAN_POINTS) if gs[k] == 0.0 or (gs[k] > 0.0) == pos),
-             SCAN_POINTS - 1)
+    past = np.flatnonzero((gs == 0.0) | ((gs > 0.0) == pos))
+    i = int(past[0]) if past.size else SCAN_POINTS - 1
     if i == 0:
         t_0, y_0, g_lo = t_a, y_a, g(y_a)
     else:
@@ -303,25 +303,37 @@ def _locate(m: CasadiLaunch, call: _Counter, g, t_a: float, y_a: np.ndarray, t_b
     return t_0 + hi, y_hi
 
 
+def _on_grid(t: float, dt: float) -> int | None:
+    """Index of the grid point ``t`` [s] lies on (within 1e-12 s), else None."""
+    k = round(t / dt)
+    return k if abs(t - k * dt) <= 1e-12 else None
+
+
 def _span(m: CasadiLaunch, call: _Counter, t: float, y: np.ndarray, seg: int):
-    """Outputs from ``t`` to the end of segment ``seg``: times and states (10 × n)."""
+    """Outputs after ``t`` to the end of segment ``seg``: times and states (10 × n)."""
     a, b, integ, tout = m.segments[seg]
     if abs(t - a) <= 1e-12:
         return tout, call(integ, y, a, 1.0)
     dt = m.dt_out
-    k = math.floor(t / dt + 1e-9) + 1                # next grid point
-    t_cur = min(k * dt, b)
-    ts, ys = [np.array([t_cur])], [call(m.hop, y, t, t_cur - t)]
+    k = _on_grid(t, dt)
+    ts, ys = [], []
+    if k is None:                                    # hop to the next grid point
+        k = math.floor(t / dt) + 1
+        t_cur = min(k * dt, b)
+        ts.append(np.array([t_cur]))
+        ys.append(call(m.hop, y, t, t_cur - t))
+        y = ys[-1][:, -1]
+    t_cur = k * dt
     n = max(math.floor(b / dt + 1e-9) - k, 0)        # grid intervals left in the segment
     j = len(m.chunks) - 1
     while n > 0:                                     # binary chunks of grid intervals
         while 2 ** j > n:
             j -= 1
-        ys.append(call(m.chunks[j], ys[-1][:, -1], t_cur, 1.0))
+        ys.append(call(m.chunks[j], y, t_cur, 1.0))
         ts.append(t_cur + dt * np.arange(1, 2 ** j + 1))
-        t_cur, n = ts[-1][-1], n - 2 ** j
+        t_cur, n, y = ts[-1][-1], n - 2 ** j, ys[-1][:, -1]
     if b - t_cur > 1e-12:                            # a breakpoint off the grid
-        ys.append(call(m.hop, ys[-1][:, -1], t_cur, b - t_cur))
+        ys.append(call(m.hop, y, t_cur, b - t_cur))
         ts.append(np.array([b]))
     return np.concatenate(ts), np.hstack(ys)
 
@@ -389,6 +401,9 @@ def simulate_casadi(m: CasadiLaunch, hysteresis: float = 1e-9) -> PlainRun:
                     t, restart = t_ev, True
                 ts.append(tout[:i])
                 ys.append(yout[:, :i])
+                if restart and (k := _on_grid(t, dt)) is not None:
+                    ts.append(np.array([k * dt]))     # an event on a grid point
+                    ys.append(y[:, None])
                 break
             else:
                 ts.append(tout)

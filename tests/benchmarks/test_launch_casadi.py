@@ -87,6 +87,26 @@ def test_casadi_launch_matches_clutchsim(cas, tight, solver):
     assert plain.lockup_time(run.t, run.slip, run.capacity) == pytest.approx(lk_ref, abs=1e-3)
 
 
+@pytest.mark.parametrize("solver", ["cvodes", "idas"])
+def test_stall_ends_the_run_as_in_the_plain_model(cas, solver):
+    """No throttle and no idle governor: the engine stalls at 0.59 s, before the clutch
+    closes; both models stop at the same grid point with the same speeds."""
+    import dataclasses
+
+    from clutchsim.scenario import load_scenario
+    plain = sys.modules["_launch_plain"]
+    par = dataclasses.replace(plain.launch_params(load_scenario(None)), throttle=(0.0, ()),
+                              idle=0.0, kp=0.0, ki=0.0)
+    ref = plain.simulate_plain(par, "LSODA", 1e-8, 1e-8)
+    run = cas.simulate_casadi(cas.build(par, solver, 1e-8, 1e-8))
+    assert ref.status == run.status == "stalled"
+    assert run.t[-1] == pytest.approx(ref.t[-1], abs=1e-12) and run.t[-1] < par.t_end / 2
+    diff = plain.speed_diff_rpm(ref.t, {n: ref[n] for n in plain.SPEEDS}, run.t,
+                                {n: run[n] for n in plain.SPEEDS}, 0.002)
+    assert diff["grid_points"] == ref.t.size
+    assert max(diff[n] for n in plain.SPEEDS) < 1e-3
+
+
 @pytest.mark.parametrize("installed", [None, "3.5.5"])
 def test_launch_speed_without_casadi_reports_null_rows(monkeypatch, installed):
     """Without casadi >= 3.6 the benchmark still runs: CasADi keys null, a reason given."""
