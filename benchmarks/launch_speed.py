@@ -1,4 +1,4 @@
-"""Speed of one default launch (model (6), mykhailevych2020) against scipy ``solve_ivp``.
+"""Speed of one default launch (model (6), mykhailevych2020) against scipy and CasADi.
 
 Problem: the packaged passenger-car launch (examples/launch.toml: 5 inertias, two-stage
 damper, gearbox, driveshaft, engine with idle governor, thermal nodes; 0–4 s) with friction
@@ -12,7 +12,15 @@ outputs every 2 ms).  Compared:
   integrating).  Its clutch slip zero crossings are terminal scipy events; the reset of
   model (6) is applied between two ``solve_ivp`` calls and the integration restarts.
   ``--scipy-rhs compiled`` instead runs the baselines through clutchsim's scipy backend,
-  which calls the plant's compiled right-hand side (scipy's per-step overhead only).
+  which calls the plant's compiled right-hand side (scipy's per-step overhead only);
+* CasADi CVODES and IDAS (``casadi.integrator``) at the same rtol and atol on the same
+  equations in CasADi SX symbols (``_launch_casadi.py``: numbers from the same
+  ``launch_params``), outputs on the 2 ms grid; the slip zero crossings are found by a
+  sign change between grid points, located to 1e-10 s on sub-integrations, model (6)'s
+  reset is applied and the integration restarts (CasADi's own event support is
+  experimental).  Each with SUNDIALS' defaults and with the BDF order capped at 2 (keys
+  ``casadi_<solver>_bdf2_*``: orders 3-5 keep the locked clutch ringing at rtol 1e-6).  Optional: without casadi (>= 3.6, extra ``bench``) its keys are ``null``
+  and ``casadi_note`` says why.
 
 Validation (skipped with ``--no-check``; ``--check`` runs only this and exits 1 on failure):
 the plain model and clutchsim both run at rtol = atol = 1e-8 (plain model: LSODA); the
@@ -29,11 +37,17 @@ atol = rtol/100 as in the scenario).  For each baseline ``ratio_vs_<method>_matc
 the fastest rung whose speed error is no larger than that baseline's error (all rungs are
 printed under ``ladder``), which is how the targets "at matching results" are read.
 
+``ratio_vs_casadi`` is the fastest CasADi run's time (``casadi_cvodes_ms``,
+``casadi_idas_ms`` or their ``_bdf2`` variants; ``ratio_vs_casadi_solver`` names its key)
+over clutchsim's at matched accuracy by the same rule (``ratio_vs_<key>_matched``).
+
 Timing: clutchsim in this process, median of ``--repeats`` runs after a warm-up; each scipy
-baseline in a child process, median of ``--scipy-repeats`` runs after a warm-up run.  Every
-scipy run has a time limit of ``--scipy-timeout`` seconds; a baseline whose first run
-does not finish is reported as ``null`` with ``scipy_<method>_lower_bound_ms`` (the limit)
-and ``ratio_vs_<method>_lower_bound``.
+and CasADi baseline in a child process, median of ``--scipy-repeats`` runs after a warm-up
+run.  Every baseline run has a time limit of ``--scipy-timeout`` seconds; a baseline whose
+first run does not finish is reported as ``null`` with ``scipy_<method>_lower_bound_ms``
+(``casadi_<solver>_lower_bound_ms``; the limit) and ``ratio_vs_<method>_lower_bound``.
+The CasADi symbols and integrators are built once per child before the runs and not
+timed (``casadi_<solver>_build_ms``), as clutchsim's compiled code is cached.
 
 Prints one JSON object on the last stdout line.
 """
@@ -41,6 +55,7 @@ Prints one JSON object on the last stdout line.
 from __future__ import annotations
 
 import argparse
+import importlib.metadata
 import json
 import os
 import signal
@@ -54,14 +69,23 @@ import numpy as np
 from _common import emit, median_ms
 from _launch_plain import SPEEDS, check, launch_params, simulate_plain, speed_diff_rpm
 
+#: child name, key, method: keys ``scipy_<key>_*`` and ``ratio_vs_<key>*``
 BASELINES = (("scipy-rk45", "rk45", "RK45"), ("scipy-lsoda", "lsoda", "LSODA"))
+#: child name, key, CasADi integrator, its largest BDF order (None: SUNDIALS' 5): keys
+#: ``<key>_*`` and ``ratio_vs_<key>*``.  Orders 3-5 are not A-stable and make the locked
+#: clutch ring at rtol 1e-6 (~3-10x the slip crossings); order 2 is the tuned peer.
+CASADI = (("casadi-cvodes", "casadi_cvodes", "cvodes", None),
+          ("casadi-idas", "casadi_idas", "idas", None),
+          ("casadi-cvodes-bdf2", "casadi_cvodes_bdf2", "cvodes", 2),
+          ("casadi-idas-bdf2", "casadi_idas_bdf2", "idas", 2))
+CASADI_MIN = (3, 6)
 #: relative tolerances of the matched-accuracy ladder (atol = rtol/100)
 LADDER = (1e-6, 5e-7, 3e-7, 1e-7)
 MODEL = "mykhailevych2020"
 
 
 class _TimeLimit(Exception):
-    """Raised in a child process when one scipy run exceeds its time limit."""
+    """Raised in a child process when one baseline run exceeds its time limit."""
 
 
 def _scenario(t_end: float, rtol: float | None = None):
@@ -72,17 +96,30 @@ def _scenario(t_end: float, rtol: float | None = None):
 
 
 def child(a) -> None:
-    """One scipy baseline: warm-up + ``scipy_repeats`` timed runs, one JSON line per run.
+    """One baseline: warm-up + ``scipy_repeats`` timed runs, one JSON line per run.
 
-    Lines: ``{"ms": ..., "warmup": bool}`` per finished run, ``{"timeout": s}`` when a run
-    hits the limit, and a last ``{"done": true, ...}``; the speeds of the last run go to
-    ``a.out`` (npz).
+    Lines: ``{"build_ms": ..., "version": ...}`` first for a CasADi baseline (its symbols
+    and integrators, built once and not timed), ``{"ms": ..., "warmup": bool}`` per
+    finished run, ``{"timeout": s}`` when a run hits the limit, and a last
+    ``{"done": true, ...}``; the speeds of the last run go to ``a.out`` (npz).
     """
     sc = _scenario(a.t_end)
-    method = {s: m for s, _, m in BASELINES}[a.child]
-    if a.scipy_rhs == "plain":
+    opts = sc.options
+    if a.child in {c[0] for c in CASADI}:
+        import casadi
+        from _launch_casadi import build, simulate_casadi
+        _, _, solver, order = next(c for c in CASADI if c[0] == a.child)
+        m = build(launch_params(sc, MODEL), solver, opts.rtol, opts.atol, opts.dt_out,
+                  max_order=order)
+        print(json.dumps({"build_ms": m.build_s * 1e3, "version": casadi.__version__}),
+              flush=True)
+
+        def run():
+            r = simulate_casadi(m)
+            return r, r.t, {n: r[n] for n in SPEEDS}, r.status, r.nfev, len(r.events)
+    elif a.scipy_rhs == "plain":
+        method = {s: m for s, _, m in BASELINES}[a.child]
         par = launch_params(sc, MODEL)
-        opts = sc.options
 
         def run():
             r = simulate_plain(par, method, opts.rtol, opts.atol, opts.dt_out)
@@ -118,13 +155,14 @@ def child(a) -> None:
                       "events": int(events)}), flush=True)
 
 
-def scipy_baseline(a, name: str):
+def run_baseline(a, name: str):
     """Run baseline ``name`` in a child process; parse its lines.
 
     Returns
     -------
     info : dict
-        ``times_ms`` (timed runs), ``timeout`` (limit hit, or None), ``done`` line, ``note``.
+        ``times_ms`` (timed runs), ``timeout`` (limit hit, or None), ``done`` line, ``note``,
+        ``build`` line (CasADi only).
     speeds : dict or None
         ``t`` and the speeds of the last run.
     """
@@ -146,7 +184,7 @@ def scipy_baseline(a, name: str):
             text = text.decode() if isinstance(text, bytes) else text
             err, rc = "", 0
             note = f"child killed after {backstop:g} s"
-        info = {"times_ms": [], "timeout": None, "done": None, "note": note}
+        info = {"times_ms": [], "timeout": None, "done": None, "note": note, "build": None}
         for line in text.splitlines():
             try:
                 rec = json.loads(line)
@@ -160,6 +198,8 @@ def scipy_baseline(a, name: str):
                                 f"{rec['timeout']:g} s")
             elif rec.get("done"):
                 info["done"] = rec
+            elif "build_ms" in rec:
+                info["build"] = rec
         if rc != 0 and not info["note"]:
             last = err.strip().splitlines()[-1] if err.strip() else f"exit code {rc}"
             info["note"] = "failed: " + last
@@ -167,21 +207,126 @@ def scipy_baseline(a, name: str):
     return info, speeds
 
 
+def baseline_row(a, out: dict, name: str, prefix: str, key: str, ctx: dict) -> float | None:
+    """Run baseline ``name`` in a child and write its keys into ``out``.
+
+    Keys ``<prefix>_ms`` (median), ``_runs``, ``_status``, ``_rhs_evals``, ``_events``,
+    ``_note``, ``_lower_bound_ms`` (time limit hit), ``_err_rpm`` (against the tight run),
+    ``_build_ms`` (CasADi), ``ratio_vs_<key>`` (its time over clutchsim's at the benchmark
+    tolerances), ``ratio_vs_<key>_matched`` and ``clutchsim_matched_<key>_rtol`` (the fastest
+    ladder rung with a speed error no larger than the baseline's), ``ratio_vs_<key>_lower_bound``
+    and ``max_abs_speed_diff_rpm_<key>``.
+
+    Parameters
+    ----------
+    ctx : dict
+        ``ms`` (clutchsim's time), ``ref`` (its result), ``dt`` (output interval [s]),
+        ``err`` (``err(t, speeds)`` -> error against the tight run [rpm], or None).
+
+    Returns
+    -------
+    float or None
+        The baseline's largest speed difference from clutchsim [rpm] (None: no speeds).
+    """
+    info, sp = run_baseline(a, name)
+    times, ms = info["times_ms"], ctx["ms"]
+    if info["build"]:
+        out[f"{prefix}_build_ms"] = info["build"]["build_ms"]
+    if info["note"]:
+        out[f"{prefix}_note"] = info["note"]
+        print(f"{name}: {info['note']}", file=sys.stderr)
+    if not times:
+        out[f"{prefix}_ms"] = None
+        out[f"ratio_vs_{key}"] = None
+        if info["timeout"] is not None:
+            out[f"{prefix}_lower_bound_ms"] = info["timeout"] * 1e3
+            out[f"ratio_vs_{key}_lower_bound"] = info["timeout"] * 1e3 / ms
+        return None
+    out[f"{prefix}_ms"] = statistics.median(times)
+    out[f"{prefix}_runs"] = len(times)
+    out[f"ratio_vs_{key}"] = out[f"{prefix}_ms"] / ms
+    if sp is None:
+        return None
+    done = info["done"]
+    out[f"{prefix}_status"] = done["status"]
+    out[f"{prefix}_rhs_evals"] = done["rhs_evals"]
+    out[f"{prefix}_events"] = done["events"]
+    d = speed_diff_rpm(ctx["ref"].t, ctx["ref"], sp["t"], sp, ctx["dt"])
+    out[f"max_abs_speed_diff_rpm_{key}"] = max(d[n] for n in SPEEDS)
+    if ctx["err"] is not None:
+        out[f"{prefix}_err_rpm"] = e_b = ctx["err"](sp["t"], sp)
+        ok = [r for r in out["ladder"] if r["err_rpm"] <= e_b]
+        if ok:
+            best = min(ok, key=lambda r: r["ms"])
+            out[f"ratio_vs_{key}_matched"] = out[f"{prefix}_ms"] / best["ms"]
+            out[f"clutchsim_matched_{key}_rtol"] = best["rtol"]
+        else:
+            out[f"ratio_vs_{key}_matched"] = None
+    return out[f"max_abs_speed_diff_rpm_{key}"]
+
+
+def casadi_missing() -> str | None:
+    """Why the CasADi baselines cannot run (None: casadi >= 3.6 is installed)."""
+    try:
+        version = importlib.metadata.version("casadi")
+    except importlib.metadata.PackageNotFoundError:
+        return "casadi is not installed (optional extra 'bench': pip install -e '.[bench]')"
+    parts = tuple(int(p) for p in version.split(".")[:2] if p.isdigit())
+    if parts < CASADI_MIN:
+        return (f"casadi {version} is installed; the baselines need "
+                f"{'.'.join(map(str, CASADI_MIN))} or newer (integrator with t0 and a grid)")
+    return None
+
+
+def casadi_rows(a, out: dict, ctx: dict) -> None:
+    """The CasADi CVODES and IDAS baselines (:data:`CASADI`) and ``ratio_vs_casadi``.
+
+    ``ratio_vs_casadi`` is the fastest CasADi run's time over clutchsim's at matched
+    accuracy (``ratio_vs_<key>_matched`` of that run; ``ratio_vs_casadi_solver`` names its
+    key).  Without casadi every CasADi key is ``null`` and ``casadi_note`` says why.
+    """
+    why = casadi_missing()
+    if why is not None:
+        for _, key, _, _ in CASADI:
+            out[f"{key}_ms"] = out[f"ratio_vs_{key}"] = None
+        out.update(casadi_note=why, casadi_version=None, ratio_vs_casadi=None,
+                   ratio_vs_casadi_solver=None)
+        print(f"casadi baselines skipped: {why}", file=sys.stderr)
+        return
+    out["casadi_version"] = importlib.metadata.version("casadi")
+    for name, key, _, _ in CASADI:
+        baseline_row(a, out, name, key, key, ctx)
+    timed = [(out[f"{key}_ms"], key) for _, key, _, _ in CASADI if out[f"{key}_ms"] is not None]
+    out["ratio_vs_casadi"] = out["ratio_vs_casadi_solver"] = None
+    if not timed:
+        out["casadi_note"] = "no CasADi run finished"
+    elif ctx["err"] is None:
+        out["casadi_note"] = "no matched ratio without the validation run (--no-check)"
+    else:
+        _, key = min(timed)
+        out["ratio_vs_casadi_solver"] = key
+        out["ratio_vs_casadi"] = out.get(f"ratio_vs_{key}_matched")
+        if out["ratio_vs_casadi"] is None:
+            out["casadi_note"] = (f"no clutchsim ladder rung is as accurate as {key} "
+                                  f"({out[f'{key}_err_rpm']:.3g} rpm)")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=5, help="clutchsim runs (after a warm-up)")
     ap.add_argument("--scipy-repeats", type=int, default=5,
-                    help="runs of each scipy baseline (after a warm-up run)")
+                    help="runs of each scipy and CasADi baseline (after a warm-up run)")
     ap.add_argument("--t-end", type=float, default=4.0, help="end time [s]")
     ap.add_argument("--scipy-rhs", choices=("plain", "compiled"), default="plain",
                     help="plain: hand-written Python model (default); compiled: clutchsim's "
                          "scipy backend on the plant's compiled right-hand side")
     ap.add_argument("--scipy-timeout", type=float, default=600.0,
-                    help="time limit of each scipy run [s]")
+                    help="time limit of each scipy and CasADi run [s]")
     ap.add_argument("--check", action="store_true",
                     help="only validate the plain model against clutchsim (exit 1 on failure)")
     ap.add_argument("--no-check", action="store_true", help="skip the validation")
-    ap.add_argument("--child", choices=[b[0] for b in BASELINES], help=argparse.SUPPRESS)
+    ap.add_argument("--child", choices=[b[0] for b in BASELINES + CASADI],
+                    help=argparse.SUPPRESS)
     ap.add_argument("--out", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     if a.child:
@@ -213,9 +358,10 @@ def main(argv=None):
         if not rep["ok"]:
             print("validation of the plain model FAILED: " + json.dumps(rep), file=sys.stderr)
 
-        def err(t, sp):
-            d = speed_diff_rpm(tight.t, tight, t, sp, dt)
-            return max(d[n] for n in SPEEDS)
+    def err(t, sp):
+        d = speed_diff_rpm(tight.t, tight, t, sp, dt)
+        return max(d[n] for n in SPEEDS)
+    if tight is not None:
         out["clutchsim_err_rpm"] = err(ref.t, ref)
         ladder = []
         for rtol in LADDER:
@@ -225,42 +371,11 @@ def main(argv=None):
             ladder.append({"rtol": rtol, "ms": ms_r, "err_rpm": err(lr_r.result.t, lr_r.result),
                            "steps": lr_r.result.stats.steps})
         out["ladder"] = ladder
-    diffs = []
-    for name, key, _ in BASELINES:
-        info, sp = scipy_baseline(a, name)
-        times = info["times_ms"]
-        if info["note"]:
-            out[f"scipy_{key}_note"] = info["note"]
-            print(f"scipy {key}: {info['note']}", file=sys.stderr)
-        if not times:
-            out[f"scipy_{key}_ms"] = None
-            out[f"ratio_vs_{key}"] = None
-            if info["timeout"] is not None:
-                out[f"scipy_{key}_lower_bound_ms"] = info["timeout"] * 1e3
-                out[f"ratio_vs_{key}_lower_bound"] = info["timeout"] * 1e3 / ms
-            continue
-        out[f"scipy_{key}_ms"] = statistics.median(times)
-        out[f"scipy_{key}_runs"] = len(times)
-        out[f"ratio_vs_{key}"] = out[f"scipy_{key}_ms"] / ms
-        if sp is None:
-            continue
-        done = info["done"]
-        out[f"scipy_{key}_status"] = done["status"]
-        out[f"scipy_{key}_rhs_evals"] = done["rhs_evals"]
-        out[f"scipy_{key}_events"] = done["events"]
-        d = speed_diff_rpm(ref.t, ref, sp["t"], sp, dt)
-        out[f"max_abs_speed_diff_rpm_{key}"] = max(d[n] for n in SPEEDS)
-        diffs.append(out[f"max_abs_speed_diff_rpm_{key}"])
-        if tight is not None:
-            out[f"scipy_{key}_err_rpm"] = e_b = err(sp["t"], sp)
-            ok = [r for r in out["ladder"] if r["err_rpm"] <= e_b]
-            if ok:
-                best = min(ok, key=lambda r: r["ms"])
-                out[f"ratio_vs_{key}_matched"] = out[f"scipy_{key}_ms"] / best["ms"]
-                out[f"clutchsim_matched_{key}_rtol"] = best["rtol"]
-            else:
-                out[f"ratio_vs_{key}_matched"] = None
+    ctx = {"ms": ms, "ref": ref, "dt": dt, "err": err if tight is not None else None}
+    diffs = [baseline_row(a, out, name, f"scipy_{key}", key, ctx) for name, key, _ in BASELINES]
+    diffs = [d for d in diffs if d is not None]
     out["max_abs_speed_diff_rpm"] = max(diffs) if diffs else None
+    casadi_rows(a, out, ctx)
     emit(out)
 
 
