@@ -39,12 +39,16 @@ def test_default_launch_robust_completes_and_naive_chatters_at_lockup(launch):
     robust = run_scenario(launch, "coulomb-robust").metrics
     assert robust["completed"], robust["message"]
     assert robust["energy_balance_rel"] <= 1e-6   # issue: 1e-5; measured 3.7e-8 (ros34pw2)
-    naive = run_scenario(launch, "coulomb-naive").metrics
-    assert not naive["completed"]
+    run = run_scenario(launch, "coulomb-naive")
+    naive = run.metrics
+    assert not naive["completed"] and run.result.outcome == "chatter"
     assert "chatter" in naive["message"] and "lock-up" in naive["message"]
-    # it stops where the robust model locks
+    # it chatters from where the robust model locks (the first zero-slip crossing), and
+    # chatter detection (100 events within 0.4 ms) stops it soon after
+    t_first = min(e.t for e in run.result.events if e.name.startswith("clutch:"))
+    assert t_first == pytest.approx(robust["lockup_time_s"], abs=1e-3)
     t_stop = float(naive["message"].split("at t = ")[-1].split(" s")[0])
-    assert t_stop == pytest.approx(robust["lockup_time_s"], abs=0.01)
+    assert robust["lockup_time_s"] < t_stop < robust["lockup_time_s"] + 0.02
 
 
 def _example_models(name):

@@ -409,8 +409,11 @@ def _inputs_at(scenario, system: System, t: float) -> np.ndarray:
 def rigid_constraints(chain, system: System, y) -> tuple[dict, ...]:
     """The speed relations ``omega_b - omega_a/r = 0`` of the rigid gears of ``chain``
     (gears, gearboxes at their current ratio, lossy gears: their loss acts as a brake on
-    a rigid gear), from its public description, for :func:`linearise`."""
+    a rigid gear), from its public description, for :func:`linearise`.  None for a
+    network plant, whose states are already independent speeds."""
     from ..driveline.components import Gear, Gearbox, LossyGear
+    if "network" in system.metadata:
+        return ()       # a network plant has no redundant speeds: rigid parts are solved
     out = []
     names = system.state_names
     for k, c in enumerate(chain.couplings):

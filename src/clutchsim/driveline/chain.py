@@ -179,13 +179,95 @@ class Chain:
     def _omega0(self) -> np.ndarray:
         return np.array([i.omega0 for i in self.inertias])
 
+    def network_unsupported(self) -> str | None:
+        """Why this chain cannot run as a :class:`~clutchsim.network.Network` yet (a lossy
+        gear, a gearbox with losses or shifts, a one-way clutch), or None."""
+        for c in self.couplings:
+            if has_losses(c):
+                return f"{c.name}: a gear with losses"
+            if isinstance(c, Gearbox) and c.shifts:
+                return f"{c.name}: a gearbox that shifts"
+            if isinstance(c, OneWayClutch):
+                return f"{c.name}: a one-way clutch"
+        return None
+
+    def network(self):
+        """This chain as a :class:`~clutchsim.network.Network` (the documented
+        translation, ``docs/network.md``): each inertia an inertia, each coupling the
+        component of its kind between inertia k (flange a) and k+1 (flange b), a coupling's
+        own ``ratio`` an ideal gear on its input side, a gearbox the ideal gear of its
+        selected gear, a load input a torque source, brakes on their inertia, the engine on
+        its inertia, the vehicle on the last inertia."""
+        from .. import network as nw
+        from ..network import components as nc
+        why = self.network_unsupported()
+        if why is not None:
+            raise nw.NetworkError(f"chain {self.name!r}: {why} is not a network component yet")
+        comps, conns = [], []
+        for i in self.inertias:
+            comps.append(nc.Inertia(i.name, J=i.J, omega0=i.omega0,
+                                    bearing_damping=i.bearing_damping))
+            if i.load:
+                comps.append(nc.TorqueSource(f"{i.name}_load", input=i.load))
+                conns.append((f"{i.name}_load.flange", f"{i.name}.a"))
+        for k, c in enumerate(self.couplings):
+            a, b = f"{self.inertias[k].name}.b", f"{self.inertias[k + 1].name}.a"
+            if isinstance(c, (Gear, LossyGear, Gearbox)):
+                ratio = c.ratio(c.gear) if isinstance(c, Gearbox) else c.ratio
+                comps.append(nc.IdealGear(c.name, ratio=ratio))
+                conns += [(a, f"{c.name}.a"), (f"{c.name}.b", b)]
+                continue
+            if c.ratio != 1.0:
+                g = f"{c.name}_ratio"
+                comps.append(nc.IdealGear(g, ratio=c.ratio))
+                conns.append((a, f"{g}.a"))
+                a = f"{g}.b"
+            if isinstance(c, SpringDamper):
+                comps.append(nc.SpringDamper(c.name, c=c.c, d=c.d, knee=c.knee, c2=c.c2,
+                                             phi0=c.phi0))
+            else:
+                comps.append(nc.Clutch(c.name, c.model, c.command, clamp_table=c.clamp_table,
+                                       mu_temperature=c.mu_temperature, mu_slip=c.mu_slip,
+                                       heat=c.heat, locked0=c.locked0, z0=c.z0, drag=c.drag))
+            conns += [(a, f"{c.name}.a"), (f"{c.name}.b", b)]
+        for br in self.brakes:
+            comps.append(nc.Brake(br.name, br.model, br.command, clamp_table=br.clamp_table,
+                                  mu_temperature=br.mu_temperature, mu_slip=br.mu_slip,
+                                  heat=br.heat, locked0=br.locked0, z0=br.z0, drag=br.drag))
+            conns.append((f"{br.name}.flange", f"{br.node}.a"))
+        if self.engine is not None:
+            eng = self.engine
+            comps.append(nc.Engine("engine_torque", eng.speeds, eng.torques, eng.throttle,
+                                   drag0=eng.drag0, drag1=eng.drag1, idle_speed=eng.idle_speed,
+                                   kp=eng.kp, ki=eng.ki, stall_speed=eng.stall_speed))
+            conns.append(("engine_torque.flange", f"{eng.node}.a"))
+        if self.vehicle is not None:
+            v = self.vehicle
+            comps.append(nc.Vehicle("vehicle", mass=v.mass, tyre_radius=v.tyre_radius,
+                                    grade=v.grade, rolling=v.rolling, cd_area=v.cd_area,
+                                    air_density=v.air_density, v_eps=v.v_eps,
+                                    gravity=v.gravity))
+            conns.append(("vehicle.flange", f"{self.inertias[-1].name}.a"))
+        for t in self.thermal:
+            comps.append(nc.ThermalNode(t.name, capacity=t.capacity, conductance=t.conductance,
+                                        ambient=t.ambient, theta0=t.theta0, link=t.link,
+                                        link_conductance=t.link_conductance))
+        return nw.Network(comps, conns, name=self.name, metadata=dict(self.metadata))
+
     def build(self, inputs0: dict | None = None) -> System:
         """The compiled :class:`~clutchsim.core.System` of this chain.
 
         ``inputs0`` (input name -> value at the start time) lets switching friction
         elements with zero slip start free when their command is 0 (else they start
-        locked).
+        locked).  Chains the network supports run on their generated network plant
+        (:meth:`network`); the others on the chain plant.
         """
+        if self.network_unsupported() is None:
+            from ..network import compile_network
+            meta = dict(self.metadata)
+            net = self.network()
+            return compile_network(net).system(net.components, inputs0=inputs0, name=self.name,
+                                               metadata=meta)
         self_inputs0 = dict(inputs0 or {})
         inertias, couplings = self.inertias, self.couplings
         n = len(inertias)

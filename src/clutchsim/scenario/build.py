@@ -25,7 +25,7 @@ from ..friction import domain_problem, get_model_class, make_model
 from ..friction.base import SelfExcitedWarning
 from .schema import LINING_KEYS, suggest
 
-__all__ = ["build_chain", "effective_model", "friction_model"]
+__all__ = ["build_chain", "build_network", "effective_model", "friction_model"]
 
 
 def friction_model(spec: dict, model: str | None, key: str, fail, element: str = ""):
@@ -82,7 +82,9 @@ def effective_model(scenario, model: str | None) -> str | None:
     already uses it as its own model (then the chain is the scenario's own)."""
     if model is None:
         return None
-    for t in (*scenario.data.get("coupling", []), *scenario.data.get("brake", [])):
+    for t in (*scenario.data.get("coupling", []), *scenario.data.get("brake", []),
+              *(c for c in scenario.data.get("component", [])
+                if c.get("type") in ("clutch", "brake"))):
         if "friction" not in t:
             if t.get("name") == scenario.clutch:
                 return model        # a fixed switching law: building says it cannot
@@ -255,3 +257,55 @@ def build_chain(scenario, model: str | None = None) -> Chain:
                  f"{', '.join(th_names)})", f"thermal[{i}].link")
     return guard(lambda: Chain(inertias, couplings, brakes, engine, vehicle, thermal,
                                name=scenario.name), "coupling")
+
+
+def build_network(scenario, model: str | None = None):
+    """Build the :class:`~clutchsim.network.Network` of a network scenario
+    (``[[component]]`` tables and ``[network] connect``) with ``model`` on its clutch
+    element.  Errors name the component table, its key and line."""
+    from ..network import COMPONENTS, Network, NetworkError
+    data = scenario.data
+    fail = scenario.fail
+    inputs = scenario.inputs
+
+    def need_input(name, key):
+        if name not in inputs:
+            fail(f"input signal {name!r} is not defined in [inputs]"
+                 f"{'; inputs: ' + ', '.join(inputs) if inputs else ''}", key)
+
+    comps = []
+    where = {}
+    for i, t in enumerate(data.get("component", [])):
+        key = f"component[{i}]"
+        kw = {k: v for k, v in t.items() if k not in ("type", "name")}
+        cls = COMPONENTS[t["type"]]
+        if t["type"] in ("clutch", "brake"):
+            need_input(kw["command"], f"{key}.command")
+            m = model if _replaced(t, model, scenario) else None
+            kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
+                                         t["name"])
+            for k, (a, b) in (("clamp_table", ("position", "force")),
+                              ("mu_temperature", ("theta", "factor")),
+                              ("mu_slip", ("slip", "factor"))):
+                kw[k] = _pairs(kw.get(k), a, b, f"{key}.{k}", fail)
+            kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
+        elif t["type"] == "engine":
+            need_input(kw["throttle"], f"{key}.throttle")
+            fl = _pairs(kw.pop("full_load"), "speed", "torque", f"{key}.full_load", fail)
+            kw["speeds"], kw["torques"] = fl
+        elif t["type"] == "torque":
+            need_input(kw["input"], f"{key}.input")
+        try:
+            comps.append(cls(t["name"], **kw))
+        except (TypeError, ValueError) as exc:
+            fail(str(exc), key)
+        where[t["name"]] = key
+    try:
+        net = Network(comps, data["network"]["connect"], name=scenario.name)
+        net.compile()
+    except NetworkError as exc:
+        comp = exc.where.split(".")[0]
+        fail(str(exc), where.get(comp, "network.connect"))
+    except ValueError as exc:
+        fail(str(exc), "network.connect")
+    return net

@@ -92,10 +92,11 @@ class Scenario:
 
     def chain(self, model: str | None = None):
         """The :class:`~clutchsim.driveline.Chain` with ``model`` on the clutch element."""
-        from .build import build_chain, effective_model
+        from .build import build_chain, build_network, effective_model
         key = effective_model(self, model)
         if key not in self._chains:
-            self._chains[key] = build_chain(self, key)
+            build = build_network if "component" in self.data else build_chain
+            self._chains[key] = build(self, key)
         return self._chains[key]
 
 
@@ -312,7 +313,8 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
         if name not in SECTIONS:
             fail(f"unknown table [{name}]{suggest(name, SECTIONS)} "
                  f"(tables: {', '.join(SECTIONS)})", name)
-    for required in ("scenario", "inertia"):
+    network = "component" in data or "network" in data
+    for required in ("scenario", "component" if network else "inertia"):
         if required not in data:
             fail(f"missing required table [{required}]" if required == "scenario" else
                  "missing required component: at least one [[inertia]]", "")
@@ -327,7 +329,16 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
                 path = f"{name}[{i}]"
                 if not isinstance(tab, dict):
                     fail(f"must be a table [[{name}]], got {quote(tab)}", path)
-                if name == "coupling":
+                if name == "component":
+                    from .schema import component_types
+                    types = component_types()
+                    ctype = tab.get("type")
+                    if ctype not in types:
+                        fail(f"component type {ctype!r} is not known"
+                             f"{suggest(str(ctype), types)} (types: {', '.join(types)})",
+                             f"{path}.type")
+                    check_table(tab, types[ctype], path, fail)
+                elif name == "coupling":
                     ctype = tab.get("type")
                     if ctype not in COUPLING_TYPES:
                         fail(f"coupling type {ctype!r} is not known"
@@ -344,8 +355,15 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
             if not isinstance(value, dict):
                 fail(f"must be a table [{name}]", name)
             check_table(value, keys, name, fail)
-    n_in, n_cp = len(data["inertia"]), len(data.get("coupling", []))
-    if n_cp != n_in - 1:
+    if network:
+        for other in ("inertia", "coupling", "brake", "engine", "vehicle", "thermal"):
+            if other in data:
+                fail(f"a network scenario lists its parts as [[component]] tables; "
+                     f"[{other}] belongs to the chain format", other)
+        if "network" not in data:
+            fail("missing required table [network] (with connect = [[...], ...])", "")
+    n_in, n_cp = len(data.get("inertia", [])), len(data.get("coupling", []))
+    if not network and n_cp != n_in - 1:
         fail(f"{n_in} inertias need {n_in - 1} couplings (coupling k joins inertia k and "
              f"k+1), found {n_cp}", "coupling" if n_cp else "inertia")
     sc = data["scenario"]
@@ -369,6 +387,8 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
     fe_names = [c["name"] for c in data.get("coupling", [])
                 if c.get("type") in ("clutch", "one_way_clutch", "lossy_gear")]
     fe_names += [b["name"] for b in data.get("brake", [])]
+    fe_names += [c["name"] for c in data.get("component", [])
+                 if c.get("type") in ("clutch", "brake")]
     if ("models" in sc or "clutch" in sc) and clutch not in fe_names:
         fail(f"friction element {clutch!r} does not exist{suggest(clutch, fe_names)} "
              f"(friction elements: {', '.join(fe_names) or 'none'})", "scenario.clutch")

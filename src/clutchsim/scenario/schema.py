@@ -211,6 +211,42 @@ THERMAL = (
        high=1e7),
 )
 
+def _component_keys(cls) -> tuple:
+    """The scenario keys of a network component, generated from its declaration."""
+    keys = [Key("name", "str", "Unique name.", required=True),
+            Key("type", "str", f"{cls.kind}: {cls.title}.", required=True)]
+    for p in cls.params:
+        optional = getattr(cls, "alternative_keys", {}).get(p.name)
+        doc = p.doc[:1].upper() + p.doc[1:] + (f" (or give {optional})." if optional else ".")
+        keys.append(Key(p.name, "number", doc, "" if p.unit == "-" else p.unit,
+                        required=p.default is None and not optional,
+                        low=p.low, high=p.high, strict=p.strict))
+    extra = {
+        "clutch": CLUTCH[2:8], "brake": CLUTCH[2:8],
+        "torque": (Key("input", "str", "Input signal: the torque [N·m].", required=True),),
+        "engine": (Key("full_load", "table", "`{speed = [rad/s ...], torque = [N·m ...]}`.",
+                       required=True),
+                   Key("throttle", "str", "Throttle input signal [-].", required=True)),
+        "thermal_node": (Key("link", "str", "Another thermal node this one conducts to."),),
+        "planetary": (Key("z_sun", "int", "Sun teeth (with z_ring, instead of ratio).",
+                          low=1, high=1e4),
+                      Key("z_ring", "int", "Ring teeth.", low=1, high=1e4)),
+    }.get(cls.kind, ())
+    return tuple(keys) + tuple(extra)
+
+
+def component_types() -> dict:
+    """``type`` -> scenario keys of every network component."""
+    from ..network.components import COMPONENTS
+    return {kind: _component_keys(cls) for kind, cls in COMPONENTS.items()}
+
+
+NETWORK = (
+    Key("connect", "connections", "Flanges joined: `[[\"engine.b\", \"clutch.a\"], ...]`; "
+        "each entry joins two or more flanges (`component.flange`, or `ground`).",
+        required=True),
+)
+
 COUPLING_TYPES = {"clutch": CLUTCH, "one_way_clutch": ONE_WAY_CLUTCH,
                   "spring_damper": SPRING, "gear": GEAR, "lossy_gear": LOSSY_GEAR,
                   "gearbox": GEARBOX}
@@ -226,6 +262,8 @@ SECTIONS = {
     "engine": (ENGINE, "table"),
     "vehicle": (VEHICLE, "table"),
     "thermal": (THERMAL, "tables"),
+    "network": (NETWORK, "table"),
+    "component": (None, "tables"),
 }
 
 
@@ -274,6 +312,10 @@ def check_table(table: dict, keys: tuple, path: str, fail) -> None:
                     isinstance(x, (int, float)) and not isinstance(x, bool)
                     and math.isfinite(x) for x in v):
                 fail(f"must be a list of finite numbers, got {quote(v)}", kp)
+        elif k.kind == "connections":
+            if not isinstance(v, list) or not all(
+                    isinstance(c, list) and all(isinstance(x, str) for x in c) for c in v):
+                fail(f"must be a list of lists of flange names, got {quote(v)}", kp)
         elif k.kind == "strs":
             if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
                 fail(f"must be a list of strings, got {quote(v)}", kp)
@@ -351,6 +393,14 @@ def reference_markdown() -> str:
         out += [f"## `{header}`", ""]
         if name == "inputs":
             out += ["Free-form: `input_name = signal` (see above).", ""]
+            continue
+        if name == "component":
+            out += [("Network scenarios list components and join their flanges in "
+                     "`[network] connect` (instead of `[[inertia]]`/`[[coupling]]`). The "
+                     "keys depend on `type` (generated from the component declarations, "
+                     "docs/network.md)."), ""]
+            for t, tkeys in component_types().items():
+                out += [f"### `type = \"{t}\"`", ""] + _rows(tkeys) + [""]
             continue
         if name == "coupling":
             out += [("Coupling k joins inertia k and inertia k+1; there is one coupling "

@@ -1,0 +1,295 @@
+"""Generate, compile and cache one straight-line plant per network topology.
+
+The generator asks every component for its equations (:meth:`Component.emit`, written
+against an :class:`Emitter`) and writes one Python module with the plant's compiled
+functions: ``rhs``, ``jac`` (exact), ``events``, ``reset`` and ``outputs`` (the
+:mod:`clutchsim.core.system` protocol).  Parameter values stay in the parameter vector:
+the module depends only on the *topology* (components, their structural options, the
+connections and the sparsity of the speed reduction), so a sweep over values never
+recompiles.  The module's file name is a hash of the topology; it lives in clutchsim's
+numba cache directory (keyed by clutchsim's sources), so numba's on-disk cache works for
+it and a second process loads it without compiling.
+
+Mechanics.  Node speeds are ``w = N·v`` (:class:`~clutchsim.network.network.Assembly`).
+Each component adds torques ``T`` on its flanges' nodes; the generalised forces are
+``F = Nᵀ·T`` and, with the reduced inertia ``M = Nᵀ·diag(J)·N``, ``a = M⁻¹·F``.  A friction
+element ``e`` has the slip ``w_e = b_e·v`` and, in the friction convention, its torque
+``τ_e`` acts as ``−τ_e·b_e`` on ``F``.  Locked elements ``A`` (coulomb-robust in its stuck
+mode) hold ``b_A·v̇ = 0``: their torques solve ``S_AA·τ_A = b_A·a`` with ``S = B·M⁻¹·Bᵀ`` and
+``v̇ = a − M⁻¹·B_Aᵀ·τ_A`` (:func:`~clutchsim.network._kernels.lock_solve`).  Locking
+projects ``v`` onto the new constraint set in the metric of ``M`` (momentum conserving; the
+kinetic energy it removes is booked as ``W_sync``).  ``N``, ``M⁻¹``, ``B``, ``M⁻¹·Bᵀ`` and
+``S`` are *derived parameters*, recomputed in Python whenever a value changes.
+
+The expressions components write are a C-like subset of Python (checked with :mod:`ast`
+when the module is generated: arithmetic, comparisons, conditional expressions, ``math``
+functions, ``abs``/``min``/``max``), so the same source can be printed as C.
+"""
+
+from __future__ import annotations
+
+import ast
+import hashlib
+import importlib.util
+import os
+import sys
+import tempfile
+import threading
+from pathlib import Path
+from typing import NamedTuple
+
+from .._jit import cache_dir
+from ..core import register_system
+
+__all__ = ["Emitter", "generate", "load_module"]
+
+#: energy accounts (quadrature states, in this order) and the key components book into
+ENERGY = (("W_in", "in"), ("W_friction", "fric"), ("W_damping", "damp"), ("W_road", "road"),
+          ("E_grade", "grade"), ("W_sync", "sync"))
+#: version of the generated code's layout; part of every module's hash
+GENERATOR_VERSION = 1
+
+_ALLOWED = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.BoolOp, ast.Compare, ast.IfExp,
+            ast.Call, ast.Name, ast.Load, ast.Constant, ast.Attribute, ast.Subscript,
+            ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd, ast.Not,
+            ast.And, ast.Or, ast.Lt, ast.LtE, ast.Gt, ast.GtE, ast.Eq, ast.NotEq, ast.Mod)
+_FUNCS = {"abs", "min", "max", "float"}
+_MATH = {"tanh", "exp", "log", "sqrt", "sin", "cos", "atan", "pi", "copysign", "fabs"}
+
+
+def check_expr(expr: str) -> str:
+    """``expr`` if it is in the C-like subset generated code may use, else ValueError."""
+    tree = ast.parse(expr, mode="eval")
+    for node in ast.walk(tree):
+        if not isinstance(node, _ALLOWED):
+            raise ValueError(  # noqa: TRY004 (a bad expression is a bad value, as all errors here)
+f"generated expression {expr!r}: {type(node).__name__} is not "
+                             "allowed in component equations")
+        if isinstance(node, ast.Call):
+            f = node.func
+            ok = (isinstance(f, ast.Name) and f.id in _FUNCS) or (
+                isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name)
+                and f.value.id == "math" and f.attr in _MATH)
+            if not ok:
+                raise ValueError(f"generated expression {expr!r}: call of "
+                                 f"{ast.unparse(f)} is not allowed")
+        if isinstance(node, ast.Subscript) and not (
+                isinstance(node.value, ast.Name) and node.value.id in ("p", "y", "u")):
+            raise ValueError(f"generated expression {expr!r}: only p[], y[], u[] may be "
+                             "indexed")
+    return expr
+
+
+class Emitter:
+    """What a component's :meth:`emit` writes against (one per component and render)."""
+
+    def __init__(self, gen, comp):
+        self.g = gen
+        self.c = comp
+        self.prefix = f"c{gen.comp_index[comp.name]}_"
+
+    # --------------------------------------------------------------- reading values
+    def w(self, flange: str) -> str:
+        """Speed of ``flange`` [rad/s]."""
+        return f"w{self.g.asm.node_of[(self.c.name, flange)]}"
+
+    def par(self, name: str) -> str:
+        """A scalar value of the component's :meth:`pack`."""
+        return f"p[{self.g.slot[(self.c.name, name)]}]"
+
+    def table(self, name: str) -> tuple[int, int]:
+        """(offset, length) of a table of :meth:`pack` (breakpoints then values)."""
+        return self.g.tables[(self.c.name, name)]
+
+    def x(self, state: str) -> str:
+        """One of the component's own states."""
+        return f"y[{self.g.state_index[(self.c.name, state)]}]"
+
+    def theta(self, node: str) -> str:
+        """Temperature of thermal node ``node`` [°C]."""
+        return f"y[{self.g.state_index[(node, 'theta')]}]"
+
+    def u(self, name: str) -> str:
+        """Input signal ``name`` (as declared by :meth:`inputs`)."""
+        return f"u[{self.g.channel[name]}]"
+
+    def tmp(self, base: str) -> str:
+        """A local variable name private to this component."""
+        return f"{self.prefix}{base}"
+
+    # keys of partial derivatives
+    def kw(self, flange: str):
+        return ("w", self.g.asm.node_of[(self.c.name, flange)])
+
+    def kx(self, state: str):
+        return ("y", self.g.state_index[(self.c.name, state)])
+
+    def ktheta(self, node: str):
+        return ("y", self.g.state_index[(node, "theta")])
+
+    # --------------------------------------------------------------- writing equations
+    def line(self, code: str) -> None:
+        """A statement (assignments, ``if``) used by the equations below it."""
+        self.g.body.append(code)
+
+    def jline(self, code: str) -> None:
+        """A statement needed only for partial derivatives."""
+        self.g.jbody.append(code)
+
+    def let(self, name: str, expr: str) -> str:
+        """``name = expr`` as a private local; returns the local's name."""
+        v = self.tmp(name)
+        self.line(f"{v} = {check_expr(expr)}")
+        return v
+
+    def torque(self, flange: str, expr: str) -> None:
+        """Torque ``expr`` [N·m] acting on the node of ``flange``."""
+        self.g.torques.append((self.g.asm.node_of[(self.c.name, flange)], check_expr(expr)))
+
+    def dtorque(self, flange: str, key, expr: str) -> None:
+        """Partial derivative of that torque with respect to ``key`` (``kw``/``kx``/...)."""
+        self.g.dtorques.append((self.g.asm.node_of[(self.c.name, flange)], key,
+                                check_expr(expr)))
+
+    def deriv(self, state: str, expr: str) -> None:
+        self.g.derivs.append((self.g.state_index[(self.c.name, state)], check_expr(expr)))
+
+    def dderiv(self, state: str, key, expr: str) -> None:
+        self.g.dderivs.append((self.g.state_index[(self.c.name, state)], key,
+                               check_expr(expr)))
+
+    def heat(self, node: str, expr: str) -> None:
+        """Heat flow ``expr`` [W] into thermal node ``node``."""
+        self.g.heats.append((node, check_expr(expr)))
+
+    def dheat(self, node: str, key, expr: str) -> None:
+        self.g.dheats.append((node, key, check_expr(expr)))
+
+    def power(self, account: str, expr: str) -> None:
+        """Book ``expr`` [W] in an energy account (``in``, ``fric``, ``damp``, ``road``,
+        ``grade``)."""
+        self.g.powers.append((account, check_expr(expr)))
+
+    def dpower(self, account: str, key, expr: str) -> None:
+        """Partial derivative of a booked power (the energy accounts are states: the
+        implicit integrators read their Jacobian rows)."""
+        self.g.dpowers.append((account, key, check_expr(expr)))
+
+    def output(self, name: str, unit: str, expr: str, setup: tuple[str, ...] = ()) -> None:
+        """An output signal; ``setup`` statements run before it (outputs only)."""
+        self.g.outputs.append((name, unit, check_expr(expr), setup))
+
+    def event(self, name: str, direction: int, expr: str, action: str) -> None:
+        """An event function; at its zero crossing the plant answers ``action``
+        (``"fail"``: the run stops as failed, ``"stop"``, ``"continue"``)."""
+        self.g.events.append((name, int(direction), check_expr(expr), action, self.c.name))
+
+    def accel(self, flange: str) -> str:
+        """Acceleration of ``flange`` [rad/s²] (outputs only)."""
+        return f"al{self.g.asm.node_of[(self.c.name, flange)]}"
+
+    def spring_energy(self, expr: str) -> None:
+        """Potential energy [J] stored by the component (the ``E_spring`` output)."""
+        self.g.springs.append(check_expr(expr))
+
+    def constraint_torque(self, relation: int, flange: str) -> str:
+        """Torque [N·m] the component's rigid relation ``relation`` exerts on the node of
+        ``flange`` (outputs only)."""
+        row = self.g.relation_row[(self.c.name, relation)]
+        node = self.g.asm.node_of[(self.c.name, flange)]
+        return f"(p[{self.g.plan.off_G + row * self.g.asm.n_nodes + node}] * lam{row})"
+
+
+class Topology(NamedTuple):
+    """Everything that shapes the generated code (its hash names the module)."""
+
+    key: str
+    source: str
+
+
+def _fmt_sum(terms) -> str:
+    terms = [t for t in terms if t]
+    return " + ".join(terms) if terms else "0.0"
+
+
+class _Gen:
+    """One generation pass over a network (see :func:`generate`)."""
+
+    def __init__(self, plan):
+        self.plan = plan
+        self.asm = plan.asm
+        self.slot = plan.slot
+        self.tables = plan.tables
+        self.state_index = plan.state_index
+        self.channel = plan.channel
+        self.comp_index = {c.name: i for i, c in enumerate(plan.net.components)}
+        self.relation_row = plan.relation_row
+        self.body: list[str] = []
+        self.jbody: list[str] = []
+        self.torques: list = []
+        self.dtorques: list = []
+        self.derivs: list = []
+        self.dderivs: list = []
+        self.heats: list = []
+        self.dheats: list = []
+        self.powers: list = []
+        self.dpowers: list = []
+        self.outputs: list = []
+        self.events: list = []
+        self.springs: list = []
+        for c in plan.mech_order:
+            if getattr(c, "friction", False):
+                plan.friction_prelude(self, c)
+            c.emit(Emitter(self, c))
+        for c in plan.thermal:
+            c.emit(Emitter(self, c))
+
+
+def generate(plan) -> Topology:
+    """The module source of ``plan`` (a :class:`~clutchsim.network.plant.Plan`)."""
+    g = _Gen(plan)
+    src = plan.render(g)
+    h = hashlib.blake2b(digest_size=10)
+    h.update(str(GENERATOR_VERSION).encode())
+    h.update(src.encode())
+    return Topology(h.hexdigest(), src)
+
+
+_lock = threading.Lock()
+_LOADED: dict[str, object] = {}
+
+
+def _module_dir() -> Path:
+    base = Path(cache_dir) if cache_dir else Path(tempfile.gettempdir()) / "clutchsim-net"
+    d = base / "network"
+    d.mkdir(parents=True, exist_ok=True)
+    return d
+
+
+def load_module(topo: Topology, *, exact_jacobian: bool = True):
+    """Write (atomically, once) and import the module of ``topo``; register its tag (with
+    its exact Jacobian unless ``exact_jacobian`` is False)."""
+    with _lock:
+        mod = _LOADED.get(topo.key)
+        if mod is not None:
+            return mod
+        name = f"clutchsim_net_{topo.key}"
+        path = _module_dir() / f"{name}.py"
+        if not path.exists() or path.read_text() != topo.source:
+            fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+            with os.fdopen(fd, "w") as f:
+                f.write(topo.source)
+            os.replace(tmp, path)
+        spec = importlib.util.spec_from_file_location(name, path)
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[name] = mod
+        spec.loader.exec_module(mod)
+        # one tag class per topology, created at run time (its name carries the hash)
+        tag = NamedTuple(f"Net_{topo.key}", [("k", int)])  # noqa: UP014
+        tag.__module__ = name
+        setattr(mod, tag.__name__, tag)
+        register_system(tag, rhs=mod.rhs, events=mod.events, reset=mod.reset,
+                        outputs=mod.outputs, jac=mod.jac if exact_jacobian else None)
+        mod.TAG = tag
+        _LOADED[topo.key] = mod
+        return mod

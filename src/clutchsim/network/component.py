@@ -1,0 +1,135 @@
+"""The base class of network components and the protocol they are compiled through.
+
+A component says once what it is:
+
+* ``flanges``: its mechanical connection points (names); ``grounded`` lists the ones that
+  are tied to the housing when a scenario leaves them unconnected (supports);
+* ``params``: its scalar parameters (:class:`~clutchsim.network.spec.Param`: name, unit,
+  range, description), validated on construction;
+* ``states``: the continuous states it owns (:class:`~clutchsim.network.spec.StateSpec`);
+* its equations, in :meth:`Component.emit`, written against an emitter ``e``
+  (:class:`~clutchsim.network.codegen.Emitter`): ``e.w(flange)`` a flange speed,
+  ``e.par(name)`` a parameter, ``e.x(state)`` a state, ``e.u(input)`` an input signal;
+  ``e.torque(flange, expr)`` applies a torque on a flange, ``e.deriv(state, expr)`` sets a
+  state derivative, ``e.power(account, expr)`` books a power in the energy accounts, and
+  every equation gives its exact partial derivatives beside it (``e.dtorque``,
+  ``e.dderiv``).  Expressions are strings in a small, C-like subset of Python
+  (arithmetic, comparisons, ``math`` functions, conditional expressions); the generator
+  writes them into one straight-line compiled module per topology;
+* rigid parts: :meth:`Component.inertias` (inertia at a flange) and
+  :meth:`Component.constraints` (linear relations between flange speeds, e.g. a gear).
+
+Adding a component is one new module under ``clutchsim/network/components`` and its line
+in :data:`clutchsim.network.components.COMPONENTS`; ``docs/network.md`` has the recipe.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import numpy as np
+
+from .spec import Param, StateSpec, check_value
+
+__all__ = ["Component"]
+
+
+class Component:
+    """A network component (see the module docstring)."""
+
+    kind: ClassVar[str] = ""
+    title: ClassVar[str] = ""
+    flanges: ClassVar[tuple[str, ...]] = ()
+    grounded: ClassVar[tuple[str, ...]] = ()
+    params: ClassVar[tuple[Param, ...]] = ()
+    states: ClassVar[tuple[StateSpec, ...]] = ()
+
+    def __init__(self, name: str, **values):
+        if not isinstance(name, str) or not name or not name.replace("_", "a").isalnum():
+            raise ValueError(f"{self.kind}: name {name!r} must be a non-empty identifier "
+                             "(letters, digits, underscores)")
+        self.name = name
+        known = {p.name for p in self.params}
+        unknown = sorted(set(values) - known)
+        if unknown:
+            from ..core.system import closest
+            raise ValueError(f"{self.label}: unknown parameter {unknown[0]!r}"
+                             f"{closest(unknown[0], known)}; parameters: "
+                             f"{', '.join(sorted(known)) or 'none'}")
+        v = {}
+        for p in self.params:
+            if p.name in values:
+                v[p.name] = check_value(self.label, p, values[p.name])
+            elif p.default is None:
+                raise ValueError(f"{self.label}: parameter {p.name!r} [{p.unit}] is required "
+                                 f"({p.doc})")
+            else:
+                v[p.name] = float(p.default)
+        self.values = v
+
+    # ------------------------------------------------------------------ declaration
+    @property
+    def label(self) -> str:
+        """``"<kind> '<name>'"``, how messages name this component."""
+        return f"{self.kind.replace('_', ' ')} {getattr(self, 'name', '?')!r}"
+
+    def __getattr__(self, key):
+        values = self.__dict__.get("values")
+        if values is not None and key in values:
+            return values[key]
+        raise AttributeError(key)
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.name!r})"
+
+    def structure(self) -> tuple:
+        """What of this component shapes the generated code: a hashable tuple (its kind
+        and name, plus :meth:`options`).  Networks with equal structures share one
+        compiled plant."""
+        return (self.kind, self.name, self.options())
+
+    def options(self) -> tuple:
+        """Structural options (a friction model, a governor that is present, the length
+        of a table, ...); parameter values never are."""
+        return ()
+
+    def inputs(self) -> tuple[str, ...]:
+        """Names of the input signals it reads."""
+        return ()
+
+    def input_units(self) -> dict[str, str]:
+        """Unit of each input of :meth:`inputs`."""
+        return {}
+
+    def inertias(self) -> dict[str, float]:
+        """Inertia [kg·m²] it puts at each of its flanges."""
+        return {}
+
+    def constraints(self) -> list[dict[str, float]]:
+        """Rigid linear relations between its flange speeds, ``sum(c·w_flange) = 0``."""
+        return []
+
+    def pack(self) -> dict[str, float | np.ndarray]:
+        """The values its equations read (``e.par``/``e.table``): its parameters, plus
+        anything derived from them (tables as 1-D arrays)."""
+        return dict(self.values)
+
+    def state_layout(self) -> list[tuple[str, str, str]]:
+        """(key, state name in results, unit) of each state it owns; by default its
+        :attr:`states` as ``<component>.<state>``."""
+        return [(s.name, f"{self.name}.{s.name}", s.unit) for s in self.states]
+
+    def initial_speeds(self) -> dict[str, float]:
+        """Initial speed [rad/s] it prescribes at its flanges (inertias)."""
+        return {}
+
+    def initial_state(self, ctx) -> list[float]:
+        """Initial values of its states; ``ctx`` gives the initial flange speeds
+        (``ctx.speed(component, flange)``) and the inputs at the start (``ctx.input0``)."""
+        return [0.0] * len(self.states)
+
+    def emit(self, e) -> None:
+        """Write the equations (see the module docstring)."""
+
+    def check_network(self, net) -> None:
+        """Checks that need the whole network (names of thermal nodes, ...)."""

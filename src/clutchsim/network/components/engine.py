@@ -1,0 +1,129 @@
+"""A combustion engine: full-load curve, drag, PI idle governor, stall."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..component import Component
+from ..spec import Param
+
+
+class Engine(Component):
+    """Torque source on ``flange`` (reaction on ``support``, grounded when unconnected).
+
+    ``T = x·T_max(ω) − (drag0·tanh(ω/1 rad/s) + drag1·ω)`` with ``x = clip(throttle +
+    gov, 0, 1)``; the PI idle governor ``gov = clip(kp·e + ki·I, 0, 1 − throttle)``, ``e =
+    idle_speed − ω``, ``dI/dt = e + (gov − raw)/(ki·0.1 s)`` (back-calculation anti-windup:
+    the right-hand side stays continuous).  Below ``stall_speed`` the run fails (event
+    ``engine stalled``).  ``T_max`` is the full-load table (speeds [rad/s], torques [N·m]),
+    held constant outside, clipped at 0.
+    """
+
+    kind = "engine"
+    title = "combustion engine with idle governor"
+    flanges = ("flange", "support")
+    grounded = ("support",)
+    params = (
+        Param("drag0", "N·m", "friction torque", default=0.0, low=0.0),
+        Param("drag1", "N·m·s/rad", "pumping loss coefficient", default=0.0, low=0.0),
+        Param("idle_speed", "rad/s", "idle target (0: no governor)", default=0.0, low=0.0),
+        Param("kp", "1/(rad/s)", "governor proportional gain", default=0.0, low=0.0),
+        Param("ki", "1/rad", "governor integral gain", default=0.0, low=0.0),
+        Param("stall_speed", "rad/s", "stall threshold", default=0.0, low=0.0),
+    )
+
+    def __init__(self, name, speeds, torques, throttle="throttle", **values):
+        super().__init__(name, **values)
+        x = np.asarray(speeds, dtype=float).ravel()
+        v = np.asarray(torques, dtype=float).ravel()
+        if x.size < 1 or x.size != v.size:
+            raise ValueError(f"{self.label}: the full-load curve needs equal numbers of speeds "
+                             f"and torques (got {x.size} and {v.size})")
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+            raise ValueError(f"{self.label}: the full-load curve has non-finite entries")
+        if np.any(np.diff(x) <= 0):
+            raise ValueError(f"{self.label}: full-load speeds must be strictly increasing")
+        if self.idle_speed and self.stall_speed >= self.idle_speed:
+            raise ValueError(f"{self.label}: stall_speed = {self.stall_speed:g} rad/s must be "
+                             f"below idle_speed = {self.idle_speed:g} rad/s")
+        self.speeds, self.torques, self.throttle = tuple(x), tuple(v), str(throttle)
+
+    @property
+    def governed(self) -> bool:
+        return self.idle_speed > 0.0
+
+    def inputs(self):
+        return (self.throttle,)
+
+    def options(self):
+        return (self.governed, len(self.speeds), self.throttle)
+
+    def pack(self):
+        d = dict(self.values)
+        d["full_load"] = np.concatenate([self.speeds, self.torques])
+        d["t_aw"] = max(self.ki, 1e-12) * 0.1
+        return d
+
+    def state_layout(self):
+        return [("gi", "engine.governor_integral", "rad")] if self.governed else []
+
+    def initial_state(self, ctx):
+        return [0.0] if self.governed else []
+
+    def emit(self, e):
+        P = e.par
+        w = e.let("wr", f"{e.w('flange')} - {e.w('support')}")
+        thr = e.u(self.throttle)
+        gov, dgw, dgi = e.tmp("gov"), e.tmp("dgw"), e.tmp("dgi")
+        if self.governed:
+            gi = e.x("gi")
+            err = e.let("err", f"{P('idle_speed')} - {w}")
+            raw = e.let("raw", f"{P('kp')} * {err} + {P('ki')} * {gi}")
+            room = e.let("room", f"max(1.0 - {thr}, 0.0)")
+            e.line(f"{gov} = 0.0 if {raw} <= 0.0 else ({room} if {raw} >= {room} else {raw})")
+            e.line(f"{dgw} = -{P('kp')} if 0.0 < {raw} < {room} else 0.0")
+            e.line(f"{dgi} = {P('ki')} if 0.0 < {raw} < {room} else 0.0")
+            e.deriv("gi", f"{err} + ({gov} - {raw}) / {P('t_aw')}")
+            # d(dI)/dω = -1 + (dgov/dω + kp)/t_aw ; d(dI)/dI = (dgov/dI - ki)/t_aw
+            e.dderiv("gi", e.kw("flange"), f"-1.0 + ({dgw} + {P('kp')}) / {P('t_aw')}")
+            e.dderiv("gi", e.kw("support"), f"1.0 - ({dgw} + {P('kp')}) / {P('t_aw')}")
+            e.dderiv("gi", e.kx("gi"), f"({dgi} - {P('ki')}) / {P('t_aw')}")
+        else:
+            e.line(f"{gov} = 0.0")
+            e.line(f"{dgw} = 0.0")
+            e.line(f"{dgi} = 0.0")
+        xr = e.let("xr", f"{thr} + {gov}")
+        x = e.let("x", f"min(max({xr}, 0.0), 1.0)")
+        dx = e.let("dx", f"1.0 if 0.0 < {xr} < 1.0 else 0.0")
+        o, n = e.table("full_load")
+        tf, dtf = e.tmp("tf"), e.tmp("dtf")
+        e.line(f"{tf}, {dtf} = table(p, {o}, {n}, {w})")
+        e.line(f"if {tf} < 0.0:\n    {tf} = 0.0\n    {dtf} = 0.0")
+        th = e.let("th", f"math.tanh({w})")
+        fuel = e.let("fuel", f"{x} * {tf}")
+        drag = e.let("drag", f"{P('drag0')} * {th} + {P('drag1')} * {w}")
+        tq = e.let("tq", f"{fuel} - {drag}")
+        e.torque("flange", tq)
+        e.torque("support", f"-{tq}")
+        dtw = e.let("dtw", f"{dx} * {dgw} * {tf} + {x} * {dtf} - ({P('drag0')} * (1.0 - {th} * "
+                           f"{th}) + {P('drag1')})")
+        for fl, s in (("flange", ""), ("support", "-")):
+            e.dtorque(fl, e.kw("flange"), f"{s}{dtw}")
+            e.dtorque(fl, e.kw("support"), f"{'-' if not s else ''}{dtw}")
+            if self.governed:
+                e.dtorque(fl, e.kx("gi"), f"{s}{dx} * {dgi} * {tf}")
+        e.power("in", f"{fuel} * {w}")
+        e.power("damp", f"{drag} * {w}")
+        dfuel = e.let("dfuel", f"{dx} * {dgw} * {tf} + {x} * {dtf}")
+        ddrag = e.let("ddrag", f"{P('drag0')} * (1.0 - {th} * {th}) + {P('drag1')}")
+        for fl, s in (("flange", ""), ("support", "-")):
+            e.dpower("in", e.kw(fl), f"{s}({dfuel} * {w} + {fuel})")
+            e.dpower("damp", e.kw(fl), f"{s}({ddrag} * {w} + {drag})")
+        if self.governed:
+            e.dpower("in", e.kx("gi"), f"{dx} * {dgi} * {tf} * {w}")
+        e.output("T_engine", "N·m", tq)
+        e.event("engine stalled (speed fell below {stall_speed:g} rad/s = {stall_rpm:.0f} rpm)",
+                -1, f"{w} - {P('stall_speed')}", "fail")
+
+    def format_values(self) -> dict:
+        return {**self.values, "stall_rpm": self.stall_speed * 30.0 / np.pi}

@@ -1,0 +1,222 @@
+"""Friction elements with any clutchsim friction model: a clutch and a brake.
+
+The element's slip is ``w = ω_b − ω_a`` (clutch) or ``w = ω_flange − ω_support`` (brake);
+its torque ``τ`` is the friction model's force in the direction of ``w`` (the sliding side
+``b`` sees ``−τ``, side ``a`` ``+τ``).  The model's force parameters are the capacity at
+full actuation; the capacity multiplier is ``scale = act(u)·μ(θ)/μ_ref·μ(|w|)/μ_ref``
+(>= 0), where ``act`` is the command input (COM in [0, 1]) or, with ``clamp_table``, the
+normalised clamp force of a diaphragm-spring characteristic at the position the input
+gives; ``μ(θ)`` is read at the first heat node's temperature.  coulomb-robust elements lock
+and free (a state ``<name>.locked``); the generated plant solves their stick torques.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...friction.base import FrictionModel
+from ..component import Component
+from ..spec import Param
+
+
+def _table(owner, key, tab):
+    if tab is None:
+        return None
+    x = np.asarray(tab[0], dtype=float).ravel()
+    v = np.asarray(tab[1], dtype=float).ravel()
+    if x.size < 2 or x.size != v.size:
+        raise ValueError(f"{owner}: {key} needs at least 2 points and equal lengths "
+                         f"(got {x.size} and {v.size})")
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+        raise ValueError(f"{owner}: {key} has non-finite entries")
+    if np.any(np.diff(x) <= 0):
+        raise ValueError(f"{owner}: {key} breakpoints must be strictly increasing")
+    return (tuple(x), tuple(v))
+
+
+def static_capacity(model: FrictionModel) -> float:
+    """Largest stick torque of ``model`` at scale 1 [N·m] (T_stat, F_s or F_c)."""
+    for attr in ("T_stat", "F_s", "F_c"):
+        if hasattr(model, attr):
+            return float(getattr(model, attr))
+    return float("nan")
+
+
+class _FrictionElement(Component):
+    friction = True
+    params = (Param("drag", "N·m", "drag torque of the open element, drag·tanh(w/1 rad/s)",
+                    default=0.0, low=0.0),)
+    side_a = "a"
+    side_b = "b"
+
+    def __init__(self, name, model, command, clamp_table=None, mu_temperature=None,
+                 mu_slip=None, heat=(), locked0=None, z0=None, **values):
+        super().__init__(name, **values)
+        o = self.label
+        if not isinstance(model, FrictionModel):
+            raise TypeError(f"{o}: model must be a clutchsim friction model")
+        if not isinstance(command, str) or not command:
+            raise ValueError(f"{o}: command = {command!r} must name an input signal")
+        self.model = model
+        self.command = command
+        self.clamp_table = _table(o, "clamp_table", clamp_table)
+        self.mu_temperature = _table(o, "mu_temperature", mu_temperature)
+        self.mu_slip = _table(o, "mu_slip", mu_slip)
+        shares = []
+        for node, s in heat:
+            s = float(s)
+            if not 0.0 <= s <= 1.0:
+                raise ValueError(f"{o}: heat share {s:g} for {node!r} must be in [0, 1]")
+            shares.append((str(node), s))
+        if len(shares) > 2:
+            raise ValueError(f"{o}: heat goes to at most 2 thermal nodes")
+        if sum(s for _, s in shares) > 1.0 + 1e-12:
+            raise ValueError(f"{o}: heat shares sum to {sum(s for _, s in shares):g} > 1")
+        if self.mu_temperature is not None and not shares:
+            raise ValueError(f"{o}: mu_temperature needs a thermal node (heat)")
+        self.heat = tuple(shares)
+        self.locked0 = locked0
+        self.z0 = None if z0 is None else tuple(float(v) for v in z0)
+        self.has_drag = self.drag != 0.0
+
+    @property
+    def lockable(self) -> bool:
+        return self.model.name == "coulomb-robust"
+
+    def options(self):
+        tabs = tuple(None if getattr(self, k) is None else len(getattr(self, k)[0])
+                     for k in ("clamp_table", "mu_temperature", "mu_slip"))
+        return (self.model.name, self.model.code, self.model.n_states,
+                len(self.model.pack()), self.command, tabs,
+                tuple(n for n, _ in self.heat), self.has_drag)
+
+    def slip(self):
+        return {self.side_b: 1.0, self.side_a: -1.0}
+
+    def heat_shares(self):
+        """(thermal node, name of its share in :meth:`pack`) per heat path."""
+        return tuple((node, f"share{k}") for k, (node, _s) in enumerate(self.heat))
+
+    def inputs(self):
+        return (self.command,)
+
+    def check_network(self, net):
+        for node, _ in self.heat:
+            try:
+                other = net.component(node)
+            except ValueError:
+                other = None
+            if other is None or not getattr(other, "thermal", False):
+                names = [c.name for c in net.components if getattr(c, "thermal", False)]
+                raise ValueError(f"{self.label}: heat goes to thermal node {node!r}, which "
+                                 f"does not exist (nodes: {', '.join(names) or 'none'})")
+
+    def pack(self):
+        d = dict(self.values)
+        d["model"] = self.model.pack()
+        d["capacity"] = static_capacity(self.model)
+        for k, (_node, share) in enumerate(self.heat):
+            d[f"share{k}"] = share
+        for key in ("clamp_table", "mu_temperature", "mu_slip"):
+            tab = getattr(self, key)
+            if tab is not None:
+                d[key] = np.concatenate([tab[0], tab[1]])
+        return d
+
+    def state_layout(self):
+        names = self.model.state_names()
+        units = self.model.state_units("rotational")
+        out = [(f"z{i}", f"{self.name}.{n}", u) for i, (n, u) in enumerate(zip(names, units))]
+        if self.lockable:
+            out.append(("locked", f"{self.name}.locked", "-"))
+        return out
+
+    def _slip0(self, ctx) -> float:
+        return ctx.speed(self.name, self.side_b) - ctx.speed(self.name, self.side_a)
+
+    def _locked0(self, ctx) -> bool:
+        if not self.lockable:
+            return False
+        if self.locked0 is not None:
+            return bool(self.locked0)
+        return self._slip0(ctx) == 0.0 and ctx.input0.get(self.command, 1.0) > 0.0
+
+    def initial_state(self, ctx):
+        if self.z0 is not None:
+            z = np.asarray(self.z0, dtype=float)
+        else:
+            z = self.model.initial_state()
+            w = self._slip0(ctx)
+            if self.lockable and not self._locked0(ctx) and w != 0.0:
+                z = np.array([np.sign(w)])
+        vals = list(z)
+        if self.lockable:
+            vals.append(1.0 if self._locked0(ctx) else 0.0)
+        return vals
+
+    def emit(self, e):
+        i = e.g.plan.fe_index[self.name]
+        s, sc = f"s{i}", f"sc{i}"
+        x = e.u(self.command)
+        self._partials = []
+        if self.clamp_table is not None:
+            o, n = e.table("clamp_table")
+            act = e.tmp("act")
+            e.line(f"{act}, {e.tmp('dact')} = table(p, {o}, {n}, {x})")
+        else:
+            act = x
+        e.line(f"{sc} = {act} if {act} > 0.0 else 0.0")
+        dth = None
+        if self.mu_temperature is not None:
+            o, n = e.table("mu_temperature")
+            th = e.theta(self.heat[0][0])
+            mt, dmt = e.tmp("mt"), e.tmp("dmt")
+            e.line(f"{mt}, {dmt} = table(p, {o}, {n}, {th})")
+            dth = e.let("dsc_th", f"{sc} * {dmt}")
+            e.line(f"{sc} = {sc} * {mt}")
+        dsl = None
+        if self.mu_slip is not None:
+            o, n = e.table("mu_slip")
+            ms, dms = e.tmp("ms"), e.tmp("dms")
+            e.line(f"{ms}, {dms} = table(p, {o}, {n}, abs({s}))")
+            dsl = e.let("dsc_s", f"{sc} * {dms} * (1.0 if {s} >= 0.0 else -1.0)")
+            if dth is not None:
+                e.line(f"{dth} = {dth} * {ms}")
+            e.line(f"{sc} = {sc} * {ms}")
+        e.line(f"{sc} = max({sc}, 0.0)")
+        if dth is not None:
+            self._partials.append((e.ktheta(self.heat[0][0]), dth))
+        if dsl is not None:
+            for fl, coef in self.slip().items():
+                self._partials.append((e.kw(fl), f"{coef!r} * {dsl}"))
+        T, Fe = f"fT{i}", f"Fe{i}"
+        names = ([f"T_{self.name}"] if self.side_a == "support" else
+                 [f"T_{self.name}", f"T_friction_{self.name}"])
+        for nm in names:
+            e.output(nm, "N·m", T)
+        e.output(f"w_slip_{self.name}", "rad/s", s)
+        e.output(f"capacity_{self.name}", "N·m", f"{sc} * {e.par('capacity')}")
+        e.output(f"T_stick_{self.name}", "N·m", Fe)
+        e.output(f"P_{self.name}", "W", f"{T} * {s}")
+
+    def scale_partials_of(self, e_index):
+        return list(getattr(self, "_partials", []))
+
+
+class Clutch(_FrictionElement):
+    """A friction clutch between flanges a and b (any friction model)."""
+
+    kind = "clutch"
+    title = "friction clutch (any friction model)"
+    flanges = ("a", "b")
+
+
+class Brake(_FrictionElement):
+    """A friction brake from ``flange`` to ``support`` (grounded when unconnected)."""
+
+    kind = "brake"
+    title = "friction brake (any friction model)"
+    flanges = ("flange", "support")
+    grounded = ("support",)
+    side_a = "support"
+    side_b = "flange"

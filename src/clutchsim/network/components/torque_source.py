@@ -1,0 +1,39 @@
+"""A torque from an input signal, acting between a flange and its support."""
+
+from __future__ import annotations
+
+from ..component import Component
+
+
+class TorqueSource(Component):
+    """Torque ``τ = u(t)`` [N·m] on ``flange``, reaction ``−τ`` on ``support`` (grounded
+    when unconnected; Modelica ``Torque``)."""
+
+    kind = "torque"
+    title = "torque from an input signal"
+    flanges = ("flange", "support")
+    grounded = ("support",)
+
+    def __init__(self, name, input: str, **values):
+        super().__init__(name, **values)
+        if not isinstance(input, str) or not input:
+            raise ValueError(f"{self.label}: input = {input!r} must name an input signal")
+        self.input = input
+
+    def options(self):
+        return (self.input,)
+
+    def inputs(self):
+        return (self.input,)
+
+    def input_units(self):
+        return {self.input: "N·m"}
+
+    def emit(self, e):
+        u = e.u(self.input)
+        e.torque("flange", u)
+        e.torque("support", f"-{u}")
+        e.power("in", f"{u} * ({e.w('flange')} - {e.w('support')})")
+        e.dpower("in", e.kw("flange"), u)
+        e.dpower("in", e.kw("support"), f"-{u}")
+        e.output(f"T_{self.name}", "N·m", u)

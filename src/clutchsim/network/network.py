@@ -1,0 +1,331 @@
+"""A driveline as a network: components joined at flanges, reduced to independent speeds.
+
+Flanges joined by :attr:`Network.connections` form *nodes* (one speed each; the reserved
+name ``ground`` is the housing, at rest).  Rigid components (gears, planetary sets) give
+linear relations between node speeds, ``G·w = 0``; :class:`Assembly` solves them once,
+exactly, for a set of *independent speeds* ``v`` with ``w = N·v`` (reduced row echelon
+form; the speeds of inertias named first are kept as states, in the order the components
+are listed).  The reduced inertia matrix ``M = Nᵀ·diag(J)·N`` must be regular: a
+coordinate without inertia (a support left floating with nothing on it) is an error that
+names its flanges.  Friction elements that lock (coulomb-robust) add relations at run time;
+the generated plant solves them in closed form (:mod:`clutchsim.network.codegen`).
+
+Nothing here depends on scenarios: :mod:`clutchsim.scenario` builds a :class:`Network`
+from a file, and the driveline's chain files are translated into one
+(:func:`clutchsim.network.from_chain`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.system import closest
+from .component import Component
+
+__all__ = ["GROUND", "Assembly", "Network", "NetworkError"]
+
+#: reserved node name of the housing (speed 0)
+GROUND = "ground"
+
+#: relative size below which a pivot of the constraint elimination counts as zero
+_PIVOT_TOL = 1e-10
+
+
+class NetworkError(ValueError):
+    """A network that cannot be built; ``where`` names the component (and flange)."""
+
+    def __init__(self, message: str, where: str = ""):
+        super().__init__(message)
+        self.where = where
+
+
+@dataclass(frozen=True, eq=False)
+class Network:
+    """Components and the flanges they share.
+
+    Parameters
+    ----------
+    components : sequence of Component
+        Unique names.  Thermal nodes are components without flanges.
+    connections : sequence of sequence of str
+        Each entry joins two or more flanges, ``"component.flange"`` or ``"ground"``.
+    name : str
+    metadata : dict
+        Kept with results.
+    """
+
+    components: tuple
+    connections: tuple
+    name: str = "driveline"
+    metadata: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        comps = tuple(self.components)
+        object.__setattr__(self, "components", comps)
+        object.__setattr__(self, "connections", tuple(tuple(c) for c in self.connections))
+        for c in comps:
+            if not isinstance(c, Component):
+                raise NetworkError(f"network: {c!r} is not a network component")
+        names = [c.name for c in comps]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise NetworkError(f"network: two components are named {dup[0]!r}; component "
+                               "names must be unique", dup[0])
+        if GROUND in names:
+            raise NetworkError(f"network: {GROUND!r} is reserved for the housing; rename "
+                               "that component", GROUND)
+
+    def component(self, name: str) -> Component:
+        for c in self.components:
+            if c.name == name:
+                return c
+        raise NetworkError(f"network: no component {name!r}"
+                           f"{closest(name, [c.name for c in self.components])}", name)
+
+    def compile(self):
+        """The compiled :class:`~clutchsim.network.plant.Plan` (cached per topology)."""
+        from .plant import compile_network
+        return compile_network(self)
+
+    def build(self, inputs0: dict | None = None):
+        """The :class:`~clutchsim.core.System` of this network; ``inputs0`` (input name ->
+        value at the start) lets switching elements with zero slip start free when their
+        command is 0."""
+        return self.compile().system(self.components, inputs0=inputs0, name=self.name,
+                                     metadata=dict(self.metadata))
+
+    def assemble(self) -> Assembly:
+        """Nodes, the reduction to independent speeds and the checks (:class:`Assembly`)."""
+        return Assembly(self)
+
+
+def _parse_flange(net: Network, text, k: int):
+    if not isinstance(text, str):
+        raise NetworkError(f"connection {k + 1}: {text!r} must be a string "
+                           "'component.flange' or 'ground'")
+    if text == GROUND:
+        return GROUND
+    comp, sep, flange = text.partition(".")
+    if not sep:
+        c = net.component(comp)
+        if len(c.flanges) == 1:
+            return (comp, c.flanges[0])
+        raise NetworkError(f"connection {k + 1}: {text!r} names a component, not one of its "
+                           f"flanges ({', '.join(f'{comp}.{f}' for f in c.flanges)})", comp)
+    c = net.component(comp)
+    if flange not in c.flanges:
+        raise NetworkError(f"connection {k + 1}: {c.label} has no flange {flange!r}"
+                           f"{closest(flange, c.flanges)}; its flanges: "
+                           f"{', '.join(c.flanges) or 'none'}", f"{comp}.{flange}")
+    return (comp, flange)
+
+
+class Assembly:
+    """The network reduced to independent speeds (see the module docstring).
+
+    Attributes
+    ----------
+    node_of : dict
+        ``(component, flange) -> node index``.
+    n_nodes, ground : int
+        Node count; index of the ground node (always present).
+    node_names : tuple of str
+        A readable name per node (its first inertia, else its first flange).
+    free : tuple of int
+        The node whose speed is independent coordinate ``k``.
+    """
+
+    def __init__(self, net: Network):
+        self.net = net
+        parent: dict = {}
+
+        def find(a):
+            while parent.setdefault(a, a) != a:
+                parent[a] = parent[parent[a]]
+                a = parent[a]
+            return a
+
+        def union(a, b):
+            ra, rb = find(a), find(b)
+            if ra != rb:
+                parent[rb] = ra
+
+        find(GROUND)
+        for c in net.components:
+            for fa, fb in getattr(c, "joined", ()):
+                union((c.name, fa), (c.name, fb))
+        used = set()
+        for k, conn in enumerate(net.connections):
+            if len(conn) < 2:
+                raise NetworkError(f"connection {k + 1}: {list(conn)!r} joins fewer than two "
+                                   "flanges")
+            ends = [_parse_flange(net, x, k) for x in conn]
+            for a in ends:
+                if a != GROUND and a in used and a in ends[:ends.index(a)]:
+                    raise NetworkError(f"connection {k + 1} names {a[0]}.{a[1]} twice",
+                                       f"{a[0]}.{a[1]}")
+            for a in ends[1:]:
+                union(ends[0], a)
+            used.update(e for e in ends if e != GROUND)
+        for c in net.components:
+            optional = getattr(c, "optional_flanges", ())
+            for f in c.flanges:
+                key = (c.name, f)
+                if key in used:
+                    find(key)
+                elif f in c.grounded:
+                    union(GROUND, key)
+                elif f in optional:
+                    find(key)
+                else:
+                    raise NetworkError(f"{c.label}: flange {f!r} is connected to nothing; "
+                                       f"connect it ('{c.name}.{f}') to another flange or "
+                                       "to 'ground'", f"{c.name}.{f}")
+        roots = []
+        for key in [GROUND, *[(c.name, f) for c in net.components for f in c.flanges]]:
+            r = find(key)
+            if r not in roots:
+                roots.append(r)
+        index = {r: i for i, r in enumerate(roots)}
+        self.ground = index[find(GROUND)]
+        self.node_of = {(c.name, f): index[find((c.name, f))]
+                        for c in net.components for f in c.flanges}
+        self.n_nodes = len(roots)
+        # node names: first inertia-carrying component at the node, else first flange
+        names: list[str | None] = [None] * self.n_nodes
+        names[self.ground] = GROUND
+        self.J_owner: list[list[str]] = [[] for _ in range(self.n_nodes)]
+        for c in net.components:
+            for f in c.inertias():
+                n = self.node_of[(c.name, f)]
+                self.J_owner[n].append(c.name)
+                if names[n] is None:
+                    names[n] = c.name
+        for c in net.components:
+            for f in c.flanges:
+                n = self.node_of[(c.name, f)]
+                if names[n] is None:
+                    names[n] = f"{c.name}_{f}"
+        self.node_names = tuple(names)
+        self.flanges_at = [[f"{c.name}.{f}" for c in net.components for f in c.flanges
+                            if self.node_of[(c.name, f)] == n] for n in range(self.n_nodes)]
+        self._reduce()
+
+    # ------------------------------------------------------------------ rigid relations
+    def constraint_rows(self) -> tuple[np.ndarray, list[tuple[Component, int]]]:
+        """``G`` (one row per rigid relation; the ground row first) and, per row after the
+        first, (component, index of its relation)."""
+        rows = []
+        owners: list[tuple[Component, int]] = []
+        g = np.zeros(self.n_nodes)
+        g[self.ground] = 1.0
+        rows.append(g)
+        for c in self.net.components:
+            for i, rel in enumerate(c.constraints()):
+                r = np.zeros(self.n_nodes)
+                for f, coef in rel.items():
+                    r[self.node_of[(c.name, f)]] += coef
+                rows.append(r)
+                owners.append((c, i))
+        return np.array(rows), owners
+
+    def node_inertia(self) -> np.ndarray:
+        """Inertia at each node [kg·m²]."""
+        J = np.zeros(self.n_nodes)
+        for c in self.net.components:
+            for f, v in c.inertias().items():
+                J[self.node_of[(c.name, f)]] += v
+        return J
+
+    def _order(self) -> list[int]:
+        """Nodes by preference as independent coordinates: inertia nodes in the order their
+        components are listed, then massless nodes; ground last."""
+        first = {}
+        for k, c in enumerate(self.net.components):
+            for f in c.flanges:
+                first.setdefault(self.node_of[(c.name, f)], k)
+        J = self.node_inertia()
+        nodes = [n for n in range(self.n_nodes) if n != self.ground]
+        nodes.sort(key=lambda n: (J[n] <= 0.0, first.get(n, 0), n))
+        return [*nodes, self.ground]
+
+    def reduce(self, G: np.ndarray, order=None):
+        """``N`` (nodes × independent speeds) and the independent nodes for the relations
+        ``G`` (rows), eliminating the least preferred nodes first."""
+        order = self._order() if order is None else order
+        R = G.astype(float).copy()
+        cols = list(reversed(order))           # least preferred first: they get pivots
+        pivots = []
+        row = 0
+        for c in cols:
+            if row >= R.shape[0]:
+                break
+            scale = max(1.0, np.abs(R).max())
+            i = row + int(np.argmax(np.abs(R[row:, c])))
+            if abs(R[i, c]) <= _PIVOT_TOL * scale:
+                continue
+            R[[row, i]] = R[[i, row]]
+            R[row] /= R[row, c]
+            for k in range(R.shape[0]):
+                if k != row and R[k, c] != 0.0:
+                    R[k] -= R[k, c] * R[row]
+            pivots.append((row, c))
+            row += 1
+        dep = {c: r for r, c in pivots}
+        free = [n for n in order if n not in dep]
+        N = np.zeros((self.n_nodes, len(free)))
+        for k, n in enumerate(free):
+            N[n, k] = 1.0
+            for d, r in dep.items():
+                N[d, k] = -R[r, n]
+        N[np.abs(N) < 1e-14] = 0.0
+        return N, free, len(pivots)
+
+    def _reduce(self):
+        G, owners = self.constraint_rows()
+        self.G = G
+        self.G_owners = owners
+        N, free, rank = self.reduce(G)
+        # a node the rigid parts hold at rest although it is not the ground: their ratios
+        # disagree around a loop, or they tie it to the housing on both sides
+        for n in range(self.n_nodes):
+            if n != self.ground and not np.any(N[n]):
+                parts = sorted({c.name for c, _ in owners
+                                if any(self.node_of[(c.name, f)] == n for f in c.flanges)})
+                raise NetworkError(
+                    f"network: the rigid parts {', '.join(parts)} hold "
+                    f"{', '.join(self.flanges_at[n])} at rest: their ratios disagree around a "
+                    "loop (the product of the ratios around a loop must be 1), or they tie it "
+                    "to the ground", parts[0] if parts else "")
+        self.N = N
+        self.free = tuple(free[:-1]) if free and free[-1] == self.ground else tuple(free)
+        if self.ground in self.free:
+            raise AssertionError("ground cannot be an independent coordinate")
+        self.rank = rank
+        self.n_v = N.shape[1]
+        self.pattern = tuple(map(tuple, (N != 0.0).astype(int)))
+        self.check_inertia(self.node_inertia())
+
+    def check_inertia(self, J: np.ndarray) -> np.ndarray:
+        """The reduced inertia matrix ``Nᵀ·diag(J)·N``, or a NetworkError naming the flanges
+        of a coordinate without inertia."""
+        M = self.N.T @ (J[:, None] * self.N)
+        if self.n_v == 0:
+            return M
+        w, vecs = np.linalg.eigh(M)
+        scale = max(float(np.max(np.abs(J))), 1e-300)
+        for k in range(self.n_v):
+            if w[k] <= 1e-12 * scale:
+                motion = self.N @ vecs[:, k]
+                big = np.abs(motion) > 1e-9 * np.max(np.abs(motion))
+                fl = [f for n in np.flatnonzero(big) for f in self.flanges_at[n]]
+                raise NetworkError(
+                    f"network: {', '.join(fl)} can move without moving any inertia (a support "
+                    "or flange left floating): put an inertia there, or connect it to ground "
+                    "or to a part with inertia", fl[0].split(".")[0] if fl else "")
+        return M
+
+    def node_index(self, component: str, flange: str) -> int:
+        return self.node_of[(component, flange)]

@@ -1,0 +1,315 @@
+"""From a :class:`~clutchsim.network.Network` to a compiled :class:`~clutchsim.core.System`.
+
+:class:`Plan` lays out the states, the inputs and the parameter vector (the components'
+values, then the *derived* block: ``N``, ``M⁻¹``, the slip rows ``B`` of the switching
+friction elements, ``M⁻¹·Bᵀ``, ``S = B·M⁻¹·Bᵀ`` and the pseudo-inverse that gives the
+torques in rigid parts), renders the plant module (:mod:`clutchsim.network.codegen`) and
+builds :class:`~clutchsim.core.System` objects.  :meth:`Plan.system` with new values reuses
+the compiled module: only the parameter vector is rebuilt.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core import System
+from .codegen import ENERGY, generate, load_module
+from .network import Network, NetworkError
+
+__all__ = ["Plan", "compile_network"]
+
+#: models whose force jumps at zero slip outside any event logic (coulomb-naive)
+_JUMP_CODES = (1,)
+
+
+class _InitCtx:
+    def __init__(self, plan, speeds, inputs0):
+        self.plan = plan
+        self._w = speeds
+        self.input0 = dict(inputs0 or {})
+
+    def speed(self, comp: str, flange: str) -> float:
+        return float(self._w[self.plan.asm.node_of[(comp, flange)]])
+
+
+class Plan:
+    """Layout and generated module of one network (see the module docstring)."""
+
+    def __init__(self, net: Network):
+        self.net = net
+        self.asm = asm = net.assemble()
+        comps = net.components
+        self.thermal = [c for c in comps if getattr(c, "thermal", False)]
+        self.mech_order = [c for c in comps if not getattr(c, "thermal", False)]
+        self.fes = [c for c in comps if getattr(c, "friction", False)]
+        for c in comps:
+            c.check_network(net)
+        # switching block: elements whose force reads the stick torque (lockable or not)
+        self.sw = [c for c in self.fes if c.model.uses_stick_force]
+        self.sw_index = {c.name: i for i, c in enumerate(self.sw)}
+        self.fe_index = {c.name: i for i, c in enumerate(self.fes)}
+        # ---- inputs
+        names: list[str] = []
+        units: list[str] = []
+        for c in comps:
+            for n in c.inputs():
+                if n not in names:
+                    names.append(n)
+                    units.append(c.input_units().get(n, "-"))
+        self.input_names, self.input_units = tuple(names), tuple(units)
+        self.channel = {n: i for i, n in enumerate(names)}
+        # ---- states
+        sn, su = [], []
+        self.state_index: dict = {}
+        for k, node in enumerate(asm.free):
+            sn.append(f"omega_{asm.node_names[node]}")
+            su.append("rad/s")
+        for c in self.mech_order:
+            for s_name, s_label, unit in c.state_layout():
+                self.state_index[(c.name, s_name)] = len(sn)
+                sn.append(s_label)
+                su.append(unit)
+        for c in self.thermal:
+            self.state_index[(c.name, "theta")] = len(sn)
+            sn.append(f"theta_{c.name}")
+            su.append("°C")
+        self.y_energy = len(sn)
+        for e_name, _ in ENERGY:
+            sn.append(e_name)
+            su.append("J")
+        self.state_names, self.state_units = tuple(sn), tuple(su)
+        self.n = len(sn)
+        # ---- parameter layout
+        self.slot: dict = {}
+        self.tables: dict = {}
+        size = 0
+        self._pack_shape = []
+        for c in comps:
+            for key, val in c.pack().items():
+                if np.ndim(val) == 0:
+                    self.slot[(c.name, key)] = size
+                    size += 1
+                    self._pack_shape.append((c.name, key, 0))
+                else:
+                    n_val = int(np.size(val))
+                    self.tables[(c.name, key)] = (size, n_val // 2 if key != "model" else
+                                                  n_val)
+                    size += n_val
+                    self._pack_shape.append((c.name, key, n_val))
+        self.n_values = size
+        nn, nv, m = asm.n_nodes, asm.n_v, len(self.sw)
+        self.off_N = size
+        self.off_Minv = self.off_N + nn * nv
+        self.off_B = self.off_Minv + nv * nv
+        self.off_MB = self.off_B + m * nv
+        self.off_S = self.off_MB + nv * m
+        self.off_J = self.off_S + m * m
+        G, owners = asm.G, asm.G_owners
+        self.relation_row = {(c.name, i): r + 1 for r, (c, i) in enumerate(owners)}
+        self.n_rel = G.shape[0]
+        self.off_Gp = self.off_J + nn
+        self.off_G = self.off_Gp + self.n_rel * nn
+        self.n_params = self.off_G + self.n_rel * nn
+        self.slips = {c.name: self._slip_vector(c) for c in self.fes}
+        self.topology = generate(self)
+        # A force that jumps at zero slip (coulomb-naive) has no useful derivative there:
+        # its exact Jacobian is 0 on both sides, and the integrator would shrink its steps
+        # towards the jump for ever (a Zeno approach) instead of crossing it.  Differencing
+        # sees the jump, the crossings are located, and chatter detection stops the run at
+        # lock-up, as a naive model should.
+        self.exact_jacobian = not any(c.model.code in _JUMP_CODES for c in self.fes)
+        self.module = load_module(self.topology, exact_jacobian=self.exact_jacobian)
+
+    # ------------------------------------------------------------------ layout helpers
+    def _slip_vector(self, c) -> np.ndarray:
+        g = np.zeros(self.asm.n_nodes)
+        for f, coef in c.slip().items():
+            g[self.asm.node_of[(c.name, f)]] += coef
+        return g
+
+    def N(self, i, k) -> str:
+        """Entry (i, k) of ``N`` (1 exactly for the node of coordinate k itself)."""
+        if i in self.asm.free:
+            return "1.0"
+        return f"p[{self.off_N + i * self.asm.n_v + k}]"
+
+    def minv_pattern(self) -> np.ndarray:
+        """Where ``M⁻¹`` can be non-zero: coordinates coupled through shared inertia."""
+        asm = self.asm
+        pat = np.array(asm.pattern, dtype=bool)
+        J = asm.node_inertia() > 0.0
+        M = (pat[J].T.astype(int) @ pat[J].astype(int)) > 0
+        reach = M | np.eye(asm.n_v, dtype=bool)
+        for _ in range(asm.n_v):
+            reach = (reach.astype(int) @ reach.astype(int)) > 0
+        return reach
+
+    def node_speed(self, n: int) -> str:
+        asm = self.asm
+        if n == asm.ground:
+            return "0.0"
+        if n in asm.free:
+            return f"y[{asm.free.index(n)}]"
+        return _sum_products([(self.N(n, k), f"y[{k}]") for k in range(asm.n_v)
+                              if asm.pattern[n][k]])
+
+    def slip_expr(self, c) -> str:
+        g = self.slips[c.name]
+        return _sum_products([(repr(float(g[n])), f"w{n}") for n in np.flatnonzero(g)])
+
+    def friction_prelude(self, gen, c) -> None:
+        e = self.fe_index[c.name]
+        gen.body.append(f"s{e} = {self.slip_expr(c)}")
+
+    # ------------------------------------------------------------------ values
+    def values_vector(self, comps=None) -> np.ndarray:
+        """The parameter vector for the components' current values (plus derived)."""
+        comps = self.net.components if comps is None else comps
+        by_name = {c.name: c for c in comps}
+        p = np.zeros(self.n_params)
+        for c_name, key, n_val in self._pack_shape:
+            val = by_name[c_name].pack()[key]
+            if n_val == 0:
+                p[self.slot[(c_name, key)]] = float(val)
+            else:
+                arr = np.asarray(val, dtype=float).ravel()
+                if arr.size != n_val:
+                    raise NetworkError(f"{by_name[c_name].label}: {key} has {arr.size} "
+                                       f"entries, the compiled network {n_val}; a table's "
+                                       "length is part of the topology", c_name)
+                o = self.tables[(c_name, key)][0]
+                p[o:o + n_val] = arr
+        self._derive(p, comps)
+        return p
+
+    def _derive(self, p, comps) -> None:
+        asm = self.asm
+        G = np.array(asm.G)
+        # rigid relations may carry values (gear ratios): rebuild them from the components
+        by_name = {c.name: c for c in comps}
+        for (c_name, i), row in self.relation_row.items():
+            r = np.zeros(asm.n_nodes)
+            for f, coef in by_name[c_name].constraints()[i].items():
+                r[asm.node_of[(c_name, f)]] += coef
+            G[row] = r
+        N, free, _rank = asm.reduce(G)
+        free = tuple(f for f in free if f != asm.ground)
+        if free != asm.free or tuple(map(tuple, (N != 0.0).astype(int))) != asm.pattern:
+            raise NetworkError(f"network {self.net.name!r}: these values change which speeds "
+                               "are independent (a ratio at 0 or a special value); build the "
+                               "network again with them")
+        J = np.zeros(asm.n_nodes)
+        for c in comps:
+            for f, v in c.inertias().items():
+                J[asm.node_of[(c.name, f)]] += v
+        M = N.T @ (J[:, None] * N)
+        if asm.n_v:
+            asm_N = asm.N
+            asm.N = N
+            try:
+                asm.check_inertia(J)
+            finally:
+                asm.N = asm_N
+            Minv = np.linalg.inv(M)
+        else:
+            Minv = np.zeros((0, 0))
+        B = np.array([self.slips[c.name] @ N for c in self.sw]).reshape(len(self.sw),
+                                                                         asm.n_v)
+        MB = Minv @ B.T
+        S = B @ MB
+        nn, nv, m = asm.n_nodes, asm.n_v, len(self.sw)
+        p[self.off_N:self.off_N + nn * nv] = N.ravel()
+        p[self.off_Minv:self.off_Minv + nv * nv] = Minv.ravel()
+        p[self.off_B:self.off_B + m * nv] = B.ravel()
+        p[self.off_MB:self.off_MB + nv * m] = MB.ravel()
+        p[self.off_S:self.off_S + m * m] = S.ravel()
+        p[self.off_J:self.off_J + nn] = J
+        p[self.off_Gp:self.off_Gp + self.n_rel * nn] = np.linalg.pinv(G.T).ravel()
+        p[self.off_G:self.off_G + self.n_rel * nn] = G.ravel()
+
+    # ------------------------------------------------------------------ initial state
+    def initial_state(self, comps, inputs0=None) -> np.ndarray:
+        asm = self.asm
+        by_name = {c.name: c for c in comps}
+        y0 = np.zeros(self.n)
+        w = np.zeros(asm.n_nodes)
+        given: dict[int, tuple[str, float]] = {}
+        for c in comps:
+            for f, val in c.initial_speeds().items():
+                n = asm.node_of[(c.name, f)]
+                if n in given and abs(given[n][1] - val) > 1e-12 * (1 + abs(val)):
+                    raise NetworkError(f"{c.label}: initial speed {val:g} rad/s at "
+                                       f"{c.name}.{f} disagrees with {given[n][0]}'s "
+                                       f"{given[n][1]:g} rad/s at the same node", c.name)
+                given.setdefault(n, (c.label, float(val)))
+        for k, n in enumerate(asm.free):
+            y0[k] = given.get(n, ("", 0.0))[1]
+        w = asm.N @ y0[:asm.n_v]
+        for n, (label, val) in given.items():
+            if abs(w[n] - val) > 1e-9 * (1.0 + abs(val)):
+                raise NetworkError(f"{label}: initial speed {val:g} rad/s violates the rigid "
+                                   f"parts: they give {w[n]:g} rad/s at "
+                                   f"{', '.join(asm.flanges_at[n])}", label.split("'")[1]
+                                   if "'" in label else label)
+        ctx = _InitCtx(self, w, inputs0)
+        for c in self.mech_order:
+            vals = by_name[c.name].initial_state(ctx)
+            for (s_name, _lbl, _u), v in zip(c.state_layout(), vals):
+                y0[self.state_index[(c.name, s_name)]] = v
+        for c in self.thermal:
+            y0[self.state_index[(c.name, "theta")]] = by_name[c.name].theta0
+        return y0
+
+    # ------------------------------------------------------------------ system
+    def system(self, comps=None, inputs0=None, *, name=None, metadata=None) -> System:
+        """The :class:`~clutchsim.core.System` for ``comps`` (same topology as the plan's
+        network; default: its own components)."""
+        comps = self.net.components if comps is None else tuple(comps)
+        p = self.values_vector(comps)
+        y0 = self.initial_state(comps, inputs0)
+        by_name = {c.name: c for c in comps}
+        ev_names = list(self.event_names)
+        for k, tmpl in self.event_templates.items():
+            comp = by_name[tmpl[1]]
+            vals = comp.format_values() if hasattr(comp, "format_values") else comp.values
+            ev_names[k] = tmpl[0].format(**vals)
+        meta = dict(self.net.metadata if metadata is None else metadata)
+        meta.update({"models": {c.name: c.model.name for c in self.fes},
+                     "nodes": [self.asm.node_names[n] for n in self.asm.free],
+                     "network": self.topology.key})
+        return System(self.module.TAG(0), p, y0, self.state_names, self.state_units,
+                      input_names=self.input_names, input_units=self.input_units,
+                      output_names=self.output_names, output_units=self.output_units,
+                      event_names=tuple(ev_names),
+                      event_directions=self.event_directions,
+                      name=name or self.net.name, metadata=meta,
+                      quadratures=len(ENERGY))
+
+    # ------------------------------------------------------------------ rendering
+    def render(self, g) -> str:
+        from .render import render
+        return render(self, g)
+
+
+def _sum_products(pairs) -> str:
+    terms = [f"{a} * {b}" for a, b in pairs]
+    return " + ".join(terms) if terms else "0.0"
+
+
+_PLANS: dict = {}
+
+
+def structure_key(net: Network) -> tuple:
+    """What shapes the generated plant of ``net`` (components' structures, connections)."""
+    return (tuple(c.structure() for c in net.components), net.connections)
+
+
+def compile_network(net: Network) -> Plan:
+    """The :class:`Plan` of ``net``: generated, compiled and cached on disk once per
+    topology, and kept in memory per process (a network of the same structure with other
+    values reuses it: pass its components to :meth:`Plan.system`)."""
+    key = structure_key(net)
+    plan = _PLANS.get(key)
+    if plan is None:
+        plan = _PLANS[key] = Plan(net)
+    return plan

@@ -1,0 +1,568 @@
+"""Render the generated plant module of a :class:`~clutchsim.network.plant.Plan`.
+
+See :mod:`clutchsim.network.codegen` for the mechanics.  Every function of the module
+starts from the same *body* (node speeds, the components' equations, node torques,
+generalised forces, the switching block, accelerations); ``rhs`` stops there, ``jac`` adds
+the partial derivatives, ``events``/``outputs``/``reset`` the *full* extras (stick torques of
+sliding switching elements, node accelerations, torques in rigid parts).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.status import Action
+from ..friction.base import RESET_NONE, RESET_RELEASED, RESET_STUCK
+from .codegen import ENERGY
+
+_ACTIONS = {"continue": int(Action.CONTINUE), "stop": int(Action.STOP),
+            "fail": int(Action.FAIL)}
+_CHANGED = int(Action.STATE_CHANGED)
+_CONT = int(Action.CONTINUE)
+_ROBUST = 2
+NO_EVENT = 1.0
+
+
+def _ind(lines, k=1):
+    pad = "    " * k
+    out = []
+    for ln in lines:
+        for sub in ln.split("\n"):
+            out.append(pad + sub if sub else "")
+    return out
+
+
+class _R:
+    def __init__(self, plan, g):
+        self.P = plan
+        self.g = g
+        self.asm = plan.asm
+        self.n = plan.n
+        self.nv = plan.asm.n_v
+        self.m = len(plan.sw)
+        self.fe = plan.fes
+        self.mpat = plan.minv_pattern()
+
+    # ------------------------------------------------------------ helpers
+    def Minv(self, i, j):
+        return f"p[{self.P.off_Minv + i * self.nv + j}]"
+
+    def minv_row(self, k, vec):
+        """``Σ_j M⁻¹[k, j]·vec_j`` over the structurally non-zero entries."""
+        return " + ".join(f"{self.Minv(k, j)} * {vec(j)}" for j in range(self.nv)
+                          if self.mpat[k, j]) or "0.0"
+
+    def B(self, j, k):
+        return f"p[{self.P.off_B + j * self.nv + k}]"
+
+    def MB(self, k, j):
+        return f"p[{self.P.off_MB + k * self.m + j}]"
+
+    def Jn(self, n):
+        return f"p[{self.P.off_J + n}]"
+
+    def expand(self, target, row, key, expr):
+        """``target[row, col] += d/dcol`` for a partial ``expr`` with respect to ``key``."""
+        kind, idx = key
+        if kind == "y":
+            return [f"{target}[{row}, {idx}] += {expr}"]
+        n = idx
+        if n == self.asm.ground:
+            return []
+        if n in self.asm.free:
+            return [f"{target}[{row}, {self.asm.free.index(n)}] += {expr}"]
+        out = []
+        for k in range(self.nv):
+            if self.asm.pattern[n][k]:
+                out.append(f"{target}[{row}, {k}] += ({expr}) * {self.P.N(n, k)}")
+        return out
+
+    def fe_meta(self, c):
+        e = self.P.fe_index[c.name]
+        o, npar = self.P.tables[(c.name, "model")]
+        nz = c.model.n_states
+        iz = self.P.state_index[(c.name, "z0")] if nz else 0
+        return e, o, npar, nz, iz
+
+    def fcall(self, fn, c, fe_arg, dz=None, extra=""):
+        e, o, npar, nz, iz = self.fe_meta(c)
+        dz = dz or f"dy[{iz}:{iz + nz}]"
+        return (f"{fn}({c.model.code}, p[{o}:{o + npar}], y[{iz}:{iz + nz}], s{e}, {fe_arg}, "
+                f"sc{e}, {dz}{extra})")
+
+    def drag(self, c):
+        e = self.P.fe_index[c.name]
+        if getattr(c, "has_drag", False):
+            return f" + p[{self.P.slot[(c.name, 'drag')]}] * math.tanh(s{e})"
+        return ""
+
+    def lk(self, c):
+        if c.model.code == _ROBUST:
+            return f"y[{self.P.state_index[(c.name, 'locked')]}] > 0.5"
+        return "False"
+
+    # ------------------------------------------------------------ body
+    def body(self, full: bool) -> list[str]:
+        P, asm, g = self.P, self.asm, self.g
+        L = []
+        for n in range(asm.n_nodes):
+            L.append(f"w{n} = {P.node_speed(n)}")
+        for c in P.sw:
+            if c.model.code == _ROBUST:      # the lock flag is constant between events
+                L.append(f"dy[{P.state_index[(c.name, 'locked')]}] = 0.0")
+        L += g.body
+        # smooth friction elements (no stick torque)
+        for c in self.fe:
+            e = P.fe_index[c.name]
+            if c.name in P.sw_index:
+                continue
+            L.append(f"fT{e} = {self.fcall('friction_force', c, '0.0')}{self.drag(c)}")
+            L.append(f"Fe{e} = 0.0")
+            L.append(f"sh{e} = 0.0")
+        tsum = {}
+        for node, expr in g.torques:
+            tsum.setdefault(node, []).append(f"({expr})")
+        for c in self.fe:
+            if c.name in P.sw_index:
+                continue
+            e = P.fe_index[c.name]
+            gv = P.slips[c.name]
+            for n in np.flatnonzero(gv):
+                tsum.setdefault(int(n), []).append(f"({-float(gv[n])!r} * fT{e})")
+        for n in range(asm.n_nodes):
+            L.append(f"T{n} = {' + '.join(tsum.get(n, [])) or '0.0'}")
+        for k in range(self.nv):
+            terms = [f"{P.N(n, k)} * T{n}" for n in range(asm.n_nodes)
+                     if asm.pattern[n][k]]
+            L.append(f"F{k} = {' + '.join(terms) or '0.0'}")
+        if self.m:
+            L += self.switch_block(full)
+        else:
+            for k in range(self.nv):
+                L.append(f"a{k} = " + self.minv_row(k, lambda j: f"F{j}"))
+        for k in range(self.nv):
+            L.append(f"dy[{k}] = a{k}")
+        for idx, expr in g.derivs:
+            L.append(f"dy[{idx}] = {expr}")
+        # heat into thermal nodes
+        q = {}
+        for node, expr in g.heats:
+            q.setdefault(node, []).append(f"({expr})")
+        for c in self.fe:
+            e = P.fe_index[c.name]
+            L.append(f"q{e} = abs(fT{e} * s{e})")
+            for node, share in c.heat_shares():
+                q.setdefault(node, []).append(f"p[{P.slot[(c.name, share)]}] * q{e}")
+        for c in P.thermal:
+            idx = P.state_index[(c.name, "theta")]
+            cap = f"p[{P.slot[(c.name, 'capacity')]}]"
+            L.append(f"dy[{idx}] = ({' + '.join(q.get(c.name, [])) or '0.0'}) / {cap}")
+        # energy accounts
+        pw = {acc: [] for _, acc in ENERGY}
+        for acc, expr in g.powers:
+            pw[acc].append(f"({expr})")
+        for c in self.fe:
+            e = P.fe_index[c.name]
+            pw["fric"].append(f"fT{e} * s{e}")
+        for i, (_name, acc) in enumerate(ENERGY):
+            L.append(f"dy[{P.y_energy + i}] = {' + '.join(pw[acc]) or '0.0'}")
+        if full:
+            for n in range(asm.n_nodes):
+                terms = [f"{P.N(n, k)} * a{k}" for k in range(self.nv) if asm.pattern[n][k]]
+                L.append(f"al{n} = {' + '.join(terms) or '0.0'}")
+            # torques in rigid parts: G^T lam = J al - T (all applied torques)
+            tot = {n: [f"T{n}"] for n in range(asm.n_nodes)}
+            for c in P.sw:
+                e = P.fe_index[c.name]
+                gv = P.slips[c.name]
+                for n in np.flatnonzero(gv):
+                    tot[int(n)].append(f"({-float(gv[n])!r} * fT{e})")
+            for n in range(asm.n_nodes):
+                L.append(f"R{n} = {self.Jn(n)} * al{n} - ({' + '.join(tot[n])})")
+            nn = asm.n_nodes
+            for r in range(P.n_rel):
+                terms = [f"p[{P.off_Gp + r * nn + n}] * R{n}" for n in range(nn)]
+                L.append(f"lam{r} = {' + '.join(terms)}")
+        return L
+
+    def switch_block(self, full: bool) -> list[str]:
+        P, m, nv = self.P, self.m, self.nv
+        L = [f"act = np.zeros({m})", f"rr = np.empty({m})", f"tau = np.empty({m})",
+             f"shl = np.empty({m})"]
+        for i, c in enumerate(P.sw):
+            e = P.fe_index[c.name]
+            L.append(f"lk{e} = {self.lk(c)}")
+            L.append(f"F1_{e} = 0.0 if lk{e} else {self.fcall('friction_force', c, '0.0')}"
+                     f"{self.drag(c)}")
+        # generalised forces with the pass-1 forces of the free elements
+        for k in range(nv):
+            terms = [f"F1_{P.fe_index[c.name]} * {self.B(i, k)}" for i, c in enumerate(P.sw)]
+            L.append(f"G{k} = F{k} - ({' + '.join(terms)})")
+        need_hyp = [c for c in P.sw if full or c.model.code != _ROBUST]
+        if need_hyp:
+            for k in range(nv):
+                L.append(f"aG{k} = " + self.minv_row(k, lambda j: f"G{j}"))
+        for i, c in enumerate(P.sw):
+            e = P.fe_index[c.name]
+            if c in need_hyp:
+                lines = [f"if lk{e}:", f"    fT{e} = 0.0\n    Fe{e} = 0.0", "else:"]
+                inner = []
+                for j, c2 in enumerate(P.sw):
+                    e2 = P.fe_index[c2.name]
+                    inner.append(f"act[{j}] = 1.0 if ({j} == {i} or lk{e2}) else 0.0")
+                    inner.append(f"rr[{j}] = " + " + ".join(
+                        f"{self.B(j, k)} * aG{k}" for k in range(nv))
+                        + f" + F1_{e} * p[{P.off_S + j * m + i}]")
+                inner.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
+                inner.append(f"Fe{e} = tau[{i}]")
+                inner.append(f"fT{e} = {self.fcall('friction_force', c, f'Fe{e}')}"
+                             f"{self.drag(c)}")
+                L += lines + _ind(inner)
+            else:
+                L.append(f"Fe{e} = 0.0")
+                L.append(f"fT{e} = 0.0 if lk{e} else F1_{e}")
+        for k in range(nv):
+            terms = [f"(0.0 if lk{P.fe_index[c.name]} else fT{P.fe_index[c.name]}) * "
+                     f"{self.B(i, k)}" for i, c in enumerate(P.sw)]
+            L.append(f"F{k} = F{k} - ({' + '.join(terms)})")
+        for k in range(nv):
+            L.append(f"a{k} = " + self.minv_row(k, lambda j: f"F{j}"))
+        for i, c in enumerate(P.sw):
+            e = P.fe_index[c.name]
+            L.append(f"act[{i}] = 1.0 if lk{e} else 0.0")
+            L.append(f"rr[{i}] = " + " + ".join(f"{self.B(i, k)} * a{k}" for k in range(nv)))
+        L.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
+        for k in range(nv):
+            terms = [f"{self.MB(k, i)} * tau[{i}]" for i in range(m)]
+            L.append(f"a{k} = a{k} - ({' + '.join(terms)})")
+        for i, c in enumerate(P.sw):
+            e = P.fe_index[c.name]
+            L.append(f"sh{e} = shl[{i}]")
+            L.append(f"if lk{e}:")
+            L.append(f"    fT{e} = tau[{i}]")
+            L.append(f"    Fe{e} = tau[{i}]")
+            L.append(f"    {self.fcall('friction_force', c, f'Fe{e}')}")
+        return L
+
+    # ------------------------------------------------------------ functions
+    def header(self) -> list[str]:
+        P = self.P
+        return [(f'"""Generated by clutchsim.network for {P.net.name!r}: '
+                 f'{len(P.net.components)} components, {self.n} states.  Do not edit."""'),
+                "import math", "", "import numpy as np", "",
+                "from clutchsim._jit import jit",
+                "from clutchsim.friction.kernels import (friction_events, friction_force,",
+                "                                        friction_jacobian, friction_reset)",
+                "from clutchsim.network._kernels import lock_solve, table  # noqa: F401",
+                "", f"N_STATES = {self.n}", f"N_FE = {len(self.fe)}", ""]
+
+    def rhs(self) -> list[str]:
+        return ["@jit", "def rhs(t, y, u, p, dy):", *_ind(self.body(False)), ""]
+
+    def full(self) -> list[str]:
+        L = ["@jit", "def _full(t, y, u, p, aux):", f"    dy = np.empty({self.n})"]
+        b = self.body(True)
+        for c in self.fe:
+            e = self.P.fe_index[c.name]
+            b += [f"aux[{5 * e}] = s{e}", f"aux[{5 * e + 1}] = sc{e}",
+                  f"aux[{5 * e + 2}] = Fe{e}", f"aux[{5 * e + 3}] = fT{e}",
+                  f"aux[{5 * e + 4}] = sh{e}"]
+        return L + _ind(b) + [""]
+
+    def ke(self) -> list[str]:
+        P, asm = self.P, self.asm
+        L = ["@jit", "def _ke(y, p):"]
+        b = [f"w{n} = {P.node_speed(n)}" for n in range(asm.n_nodes)]
+        b.append("return 0.5 * (" + " + ".join(f"{self.Jn(n)} * w{n} * w{n}"
+                                               for n in range(asm.n_nodes)) + ")")
+        return L + _ind(b) + [""]
+
+    def project(self) -> list[str]:
+        P, m, nv = self.P, self.m, self.nv
+        L = ["@jit", "def _project(y, p):"]
+        if not m:
+            return L + ["    return", ""]
+        b = [f"act = np.zeros({m})", f"rr = np.empty({m})", f"tau = np.empty({m})",
+             f"shl = np.empty({m})"]
+        for i, c in enumerate(P.sw):
+            b.append(f"act[{i}] = 1.0 if {self.lk(c)} else 0.0")
+            b.append(f"rr[{i}] = " + " + ".join(f"{self.B(i, k)} * y[{k}]" for k in range(nv)))
+        b.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
+        for k in range(nv):
+            b.append(f"y[{k}] -= " + " + ".join(f"{self.MB(k, i)} * tau[{i}]" for i in range(m)))
+        return L + _ind(b) + [""]
+
+    def element_events(self, c, gname, off):
+        """Lines writing element c's event functions into gname[off:...] (aux-based)."""
+        e, o, npar, nz, iz = self.fe_meta(c)
+        ne = c.model.n_events
+        sc = f"(aux[{5 * e + 1}] if aux[{5 * e + 1}] > 0.0 else 1e-300)"
+        L = [(f"friction_events({c.model.code}, p[{o}:{o + npar}], y[{iz}:{iz + nz}], "
+              f"aux[{5 * e}], aux[{5 * e + 2}], {sc}, {gname}[{off}:{off + ne}])")]
+        if c.model.code == _ROBUST:
+            L.append(f"if {self.lk(c)} and aux[{5 * e + 4}] > 0.5:")
+            L.append(f"    {gname}[{off + 1}] = {NO_EVENT!r}")
+        return L
+
+    def event_layout(self):
+        """[(kind, object, offset, count)] in event-vector order."""
+        out = []
+        k = 0
+        for c in self.fe:
+            ne = c.model.n_events
+            if ne:
+                out.append(("fe", c, k, ne))
+                k += ne
+        for ev in self.g.events:
+            out.append(("comp", ev, k, 1))
+            k += 1
+        return out
+
+    def events(self) -> list[str]:
+        L = ["@jit", "def events(t, y, u, p, g):"]
+        b = [f"aux = np.empty({max(5 * len(self.fe), 1)})", "_full(t, y, u, p, aux)"]
+        need_w = bool(self.g.events)
+        if need_w:
+            b += [f"w{n} = {self.P.node_speed(n)}" for n in range(self.asm.n_nodes)]
+            b += self.g.body
+        for kind, obj, off, _cnt in self.event_layout():
+            if kind == "fe":
+                b += self.element_events(obj, "g", off)
+            else:
+                b.append(f"g[{off}] = {obj[2]}")
+        if len(b) == 2 and not self.event_layout():
+            b.append("pass")
+        return L + _ind(b) + [""]
+
+    def reset_fn(self, c) -> list[str]:
+        """``_reset_<e>(t, y, u, p, aux, j)``: event j of element c; returns the model's
+        reset code after locking/freeing."""
+        P = self.P
+        e, o, npar, nz, iz = self.fe_meta(c)
+        L = ["@jit", f"def _reset_{e}(t, y, u, p, aux, j):"]
+        b = [(f"action = friction_reset({c.model.code}, p[{o}:{o + npar}], "
+              f"y[{iz}:{iz + nz}], aux[{5 * e}], aux[{5 * e + 2}], aux[{5 * e + 1}], j)")]
+        if c.model.code == _ROBUST:
+            ilk = P.state_index[(c.name, "locked")]
+            b += [f"if action == {RESET_STUCK}:",
+                  f"    y[{ilk}] = 1.0",
+                  "    ke0 = _ke(y, p)",
+                  "    _project(y, p)",
+                  f"    y[{P.y_energy + 5}] += ke0 - _ke(y, p)",
+                  f"elif action == {RESET_RELEASED}:",
+                  f"    y[{ilk}] = 0.0"]
+        b.append("return action")
+        return L + _ind(b) + [""]
+
+    def settle(self) -> list[str]:
+        P = self.P
+        lockable = [c for c in self.fe if c.model.code == _ROBUST]
+        L = ["@jit", "def _settle(t, y, u, p, e0, aux):"]
+        if not lockable:
+            return L + ["    return", ""]
+        b = [f"done = np.zeros({len(self.fe)})", "if e0 >= 0:", "    done[e0] = 1.0",
+             "gb = np.empty(4)",
+             "vmax = 0.0"]
+        b += [f"vmax = max(vmax, abs(y[{k}]))" for k in range(self.nv)]
+        b += ["w_tol = 1e-9 * (1.0 + vmax)",
+              f"for _it in range({len(lockable) + 1}):",
+              "    _full(t, y, u, p, aux)",
+              "    hit = -1",
+              "    slot = -1"]
+        for c in lockable:
+            e, _o, _npar, _nz, iz = self.fe_meta(c)
+            ilk = P.state_index[(c.name, "locked")]
+            ev = self.element_events(c, "gb", 0)
+            b += [f"    if hit < 0 and done[{e}] < 0.5:",
+                  f"        if y[{ilk}] > 0.5:"]
+            b += _ind(ev, 3)
+            b += ["            if gb[1] < 0.0:",
+                  f"                hit = {e}",
+                  "                slot = 1",
+                  (f"        elif y[{iz}] != 0.0 and y[{iz}] * aux[{5 * e}] <= 0.0 and "
+                   f"abs(aux[{5 * e}]) <= w_tol:"),
+                  f"            hit = {e}",
+                  "            slot = 0"]
+        b += ["    if hit < 0:", "        return", "    done[hit] = 1.0"]
+        for c in lockable:
+            e = P.fe_index[c.name]
+            b += [f"    if hit == {e}:", f"        _reset_{e}(t, y, u, p, aux, slot)"]
+        return L + _ind(b) + [""]
+
+    def reset(self) -> list[str]:
+        P = self.P
+        L = ["@jit", "def reset(t, y, u, p, k):"]
+        b = [f"aux = np.empty({max(5 * len(self.fe), 1)})", "_full(t, y, u, p, aux)"]
+        for kind, obj, off, cnt in self.event_layout():
+            if kind == "fe":
+                e = P.fe_index[obj.name]
+                b += [f"if {off} <= k < {off + cnt}:",
+                      f"    action = _reset_{e}(t, y, u, p, aux, k - {off})"]
+                if obj.model.code == _ROBUST:
+                    b += [f"    if action != {RESET_NONE}:",
+                          f"        _settle(t, y, u, p, {e}, aux)"]
+                b += [f"    return {_CHANGED} if action != {RESET_NONE} else {_CONT}"]
+            else:
+                b += [f"if k == {off}:", f"    return {_ACTIONS[obj[3]]}"]
+        b.append(f"return {_CONT}")
+        return L + _ind(b) + [""]
+
+    def outputs(self) -> list[str]:
+        P, asm = self.P, self.asm
+        L = ["@jit", "def outputs(t, y, u, p, out):", f"    dy = np.empty({self.n})"]
+        b = self.body(True)
+        names, units = [], []
+        for i, (name, unit, expr, setup) in enumerate(self.g.outputs):
+            b += list(setup)
+            b.append(f"out[{len(names)}] = {expr}")
+            names.append(name)
+            units.append(unit)
+        for n in range(asm.n_nodes):
+            if n == asm.ground or n in asm.free or not asm.J_owner[n]:
+                continue
+            b.append(f"out[{len(names)}] = w{n}")
+            names.append(f"omega_{asm.node_names[n]}")
+            units.append("rad/s")
+        b.append(f"out[{len(names)}] = 0.5 * (" + " + ".join(
+            f"{self.Jn(n)} * w{n} * w{n}" for n in range(asm.n_nodes)) + ")")
+        names.append("E_kinetic")
+        units.append("J")
+        b.append(f"out[{len(names)}] = {' + '.join(self.g.springs) or '0.0'}")
+        names.append("E_spring")
+        units.append("J")
+        P.output_names, P.output_units = tuple(names), tuple(units)
+        return L + _ind(b) + [""]
+
+    def jac(self) -> list[str]:
+        P, asm, g, n, nv, m = self.P, self.asm, self.g, self.n, self.nv, self.m
+        nn = asm.n_nodes
+        L = ["@jit", "def jac(t, y, u, p, J):", f"    dy = np.empty({n})"]
+        b = [f"for i in range({n}):", f"    for j in range({n}):", "        J[i, j] = 0.0"]
+        b += self.body(False)
+        b += g.jbody
+        b.append(f"dT = np.zeros(({nn}, {n}))")
+        for node, key, expr in g.dtorques:
+            b += self.expand("dT", node, key, expr)
+        for idx, key, expr in g.dderivs:
+            b += self.expand("J", idx, key, expr)
+        heat_rows = {}
+        for node, key, expr in g.dheats:
+            heat_rows.setdefault(node, []).append((key, expr))
+        # friction elements
+        for c in self.fe:
+            e, _o, _npar, nz, iz = self.fe_meta(c)
+            gv = P.slips[c.name]
+            cond = f"not lk{e}" if c.name in P.sw_index else "True"
+            blk = [f"Jz{e} = np.zeros(({nz}, {nz + 1}))", f"dF{e} = np.zeros({nz + 3})",
+                   f"dz{e} = np.zeros({max(nz, 1)})",
+                   f"{self.fcall('friction_jacobian', c, f'Fe{e}', dz=f'dz{e}[:{nz}]', extra=f', Jz{e}, dF{e}')}",
+                   f"dTs{e} = dF{e}[{nz}]"]
+            if getattr(c, "has_drag", False):
+                th = f"math.tanh(s{e})"
+                blk.append(f"dTs{e} += p[{P.slot[(c.name, 'drag')]}] * (1.0 - {th} * {th})")
+            blk.append(f"sq{e} = 1.0 if fT{e} * s{e} > 0.0 else (-1.0 if fT{e} * s{e} < 0.0 "
+                       "else 0.0)")
+            # partials of the element torque: list of (key, expr)
+            parts = [(("w", int(nd)), f"{float(gv[nd])!r} * dTs{e}") for nd in np.flatnonzero(gv)]
+            parts += [(("y", iz + j), f"dF{e}[{j}]") for j in range(nz)]
+            parts += [(key, f"dF{e}[{nz + 2}] * ({expr})") for key, expr in c.scale_partials_of(e)]
+            for nd in np.flatnonzero(gv):
+                for key, expr in parts:
+                    blk += self.expand("dT", int(nd), key, f"{-float(gv[nd])!r} * {expr}")
+            # friction power fT·s
+            fr = P.y_energy + 1
+            for key, expr in parts:
+                blk += self.expand("J", fr, key, f"({expr}) * s{e}")
+            for nd in np.flatnonzero(gv):
+                blk += self.expand("J", fr, ("w", int(nd)), f"fT{e} * {float(gv[nd])!r}")
+            # own state rows
+            for i in range(nz):
+                for j in range(nz):
+                    blk.append(f"J[{iz + i}, {iz + j}] += Jz{e}[{i}, {j}]")
+                for nd in np.flatnonzero(gv):
+                    blk += self.expand("J", iz + i, ("w", int(nd)),
+                                       f"{float(gv[nd])!r} * Jz{e}[{i}, {nz}]")
+            # heat q = |T s|
+            for node, share_key in c.heat_shares():
+                share = f"p[{P.slot[(c.name, share_key)]}]"
+                hrows = heat_rows.setdefault(node, [])
+                for key, expr in parts:
+                    hrows.append((key, f"{share} * sq{e} * ({expr}) * s{e}", cond))
+                for nd in np.flatnonzero(gv):
+                    hrows.append((("w", int(nd)),
+                                  f"{share} * sq{e} * fT{e} * {float(gv[nd])!r}", cond))
+            b.append(f"if {cond}:")
+            b += _ind(blk)
+            if cond != "True":
+                # locked: its torque is a constraint torque; the friction power τ·w keeps
+                # the τ·dw part (w itself is held at 0)
+                els = []
+                for nd in np.flatnonzero(gv):
+                    els += self.expand("J", P.y_energy + 1, ("w", int(nd)),
+                                       f"fT{e} * {float(gv[nd])!r}")
+                if els:
+                    b += ["else:", *_ind(els)]
+        # generalised: dF = N^T dT, then M^-1 and the lock projection
+        b.append(f"dG = np.zeros(({max(nv, 1)}, {n}))")
+        for k in range(nv):
+            for nd in range(nn):
+                if asm.pattern[nd][k]:
+                    b.append(f"for col in range({n}):")
+                    b.append(f"    dG[{k}, col] += {P.N(nd, k)} * dT[{nd}, col]")
+        b.append(f"for col in range({n}):")
+        inner = []
+        for k in range(nv):
+            inner.append(f"da{k} = " + self.minv_row(k, lambda j: f"dG[{j}, col]"))
+        if m:
+            for i in range(m):
+                inner.append(f"rr[{i}] = " + " + ".join(f"{self.B(i, k)} * da{k}"
+                                                        for k in range(nv)))
+            inner.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
+            for k in range(nv):
+                inner.append(f"da{k} -= " + " + ".join(f"{self.MB(k, i)} * tau[{i}]"
+                                                       for i in range(m)))
+        for k in range(nv):
+            inner.append(f"J[{k}, col] = da{k}")
+        if not inner:
+            inner.append("pass")
+        b += _ind(inner)
+        acc_row = {acc: P.y_energy + i for i, (_n, acc) in enumerate(ENERGY)}
+        for acc, key, expr in g.dpowers:
+            b += self.expand("J", acc_row[acc], key, expr)
+        for c in P.thermal:
+            idx = P.state_index[(c.name, "theta")]
+            cap = f"p[{P.slot[(c.name, 'capacity')]}]"
+            for entry in heat_rows.get(c.name, []):
+                key, expr = entry[0], entry[1]
+                cond = entry[2] if len(entry) > 2 else "True"
+                lines = self.expand("J", idx, key, f"({expr}) / {cap}")
+                if cond != "True":
+                    b.append(f"if {cond}:")
+                    b += _ind(lines)
+                else:
+                    b += lines
+        return L + _ind(b) + [""]
+
+    def module(self) -> str:
+        parts = self.header() + self.rhs() + self.full() + self.ke() + self.project()
+        for c in self.fe:
+            if c.model.n_events:
+                parts += self.reset_fn(c)
+        parts += self.settle() + self.events() + self.reset() + self.outputs() + self.jac()
+        P = self.P
+        names, dirs = [], []
+        P.event_templates = {}
+        for kind, obj, _off, _cnt in self.event_layout():
+            if kind == "fe":
+                names += [f"{obj.name}: {x}" for x in obj.model.event_names()]
+                dirs += [int(d) for d in obj.model.event_directions()]
+            else:
+                P.event_templates[len(names)] = (obj[0], obj[4])
+                names.append(obj[0])
+                dirs.append(obj[1])
+        P.event_names, P.event_directions = tuple(names), tuple(dirs)
+        return "\n".join(parts) + "\n"
+
+
+def render(plan, g) -> str:
+    return _R(plan, g).module()

@@ -1,0 +1,75 @@
+"""What a network component declares: parameters, states, flanges (one place each).
+
+A component class lists its :class:`Param` and :class:`StateSpec` entries as class
+variables; the scenario schema and the reference docs (``docs/network.md``) are generated
+from them, and :func:`check_value` validates every value against them, so a rule is
+written once.  All values are SI; ``unit`` is the unit string shown to users (``-`` for
+dimensionless).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Param", "StateSpec", "check_value"]
+
+
+@dataclass(frozen=True)
+class Param:
+    """One scalar parameter of a component.
+
+    ``low``/``high`` bound the value (``strict``: ``low`` itself excluded); ``nonzero``
+    excludes 0; ``default`` None means required.
+    """
+
+    name: str
+    unit: str
+    doc: str
+    default: float | None = None
+    low: float | None = None
+    high: float | None = None
+    strict: bool = False
+    nonzero: bool = False
+
+    def rule(self) -> str:
+        """The value's rule in words (``> 0``, ``in [0, 1]``, ...), for docs and errors."""
+        parts = []
+        if self.low is not None and self.high is not None:
+            parts.append(f"in {'(' if self.strict else '['}{self.low:g}, {self.high:g}]")
+        elif self.low is not None:
+            parts.append(f"{'>' if self.strict else '>='} {self.low:g}")
+        elif self.high is not None:
+            parts.append(f"<= {self.high:g}")
+        if self.nonzero:
+            parts.append("non-zero")
+        return ", ".join(parts) or "any finite number"
+
+
+@dataclass(frozen=True)
+class StateSpec:
+    """One continuous state a component owns (``name`` is prefixed by the component's)."""
+
+    name: str
+    unit: str
+    doc: str
+
+
+def check_value(owner: str, spec: Param, value) -> float:
+    """``value`` as a float, or a ValueError naming ``owner``, the parameter, the value,
+    its unit and the rule."""
+    u = f" {spec.unit}" if spec.unit and spec.unit != "-" else ""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        # contract: every bad parameter raises ValueError
+        raise ValueError(f"{owner}: {spec.name} = {value!r} must be a number "  # noqa: TRY004
+                         f"({spec.rule()})")
+    x = float(value)
+    if not math.isfinite(x):
+        raise ValueError(f"{owner}: {spec.name} = {x}{u} must be finite")
+    bad = ((spec.low is not None and (x <= spec.low if spec.strict else x < spec.low))
+           or (spec.high is not None and x > spec.high) or (spec.nonzero and x == 0.0))
+    if bad:
+        raise ValueError(f"{owner}: {spec.name} = {x:g}{u} must be {spec.rule()}")
+    return x
