@@ -19,7 +19,8 @@ warm-up):
 * RODAS4 instead of ROS34PW2 at the scenario's tolerance (fewer steps, one Jacobian each).
 
 It also times the compiled plant alone (a compiled loop calling the right-hand side, the
-event functions and the outputs at one state of the launch) and derives the per-step
+event functions, the outputs and the exact Jacobian at one state of the launch; since the
+network issue the launch runs on its generated network plant) and derives the per-step
 budget a 2 ms launch would leave.
 
 Prints one JSON object on the last stdout line.
@@ -84,30 +85,44 @@ def _call_in_loop(f, n, t, y, u, p, dy):
     return s
 
 
+@numba.njit
+def _jac_in_loop(f, n, t, y, u, p, J):
+    s = 0.0
+    for _ in range(n):
+        y[0] += 1e-12
+        f(t, y, u, p, J)
+        s += J[0, 0]
+    return s
+
+
 def _plant_ns(n: int = 200_000) -> dict:
-    """Nanoseconds per call of the chain plant's rhs, events and outputs at t = 0.9 s of
-    the default launch (clutch slipping), best of 5 loops of ``n`` calls."""
-    from clutchsim.driveline import plant as P
+    """Nanoseconds per call of the launch plant's rhs, events, outputs and exact Jacobian
+    at t = 0.9 s of the default launch (clutch slipping), best of 5 loops of ``n`` calls
+    (``n/10`` for the Jacobian)."""
+    from clutchsim.core.system import plant_functions
     from clutchsim.driveline.run import run_scenario
     sc = _load([])
     res = run_scenario(sc, MODEL).result
     u0 = {name: float(np.asarray(sig(0.0)).ravel()[0]) for name, sig in sc.inputs.items()}
     system = sc.chain(MODEL).build(u0)
+    fns = plant_functions(system.tag)
     i = int(np.searchsorted(res.t, 0.9))
     y = np.array([res[name][i] for name in system.state_names])
     u = np.array([res[name][i] for name in system.input_names])
     out = {}
-    for name, fn, size in (("rhs", P.chain_rhs, y.size),
-                           ("events", P.chain_events, len(system.event_names)),
-                           ("outputs", P.chain_outputs, len(system.output_names))):
-        buf = np.empty(size)
-        _call_in_loop(fn, 10, 0.9, y, u, system.params, buf)
+    cases = [("rhs", fns.rhs, np.empty(y.size), _call_in_loop, n),
+             ("events", fns.events, np.empty(len(system.event_names)), _call_in_loop, n),
+             ("outputs", fns.outputs, np.empty(len(system.output_names)), _call_in_loop, n)]
+    if fns.has_jac:
+        cases.append(("jac", fns.jac, np.zeros((y.size, y.size)), _jac_in_loop, n // 10))
+    for name, fn, buf, loop, calls in cases:
+        loop(fn, 10, 0.9, y, u, system.params, buf)
         best = np.inf
         for _ in range(5):
             t0 = time.perf_counter()
-            _call_in_loop(fn, n, 0.9, y, u, system.params, buf)
+            loop(fn, calls, 0.9, y, u, system.params, buf)
             best = min(best, time.perf_counter() - t0)
-        out[f"{name}_ns"] = best / n * 1e9
+        out[f"{name}_ns"] = best / calls * 1e9
     return out
 
 

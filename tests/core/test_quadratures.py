@@ -37,20 +37,20 @@ def _launch():
 
 
 def test_chain_energy_accounts_are_declared_quadratures_and_nothing_depends_on_them():
+    from clutchsim.core.system import call_rhs
     from clutchsim.driveline.chain import ENERGY_STATES
-    from clutchsim.driveline.plant import chain_rhs
     _sc, sys_, _inputs = _launch()
     assert sys_.quadratures == len(ENERGY_STATES)
     assert sys_.state_names[-len(ENERGY_STATES):] == ENERGY_STATES
     y = sys_.y0.copy()
     u = np.array([0.3, 0.5])[:len(sys_.input_names)]
     base = np.empty_like(y)
-    chain_rhs(0.7, y, u, sys_.params, base)
+    call_rhs(sys_.tag, 0.7, y, u, sys_.params, base)
     for k in range(len(ENERGY_STATES)):
         y2 = y.copy()
         y2[-1 - k] += 123.0
         dy = np.empty_like(y)
-        chain_rhs(0.7, y2, u, sys_.params, dy)
+        call_rhs(sys_.tag, 0.7, y2, u, sys_.params, dy)
         np.testing.assert_array_equal(dy, base)
 
 

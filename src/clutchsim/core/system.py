@@ -145,6 +145,12 @@ def kernels(tag):
     return out
 
 
+def plant_functions(tag):
+    """The compiled functions registered for ``tag``: a named tuple (rhs, events, reset,
+    outputs, jac, has_jac), e.g. to time a plant alone in a compiled loop."""
+    return _REGISTRY[type(tag)]
+
+
 def has_jacobian(tag) -> bool:
     """Did the plant of ``tag`` register an exact Jacobian?"""
     return _REGISTRY[type(tag)].has_jac

@@ -42,6 +42,7 @@ class _R:
         self.m = len(plan.sw)
         self.fe = plan.fes
         self.mpat = plan.minv_pattern()
+        self.imports: set = set()
 
     # ------------------------------------------------------------ helpers
     def Minv(self, i, j):
@@ -84,11 +85,20 @@ class _R:
         iz = self.P.state_index[(c.name, "z0")] if nz else 0
         return e, o, npar, nz, iz
 
+    def kernel(self, c, kind):
+        """Name of the friction model's own compiled kernel (``<module>_<kind>``, e.g.
+        ``mykhailevych2020_force``): called directly, not through the dispatcher over all
+        models, so that a plant compiles only the kernels it uses."""
+        name = f"{type(c.model).__module__.rsplit('.', 1)[-1]}_{kind}"
+        self.imports.add((type(c.model).__module__, name))
+        return name
+
     def fcall(self, fn, c, fe_arg, dz=None, extra=""):
         e, o, npar, nz, iz = self.fe_meta(c)
         dz = dz or f"dy[{iz}:{iz + nz}]"
-        return (f"{fn}({c.model.code}, p[{o}:{o + npar}], y[{iz}:{iz + nz}], s{e}, {fe_arg}, "
-                f"sc{e}, {dz}{extra})")
+        kind = {"friction_force": "force", "friction_jacobian": "jacobian"}[fn]
+        return (f"{self.kernel(c, kind)}(p[{o}:{o + npar}], y[{iz}:{iz + nz}], s{e}, "
+                f"{fe_arg}, sc{e}, {dz}{extra})")
 
     def drag(self, c):
         e = self.P.fe_index[c.name]
@@ -251,8 +261,7 @@ class _R:
                  f'{len(P.net.components)} components, {self.n} states.  Do not edit."""'),
                 "import math", "", "import numpy as np", "",
                 "from clutchsim._jit import jit",
-                "from clutchsim.friction.kernels import (friction_events, friction_force,",
-                "                                        friction_jacobian, friction_reset)",
+                *[f"from {m} import {n}" for m, n in sorted(self.imports)],
                 "from clutchsim.network._kernels import lock_solve, table  # noqa: F401",
                 "", f"N_STATES = {self.n}", f"N_FE = {len(self.fe)}", ""]
 
@@ -297,7 +306,7 @@ class _R:
         e, o, npar, nz, iz = self.fe_meta(c)
         ne = c.model.n_events
         sc = f"(aux[{5 * e + 1}] if aux[{5 * e + 1}] > 0.0 else 1e-300)"
-        L = [(f"friction_events({c.model.code}, p[{o}:{o + npar}], y[{iz}:{iz + nz}], "
+        L = [(f"{self.kernel(c, 'events')}(p[{o}:{o + npar}], y[{iz}:{iz + nz}], "
               f"aux[{5 * e}], aux[{5 * e + 2}], {sc}, {gname}[{off}:{off + ne}])")]
         if c.model.code == _ROBUST:
             L.append(f"if {self.lk(c)} and aux[{5 * e + 4}] > 0.5:")
@@ -340,7 +349,7 @@ class _R:
         P = self.P
         e, o, npar, nz, iz = self.fe_meta(c)
         L = ["@jit", f"def _reset_{e}(t, y, u, p, aux, j):"]
-        b = [(f"action = friction_reset({c.model.code}, p[{o}:{o + npar}], "
+        b = [(f"action = {self.kernel(c, 'reset')}(p[{o}:{o + npar}], "
               f"y[{iz}:{iz + nz}], aux[{5 * e}], aux[{5 * e + 2}], aux[{5 * e + 1}], j)")]
         if c.model.code == _ROBUST:
             ilk = P.state_index[(c.name, "locked")]
@@ -544,11 +553,12 @@ class _R:
         return L + _ind(b) + [""]
 
     def module(self) -> str:
-        parts = self.header() + self.rhs() + self.full() + self.ke() + self.project()
+        parts = self.rhs() + self.full() + self.ke() + self.project()
         for c in self.fe:
             if c.model.n_events:
                 parts += self.reset_fn(c)
         parts += self.settle() + self.events() + self.reset() + self.outputs() + self.jac()
+        parts = self.header() + parts       # the header imports what the functions use
         P = self.P
         names, dirs = [], []
         P.event_templates = {}
