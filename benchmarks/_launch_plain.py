@@ -22,7 +22,8 @@ States (10, SI units)::
     4 phi_damper [rad]         9 governor integral [rad]
 
 The gearbox is rigid, so ``gearbox_input`` and ``final_drive`` share one speed state
-(``omega_final_drive = omega_gearbox_input / i``, ``i`` = gear ratio × final drive).
+(``omega_final_drive = omega_gearbox_input / i``, ``i`` = gear ratio × final drive; on the
+network plant the final drive's speed is an output, not a state).
 clutchsim's plant also integrates the energy account; a user's model would not, so it is
 left out here.
 """
@@ -643,7 +644,8 @@ def _as_clutchsim_state(system, y: np.ndarray) -> np.ndarray:
     full = np.array(system.y0, dtype=float)
     for k, n in enumerate(STATE_NAMES):
         full[names.index(_PLANT_NAME.get(n, n))] = y[k]
-    full[names.index("omega_final_drive")] = y[2] / full[names.index("ratio_gearbox")]
+    if "omega_final_drive" in names:     # the chain plant keeps every inertia's speed
+        full[names.index("omega_final_drive")] = y[2] / full[names.index("ratio_gearbox")]
     return full
 
 
