@@ -214,8 +214,13 @@ def test_bad_names_and_grids(scenario_file):
     with pytest.raises(ValueError, match="not finite at 0 Hz"):     # the rigid-body mode
         frf_analysis(scenario_file, input="tau", output="omega_c", freqs_hz=[0.0, 1.0],
                      overrides=["inertia[0].bearing_damping=0", "inertia[2].bearing_damping=0"])
-    with pytest.raises(ValueError, match="'ratio_gearbox' is a discrete value held"):
-        frf_analysis(None, input="throttle", output="ratio_gearbox")
+    # a lock flag is a discrete state, not a linearised one (the launch's gearbox ratio was
+    # a held value on the chain plant; the network plant has no such state)
+    coupled = Path(__file__).parents[2] / "examples" / "coupled_clutches.toml"
+    with pytest.raises(ValueError, match="'clutch2.locked' is not an output or linearised "
+                                         "state"):
+        frf_analysis(coupled, model="coulomb-robust", at=0.2, input="tau",
+                     output="clutch2.locked")
     assert ratio_unit("m/s²", "N·m") == "m/s²/(N·m)"
     assert ratio_unit("N·m", "N·m") == "-" and ratio_unit("N·m", "-") == "N·m"
 
