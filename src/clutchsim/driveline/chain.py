@@ -263,11 +263,17 @@ class Chain:
         (:meth:`network`); the others on the chain plant.
         """
         if self.network_unsupported() is None:
-            from ..network import compile_network
-            meta = dict(self.metadata)
-            net = self.network()
-            return compile_network(net).system(net.components, inputs0=inputs0, name=self.name,
-                                               metadata=meta)
+            # the chain is immutable: its network, plan and parameter vector are built once
+            cached = self.__dict__.get("_compiled")
+            if cached is None:
+                from ..network import compile_network
+                net = self.network()
+                plan = compile_network(net)
+                cached = (net, plan, plan.values_vector(net.components))
+                object.__setattr__(self, "_compiled", cached)
+            net, plan, params = cached
+            return plan.system(net.components, inputs0=inputs0, name=self.name,
+                               metadata=dict(self.metadata), params=params.copy())
         self_inputs0 = dict(inputs0 or {})
         inertias, couplings = self.inertias, self.couplings
         n = len(inertias)

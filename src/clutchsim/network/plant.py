@@ -261,11 +261,13 @@ class Plan:
         return y0
 
     # ------------------------------------------------------------------ system
-    def system(self, comps=None, inputs0=None, *, name=None, metadata=None) -> System:
+    def system(self, comps=None, inputs0=None, *, name=None, metadata=None,
+               params=None) -> System:
         """The :class:`~clutchsim.core.System` for ``comps`` (same topology as the plan's
-        network; default: its own components)."""
+        network; default: its own components).  ``params``: their parameter vector when
+        the caller already has it (:meth:`values_vector`)."""
         comps = self.net.components if comps is None else tuple(comps)
-        p = self.values_vector(comps)
+        p = self.values_vector(comps) if params is None else params
         y0 = self.initial_state(comps, inputs0)
         by_name = {c.name: c for c in comps}
         ev_names = list(self.event_names)
