@@ -16,6 +16,8 @@ import numpy as np
 
 from ..friction.base import FrictionModel
 from ..friction.coulomb_robust import CoulombRobust
+from ..network.components.friction import static_capacity
+from ..network.spec import check_table
 
 __all__ = [
     "ONE_WAY_EPS0",
@@ -55,19 +57,10 @@ def _num(owner: str, name: str, value, *, low=None, high=None, strict=False, uni
     return x
 
 
-def _table(owner: str, name: str, xs, ys, *, increasing=True):
+def _table(owner: str, name: str, xs, ys):
     if xs is None and ys is None:
         return None
-    x = np.asarray(xs, dtype=float).ravel()
-    v = np.asarray(ys, dtype=float).ravel()
-    if x.size < 2 or x.size != v.size:
-        raise ValueError(f"{owner}: {name} needs at least 2 points and equal lengths "
-                         f"(got {x.size} and {v.size})")
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-        raise ValueError(f"{owner}: {name} has non-finite entries")
-    if increasing and np.any(np.diff(x) <= 0):
-        raise ValueError(f"{owner}: {name} breakpoints must be strictly increasing")
-    return (tuple(x), tuple(v))
+    return check_table(owner, name, xs, ys)
 
 
 def _heat_shares(o, heat):
@@ -690,11 +683,3 @@ class ThermalNode:
                              "link (the name of the node it conducts to)")
         if self.link == self.name:
             raise ValueError(f"{o}: link must name another node, not the node itself")
-
-
-def static_capacity(model: FrictionModel) -> float:
-    """Largest stick torque of ``model`` at scale 1 [N·m] (T_stat, F_s or F_c)."""
-    for attr in ("T_stat", "F_s", "F_c"):
-        if hasattr(model, attr):
-            return float(getattr(model, attr))
-    return float("nan")

@@ -132,10 +132,6 @@ class Emitter:
         """A statement (assignments, ``if``) used by the equations below it."""
         self.g.body.append(code)
 
-    def jline(self, code: str) -> None:
-        """A statement needed only for partial derivatives."""
-        self.g.jbody.append(code)
-
     def let(self, name: str, expr: str) -> str:
         """``name = expr`` as a private local; returns the local's name."""
         v = self.tmp(name)
@@ -207,11 +203,6 @@ class Topology(NamedTuple):
     source: str
 
 
-def _fmt_sum(terms) -> str:
-    terms = [t for t in terms if t]
-    return " + ".join(terms) if terms else "0.0"
-
-
 class _Gen:
     """One generation pass over a network (see :func:`generate`)."""
 
@@ -225,7 +216,6 @@ class _Gen:
         self.comp_index = {c.name: i for i, c in enumerate(plan.net.components)}
         self.relation_row = plan.relation_row
         self.body: list[str] = []
-        self.jbody: list[str] = []
         self.torques: list = []
         self.dtorques: list = []
         self.derivs: list = []

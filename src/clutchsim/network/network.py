@@ -326,6 +326,3 @@ class Assembly:
                     "or flange left floating): put an inertia there, or connect it to ground "
                     "or to a part with inertia", fl[0].split(".")[0] if fl else "")
         return M
-
-    def node_index(self, component: str, flange: str) -> int:
-        return self.node_of[(component, flange)]

@@ -276,7 +276,14 @@ class _R:
             b += [f"aux[{5 * e}] = s{e}", f"aux[{5 * e + 1}] = sc{e}",
                   f"aux[{5 * e + 2}] = Fe{e}", f"aux[{5 * e + 3}] = fT{e}",
                   f"aux[{5 * e + 4}] = sh{e}"]
+        for k, ev in enumerate(self.g.events):      # the components' own event functions
+            b.append(f"aux[{5 * len(self.fe) + k}] = {ev[2]}")
         return L + _ind(b) + [""]
+
+    def aux_size(self) -> int:
+        """Length of ``_full``'s ``aux``: 5 per friction element (slip, scale, stick torque,
+        torque, shielded), then one per component event function."""
+        return max(5 * len(self.fe) + len(self.g.events), 1)
 
     def ke(self) -> list[str]:
         P, asm = self.P, self.asm
@@ -329,18 +336,14 @@ class _R:
 
     def events(self) -> list[str]:
         L = ["@jit", "def events(t, y, u, p, g):"]
-        b = [f"aux = np.empty({max(5 * len(self.fe), 1)})", "_full(t, y, u, p, aux)"]
-        need_w = bool(self.g.events)
-        if need_w:
-            b += [f"w{n} = {self.P.node_speed(n)}" for n in range(self.asm.n_nodes)]
-            b += self.g.body
+        b = [f"aux = np.empty({self.aux_size()})", "_full(t, y, u, p, aux)"]
+        k = 0
         for kind, obj, off, _cnt in self.event_layout():
             if kind == "fe":
                 b += self.element_events(obj, "g", off)
             else:
-                b.append(f"g[{off}] = {obj[2]}")
-        if len(b) == 2 and not self.event_layout():
-            b.append("pass")
+                b.append(f"g[{off}] = aux[{5 * len(self.fe) + k}]")
+                k += 1
         return L + _ind(b) + [""]
 
     def reset_fn(self, c) -> list[str]:
@@ -401,7 +404,7 @@ class _R:
     def reset(self) -> list[str]:
         P = self.P
         L = ["@jit", "def reset(t, y, u, p, k):"]
-        b = [f"aux = np.empty({max(5 * len(self.fe), 1)})", "_full(t, y, u, p, aux)"]
+        b = [f"aux = np.empty({self.aux_size()})", "_full(t, y, u, p, aux)"]
         for kind, obj, off, cnt in self.event_layout():
             if kind == "fe":
                 e = P.fe_index[obj.name]
@@ -448,7 +451,6 @@ class _R:
         L = ["@jit", "def jac(t, y, u, p, J):", f"    dy = np.empty({n})"]
         b = [f"for i in range({n}):", f"    for j in range({n}):", "        J[i, j] = 0.0"]
         b += self.body(False)
-        b += g.jbody
         b.append(f"dT = np.zeros(({nn}, {n}))")
         for node, key, expr in g.dtorques:
             b += self.expand("dT", node, key, expr)

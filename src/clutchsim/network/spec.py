@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Param", "StateSpec", "check_value"]
+__all__ = ["Param", "StateSpec", "check_table", "check_value"]
 
 
 @dataclass(frozen=True)
@@ -73,3 +73,20 @@ def check_value(owner: str, spec: Param, value) -> float:
     if bad:
         raise ValueError(f"{owner}: {spec.name} = {x:g}{u} must be {spec.rule()}")
     return x
+
+
+def check_table(owner: str, key: str, xs, ys, *, min_points: int = 2):
+    """A piecewise-linear table ``(breakpoints, values)`` as two tuples of floats, or a
+    ValueError naming ``owner`` and ``key``: equal lengths, at least ``min_points``, finite,
+    breakpoints strictly increasing."""
+    x = np.asarray(xs, dtype=float).ravel()
+    v = np.asarray(ys, dtype=float).ravel()
+    if x.size < min_points or x.size != v.size:
+        raise ValueError(f"{owner}: {key} needs at least {min_points} point"
+                         f"{'s' if min_points > 1 else ''} and equal lengths "
+                         f"(got {x.size} and {v.size})")
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+        raise ValueError(f"{owner}: {key} has non-finite entries")
+    if np.any(np.diff(x) <= 0):
+        raise ValueError(f"{owner}: {key} breakpoints must be strictly increasing")
+    return (tuple(x), tuple(v))

@@ -148,16 +148,18 @@ def loss_table(tab, key: str, fail) -> tuple:
     return tuple(zip(*(cols[c] for c in LOSS_COLUMNS)))
 
 
+def _need_input(scenario, name: str, key: str) -> None:
+    """Fail at ``key`` unless ``name`` is one of the scenario's [inputs]."""
+    if name not in scenario.inputs:
+        inputs = scenario.inputs
+        scenario.fail(f"input signal {name!r} is not defined in [inputs]"
+                      f"{'; inputs: ' + ', '.join(inputs) if inputs else ''}", key)
+
+
 def build_chain(scenario, model: str | None = None) -> Chain:
     """Build the :class:`Chain` of ``scenario`` with ``model`` on its clutch element."""
     data = scenario.data
     fail = scenario.fail
-    inputs = scenario.inputs
-
-    def need_input(name, key):
-        if name not in inputs:
-            fail(f"input signal {name!r} is not defined in [inputs]"
-                 f"{'; inputs: ' + ', '.join(inputs) if inputs else ''}", key)
 
     def guard(fn, key):
         try:
@@ -176,7 +178,7 @@ def build_chain(scenario, model: str | None = None) -> Chain:
     inertias = []
     for i, t in enumerate(data["inertia"]):
         if t.get("load"):
-            need_input(t["load"], f"inertia[{i}].load")
+            _need_input(scenario, t["load"], f"inertia[{i}].load")
         inertias.append(guard(lambda t=t: Inertia(**t), f"inertia[{i}]"))
     couplings = []
 
@@ -203,7 +205,7 @@ def build_chain(scenario, model: str | None = None) -> Chain:
             one_lossy_gear(lg, key)
             couplings.append(lg)
         elif ctype == "one_way_clutch":
-            need_input(kw["command"], f"{key}.command")
+            _need_input(scenario, kw["command"], f"{key}.command")
             kw["mu_temperature"] = _pairs(kw.get("mu_temperature"), "theta", "factor",
                                           f"{key}.mu_temperature", fail)
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
@@ -220,7 +222,7 @@ def build_chain(scenario, model: str | None = None) -> Chain:
             one_lossy_gear(gb, key)
             couplings.append(gb)
         else:
-            need_input(kw["command"], f"{key}.command")
+            _need_input(scenario, kw["command"], f"{key}.command")
             m = model if _replaced(t, model, scenario) else None
             kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
                                          kw.get("name", ""))
@@ -235,7 +237,7 @@ def build_chain(scenario, model: str | None = None) -> Chain:
     for i, t in enumerate(data.get("brake", [])):
         key = f"brake[{i}]"
         kw = dict(t)
-        need_input(kw["command"], f"{key}.command")
+        _need_input(scenario, kw["command"], f"{key}.command")
         m = model if _replaced(t, model, scenario) else None
         kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
                                      kw.get("name", ""))
@@ -244,7 +246,7 @@ def build_chain(scenario, model: str | None = None) -> Chain:
     engine = None
     if "engine" in data:
         e = dict(data["engine"])
-        need_input(e["throttle"], "engine.throttle")
+        _need_input(scenario, e["throttle"], "engine.throttle")
         fl = _pairs(e.pop("full_load"), "speed", "torque", "engine.full_load", fail)
         engine = guard(lambda: Engine(speeds=fl[0], torques=fl[1], **e), "engine")
     vehicle = guard(lambda: Vehicle(**data["vehicle"]), "vehicle") if "vehicle" in data else None
@@ -266,12 +268,6 @@ def build_network(scenario, model: str | None = None):
     from ..network import COMPONENTS, Network, NetworkError
     data = scenario.data
     fail = scenario.fail
-    inputs = scenario.inputs
-
-    def need_input(name, key):
-        if name not in inputs:
-            fail(f"input signal {name!r} is not defined in [inputs]"
-                 f"{'; inputs: ' + ', '.join(inputs) if inputs else ''}", key)
 
     comps = []
     where = {}
@@ -280,7 +276,7 @@ def build_network(scenario, model: str | None = None):
         kw = {k: v for k, v in t.items() if k not in ("type", "name")}
         cls = COMPONENTS[t["type"]]
         if t["type"] in ("clutch", "brake"):
-            need_input(kw["command"], f"{key}.command")
+            _need_input(scenario, kw["command"], f"{key}.command")
             m = model if _replaced(t, model, scenario) else None
             kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
                                          t["name"])
@@ -290,11 +286,11 @@ def build_network(scenario, model: str | None = None):
                 kw[k] = _pairs(kw.get(k), a, b, f"{key}.{k}", fail)
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
         elif t["type"] == "engine":
-            need_input(kw["throttle"], f"{key}.throttle")
+            _need_input(scenario, kw["throttle"], f"{key}.throttle")
             fl = _pairs(kw.pop("full_load"), "speed", "torque", f"{key}.full_load", fail)
             kw["speeds"], kw["torques"] = fl
         elif t["type"] == "torque":
-            need_input(kw["input"], f"{key}.input")
+            _need_input(scenario, kw["input"], f"{key}.input")
         try:
             comps.append(cls(t["name"], **kw))
         except (TypeError, ValueError) as exc:

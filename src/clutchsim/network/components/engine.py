@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..component import Component
-from ..spec import Param
+from ..spec import Param, check_table
 
 
 class Engine(Component):
@@ -34,19 +34,12 @@ class Engine(Component):
 
     def __init__(self, name, speeds, torques, throttle="throttle", **values):
         super().__init__(name, **values)
-        x = np.asarray(speeds, dtype=float).ravel()
-        v = np.asarray(torques, dtype=float).ravel()
-        if x.size < 1 or x.size != v.size:
-            raise ValueError(f"{self.label}: the full-load curve needs equal numbers of speeds "
-                             f"and torques (got {x.size} and {v.size})")
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-            raise ValueError(f"{self.label}: the full-load curve has non-finite entries")
-        if np.any(np.diff(x) <= 0):
-            raise ValueError(f"{self.label}: full-load speeds must be strictly increasing")
+        x, v = check_table(self.label, "full-load curve (speeds, torques)", speeds, torques,
+                           min_points=1)
         if self.idle_speed and self.stall_speed >= self.idle_speed:
             raise ValueError(f"{self.label}: stall_speed = {self.stall_speed:g} rad/s must be "
                              f"below idle_speed = {self.idle_speed:g} rad/s")
-        self.speeds, self.torques, self.throttle = tuple(x), tuple(v), str(throttle)
+        self.speeds, self.torques, self.throttle = x, v, str(throttle)
 
     @property
     def governed(self) -> bool:

@@ -16,22 +16,11 @@ import numpy as np
 
 from ...friction.base import FrictionModel
 from ..component import Component
-from ..spec import Param
+from ..spec import Param, check_table
 
 
 def _table(owner, key, tab):
-    if tab is None:
-        return None
-    x = np.asarray(tab[0], dtype=float).ravel()
-    v = np.asarray(tab[1], dtype=float).ravel()
-    if x.size < 2 or x.size != v.size:
-        raise ValueError(f"{owner}: {key} needs at least 2 points and equal lengths "
-                         f"(got {x.size} and {v.size})")
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-        raise ValueError(f"{owner}: {key} has non-finite entries")
-    if np.any(np.diff(x) <= 0):
-        raise ValueError(f"{owner}: {key} breakpoints must be strictly increasing")
-    return (tuple(x), tuple(v))
+    return None if tab is None else check_table(owner, key, tab[0], tab[1])
 
 
 def static_capacity(model: FrictionModel) -> float:
