@@ -4,7 +4,7 @@ This is the model a user without clutchsim would write for ``solve_ivp``: one fu
 ``rhs(t, y)`` in plain Python (``math`` only, no numba, no call into clutchsim's compiled
 code), a terminal scipy event for the zero crossings of the clutch slip, the reset of
 model (6) applied between two ``solve_ivp`` calls, and a restart.  It mirrors the
-equations of the compiled chain plant (``clutchsim.driveline.plant``) for the topology of
+equations of the generated network plant (``clutchsim.network``) for the topology of
 ``examples/launch.toml``::
 
     engine --clutch-- disc --damper-- gearbox_input ==gearbox== final_drive --shaft-- wheels
@@ -644,8 +644,6 @@ def _as_clutchsim_state(system, y: np.ndarray) -> np.ndarray:
     full = np.array(system.y0, dtype=float)
     for k, n in enumerate(STATE_NAMES):
         full[names.index(_PLANT_NAME.get(n, n))] = y[k]
-    if "omega_final_drive" in names:     # the chain plant keeps every inertia's speed
-        full[names.index("omega_final_drive")] = y[2] / full[names.index("ratio_gearbox")]
     return full
 
 

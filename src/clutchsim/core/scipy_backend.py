@@ -34,7 +34,8 @@ _METHOD = {"scipy-radau": "Radau", "scipy-lsoda": "LSODA", "scipy-rk45": "RK45"}
 def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
     from .simulate import assemble
 
-    tag, p = system.tag, system.params
+    # a copy: a plant may switch its values at scheduled events (a gear shift)
+    tag, p = system.tag, system.params.copy()
     n_in, n_ev, n_outp = len(system.input_names), system.n_events, len(system.output_names)
     u = np.zeros(n_in)
     g = np.zeros(n_ev)

@@ -240,7 +240,8 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     # the wall time is measured inside the compiled loop: it excludes JIT compilation
     if iopt[drv.I_EXACT_JAC] and system.tag not in _CHECKED_JACOBIANS:
         check_jacobian(system, y_init, signals, t0)
-    args = (kernels(system.tag), tab, mopt, ctrl, t0, t1, y_init, system.params, bank, bps,
+    # a copy: a plant may switch its values at scheduled events (a gear shift)
+    args = (kernels(system.tag), tab, mopt, ctrl, t0, t1, y_init, system.params.copy(), bank, bps,
             ev_dir, len(system.output_names), fopt, iopt)
     with compile_notice(type(system.tag), system.name) as first:
         if first:

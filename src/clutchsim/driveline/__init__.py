@@ -1,4 +1,4 @@
-"""Driveline: components, the compiled chain plant, scenarios and launch metrics."""
+"""Driveline: chain components (translated into networks), scenarios and launch metrics."""
 
 from ..scenario import load_scenario
 from .chain import ENERGY_STATES, Chain

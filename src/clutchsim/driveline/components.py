@@ -1,10 +1,8 @@
-"""Driveline components: immutable, validated on construction, SI units.
+"""Chain components: immutable, validated on construction, SI units.
 
-Each component owns its states (named in :meth:`Chain.build`): an inertia its speed, a
-spring-damper its twist, a friction element its model states and its lock flag, a thermal
-node its temperature, the engine its idle-governor integrator, a shiftable gearbox its
-current ratio.  :class:`Chain` assembles them into one compiled plant
-(:mod:`clutchsim.driveline.plant`).
+The parts of a chain file (``[[inertia]]``/``[[coupling]]``): :class:`Chain` holds them in
+series and translates them into the network components that simulate them
+(:meth:`Chain.network`, :mod:`clutchsim.network.components`).
 """
 
 from __future__ import annotations
@@ -17,6 +15,7 @@ import numpy as np
 from ..friction.base import FrictionModel
 from ..friction.coulomb_robust import CoulombRobust
 from ..network.components.friction import static_capacity
+from ..network.components.lossy_gear import LOSS_COLUMNS, check_loss_table
 from ..network.spec import check_table
 
 __all__ = [
@@ -238,8 +237,6 @@ def _efficiency(owner: str, name: str, value) -> float:
     return x
 
 
-#: columns of a lossy-gear loss table
-LOSS_COLUMNS = ("speed", "eta_mf1", "eta_mf2", "tau_bf1", "tau_bf2")
 
 
 @dataclass(frozen=True)
@@ -296,29 +293,12 @@ class LossyGear:
             raise ValueError(f"{o}: ratio = 0 is not allowed: the ratio omega_a/omega_b must "
                              "be non-zero")
         object.__setattr__(self, "ratio", r)
-        rows = []
         for i, row in enumerate(self.loss_table):
-            row = tuple(row)
-            if len(row) != 5:
-                raise ValueError(f"{o}: loss_table row {i} has {len(row)} entries; each row "
-                                 f"is ({', '.join(LOSS_COLUMNS)})")
-            vals = [_num(o, f"loss_table[{i}].{c}", v) for c, v in zip(LOSS_COLUMNS, row)]
-            rows.append(tuple(vals))
-        if not rows:
-            raise ValueError(f"{o}: loss_table needs at least one row")
-        for i, (w, e1, e2, b1, b2) in enumerate(rows):
-            if i == 0 and w < 0.0:
-                raise ValueError(f"{o}: loss_table[0].speed = {w:g} rad/s must be >= 0 "
-                                 "(the table is read at |omega_a|)")
-            if i > 0 and w <= rows[i - 1][0]:
-                raise ValueError(f"{o}: loss_table[{i}].speed = {w:g} rad/s must be greater "
-                                 f"than the previous row's {rows[i - 1][0]:g} rad/s")
-            for c, v in (("eta_mf1", e1), ("eta_mf2", e2)):
-                _efficiency(o, f"loss_table[{i}].{c}", v)
-            for c, v in (("tau_bf1", b1), ("tau_bf2", b2)):
-                if v < 0.0:
-                    raise ValueError(f"{o}: loss_table[{i}].{c} = {v:g} N·m must be >= 0")
-        object.__setattr__(self, "loss_table", tuple(rows))
+            for c, v in zip(LOSS_COLUMNS, tuple(row)):
+                _num(o, f"loss_table[{i}].{c}", v)
+        cols = check_loss_table(o, self.loss_table)
+        rows = tuple(zip(*cols))
+        object.__setattr__(self, "loss_table", rows)
 
     @property
     def ideal(self) -> bool:

@@ -177,7 +177,12 @@ class Emitter:
 
     def event(self, name: str, direction: int, expr: str, action: str) -> None:
         """An event function; at its zero crossing the plant answers ``action``
-        (``"fail"``: the run stops as failed, ``"stop"``, ``"continue"``)."""
+        (``"fail"``: the run stops as failed, ``"stop"``, ``"continue"``; ``"bank"``: the
+        component's next scheduled values take effect, see
+        :meth:`~clutchsim.network.component.Component.schedule`)."""
+        if action not in ("fail", "stop", "continue", "bank"):
+            raise ValueError(f"{self.c.label}: event action {action!r} is not one of fail, "
+                             "stop, continue, bank")
         self.g.events.append((name, int(direction), check_expr(expr), action, self.c.name))
 
     def accel(self, flange: str) -> str:

@@ -25,6 +25,7 @@ in :data:`clutchsim.network.components.COMPONENTS`; ``docs/network.md`` has the 
 
 from __future__ import annotations
 
+import copy
 from typing import ClassVar
 
 import numpy as np
@@ -127,6 +128,27 @@ class Component:
         """Initial values of its states; ``ctx`` gives the initial flange speeds
         (``ctx.speed(component, flange)``) and the inputs at the start (``ctx.input0``)."""
         return [0.0] * len(self.states)
+
+    def schedule(self) -> tuple:
+        """``(time [s], {parameter: value})`` entries at which its values change during a
+        run (a gearbox's shifts), in time order.  Each is an event of its own
+        (``e.event(..., "bank")``, emitted in the same order); the plant switches to a
+        precomputed bank of all values and derived parameters there."""
+        return ()
+
+    def with_values(self, **changes) -> Component:
+        """A copy with some parameter values changed (checked against their
+        declarations); its structure is unchanged."""
+        specs = {p.name: p for p in self.params}
+        new = copy.copy(self)
+        new.values = dict(self.values)
+        for key, val in changes.items():
+            if key not in specs:
+                from ..core.system import closest
+                raise ValueError(f"{self.label}: unknown parameter {key!r}"
+                                 f"{closest(key, specs)}")
+            new.values[key] = check_value(self.label, specs[key], val)
+        return new
 
     def emit(self, e) -> None:
         """Write the equations (see the module docstring)."""

@@ -45,7 +45,17 @@ class Plan:
         for c in comps:
             c.check_network(net)
         # switching block: elements whose force reads the stick torque (lockable or not)
-        self.sw = [c for c in self.fes if c.model.uses_stick_force]
+        # (lossy gears last: where a brake and a stuck gear hold the same part, the brake
+        # carries the torque up to its capacity and the gear the rest; the split is not
+        # unique, Modelica's LossyGearDemo2 documentation)
+        sw = [c for c in self.fes if c.model.uses_stick_force]
+        self.sw = ([c for c in sw if not getattr(c, "lossy", False)]
+                   + [c for c in sw if getattr(c, "lossy", False)])
+        lossy = [c for c in self.sw if getattr(c, "lossy", False)]
+        if len(lossy) > 1:
+            raise NetworkError(f"{lossy[1].label}: a second gear with losses ({lossy[0].label} "
+                               "is the first); a network holds at most one (the plant solves "
+                               "its loss in closed form)", lossy[1].name)
         self.sw_index = {c.name: i for i, c in enumerate(self.sw)}
         self.fe_index = {c.name: i for i, c in enumerate(self.fes)}
         # ---- inputs
@@ -163,8 +173,30 @@ class Plan:
 
     # ------------------------------------------------------------------ values
     def values_vector(self, comps=None) -> np.ndarray:
-        """The parameter vector for the components' current values (plus derived)."""
+        """The parameter vector for the components' current values (plus derived).
+
+        With scheduled value changes (:meth:`Component.schedule`, e.g. gear shifts) a bank
+        of ``n_params`` values follows per change, holding all values in force after it;
+        the plant copies it over the first ``n_params`` at that change's event."""
         comps = self.net.components if comps is None else comps
+        p0 = self._values(comps)
+        if not self.banks:
+            return p0
+        base = self.n_params
+        out = np.empty(base * (1 + len(self.banks)))
+        out[:base] = p0
+        order = {c.name: i for i, c in enumerate(comps)}
+        cur = {c.name: c for c in comps}
+        entries = []
+        for b, (name, j) in enumerate(self.banks):
+            t, changes = cur[name].schedule()[j]
+            entries.append(((float(t), order[name], j), name, changes, b))
+        for _key, name, changes, b in sorted(entries, key=lambda x: x[0]):
+            cur[name] = cur[name].with_values(**changes)
+            out[base * (b + 1):base * (b + 2)] = self._values([cur[c.name] for c in comps])
+        return out
+
+    def _values(self, comps) -> np.ndarray:
         by_name = {c.name: c for c in comps}
         p = np.zeros(self.n_params)
         for c_name, key, n_val in self._pack_shape:

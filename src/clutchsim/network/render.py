@@ -12,15 +12,33 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.status import Action
-from ..friction.base import RESET_NONE, RESET_RELEASED, RESET_STUCK
+from ..friction.base import RESET_CHANGED, RESET_NONE, RESET_RELEASED, RESET_STUCK
 from .codegen import ENERGY
 
 _ACTIONS = {"continue": int(Action.CONTINUE), "stop": int(Action.STOP),
             "fail": int(Action.FAIL)}
 _CHANGED = int(Action.STATE_CHANGED)
 _CONT = int(Action.CONTINUE)
-_ROBUST = 2
 NO_EVENT = 1.0
+#: slots of ``aux`` per friction element: slip, scale, stick torque, torque, shielded, and
+#: the flange-a torque of a lossy gear
+AUX_W = 6
+
+
+def _lockable(c) -> bool:
+    """Does the plant lock and free element ``c`` (coulomb-robust, one-way, lossy gear)?"""
+    return bool(getattr(c, "lockable", False))
+
+
+def _robust(c) -> bool:
+    """Is ``c`` a coulomb-robust friction element (locked and freed by the plant)?"""
+    return _lockable(c) and not _lossy(c) and c.model.code == 2
+
+
+def _lossy(c) -> bool:
+    """Is ``c`` the loss element of a lossy gear (its torque solved from the torque it
+    transmits, not by a friction model)?"""
+    return bool(getattr(c, "lossy", False))
 
 
 def _ind(lines, k=1):
@@ -43,6 +61,13 @@ class _R:
         self.fe = plan.fes
         self.mpat = plan.minv_pattern()
         self.imports: set = set()
+        # scheduled value changes (gear shifts): one bank of values per event, in order
+        self.banks = [ev for ev in g.events if ev[3] == "bank"]
+        counts: dict = {}
+        plan.banks = []
+        for ev in self.banks:
+            plan.banks.append((ev[4], counts.get(ev[4], 0)))
+            counts[ev[4]] = counts.get(ev[4], 0) + 1
 
     # ------------------------------------------------------------ helpers
     def Minv(self, i, j):
@@ -107,9 +132,23 @@ class _R:
         return ""
 
     def lk(self, c):
-        if c.model.code == _ROBUST:
+        if _lockable(c):
             return f"y[{self.P.state_index[(c.name, 'locked')]}] > 0.5"
         return "False"
+
+    def lossy_meta(self, c):
+        """(sw index, relation row, flange-a node, table offset, rows) of a lossy gear."""
+        i = self.P.sw_index[c.name]
+        r = self.P.relation_row[(c.name, 0)]
+        na = self.asm.node_of[(c.name, "a")]
+        o, npar = self.P.tables[(c.name, "model")]
+        return i, r, na, o, npar // 5
+
+    def Gp(self, r, n):
+        return f"p[{self.P.off_Gp + r * self.asm.n_nodes + n}]"
+
+    def Grel(self, r, n):
+        return f"p[{self.P.off_G + r * self.asm.n_nodes + n}]"
 
     # ------------------------------------------------------------ body
     def body(self, full: bool) -> list[str]:
@@ -118,8 +157,10 @@ class _R:
         for n in range(asm.n_nodes):
             L.append(f"w{n} = {P.node_speed(n)}")
         for c in P.sw:
-            if c.model.code == _ROBUST:      # the lock flag is constant between events
+            if _lockable(c):                 # the lock flag is constant between events
                 L.append(f"dy[{P.state_index[(c.name, 'locked')]}] = 0.0")
+            if _lossy(c):                    # so is a lossy gear's rolling direction
+                L.append(f"dy[{P.state_index[(c.name, 'z0')]}] = 0.0")
         L += g.body
         # smooth friction elements (no stick torque)
         for c in self.fe:
@@ -202,20 +243,35 @@ class _R:
         for i, c in enumerate(P.sw):
             e = P.fe_index[c.name]
             L.append(f"lk{e} = {self.lk(c)}")
-            L.append(f"F1_{e} = 0.0 if lk{e} else {self.fcall('friction_force', c, '0.0')}"
-                     f"{self.drag(c)}")
+            if _lossy(c):
+                L.append(f"F1_{e} = 0.0")
+            else:
+                L.append(f"F1_{e} = 0.0 if lk{e} else "
+                         f"{self.fcall('friction_force', c, '0.0')}{self.drag(c)}")
         # generalised forces with the pass-1 forces of the free elements
         for k in range(nv):
-            terms = [f"F1_{P.fe_index[c.name]} * {self.B(i, k)}" for i, c in enumerate(P.sw)]
-            L.append(f"G{k} = F{k} - ({' + '.join(terms)})")
-        need_hyp = [c for c in P.sw if full or c.model.code != _ROBUST]
+            terms = [f"F1_{P.fe_index[c.name]} * {self.B(i, k)}" for i, c in enumerate(P.sw)
+                     if not _lossy(c)]
+            L.append(f"G{k} = F{k} - ({' + '.join(terms) or '0.0'})")
+        for c in P.sw:
+            if _lossy(c):
+                L += self.lossy_roll(c)
+        # stick torques: every free element in the full evaluation; else those whose force
+        # reads it (models that are not locked by the plant, and coulomb-robust elements
+        # in their stuck mode while unlocked: a holder that takes what it can, up to its
+        # capacity, of a part that another element holds)
+        need_hyp = [c for c in P.sw if full or not _lockable(c) or _robust(c)]
         if need_hyp:
             for k in range(nv):
                 L.append(f"aG{k} = " + self.minv_row(k, lambda j: f"G{j}"))
         for i, c in enumerate(P.sw):
             e = P.fe_index[c.name]
             if c in need_hyp:
-                lines = [f"if lk{e}:", f"    fT{e} = 0.0\n    Fe{e} = 0.0", "else:"]
+                skip = f"lk{e}"
+                if not full and _robust(c):
+                    skip += f" or y[{P.state_index[(c.name, 'z0')]}] != 0.0"
+                lines = [f"if {skip}:", f"    fT{e} = 0.0 if lk{e} else F1_{e}\n    Fe{e} = 0.0",
+                         "else:"]
                 inner = []
                 for j, c2 in enumerate(P.sw):
                     e2 = P.fe_index[c2.name]
@@ -225,8 +281,11 @@ class _R:
                         + f" + F1_{e} * p[{P.off_S + j * m + i}]")
                 inner.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
                 inner.append(f"Fe{e} = tau[{i}]")
-                inner.append(f"fT{e} = {self.fcall('friction_force', c, f'Fe{e}')}"
-                             f"{self.drag(c)}")
+                if _lossy(c):
+                    inner.append(f"fT{e} = F1_{e}")
+                else:
+                    inner.append(f"fT{e} = {self.fcall('friction_force', c, f'Fe{e}')}"
+                                 f"{self.drag(c)}")
                 L += lines + _ind(inner)
             else:
                 L.append(f"Fe{e} = 0.0")
@@ -237,22 +296,97 @@ class _R:
             L.append(f"F{k} = F{k} - ({' + '.join(terms)})")
         for k in range(nv):
             L.append(f"a{k} = " + self.minv_row(k, lambda j: f"F{j}"))
-        for i, c in enumerate(P.sw):
-            e = P.fe_index[c.name]
-            L.append(f"act[{i}] = 1.0 if lk{e} else 0.0")
-            L.append(f"rr[{i}] = " + " + ".join(f"{self.B(i, k)} * a{k}" for k in range(nv)))
-        L.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
-        for k in range(nv):
-            terms = [f"{self.MB(k, i)} * tau[{i}]" for i in range(m)]
-            L.append(f"a{k} = a{k} - ({' + '.join(terms)})")
+        L += self.locked_solve(lambda k: f"a{k}")
         for i, c in enumerate(P.sw):
             e = P.fe_index[c.name]
             L.append(f"sh{e} = shl[{i}]")
             L.append(f"if lk{e}:")
             L.append(f"    fT{e} = tau[{i}]")
             L.append(f"    Fe{e} = tau[{i}]")
-            L.append(f"    {self.fcall('friction_force', c, f'Fe{e}')}")
+            if not _lossy(c):
+                L.append(f"    {self.fcall('friction_force', c, f'Fe{e}')}")
         return L
+
+    def locked_solve(self, acc) -> list[str]:
+        """Remove from the accelerations ``acc(k)`` what the locked elements hold: their
+        torques into ``tau`` (``act`` marks them)."""
+        P, m, nv = self.P, self.m, self.nv
+        L = []
+        for i, c in enumerate(P.sw):
+            L.append(f"act[{i}] = 1.0 if lk{P.fe_index[c.name]} else 0.0")
+            L.append(f"rr[{i}] = " + " + ".join(f"{self.B(i, k)} * {acc(k)}"
+                                                for k in range(nv)))
+        L.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
+        for k in range(nv):
+            terms = [f"{self.MB(k, i)} * tau[{i}]" for i in range(m)]
+            L.append(f"{acc(k)} = {acc(k)} - ({' + '.join(terms)})")
+        return L
+
+    def lossy_roll(self, c) -> list[str]:
+        """The loss ``F1_<e>`` of a rolling lossy gear (0 while it sticks).
+
+        Its flange-a torque is ``T_a = L − Q_a`` (``Q_a``: the torque of the gear's rigid
+        relation on node a).  Everything is linear in ``L`` for a given set of locked
+        elements: ``T_a = T_a0 + kk·L``, with ``T_a0`` from the accelerations without the
+        loss (``xa``) and ``kk`` from the response to a unit loss (``xu``, which the
+        Jacobian reuses).  :func:`~clutchsim.network._kernels.lossy_solve` closes the loop.
+        """
+        P, nv = self.P, self.nv
+        e = P.fe_index[c.name]
+        i, r, na, o, nrow = self.lossy_meta(c)
+        iz = P.state_index[(c.name, "z0")]
+        gi = P.slips[c.name]
+        b = []
+        for k in range(nv):
+            b.append(f"xa{e}_{k} = " + self.minv_row(k, lambda j: f"G{j}"))
+        b += self.locked_solve(lambda k: f"xa{e}_{k}")
+        b += self.lam_row(e, r, f"xa{e}_", "tau", free_f1=True)
+        b.append(f"Ta0_{e} = -{self.Grel(r, na)} * lamx{e}")
+        for k in range(nv):
+            b.append(f"xu{e}_{k} = -(" + self.minv_row(k, lambda j: self.B(i, j)) + ")")
+        b += self.locked_solve(lambda k: f"xu{e}_{k}")
+        b += self.lam_row(e, r, f"xu{e}_", "tau", free_f1=False, unit=gi)
+        b.append(f"kk{e} = 1.0 - {self.Grel(r, na)} * lamx{e}")
+        b.append(f"(c1_{e}, c2_{e}, c3_{e}, c4_{e}, c5_{e}, c6_{e}, c7_{e}, c8_{e}, "
+                 f"c9_{e}) = lossy_coeffs(p, {o}, {nrow}, s{e})")
+        b.append(f"F1_{e}, dLT{e}, dLs{e} = lossy_solve(y[{iz}], Ta0_{e}, kk{e}, c1_{e}, "
+                 f"c2_{e}, c3_{e}, c4_{e}, c5_{e}, c6_{e}, c7_{e}, c8_{e}, c9_{e})")
+        b.append(f"dLs{e} = dLs{e} * (1.0 if s{e} >= 0.0 else -1.0)")
+        for k in range(nv):
+            b.append(f"G{k} = G{k} - F1_{e} * {self.B(i, k)}")
+        L = [f"F1_{e} = 0.0", f"dLT{e} = 0.0", f"dLs{e} = 0.0"]
+        L += [f"xu{e}_{k} = 0.0" for k in range(nv)]
+        L += [f"if not lk{e}:"] + _ind(b)
+        self.imports.add(("clutchsim.network._kernels", "lossy_coeffs"))
+        self.imports.add(("clutchsim.network._kernels", "lossy_solve"))
+        return L
+
+    def lam_row(self, e, r, acc, tau, *, free_f1: bool, unit=None) -> list[str]:
+        """``lamx<e>``: the multiplier of rigid relation ``r`` for the accelerations
+        ``acc<k>`` and lock torques ``tau``, with the applied torques of the body and the
+        pass-1 forces (``free_f1``), or with a unit loss of the slip vector ``unit``."""
+        P, asm, nv, nn = self.P, self.asm, self.nv, self.asm.n_nodes
+        lines = []
+        terms = []
+        for n in range(nn):
+            al = " + ".join(f"{P.N(n, k)} * {acc}{k}" for k in range(nv)
+                            if asm.pattern[n][k]) or "0.0"
+            applied = []
+            if free_f1:
+                applied.append(f"T{n}")
+            for j, c2 in enumerate(P.sw):
+                gv = P.slips[c2.name]
+                if gv[n] == 0.0:
+                    continue
+                e2 = P.fe_index[c2.name]
+                f1 = f"F1_{e2}" if free_f1 else "0.0"
+                applied.append(f"{-float(gv[n])!r} * ({tau}[{j}] if lk{e2} else {f1})")
+            if unit is not None and unit[n] != 0.0:
+                applied.append(f"{-float(unit[n])!r}")
+            lines.append(f"Rx{e}_{n} = {self.Jn(n)} * ({al}) - ({' + '.join(applied) or '0.0'})")
+            terms.append(f"{self.Gp(r, n)} * Rx{e}_{n}")
+        lines.append(f"lamx{e} = {' + '.join(terms)}")
+        return lines
 
     # ------------------------------------------------------------ functions
     def header(self) -> list[str]:
@@ -273,17 +407,22 @@ class _R:
         b = self.body(True)
         for c in self.fe:
             e = self.P.fe_index[c.name]
-            b += [f"aux[{5 * e}] = s{e}", f"aux[{5 * e + 1}] = sc{e}",
-                  f"aux[{5 * e + 2}] = Fe{e}", f"aux[{5 * e + 3}] = fT{e}",
-                  f"aux[{5 * e + 4}] = sh{e}"]
+            b += [f"aux[{AUX_W * e}] = s{e}", f"aux[{AUX_W * e + 1}] = sc{e}",
+                  f"aux[{AUX_W * e + 2}] = Fe{e}", f"aux[{AUX_W * e + 3}] = fT{e}",
+                  f"aux[{AUX_W * e + 4}] = sh{e}"]
+            if _lossy(c):
+                _i, r, na, _o, _n = self.lossy_meta(c)
+                b.append(f"aux[{AUX_W * e + 5}] = fT{e} - {self.Grel(r, na)} * lam{r}")
+            else:
+                b.append(f"aux[{AUX_W * e + 5}] = 0.0")
         for k, ev in enumerate(self.g.events):      # the components' own event functions
-            b.append(f"aux[{5 * len(self.fe) + k}] = {ev[2]}")
+            b.append(f"aux[{AUX_W * len(self.fe) + k}] = {ev[2]}")
         return L + _ind(b) + [""]
 
     def aux_size(self) -> int:
-        """Length of ``_full``'s ``aux``: 5 per friction element (slip, scale, stick torque,
-        torque, shielded), then one per component event function."""
-        return max(5 * len(self.fe) + len(self.g.events), 1)
+        """Length of ``_full``'s ``aux``: ``AUX_W`` per friction element (slip, scale, stick
+        torque, torque, shielded, flange-a torque), then one per component event function."""
+        return max(AUX_W * len(self.fe) + len(self.g.events), 1)
 
     def ke(self) -> list[str]:
         P, asm = self.P, self.asm
@@ -312,13 +451,31 @@ class _R:
         """Lines writing element c's event functions into gname[off:...] (aux-based)."""
         e, o, npar, nz, iz = self.fe_meta(c)
         ne = c.model.n_events
-        sc = f"(aux[{5 * e + 1}] if aux[{5 * e + 1}] > 0.0 else 1e-300)"
-        L = [(f"{self.kernel(c, 'events')}(p[{o}:{o + npar}], y[{iz}:{iz + nz}], "
-              f"aux[{5 * e}], aux[{5 * e + 2}], {sc}, {gname}[{off}:{off + ne}])")]
-        if c.model.code == _ROBUST:
-            L.append(f"if {self.lk(c)} and aux[{5 * e + 4}] > 0.5:")
+        if _lossy(c):
+            L = [f"if {self.lk(c)}:",
+                 f"    lo, up = {self.lossy_bounds(c)}",
+                 f"    {gname}[{off}] = {NO_EVENT!r}",
+                 (f"    {gname}[{off + 1}] = min(up - aux[{AUX_W * e + 2}], "
+                  f"aux[{AUX_W * e + 2}] - lo) + LOSSY_TOL"),
+                 "else:",
+                 f"    {gname}[{off}] = y[{iz}] * aux[{AUX_W * e}] + 1e-300",
+                 f"    {gname}[{off + 1}] = {NO_EVENT!r}"]
+        else:
+            sc = f"(aux[{AUX_W * e + 1}] if aux[{AUX_W * e + 1}] > 0.0 else 1e-300)"
+            L = [(f"{self.kernel(c, 'events')}(p[{o}:{o + npar}], y[{iz}:{iz + nz}], "
+                  f"aux[{AUX_W * e}], aux[{AUX_W * e + 2}], {sc}, {gname}[{off}:{off + ne}])")]
+        if _lockable(c):
+            L.append(f"if {self.lk(c)} and aux[{AUX_W * e + 4}] > 0.5:")
             L.append(f"    {gname}[{off + 1}] = {NO_EVENT!r}")
         return L
+
+    def lossy_bounds(self, c) -> str:
+        """Expression: (lower, upper) loss a stuck lossy gear holds at its flange-a torque."""
+        e = self.P.fe_index[c.name]
+        _i, _r, _na, o, nrow = self.lossy_meta(c)
+        self.imports.add(("clutchsim.network._kernels", "lossy_bounds"))
+        self.imports.add(("clutchsim.network._kernels", "LOSSY_TOL"))
+        return f"lossy_bounds(p, {o}, {nrow}, aux[{AUX_W * e + 5}])"
 
     def event_layout(self):
         """[(kind, object, offset, count)] in event-vector order."""
@@ -342,7 +499,7 @@ class _R:
             if kind == "fe":
                 b += self.element_events(obj, "g", off)
             else:
-                b.append(f"g[{off}] = aux[{5 * len(self.fe) + k}]")
+                b.append(f"g[{off}] = aux[{AUX_W * len(self.fe) + k}]")
                 k += 1
         return L + _ind(b) + [""]
 
@@ -352,15 +509,49 @@ class _R:
         P = self.P
         e, o, npar, nz, iz = self.fe_meta(c)
         L = ["@jit", f"def _reset_{e}(t, y, u, p, aux, j):"]
-        b = [(f"action = {self.kernel(c, 'reset')}(p[{o}:{o + npar}], "
-              f"y[{iz}:{iz + nz}], aux[{5 * e}], aux[{5 * e + 2}], aux[{5 * e + 1}], j)")]
-        if c.model.code == _ROBUST:
+        lock = []
+        if _lockable(c):
             ilk = P.state_index[(c.name, "locked")]
-            b += [f"if action == {RESET_STUCK}:",
-                  f"    y[{ilk}] = 1.0",
-                  "    ke0 = _ke(y, p)",
-                  "    _project(y, p)",
-                  f"    y[{P.y_energy + 5}] += ke0 - _ke(y, p)",
+            lock = [f"y[{ilk}] = 1.0", "ke0 = _ke(y, p)", "_project(y, p)",
+                    f"y[{P.y_energy + 5}] += ke0 - _ke(y, p)"]
+        if _lossy(c):
+            # stop: lock, then look at the torque it must hold; it sticks when that is
+            # inside its limits, else it rolls on towards the limit it exceeds (the
+            # projection onto zero slip it made is then the start of the new direction)
+            fe = f"aux[{AUX_W * e + 2}]"
+            b = ["if j == 0:", f"    y[{iz}] = 0.0", *_ind(lock),
+                 "    _full(t, y, u, p, aux)",
+                 f"    lo, up = {self.lossy_bounds(c)}",
+                 f"    if lo - LOSSY_TOL <= {fe} <= up + LOSSY_TOL:",
+                 f"        return {RESET_STUCK}",
+                 f"    y[{ilk}] = 0.0",
+                 f"    y[{iz}] = 1.0 if {fe} > up else -1.0",
+                 f"    return {RESET_CHANGED}",
+                 "if j == 1:",
+                 f"    lo, up = {self.lossy_bounds(c)}",
+                 f"    y[{iz}] = 1.0 if up - {fe} <= {fe} - lo else -1.0",
+                 f"    y[{ilk}] = 0.0",
+                 f"    return {RESET_RELEASED}",
+                 f"return {RESET_NONE}"]
+            return L + _ind(b) + [""]
+        b = [(f"action = {self.kernel(c, 'reset')}(p[{o}:{o + npar}], "
+              f"y[{iz}:{iz + nz}], aux[{AUX_W * e}], aux[{AUX_W * e + 2}], "
+              f"aux[{AUX_W * e + 1}], j)")]
+        if _robust(c):
+            # a stop it cannot hold, or a break-away, on a part that other locked elements
+            # hold at rest: it stays in its stuck mode unlocked and takes what it can of
+            # the torque (up to its capacity), the others the rest
+            i = P.sw_index[c.name]
+            acts = [f"act[{j}] = 1.0 if {self.lk(c2)} else 0.0" for j, c2 in enumerate(P.sw)]
+            b += [(f"if ((j == 0 and action == {RESET_CHANGED}) or (j == 1 and action == "
+                  f"{RESET_RELEASED})) and aux[{AUX_W * e + 1}] > 0.0:"),
+                  f"    act = np.zeros({self.m})", *_ind(acts),
+                  f"    act[{i}] = 0.0",
+                  f"    if held_by_others(p, {P.off_S}, {self.m}, act, {i}):",
+                  f"        y[{iz}] = 0.0"]
+            self.imports.add(("clutchsim.network._kernels", "held_by_others"))
+        if _lockable(c):
+            b += [f"if action == {RESET_STUCK}:", *_ind(lock),
                   f"elif action == {RESET_RELEASED}:",
                   f"    y[{ilk}] = 0.0"]
         b.append("return action")
@@ -368,7 +559,7 @@ class _R:
 
     def settle(self) -> list[str]:
         P = self.P
-        lockable = [c for c in self.fe if c.model.code == _ROBUST]
+        lockable = [c for c in self.fe if _lockable(c)]
         L = ["@jit", "def _settle(t, y, u, p, e0, aux):"]
         if not lockable:
             return L + ["    return", ""]
@@ -377,7 +568,7 @@ class _R:
              "vmax = 0.0"]
         b += [f"vmax = max(vmax, abs(y[{k}]))" for k in range(self.nv)]
         b += ["w_tol = 1e-9 * (1.0 + vmax)",
-              f"for _it in range({len(lockable) + 1}):",
+              f"for _it in range({2 * len(lockable) + 1}):",
               "    _full(t, y, u, p, aux)",
               "    hit = -1",
               "    slot = -1"]
@@ -385,17 +576,38 @@ class _R:
             e, _o, _npar, _nz, iz = self.fe_meta(c)
             ilk = P.state_index[(c.name, "locked")]
             ev = self.element_events(c, "gb", 0)
-            b += [f"    if hit < 0 and done[{e}] < 0.5:",
-                  f"        if y[{ilk}] > 0.5:"]
-            b += _ind(ev, 3)
-            b += ["            if gb[1] < 0.0:",
-                  f"                hit = {e}",
-                  "                slot = 1",
-                  (f"        elif y[{iz}] != 0.0 and y[{iz}] * aux[{5 * e}] <= 0.0 and "
-                   f"abs(aux[{5 * e}]) <= w_tol:"),
+            # (a locked element gets a second look: locking it may have changed what
+            # another element transmits, a lossy gear's loss for one, and with it the
+            # torque it must hold)
+            b += [f"    if hit < 0 and done[{e}] < 1.5 and y[{ilk}] > 0.5:"]
+            b += _ind(ev, 2)
+            b += ["        if gb[1] < 0.0:",
+                  f"            hit = {e}",
+                  "            slot = 1",
+                  f"    if hit < 0 and done[{e}] < 0.5 and y[{ilk}] <= 0.5:",
+                  (f"        if y[{iz}] != 0.0 and y[{iz}] * aux[{AUX_W * e}] <= 0.0 and "
+                   f"abs(aux[{AUX_W * e}]) <= w_tol:"),
                   f"            hit = {e}",
                   "            slot = 0"]
-        b += ["    if hit < 0:", "        return", "    done[hit] = 1.0"]
+            if _robust(c):
+                # a holder in its stuck mode, unlocked (whatever happened to it before in
+                # this iteration): once no other element holds its part it breaks away, if
+                # the torque exceeds its capacity, or locks
+                i = P.sw_index[c.name]
+                b += [(f"    if hit < 0 and y[{ilk}] <= 0.5 and y[{iz}] == 0.0 and "
+                      f"aux[{AUX_W * e + 1}] > 0.0:"),
+                      f"        act = np.zeros({self.m})"]
+                b += [f"        act[{j}] = 1.0 if {self.lk(c2)} else 0.0"
+                      for j, c2 in enumerate(P.sw) if j != i]
+                b += [f"        if not held_by_others(p, {P.off_S}, {self.m}, act, {i}):"]
+                b += _ind(ev, 3)
+                # (at its capacity within round-off it breaks away: a torque that has just
+                # reached the limit is on its way past it)
+                b += [f"            hit = {e}",
+                      (f"            slot = 1 if gb[1] < 1e-9 * (1.0 + abs(aux[{AUX_W * e + 2}])) "
+                      "else 0")]
+                self.imports.add(("clutchsim.network._kernels", "held_by_others"))
+        b += ["    if hit < 0:", "        return", "    done[hit] += 1.0"]
         for c in lockable:
             e = P.fe_index[c.name]
             b += [f"    if hit == {e}:", f"        _reset_{e}(t, y, u, p, aux, slot)"]
@@ -410,14 +622,41 @@ class _R:
                 e = P.fe_index[obj.name]
                 b += [f"if {off} <= k < {off + cnt}:",
                       f"    action = _reset_{e}(t, y, u, p, aux, k - {off})"]
-                if obj.model.code == _ROBUST:
+                if _lockable(obj):
                     b += [f"    if action != {RESET_NONE}:",
                           f"        _settle(t, y, u, p, {e}, aux)"]
                 b += [f"    return {_CHANGED} if action != {RESET_NONE} else {_CONT}"]
+            elif obj[3] == "bank":
+                b += [f"if k == {off}:", f"    _bank(t, y, u, p, {self.banks.index(obj)})",
+                      "    _settle(t, y, u, p, -1, aux)", f"    return {_CHANGED}"]
             else:
                 b += [f"if k == {off}:", f"    return {_ACTIONS[obj[3]]}"]
         b.append(f"return {_CONT}")
         return L + _ind(b) + [""]
+
+    def bank(self) -> list[str]:
+        """``_bank(t, y, u, p, b)``: switch to the values of bank ``b`` (a scheduled change,
+        e.g. a gear shift).  Bank ``b`` is copied over the active values and derived
+        parameters, and the speeds are re-projected: the new independent speeds conserve
+        the angular momentum of the old node speeds in the new rigid structure
+        (``v = M⁻¹·Nᵀ·diag(J)·w``, an ideal synchroniser), then the locked elements'
+        constraints; the kinetic energy that removes is booked in ``W_sync``."""
+        P, asm, nv, nn = self.P, self.asm, self.nv, self.asm.n_nodes
+        L = ["@jit", "def _bank(t, y, u, p, b):"]
+        if not P.banks:
+            return L + ["    return", ""]
+        base = P.n_params
+        body = [f"w{n} = {P.node_speed(n)}" for n in range(nn)]
+        body += ["ke0 = _ke(y, p)", f"o = {base} * (b + 1)",
+                 f"for i in range({base}):", "    p[i] = p[o + i]"]
+        for k in range(nv):
+            terms = [f"{P.N(n, k)} * {self.Jn(n)} * w{n}" for n in range(nn)
+                     if asm.pattern[n][k]]
+            body.append(f"h{k} = {' + '.join(terms) or '0.0'}")
+        for k in range(nv):
+            body.append(f"y[{k}] = " + self.minv_row(k, lambda j: f"h{j}"))
+        body += ["_project(y, p)", f"y[{P.y_energy + 5}] += ke0 - _ke(y, p)"]
+        return L + _ind(body) + [""]
 
     def outputs(self) -> list[str]:
         P, asm = self.P, self.asm
@@ -463,6 +702,12 @@ class _R:
         for c in self.fe:
             e, _o, _npar, nz, iz = self.fe_meta(c)
             gv = P.slips[c.name]
+            if _lossy(c):
+                # loss power L·w: the L·dw part here, dL·w in the column loop below
+                for nd in np.flatnonzero(gv):
+                    b += self.expand("J", P.y_energy + 1, ("w", int(nd)),
+                                     f"fT{e} * {float(gv[nd])!r}")
+                continue
             cond = f"not lk{e}" if c.name in P.sw_index else "True"
             blk = [f"Jz{e} = np.zeros(({nz}, {nz + 1}))", f"dF{e} = np.zeros({nz + 3})",
                    f"dz{e} = np.zeros({max(nz, 1)})",
@@ -532,6 +777,7 @@ class _R:
             for k in range(nv):
                 inner.append(f"da{k} -= " + " + ".join(f"{self.MB(k, i)} * tau[{i}]"
                                                        for i in range(m)))
+        inner += self.lossy_columns()
         for k in range(nv):
             inner.append(f"J[{k}, col] = da{k}")
         if not inner:
@@ -554,12 +800,48 @@ class _R:
                     b += lines
         return L + _ind(b) + [""]
 
+    def lossy_columns(self) -> list[str]:
+        """Column ``col`` of the Jacobian through rolling lossy gears: ``dL = dL/dT_a0 ·
+        dT_a0 + dL/dw · dw`` (``dT_a0`` from the column's accelerations and torques
+        without the loss, as in :meth:`lossy_roll`), then ``da += dL·xu``."""
+        P, asm, nv, nn = self.P, self.asm, self.nv, self.asm.n_nodes
+        lossy = [c for c in P.sw if _lossy(c)]
+        if not lossy:
+            return []
+        L = [f"dTc = np.empty({nn})"] + [f"dTc[{nd}] = dT[{nd}, col]" for nd in range(nn)]
+        for c in lossy:
+            e = P.fe_index[c.name]
+            i, r, na, _o, _n = self.lossy_meta(c)
+            gi = P.slips[c.name]
+            b = []
+            terms = []
+            for nd in range(nn):
+                al = " + ".join(f"{P.N(nd, k)} * da{k}" for k in range(nv)
+                                if asm.pattern[nd][k]) or "0.0"
+                locks = [f"{-float(P.slips[c2.name][nd])!r} * (tau[{j}] if "
+                         f"lk{P.fe_index[c2.name]} else 0.0)"
+                         for j, c2 in enumerate(P.sw) if P.slips[c2.name][nd] != 0.0]
+                b.append(f"dR{nd} = {self.Jn(nd)} * ({al}) - (dTc[{nd}]"
+                         + "".join(f" + {x}" for x in locks) + ")")
+                terms.append(f"{self.Gp(r, nd)} * dR{nd}")
+            b.append(f"dlx = {' + '.join(terms)}")
+            b.append(f"dL = dLT{e} * (-{self.Grel(r, na)} * dlx) + (dLs{e} * "
+                     f"p[{P.off_B + i * nv} + col] if col < {nv} else 0.0)")
+            for k in range(nv):
+                b.append(f"da{k} += dL * xu{e}_{k}")
+            b.append(f"J[{P.y_energy + 1}, col] += dL * s{e}")
+            for nd in np.flatnonzero(gi):
+                b.append(f"dTc[{int(nd)}] += {-float(gi[nd])!r} * dL")
+            L += [f"if not lk{e}:"] + _ind(b)
+        return L
+
     def module(self) -> str:
         parts = self.rhs() + self.full() + self.ke() + self.project()
         for c in self.fe:
             if c.model.n_events:
                 parts += self.reset_fn(c)
-        parts += self.settle() + self.events() + self.reset() + self.outputs() + self.jac()
+        parts += (self.settle() + self.bank() + self.events() + self.reset() + self.outputs()
+                  + self.jac())
         parts = self.header() + parts       # the header imports what the functions use
         P = self.P
         names, dirs = [], []

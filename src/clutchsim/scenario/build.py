@@ -291,6 +291,15 @@ def build_network(scenario, model: str | None = None):
             kw["speeds"], kw["torques"] = fl
         elif t["type"] == "torque":
             _need_input(scenario, kw["input"], f"{key}.input")
+        elif t["type"] == "lossy_gear":
+            kw["loss_table"] = loss_table(kw.get("loss_table"), f"{key}.loss_table", fail)
+        elif t["type"] == "gearbox":
+            kw["shifts"] = tuple((s.get("time"), s.get("gear")) for s in kw.get("shifts", []))
+        elif t["type"] == "one_way_clutch":
+            _need_input(scenario, kw["command"], f"{key}.command")
+            kw["mu_temperature"] = _pairs(kw.get("mu_temperature"), "theta", "factor",
+                                          f"{key}.mu_temperature", fail)
+            kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
         try:
             comps.append(cls(t["name"], **kw))
         except (TypeError, ValueError) as exc:

@@ -127,7 +127,7 @@ LOSSY_GEAR = (
         "forward) and `<name>.locked`.", required=True),
     Key("type", "str", "lossy_gear: rigid gear with mesh efficiency and bearing friction that "
         "can stick (Modelica LossyGear; at most one gear with losses per scenario, a gearbox "
-        "with an efficiency included).", required=True),
+        "with an efficiency included). Outputs `T_loss_<name>`, `P_<name>`.", required=True),
     _n("ratio", "Speed ratio omega_a/omega_b (non-zero).", "-", required=True, low=-1e3,
        high=1e3),
     Key("loss_table", "table", "`{speed = [rad/s ...], eta_mf1 = [...], eta_mf2 = [...], "
@@ -151,12 +151,15 @@ ONE_WAY_CLUTCH = (
     _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
 )
 GEARBOX = (
-    Key("name", "str", "Unique name; state `ratio_<name>`.", required=True),
+    Key("name", "str", "Unique name; outputs `ratio_<name>` (overall ratio) and "
+        "`gear_<name>`.", required=True),
     Key("type", "str", "gearbox.", required=True),
     Key("ratios", "numbers", "Gear ratios, gear 1 first.", required=True),
     Key("gear", "int", "Selected gear (1-based).", required=True, low=1),
     _n("final_drive", "Final drive ratio.", "-", low=0.0, strict=True, high=100.0),
-    Key("shifts", "tables", "`[{time = 3.0, gear = 2}]`: ratio changes (ideal synchroniser)."),
+    Key("shifts", "tables", "`[{time = 3.0, gear = 2}]`: ratio changes (an ideal synchroniser "
+        "that conserves the angular momentum of what it joins; the energy it removes is "
+        "`W_sync`)."),
     _n("efficiency", "Mesh efficiency, power flowing input -> output, in (0, 1] (gearbox and "
        "final drive together; default 1: no loss). With losses the gearbox is the "
        "scenario's one lossy gear (states `<name>.mode`, `<name>.locked`).", "-",
@@ -228,6 +231,9 @@ def _component_keys(cls) -> tuple:
                        required=True),
                    Key("throttle", "str", "Throttle input signal [-].", required=True)),
         "thermal_node": (Key("link", "str", "Another thermal node this one conducts to."),),
+        "lossy_gear": (LOSSY_GEAR[3],),
+        "gearbox": (GEARBOX[2], GEARBOX[5]),
+        "one_way_clutch": (ONE_WAY_CLUTCH[2], ONE_WAY_CLUTCH[5], ONE_WAY_CLUTCH[6]),
         "planetary": (Key("z_sun", "int", "Sun teeth (with z_ring, instead of ratio).",
                           low=1, high=1e4),
                       Key("z_ring", "int", "Ring teeth.", low=1, high=1e4)),

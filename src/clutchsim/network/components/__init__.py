@@ -10,6 +10,8 @@ from .engine import Engine
 from .friction import Brake, Clutch
 from .ideal_gear import IdealGear
 from .inertia import Inertia
+from .lossy_gear import Gearbox, LossyGear
+from .one_way_clutch import OneWayClutch
 from .planetary import Planetary
 from .speed_torque import QuadraticSpeedTorque
 from .spring_damper import SpringDamper
@@ -17,10 +19,11 @@ from .thermal import ThermalNode
 from .torque_source import TorqueSource
 from .vehicle import Vehicle
 
-__all__ = ["COMPONENTS", "Brake", "Clutch", "Engine", "IdealGear", "Inertia", "Planetary",
-           "QuadraticSpeedTorque", "SpringDamper", "ThermalNode", "TorqueSource", "Vehicle"]
+__all__ = ["COMPONENTS", "Brake", "Clutch", "Engine", "Gearbox", "IdealGear", "Inertia",
+           "LossyGear", "OneWayClutch", "Planetary", "QuadraticSpeedTorque", "SpringDamper",
+           "ThermalNode", "TorqueSource", "Vehicle"]
 
 #: scenario ``type`` -> component class
-COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, Planetary, Clutch, Brake,
-                                  TorqueSource, QuadraticSpeedTorque, Engine, Vehicle,
-                                  ThermalNode)}
+COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
+                                  Planetary, Clutch, OneWayClutch, Brake, TorqueSource,
+                                  QuadraticSpeedTorque, Engine, Vehicle, ThermalNode)}
