@@ -161,5 +161,12 @@ def test_spec_bad_input_names_file_line_and_key(tmp_path):
     with pytest.raises(ValueError, match=r"s.toml:10: \[inputs.F_fix\] to: to = 'controller' "
                                          r"is not available for plant 'rig-velocity'"):
         load_spec(_spec(tmp_path, wrong))
+    # the same with one record in [data] file: that record is "every record"
+    one = SPEC.split("[[records]]")[0].replace("[data]\n", '[data]\nfile = "b.npz"\n')
+    with pytest.raises(ValueError, match=r"s.toml:10: \[inputs.F_fix\]: declared input column "
+                                         r"'F_fix' is in none of the fitting records \(.*b.npz\)"):
+        load_spec(_spec(tmp_path, one)).fit_data()
+    np.savez(tmp_path / "f.npz", **{**np.load(tmp_path / "a.npz"), "F_fix": np.zeros(101)})
+    assert len(load_spec(_spec(tmp_path, one.replace('"b.npz"', '"f.npz"'))).fit_data()) == 1
     with pytest.raises(ValueError, match=r"\[\[records\]\] #1 wieght: unknown key 'wieght'"):
         load_spec(_spec(tmp_path, SPEC.replace("window = [0.0, 0.5]", "wieght = 1")))

@@ -170,12 +170,11 @@ class FitSpec:
         """The fitting records: ``[data] file``, or every ``[[records]]`` with its window.
 
         ``window`` (the CLI's --window) overrides every record's own window."""
-        if not self.records:
-            return [self.read(window=window)]
-        out = []
-        for r in self.records:
-            w = window if window is not None else r.get("window")
-            out.append(self.read(r["file"], w))
+        if self.records:
+            out = [self.read(r["file"], window if window is not None else r.get("window"))
+                   for r in self.records]
+        else:
+            out = [self.read(window=window)]
         self._check_rates(out)
         self._check_inputs(out)
         return out
