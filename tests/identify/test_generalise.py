@@ -83,6 +83,11 @@ def test_declared_force_input_and_a_record_that_lacks_it():
     # without the declared input the same record is fitted much worse
     bare = evaluate(res.model, data, input="v", output="F", plant="rig-velocity")
     assert bare.nrmse > 10 * res.nrmse_fit
+    with pytest.raises(ValueError, match=r"inputs: declared input column 'Fy' \(to force\) is "
+                                         r"in none of the records \(fitting: with Fx; "
+                                         r"validation: without Fx\); columns: F, Fx, v"):
+        fit(start, data, input="v", output="F", plant="rig-velocity", params=["F_c"],
+            inputs=[InputSpec("Fy", "force")], validate=[other])
     with pytest.raises(ValueError, match="to = 'controller' is not available for plant "
                                          "'rig-velocity'"):
         evaluate(res.model, data, input="v", output="F", plant="rig-velocity",

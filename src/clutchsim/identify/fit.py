@@ -50,7 +50,7 @@ from ..data import Measurement, read_measurements
 from ..friction import make_model
 from ..friction.base import FrictionModel
 from .parameters import ParameterSpace, apply_to_model, model_parameter_names, model_value
-from .plants import POST, PlantSpec, Setup, build_setup
+from .plants import POST, PlantSpec, Setup, absent_input, build_setup
 
 __all__ = ["FIT_SOLVER_DEFAULTS", "INITIAL_STATES", "FitResult", "Trace", "evaluate", "fit",
            "nrmse", "simulate_setup", "solver_options"]
@@ -675,6 +675,12 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
     if t_span is not None:
         meas_list = [m.window(*t_span) for m in meas_list]
     _check_rates(meas_list)
+    vitems = [] if validate is None else \
+        list(validate) if isinstance(validate, (list, tuple)) else [validate]
+    val_list = [_as_measurement(item, f"validate[{k}]") for k, item in enumerate(vitems)]
+    absent = absent_input(inputs, meas_list, val_list)
+    if absent:
+        raise ValueError(f"inputs: {absent[1]}")
     n_rec = len(meas_list)
     w = np.ones(n_rec) if weights is None else np.asarray(weights, dtype=float).ravel()
     if w.size != n_rec or not np.all(np.isfinite(w)) or np.any(w < 0) or not w.sum() > 0:
@@ -825,8 +831,7 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         names, {n: float(v) for n, v in reported.items()}, phys_bounds, stderr, fitted_model)
     notes = [note for s in setups for note in s.notes]
     val_traces = []
-    if validate is not None:
-        vitems = validate if isinstance(validate, (list, tuple)) else [validate]
+    if val_list:
         if isinstance(initial, str):     # "fit-end"
             initial = problems[-1].final_state(values)
             if initial is None:
@@ -836,8 +841,7 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
                          f"{meas_list[-1].source}: {', '.join(f'{z:.6g}' for z in initial)}")
         val_problem = _Problem(fitted_model, setups[0], names, fixed_plant, solver,
                                tolerances, record=0 if multi else 1)
-        for k, item in enumerate(vitems):
-            vm = _as_measurement(item, f"validate[{k}]")
+        for vm in val_list:
             vs = build_setup(spec, fitted_model, vm, input=input, output=output,
                              signal=signal, inputs=inputs, z0=initial,
                              warmup=validate_warmup)

@@ -57,7 +57,8 @@ from ..friction.base import FrictionModel
 from ..rig import RIG_HEADER, make_rig
 from .emps import EMPS_HEADER, EMPS_PARAMS, make_emps
 
-__all__ = ["INPUT_TARGETS", "PLANTS", "InputSpec", "PlantSpec", "Setup", "build_setup"]
+__all__ = ["INPUT_TARGETS", "PLANTS", "InputSpec", "PlantSpec", "Setup", "absent_input",
+           "build_setup"]
 
 #: plant kind -> (description, default simulated signal, options accepted)
 PLANTS = {
@@ -207,6 +208,23 @@ def _declared(inputs, data: Measurement, kind: str):
             continue
         sums[spec.to] = sums.get(spec.to, 0.0) + spec.gain * np.asarray(data[spec.column])
     return sums, tuple(notes)
+
+
+def absent_input(inputs, fitting, validation=()) -> tuple[InputSpec, str] | None:
+    """The first declared input whose column is in none of the records, fitting or
+    validation, with the message (None when every one is somewhere).  A record that lacks a
+    declared column takes it as zero, with a note; a column that no record has is a typo or
+    a missing derived column."""
+    records = list(fitting) + list(validation)
+    for spec in inputs:
+        if not any(spec.column in m.columns for m in records):
+            cols = sorted(set().union(*(m.columns for m in records)))
+            val = f"; validation: {', '.join(m.source for m in validation)}" if validation \
+                else ""
+            return spec, (f"declared input column {spec.column!r} (to {spec.to}) is in none "
+                          f"of the records (fitting: {', '.join(m.source for m in fitting)}"
+                          f"{val}); columns: {', '.join(cols)}")
+    return None
 
 
 def build_setup(spec: PlantSpec, model: FrictionModel, data: Measurement, *,
