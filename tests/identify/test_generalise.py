@@ -120,6 +120,30 @@ def test_validation_from_the_fit_end_state_and_warmup():
         fit(truth, first, validate_initial=[0.0, 1.0], **kw)
 
 
+def test_fit_end_continues_the_motion_of_a_force_driven_record():
+    """Pure Coulomb friction (1 N) under a sine force of 3 N, split at t = 1.6 s while the
+    mass slides back: "fit-end" hands over the whole state (x, v, mode), so the second half is
+    predicted to the noise; from rest (v = 0, stuck) it is not.  A given friction state
+    leaves the plant at its default start."""
+    from _identify_helpers import synthetic_force_record
+    t = np.linspace(0.0, 4.0, 4001)
+    truth = make_model("coulomb-robust", F_c=1.0, F_s=1.0, sigma2=0.0)
+    whole = synthetic_force_record(truth, t, 3.0 * np.sin(np.pi * t), noise=1e-5, seed=8)
+    first, second = whole.window(0.0, 1.6), whole.window(1.6, 4.0)
+    kw = {"input": "f", "output": "x", "plant": "rig-force", "params": ["F_c"],
+          "validate": [second], "bounds": {"F_c": (0.5, 2.0)}}
+    end = fit(truth.with_(F_c=0.8), first, validate_initial="fit-end", **kw)
+    rest = fit(truth.with_(F_c=0.8), first, **kw)
+    assert end.parameters["F_c"] == pytest.approx(1.0, rel=1e-3)
+    assert end.validation[0].nrmse < 1e-3 and rest.validation[0].nrmse > 0.1
+    note = next(n for n in end.notes if "end of" in n)
+    assert "x = " in note and "v = -" in note and "mode = -1" in note   # sliding back
+    with pytest.raises(ValueError, match=r"y0 has 2 entries; plant 'rig-force' with "
+                                         r"coulomb-robust has 3 states \(x, v, mode\)"):
+        from clutchsim.identify.plants import PlantSpec, build_setup
+        build_setup(PlantSpec("rig-force"), truth, first, input="f", output="x", y0=[0, 1])
+
+
 def test_joint_fit_refuses_mixed_sampling_rates():
     a = _record(1.0)
     t2 = np.linspace(0.0, 2.0, 401)

@@ -38,8 +38,9 @@ force, e.g. an inertia or spring force of the fixture; emps: the disturbance for
 column that a record lacks is zero for that record, and :attr:`Setup.notes` says so.
 
 Initial state: ``z0`` replaces the friction states the plant starts from (default: at rest,
-or steady sliding when the rig starts moving); ``warmup`` [s] simulates the first part of the
-record and leaves it out of the error.
+or steady sliding when the rig starts moving); ``y0`` replaces the whole state, plant and
+friction (a record that continues another one starts where that one's simulation ended);
+``warmup`` [s] simulates the first part of the record and leaves it out of the error.
 """
 
 from __future__ import annotations
@@ -229,10 +230,11 @@ def absent_input(inputs, fitting, validation=()) -> tuple[InputSpec, str] | None
 
 def build_setup(spec: PlantSpec, model: FrictionModel, data: Measurement, *,
                 input: str, output: str, signal: str | None = None, inputs=(),
-                z0=None, warmup: float = 0.0) -> Setup:
+                z0=None, y0=None, warmup: float = 0.0) -> Setup:
     """The compiled plant for ``model`` driven by ``data[input]``, compared with ``data[output]``.
 
     ``inputs`` are :class:`InputSpec` declarations; ``z0`` the initial friction states;
+    ``y0`` the whole initial state (plant states, then friction states; overrides ``z0``);
     ``warmup`` [s] the leading part of the record left out of the error.
     """
     opts = dict(spec.options)
@@ -320,6 +322,13 @@ def build_setup(spec: PlantSpec, model: FrictionModel, data: Measurement, *,
     if not np.any(normaliser):
         raise ValueError(f"{data.source}: the measured output {output!r} is constant; "
                          "nothing to fit")
-    return Setup(system, inputs_, sig, system.y0.copy(), t, y, header,
+    start = system.y0.copy()
+    if y0 is not None:
+        start = np.asarray(y0, dtype=float).ravel()
+        if start.shape != system.y0.shape or not np.all(np.isfinite(start)):
+            raise ValueError(f"y0 has {start.size} entries; plant {spec.kind!r} with "
+                             f"{model.name} has {system.y0.size} states "
+                             f"({', '.join(system.state_names)}), all finite")
+    return Setup(system, inputs_, sig, start, t, y, header,
                  plant_index, plant_values, normaliser, extras, n_plant, skip, load,
                  output_add, notes, data.source)

@@ -35,7 +35,8 @@ same thing.  Layout (every table but ``[data]`` and ``[fit]`` optional)::
 
     [validate]                      # optional: other records, same mapping
     files = ["other.mat"]
-    initial = "rest"                # or "fit-end", or [z, ...] (the model's states)
+    initial = "rest"                # or "fit-end" (the whole state at the fit's end), or
+    #                                 [z, ...] (the model's states)
     warmup = 0.0                    # [s] simulated at the start, not compared
 
 Measured inputs beyond the drive signal, one table per column (after mapping and derived)::
