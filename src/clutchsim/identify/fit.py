@@ -61,7 +61,7 @@ __all__ = ["FIT_SOLVER_DEFAULTS", "INITIAL_STATES", "FitResult", "Trace", "evalu
 FIT_SOLVER_DEFAULTS = MappingProxyType({"rtol": 1e-8, "wall_time": 30.0,
                                         "max_steps": 5_000_000})
 ATOL_FRACTION = 1e-2
-#: how a validation record's friction state starts (or an array of the states)
+#: how a validation record starts: the plant's default, or the whole state at the end of the fit
 INITIAL_STATES = ("rest", "fit-end")
 
 
