@@ -24,6 +24,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
+from clutchsim.core.options import DEFAULT_METHOD
 from clutchsim.data import moving_average, read_measurements, shared_dir
 from clutchsim.friction import make_model
 from clutchsim.identify import evaluate, fit, load_spec
@@ -53,8 +54,10 @@ def run_emps(log) -> dict:
     spec = load_spec(ROOT / "examples" / "fit_emps.toml")
     data = spec.read()
     f = spec.fit
-    common = dict(input=f["input"], output=f["output"], plant="emps", solver=f["solver"],
-                  rtol=float(f["rtol"]))
+    # the spec's [solver] table: the integrator and the options of every simulation
+    common = dict(input=f["input"], output=f["output"], plant="emps",
+                  solver=spec.solver.get("method", DEFAULT_METHOD),
+                  options={k: v for k, v in spec.solver.items() if k != "method"})
     rows = []
     # the authors' IDIM values, simulated in our closed loop (no fit)
     published = make_model("tanh", F_c=20.39, v_t=1e-3, sigma2=203.5)
@@ -103,7 +106,45 @@ def run_emps(log) -> dict:
         fig, _, _ = plot_residuals(res, unit="m")
         save_png(fig, OUT / f"emps_{case}_residuals.png")
     del cv0, cvm
-    return {"rows": rows, "held_plant": held}
+    return {"rows": rows, "held_plant": held, "cross": _emps_cross(spec, data, common, log)}
+
+
+#: the reference reverses at q = 0 (a momentary standstill) here: the two halves of the record
+EMPS_SPLIT = 12.464
+EMPS_CV = {"tanh": ["F_c", "sigma2", "M", "offset", "tau_v"]}
+
+
+def _emps_cross(spec, data, common, log) -> list[dict]:
+    """Two-fold cross-validation on the estimation record (the benchmark's validation record
+    is held out): fit on one half, simulate the other.  The second half continues the first,
+    so it starts from the friction state at the first half's end (``"fit-end"``; the drive is
+    at a reversal there, q_ref at rest); the first half starts at rest.  C+V is fitted with the
+    mass, offset and velocity lag; the dynamic models hold that fold's C+V plant."""
+    halves = {"first": data.window(None, EMPS_SPLIT), "second": data.window(EMPS_SPLIT, None)}
+    f = spec.fit
+    rows = []
+    for fold, other, initial in (("first", "second", "fit-end"), ("second", "first", "rest")):
+        plant = dict(spec.plant.options)
+        for name in ("tanh", "lugre", "gms", "mykhailevych2020"):
+            model, entry = spec.model_entry(name)
+            params = EMPS_CV.get(name) or list(entry["params"])
+            opts = {**plant, **(entry["plant_start"] if name == "tanh" else {})}
+            bounds = {k: tuple(v) for k, v in entry.get("bounds", {}).items() if k in params}
+            res = fit(model, halves[fold], params=params, bounds=bounds, plant_options=opts,
+                      tol=float(f.get("tol", 1e-8)), validate=[halves[other]],
+                      validate_initial=initial, **common)
+            if name == "tanh":
+                plant.update({k: res.parameters[k] for k in ("M", "offset", "tau_v")})
+            val = res.validation[0]
+            rows.append({"fit_on": fold, "validate_on": other, "initial": initial,
+                         "model": name, "parameters": dict(res.parameters),
+                         "nrmse_fit": res.nrmse_fit, "nrmse_validation": val.nrmse,
+                         "force_error_pct_fit": res.fit_trace.metrics.get("force_error_pct"),
+                         "force_error_pct_validation": val.metrics.get("force_error_pct"),
+                         "time_s": res.wall_time, "evaluations": res.evaluations})
+            log(f"EMPS cross-validation {name}, fit on the {fold} half: NRMSE fit "
+                f"{res.nrmse_fit:.4g}, {other} half {val.nrmse:.4g}; {res.wall_time:.1f} s")
+    return rows
 
 
 # ---------------------------------------------------------------- BRFD
@@ -201,6 +242,7 @@ def run_brfd_loads(log, single: dict | None = None) -> dict:
     fitted = {Path(r["file"]).name for r in spec.records}
     val_files = _brfd_validation(index, fitted)
     val = [spec.read(folder / r["file"]) for r in val_files]
+    spec.check_inputs(records, val)
     out = {"licence": BRFD_NOTE, "fit_files": sorted(fitted), "models": {},
            "start": "the one-record fits" if single else "the spec's start values",
            "tests": [{k: r[k] for k in ("file", "kind", "freq_hz", "amplitude_in",
@@ -333,6 +375,22 @@ def tables(results: dict) -> str:
                          f"{_fmt(r.get('force_error_pct', np.nan), 3)} | {t} | "
                          f"{r['evaluations']} |")
         lines.append("")
+        cross = results["emps"].get("cross")
+        if cross:
+            lines += [f"### EMPS, two-fold cross-validation (halves split at {EMPS_SPLIT} s)", "",
+                      "| model | fitted on | NRMSE fit | NRMSE other half (start) | force error "
+                      "fit / other half [%] | wall time [s] |", "|---|---|---|---|---|---|"]
+            for r in cross:
+                lines.append(
+                    f"| {r['model']} | {r['fit_on']} half | {_fmt(r['nrmse_fit'], 3)} | "
+                    f"{_fmt(r['nrmse_validation'], 3)} ({r['initial']}) | "
+                    f"{_fmt(r['force_error_pct_fit'], 3)} / "
+                    f"{_fmt(r['force_error_pct_validation'], 3)} | {r['time_s']:.1f} |")
+            lines += ["", "| model | fitted on | parameters |", "|---|---|---|"]
+            for r in cross:
+                par = ", ".join(f"{k} = {_fmt(v)}" for k, v in r["parameters"].items())
+                lines.append(f"| {r['model']} | {r['fit_on']} half | {par} |")
+            lines.append("")
     if "brfd" in results:
         b = results["brfd"]
         names = list(b["models"])
@@ -427,6 +485,12 @@ def generalisation(results: dict) -> list[str]:
         for n, m in results["tribo"]["models"].items():
             if "error" not in m:
                 rows.append(("micro-tribometer", n, m["nrmse_fit"], m["nrmse_validation"], None))
+    cross = results.get("emps", {}).get("cross") or []
+    for n in dict.fromkeys(r["model"] for r in cross):      # the mean over the two folds
+        mine = [r for r in cross if r["model"] == n]
+        rows.append(("EMPS, two-fold (halves)", n,
+                     float(np.mean([r["nrmse_fit"] for r in mine])),
+                     float(np.mean([r["nrmse_validation"] for r in mine])), None))
     if not rows:
         return []
     lines = ["### Generalisation: fit error and error on records that were not fitted", "",

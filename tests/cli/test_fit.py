@@ -208,7 +208,12 @@ params = ["F_c", "sigma2", "load_fraction"]
     code = main(["fit", str(spec), "--out", str(tmp_path / "o3"), "--quiet"])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1
-    assert "loads.toml:8: [inputs.Fx]: declared input column 'Fx' is in none" in err[0]
+    assert ("loads.toml:8: [inputs.Fx]: declared input column 'Fx' (to force) is in none "
+            "of the records (fitting: ") in err[0]
+    # a column only in a validation record is fine (it is zero in the fitting records)
+    code = main(["fit", str(spec), "--validate", str(tmp_path / "c.csv"), "--out",
+                 str(tmp_path / "o4"), "--quiet", "--no-plots"])
+    assert code == 0, capsys.readouterr().err
 
 
 @pytest.mark.parametrize("table, message", [

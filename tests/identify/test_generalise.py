@@ -83,6 +83,11 @@ def test_declared_force_input_and_a_record_that_lacks_it():
     # without the declared input the same record is fitted much worse
     bare = evaluate(res.model, data, input="v", output="F", plant="rig-velocity")
     assert bare.nrmse > 10 * res.nrmse_fit
+    with pytest.raises(ValueError, match=r"inputs: declared input column 'Fy' \(to force\) is "
+                                         r"in none of the records \(fitting: with Fx; "
+                                         r"validation: without Fx\); columns: F, Fx, v"):
+        fit(start, data, input="v", output="F", plant="rig-velocity", params=["F_c"],
+            inputs=[InputSpec("Fy", "force")], validate=[other])
     with pytest.raises(ValueError, match="to = 'controller' is not available for plant "
                                          "'rig-velocity'"):
         evaluate(res.model, data, input="v", output="F", plant="rig-velocity",
@@ -113,6 +118,30 @@ def test_validation_from_the_fit_end_state_and_warmup():
     assert given.validation[0].nrmse == pytest.approx(rest.validation[0].nrmse, rel=1e-6)
     with pytest.raises(ValueError, match="validate_initial has 2 entries; lugre has 1 state"):
         fit(truth, first, validate_initial=[0.0, 1.0], **kw)
+
+
+def test_fit_end_continues_the_motion_of_a_force_driven_record():
+    """Pure Coulomb friction (1 N) under a sine force of 3 N, split at t = 1.6 s while the
+    mass slides back: "fit-end" hands over the whole state (x, v, mode), so the second half is
+    predicted to the noise; from rest (v = 0, stuck) it is not.  A given friction state
+    leaves the plant at its default start."""
+    from _identify_helpers import synthetic_force_record
+    t = np.linspace(0.0, 4.0, 4001)
+    truth = make_model("coulomb-robust", F_c=1.0, F_s=1.0, sigma2=0.0)
+    whole = synthetic_force_record(truth, t, 3.0 * np.sin(np.pi * t), noise=1e-5, seed=8)
+    first, second = whole.window(0.0, 1.6), whole.window(1.6, 4.0)
+    kw = {"input": "f", "output": "x", "plant": "rig-force", "params": ["F_c"],
+          "validate": [second], "bounds": {"F_c": (0.5, 2.0)}}
+    end = fit(truth.with_(F_c=0.8), first, validate_initial="fit-end", **kw)
+    rest = fit(truth.with_(F_c=0.8), first, **kw)
+    assert end.parameters["F_c"] == pytest.approx(1.0, rel=1e-3)
+    assert end.validation[0].nrmse < 1e-3 and rest.validation[0].nrmse > 0.1
+    note = next(n for n in end.notes if "end of" in n)
+    assert "x = " in note and "v = -" in note and "mode = -1" in note   # sliding back
+    with pytest.raises(ValueError, match=r"y0 has 2 entries; plant 'rig-force' with "
+                                         r"coulomb-robust has 3 states \(x, v, mode\)"):
+        from clutchsim.identify.plants import PlantSpec, build_setup
+        build_setup(PlantSpec("rig-force"), truth, first, input="f", output="x", y0=[0, 1])
 
 
 def test_joint_fit_refuses_mixed_sampling_rates():

@@ -138,8 +138,9 @@ def test_spec_bad_input_names_file_line_and_key(tmp_path):
     # a declared input column that no record has (line of [inputs.F_fix])
     spec = load_spec(_spec(tmp_path, SPEC))
     with pytest.raises(ValueError, match=r"s.toml:9: \[inputs.F_fix\]: declared input column "
-                                         r"'F_fix' is in none of the fitting records"):
-        spec.fit_data()
+                                         r"'F_fix' \(to force\) is in none of the records "
+                                         r"\(fitting: .*a.npz, .*b.npz\); columns: F, F_act1"):
+        spec.check_inputs(spec.fit_data())
     # an initial state of the wrong size
     with pytest.raises(ValueError, match=r"s.toml:28: \[validate\] initial has 1 entries; "
                                          r"gms has 4 state"):
@@ -161,5 +162,14 @@ def test_spec_bad_input_names_file_line_and_key(tmp_path):
     with pytest.raises(ValueError, match=r"s.toml:10: \[inputs.F_fix\] to: to = 'controller' "
                                          r"is not available for plant 'rig-velocity'"):
         load_spec(_spec(tmp_path, wrong))
+    # one record in [data] file, the column only in a validation record (the EMPS estimation
+    # record and a record with disturbance pulses): fine; in neither: refused
+    one = load_spec(_spec(tmp_path, SPEC.split("[[records]]")[0].replace(
+        "[data]\n", '[data]\nfile = "b.npz"\n')))
+    np.savez(tmp_path / "f.npz", **{**np.load(tmp_path / "a.npz"), "F_fix": np.zeros(101)})
+    one.check_inputs(one.fit_data(), [one.read(tmp_path / "f.npz")])
+    with pytest.raises(ValueError, match=r"s.toml:10: \[inputs.F_fix\]: .* none of the records "
+                                         r"\(fitting: .*b.npz; validation: .*a.npz\)"):
+        one.check_inputs(one.fit_data(), [one.read(tmp_path / "a.npz")])
     with pytest.raises(ValueError, match=r"\[\[records\]\] #1 wieght: unknown key 'wieght'"):
         load_spec(_spec(tmp_path, SPEC.replace("window = [0.0, 0.5]", "wieght = 1")))

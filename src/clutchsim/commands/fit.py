@@ -160,6 +160,7 @@ def _from_spec(args):
     records = spec.fit_data(window=_window(args.window))
     data = records if len(records) > 1 else records[0]
     validate = spec.validation_data() + [spec.read(f) for f in args.validate]
+    spec.check_inputs(records, validate)
     f = spec.fit
     params = args.params.split(",") if args.params else list(entry.get("params", []))
     if not params:

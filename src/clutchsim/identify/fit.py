@@ -50,7 +50,7 @@ from ..data import Measurement, read_measurements
 from ..friction import make_model
 from ..friction.base import FrictionModel
 from .parameters import ParameterSpace, apply_to_model, model_parameter_names, model_value
-from .plants import POST, PlantSpec, Setup, build_setup
+from .plants import POST, PlantSpec, Setup, absent_input, build_setup
 
 __all__ = ["FIT_SOLVER_DEFAULTS", "INITIAL_STATES", "FitResult", "Trace", "evaluate", "fit",
            "nrmse", "simulate_setup", "solver_options"]
@@ -61,7 +61,7 @@ __all__ = ["FIT_SOLVER_DEFAULTS", "INITIAL_STATES", "FitResult", "Trace", "evalu
 FIT_SOLVER_DEFAULTS = MappingProxyType({"rtol": 1e-8, "wall_time": 30.0,
                                         "max_steps": 5_000_000})
 ATOL_FRACTION = 1e-2
-#: how a validation record's friction state starts (or an array of the states)
+#: how a validation record starts: the plant's default, or the whole state at the end of the fit
 INITIAL_STATES = ("rest", "fit-end")
 
 
@@ -348,13 +348,14 @@ class _Problem:
                               post_offset=post, extra=extra, load_fraction=lam)
 
     def final_state(self, values: np.ndarray) -> np.ndarray | None:
-        """Friction states at the end of this record, simulated at ``values``."""
+        """The whole state (plant, then friction) at the end of this record, simulated at
+        ``values``."""
         s = self.setup
         p, _, lam = self.parameters(values, s)
         res = _run(s, p, self.solver, self.options, lam)
         if res is None:
             return None
-        return np.array([res.final(n) for n in s.system.state_names[s.n_plant:]])
+        return np.array([res.final(n) for n in s.system.state_names])
 
     def evaluate(self, values: np.ndarray, setup: Setup, source: str, plant: str) -> Trace:
         """Simulate ``setup`` at ``values`` and measure the errors."""
@@ -649,9 +650,12 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
     weights : sequence of float, optional
         Weight of each record in the cost (default equal).
     validate_initial : "rest", "fit-end" or array, optional
-        Friction state the validation records start from: the plant's default (``"rest"``,
-        None), the state at the end of the (last) fitting record at the fitted values
-        (``"fit-end"``, for a record that continues it), or the given states.
+        State the validation records start from: the plant's default (``"rest"``, None);
+        the whole state (plant and friction: position, velocity, a controller's state, the
+        friction states) at the end of the (last) fitting record at the fitted values
+        (``"fit-end"``, for a record that continues it: it goes on moving as the simulation
+        did, and an event at the split, such as a reversal, still happens); or the given
+        friction states (the plant starts as by default).
     validate_warmup : float
         Leading part of each validation record [s] simulated and left out of its error.
 
@@ -675,6 +679,12 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
     if t_span is not None:
         meas_list = [m.window(*t_span) for m in meas_list]
     _check_rates(meas_list)
+    vitems = [] if validate is None else \
+        list(validate) if isinstance(validate, (list, tuple)) else [validate]
+    val_list = [_as_measurement(item, f"validate[{k}]") for k, item in enumerate(vitems)]
+    absent = absent_input(inputs, meas_list, val_list)
+    if absent:
+        raise ValueError(f"inputs: {absent[1]}")
     n_rec = len(meas_list)
     w = np.ones(n_rec) if weights is None else np.asarray(weights, dtype=float).ravel()
     if w.size != n_rec or not np.all(np.isfinite(w)) or np.any(w < 0) or not w.sum() > 0:
@@ -825,21 +835,25 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         names, {n: float(v) for n, v in reported.items()}, phys_bounds, stderr, fitted_model)
     notes = [note for s in setups for note in s.notes]
     val_traces = []
-    if validate is not None:
-        vitems = validate if isinstance(validate, (list, tuple)) else [validate]
-        if isinstance(initial, str):     # "fit-end"
-            initial = problems[-1].final_state(values)
-            if initial is None:
+    y_start = None
+    if val_list:
+        if isinstance(initial, str):     # "fit-end": the whole state, so that a record that
+            # continues the fitting one also continues its motion and its event states
+            last = problems[-1]
+            y_start = last.final_state(values)
+            if y_start is None:
                 raise RuntimeError(f"{meas_list[-1].source}: the simulation at the fitted "
                                    "parameters did not complete (for the final state)")
-            notes.append(f"validation starts from the friction state at the end of "
-                         f"{meas_list[-1].source}: {', '.join(f'{z:.6g}' for z in initial)}")
+            initial = None
+            names_ = last.setup.system.state_names
+            notes.append(f"validation starts from the state at the end of "
+                         f"{meas_list[-1].source}: " + ", ".join(
+                             f"{n} = {z:.6g}" for n, z in zip(names_, y_start)))
         val_problem = _Problem(fitted_model, setups[0], names, fixed_plant, solver,
                                tolerances, record=0 if multi else 1)
-        for k, item in enumerate(vitems):
-            vm = _as_measurement(item, f"validate[{k}]")
+        for vm in val_list:
             vs = build_setup(spec, fitted_model, vm, input=input, output=output,
-                             signal=signal, inputs=inputs, z0=initial,
+                             signal=signal, inputs=inputs, z0=initial, y0=y_start,
                              warmup=validate_warmup)
             notes.extend(vs.notes)
             val_traces.append(val_problem.evaluate(values, vs, vm.source, spec.kind))

@@ -38,8 +38,9 @@ force, e.g. an inertia or spring force of the fixture; emps: the disturbance for
 column that a record lacks is zero for that record, and :attr:`Setup.notes` says so.
 
 Initial state: ``z0`` replaces the friction states the plant starts from (default: at rest,
-or steady sliding when the rig starts moving); ``warmup`` [s] simulates the first part of the
-record and leaves it out of the error.
+or steady sliding when the rig starts moving); ``y0`` replaces the whole state, plant and
+friction (a record that continues another one starts where that one's simulation ended);
+``warmup`` [s] simulates the first part of the record and leaves it out of the error.
 """
 
 from __future__ import annotations
@@ -57,7 +58,8 @@ from ..friction.base import FrictionModel
 from ..rig import RIG_HEADER, make_rig
 from .emps import EMPS_HEADER, EMPS_PARAMS, make_emps
 
-__all__ = ["INPUT_TARGETS", "PLANTS", "InputSpec", "PlantSpec", "Setup", "build_setup"]
+__all__ = ["INPUT_TARGETS", "PLANTS", "InputSpec", "PlantSpec", "Setup", "absent_input",
+           "build_setup"]
 
 #: plant kind -> (description, default simulated signal, options accepted)
 PLANTS = {
@@ -209,12 +211,30 @@ def _declared(inputs, data: Measurement, kind: str):
     return sums, tuple(notes)
 
 
+def absent_input(inputs, fitting, validation=()) -> tuple[InputSpec, str] | None:
+    """The first declared input whose column is in none of the records, fitting or
+    validation, with the message (None when every one is somewhere).  A record that lacks a
+    declared column takes it as zero, with a note; a column that no record has is a typo or
+    a missing derived column."""
+    records = list(fitting) + list(validation)
+    for spec in inputs:
+        if not any(spec.column in m.columns for m in records):
+            cols = sorted(set().union(*(m.columns for m in records)))
+            val = f"; validation: {', '.join(m.source for m in validation)}" if validation \
+                else ""
+            return spec, (f"declared input column {spec.column!r} (to {spec.to}) is in none "
+                          f"of the records (fitting: {', '.join(m.source for m in fitting)}"
+                          f"{val}); columns: {', '.join(cols)}")
+    return None
+
+
 def build_setup(spec: PlantSpec, model: FrictionModel, data: Measurement, *,
                 input: str, output: str, signal: str | None = None, inputs=(),
-                z0=None, warmup: float = 0.0) -> Setup:
+                z0=None, y0=None, warmup: float = 0.0) -> Setup:
     """The compiled plant for ``model`` driven by ``data[input]``, compared with ``data[output]``.
 
     ``inputs`` are :class:`InputSpec` declarations; ``z0`` the initial friction states;
+    ``y0`` the whole initial state (plant states, then friction states; overrides ``z0``);
     ``warmup`` [s] the leading part of the record left out of the error.
     """
     opts = dict(spec.options)
@@ -302,6 +322,13 @@ def build_setup(spec: PlantSpec, model: FrictionModel, data: Measurement, *,
     if not np.any(normaliser):
         raise ValueError(f"{data.source}: the measured output {output!r} is constant; "
                          "nothing to fit")
-    return Setup(system, inputs_, sig, system.y0.copy(), t, y, header,
+    start = system.y0.copy()
+    if y0 is not None:
+        start = np.asarray(y0, dtype=float).ravel()
+        if start.shape != system.y0.shape or not np.all(np.isfinite(start)):
+            raise ValueError(f"y0 has {start.size} entries; plant {spec.kind!r} with "
+                             f"{model.name} has {system.y0.size} states "
+                             f"({', '.join(system.state_names)}), all finite")
+    return Setup(system, inputs_, sig, start, t, y, header,
                  plant_index, plant_values, normaliser, extras, n_plant, skip, load,
                  output_add, notes, data.source)

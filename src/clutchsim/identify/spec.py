@@ -35,7 +35,8 @@ same thing.  Layout (every table but ``[data]`` and ``[fit]`` optional)::
 
     [validate]                      # optional: other records, same mapping
     files = ["other.mat"]
-    initial = "rest"                # or "fit-end", or [z, ...] (the model's states)
+    initial = "rest"                # or "fit-end" (the whole state at the fit's end), or
+    #                                 [z, ...] (the model's states)
     warmup = 0.0                    # [s] simulated at the start, not compared
 
 Measured inputs beyond the drive signal, one table per column (after mapping and derived)::
@@ -74,7 +75,7 @@ from ..core.system import closest
 from ..data import Measurement, read_measurements
 from ..friction import get_model_class, make_model
 from ..friction.base import FrictionModel
-from .plants import INPUT_TARGETS, InputSpec, PlantSpec
+from .plants import INPUT_TARGETS, InputSpec, PlantSpec, absent_input
 
 __all__ = ["FitSpec", "load_spec"]
 
@@ -169,15 +170,15 @@ class FitSpec:
     def fit_data(self, window=None) -> list[Measurement]:
         """The fitting records: ``[data] file``, or every ``[[records]]`` with its window.
 
-        ``window`` (the CLI's --window) overrides every record's own window."""
-        if not self.records:
-            return [self.read(window=window)]
-        out = []
-        for r in self.records:
-            w = window if window is not None else r.get("window")
-            out.append(self.read(r["file"], w))
+        ``window`` (the CLI's --window) overrides every record's own window.  Their sampling
+        intervals are checked; the declared inputs are checked by :meth:`check_inputs`, once
+        the validation records are read too."""
+        if self.records:
+            out = [self.read(r["file"], window if window is not None else r.get("window"))
+                   for r in self.records]
+        else:
+            out = [self.read(window=window)]
         self._check_rates(out)
-        self._check_inputs(out)
         return out
 
     def weights(self) -> list[float] | None:
@@ -196,14 +197,13 @@ class FitSpec:
                     "fit must share the sampling interval (refused, not resampled: resample "
                     "the files to one rate)")
 
-    def _check_inputs(self, records) -> None:
-        for inp in self.inputs:
-            if not any(inp.column in m.columns for m in records):
-                cols = sorted(set().union(*(m.columns for m in records)))
-                raise ValueError(f"{self.where('inputs.' + inp.column)}: declared input column "
-                                 f"{inp.column!r} is in none of the fitting records "
-                                 f"({', '.join(m.source for m in records)}); columns: "
-                                 f"{', '.join(cols)}")
+    def check_inputs(self, fitting, validation=()) -> None:
+        """Every declared input column must be in at least one record, fitting or validation
+        (:func:`~clutchsim.identify.plants.absent_input`); the error names this file, the
+        line and the ``[inputs.COLUMN]`` table."""
+        absent = absent_input(self.inputs, fitting, validation)
+        if absent:
+            raise ValueError(f"{self.where('inputs.' + absent[0].column)}: {absent[1]}")
 
     def validation_data(self) -> list[Measurement]:
         return [self.read(f, self.validate.get("window")) for f in self.validate.get("files", [])]
