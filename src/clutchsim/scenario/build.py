@@ -291,6 +291,9 @@ def build_network(scenario, model: str | None = None):
             kw["speeds"], kw["torques"] = fl
         elif t["type"] == "torque":
             _need_input(scenario, kw["input"], f"{key}.input")
+        elif t["type"] == "torque_pulsation" and "amplitude_table" in kw:
+            kw["amplitude_table"] = _pairs(kw["amplitude_table"], "speed", "amplitude",
+                                           f"{key}.amplitude_table", fail)
         elif t["type"] == "lossy_gear":
             kw["loss_table"] = loss_table(kw.get("loss_table"), f"{key}.loss_table", fail)
         elif t["type"] == "gearbox":

@@ -227,6 +227,9 @@ def _component_keys(cls) -> tuple:
     extra = {
         "clutch": CLUTCH[2:8], "brake": CLUTCH[2:8],
         "torque": (Key("input", "str", "Input signal: the torque [N·m].", required=True),),
+        "torque_pulsation": (Key("amplitude_table", "table", "`{speed = [rad/s ...], "
+                                 "amplitude = [N·m ...]}`: amplitude against |speed| "
+                                 "(instead of `amplitude`)."),),
         "engine": (Key("full_load", "table", "`{speed = [rad/s ...], torque = [N·m ...]}`.",
                        required=True),
                    Key("throttle", "str", "Throttle input signal [-].", required=True)),

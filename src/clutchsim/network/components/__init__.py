@@ -16,14 +16,16 @@ from .planetary import Planetary
 from .speed_torque import QuadraticSpeedTorque
 from .spring_damper import SpringDamper
 from .thermal import ThermalNode
+from .torque_pulsation import TorquePulsation
 from .torque_source import TorqueSource
 from .vehicle import Vehicle
 
 __all__ = ["COMPONENTS", "Brake", "Clutch", "Engine", "Gearbox", "IdealGear", "Inertia",
            "LossyGear", "OneWayClutch", "Planetary", "QuadraticSpeedTorque", "SpringDamper",
-           "ThermalNode", "TorqueSource", "Vehicle"]
+           "ThermalNode", "TorquePulsation", "TorqueSource", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
                                   Planetary, Clutch, OneWayClutch, Brake, TorqueSource,
-                                  QuadraticSpeedTorque, Engine, Vehicle, ThermalNode)}
+                                  TorquePulsation, QuadraticSpeedTorque, Engine, Vehicle,
+                                  ThermalNode)}
