@@ -38,7 +38,7 @@ VARY = {"vehicle.mass": "uniform(1100, 1500)", "vehicle.grade": "uniform(0, 8)"}
 
 def _warm_worker():
     """Load the compiled launch plant in this (worker) process: one default launch."""
-    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import run_scenario
     return run_scenario(None, "mykhailevych2020").metrics["completed"]
 
 

@@ -6,7 +6,7 @@ criterion: the slipping mode loses its damping when the driveline damping plus t
 friction slope ``dT/dω`` falls below zero.
 
 :func:`judder_amplitude` is the time-domain metric of every run (``judder_amplitude_Nm``
-in :func:`~clutchsim.driveline.run.launch_metrics`): the amplitude of the clutch torque's
+in :func:`~clutchsim.driveline.metrics.launch_metrics`): the amplitude of the clutch torque's
 oscillation in the first-mode band while the clutch slips.
 """
 

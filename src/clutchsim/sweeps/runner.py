@@ -49,8 +49,8 @@ def run_variant(job: dict, values: tuple) -> tuple[dict, object]:
     ``stalled``, ``chatter``, ``budget``, ...; ``error`` for invalid parameters) and
     ``warnings`` the run's warnings (a list of str).
     """
-    from ..driveline.run import run_scenario
     from ..scenario.loader import apply_overrides, parse_scenario
+    from ..scenario.run import run_scenario
     row: dict = {"status": "error", "outcome": "error", "message": "", "warnings": []}
     frame = None
     try:

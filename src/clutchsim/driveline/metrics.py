@@ -1,20 +1,22 @@
-"""Run a scenario with one or several friction models and compute the launch metrics."""
+"""The launch metrics and warnings of a driveline run (a :class:`~clutchsim.core.Result`).
+
+This module reads results only; running a scenario is :mod:`clutchsim.scenario.run`
+(the dependency runs one way: scenario -> driveline/network -> core)."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from types import MappingProxyType
 
 import numpy as np
 
 from ..analysis import launch_quality as lq
-from ..core import Outcome, Result, SolverOptions, simulate
+from ..core import Outcome, Result
 from .chain import ENERGY_STATES
 
-__all__ = ["STEP_RATE_LIMIT", "LaunchResult", "energy_balance", "expects_lockup",
-           "launch_metrics", "launch_warnings", "lining_geometry", "run_scenario",
-           "with_weighted_acceleration"]
+__all__ = ["LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "energy_balance", "launch_metrics",
+           "launch_warnings", "with_weighted_acceleration"]
 
 #: steps per simulated second above which a run is warned about [1/s].  The shipped
 #: scenarios take 7 to 1,900 (measured: default launch 365-530, ten launches 440-610, tip-out
@@ -27,66 +29,6 @@ LOCK_SLIP = 1.0
 LOCK_HOLD = 0.05
 
 
-@dataclass(frozen=True)
-class LaunchResult:
-    """One run: the core :class:`~clutchsim.core.Result`, the model and its metrics."""
-
-    model: str
-    result: Result
-    metrics: dict
-
-
-def run_scenario(scenario=None, model: str | None = None, *, overrides=None,
-                 solver: str | None = None, options: SolverOptions | None = None
-                 ) -> LaunchResult:
-    """Simulate ``scenario`` (default: the packaged launch) with ``model`` on its clutch.
-
-    Parameters
-    ----------
-    scenario : Scenario, str, Path or None
-        A loaded scenario or a path (``None``: the default launch).
-    model : str, optional
-        Friction model for the element ``scenario.clutch`` (default: the first of
-        ``scenario.models``, else the element's own model).
-    overrides : sequence of str, optional
-        ``key.path=value`` assignments (only with a path or None).
-    solver : str, optional
-    options : SolverOptions, optional
-        Replace the scenario's solver settings.
-    """
-    from ..scenario import resolve_scenario
-    scenario = resolve_scenario(scenario, overrides)
-    if model is None and scenario.models:
-        model = scenario.models[0]
-    chain = scenario.chain(model)
-    t0 = 0.0
-    u0 = {name: float(np.asarray(sig(t0)).ravel()[0]) for name, sig in scenario.inputs.items()}
-    system = chain.build(u0)
-    inputs = {n: scenario.inputs[n] for n in system.input_names}
-    opts = options if options is not None else scenario.options
-    res = simulate(system, (t0, scenario.t_end), inputs, solver=solver or scenario.solver,
-                   options=opts)
-    name = system.metadata["models"].get(scenario.clutch, model or "")
-    friction = any(isinstance(t, dict) and t.get("name") == scenario.clutch
-                   and t.get("type") == "clutch" for t in scenario.data.get("coupling", []))
-    res = res.with_warnings(*launch_warnings(res, scenario.clutch,
-                                             expect_lockup=expects_lockup(scenario),
-                                             friction=friction))
-    res = with_weighted_acceleration(res)
-    return LaunchResult(name, res, launch_metrics(res, clutch=scenario.clutch,
-                                                  lining=lining_geometry(scenario)))
-
-
-def lining_geometry(scenario) -> tuple | None:
-    """``(r_inner [m], r_outer [m], faces [-])`` of the scenario's clutch coupling (its
-    keys ``r_inner``, ``r_outer``, ``faces``, checked by the scenario loader), or None
-    when the element has no lining radii."""
-    for t in scenario.data.get("coupling", []):
-        if isinstance(t, dict) and t.get("name") == scenario.clutch and "r_outer" in t:
-            return float(t["r_inner"]), float(t["r_outer"]), int(t.get("faces", 2))
-    return None
-
-
 def with_weighted_acceleration(res: Result) -> Result:
     """``res`` with the signal ``a_weighted`` [m/s²]: ``a_vehicle`` weighted with ISO
     2631-1 W_d (:func:`clutchsim.analysis.launch_quality.weighted_acceleration_mps2`);
@@ -97,17 +39,6 @@ def with_weighted_acceleration(res: Result) -> Result:
     aw.flags.writeable = False
     return replace(res, data=MappingProxyType({**res.data, "a_weighted": aw}),
                    units=MappingProxyType({**res.units, "a_weighted": "m/s²"}))
-
-
-def expects_lockup(scenario) -> bool:
-    """Whether ``scenario`` expects its clutch element to lock up: ``[scenario]
-    expect_lockup``, by default true when that element is a friction clutch (a launch) and
-    false for the other kinds (a one-way clutch, a lossy gear, a brake)."""
-    value = scenario.data.get("scenario", {}).get("expect_lockup")
-    if value is not None:
-        return bool(value)
-    return any(isinstance(t, dict) and t.get("name") == scenario.clutch
-               and t.get("type") == "clutch" for t in scenario.data.get("coupling", []))
 
 
 def energy_balance(res: Result) -> dict:
@@ -189,7 +120,8 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
                     friction: bool = True) -> list[str]:
     """Reasons not to trust a run that completed, each with its cause and remedy.
 
-    * the clutch never held although ``expect_lockup`` (see :func:`expects_lockup`);
+    * the clutch never held although ``expect_lockup`` (see
+      :func:`clutchsim.scenario.run.expects_lockup`);
     * (``friction``: the element is a friction clutch) its contact rings after lock-up
       with a torque amplitude above its capacity;
     * the step count is far above what the scenarios need: more than
