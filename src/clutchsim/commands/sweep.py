@@ -6,7 +6,7 @@ import argparse
 import logging
 
 from ..cli import UserError, emit_json
-from ._common import add_limit_flags, write_command
+from ._common import add_limit_flags, solver_option_items, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -56,6 +56,10 @@ def register(sub, common):
                    "first)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="override a key of the base scenario")
+    p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
+                   help="a solver option of every run, the same keys as a scenario's "
+                        "[solver] table (rtol, atol, h_max, dt_out, max_steps, wall_time, "
+                        "chatter_events, chatter_window, controller, ...); repeatable")
     p.add_argument("--keep-traces", action="store_true", help="also write every run's time "
                    "series (traces/)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
@@ -94,6 +98,7 @@ def run(args) -> int:
                 backend=backend, workers=args.workers, address=args.dask or "local",
                 connect_timeout=args.connect_timeout, chunk_size=args.chunk_size,
                 keep_traces=args.keep_traces, plots=not args.no_plots, load=not args.no_plots,
+                options=solver_option_items(args.option),
                 progress=progress_for(args, "runs"), max_runs=args.max_runs,
                 max_output_rows=args.max_output_rows)
     write_command(res.path, args.argv)
