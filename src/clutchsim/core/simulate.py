@@ -261,14 +261,17 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
                   lu_decompositions=int(st[drv.S_LU]), events=int(st[drv.S_EVENTS]),
                   min_step_s=float(h_small) if math.isfinite(h_small) else 0.0, wall_s=wall,
                   event_evals=int(st[drv.S_EV_CALLS]))
-    events = tuple(Event(float(te), system.event_names[int(ke)], ACTION_WORDS[int(a)])
+    names, sources = system.event_names, system.event_sources
+    events = tuple(Event(float(te), names[int(ke)], ACTION_WORDS[int(a)], sources[int(ke)])
                    for te, ke, a in zip(ev_t, ev_k, ev_a))
     return assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver,
-                    event=ended_by, warnings=tuple(warnings))
+                    event=ended_by, warnings=tuple(warnings),
+                    event_source=sources[int(k)] if ended_by else "")
 
 
 def assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver, *,
-             event: str = "", warnings: tuple[str, ...] = ()) -> Result:
+             event: str = "", warnings: tuple[str, ...] = (), event_source: str = ""
+             ) -> Result:
     """Build a :class:`Result` from raw output arrays (shared by all backends)."""
     cols = [(n, u, ys[:, j]) for j, (n, u) in enumerate(zip(system.state_names,
                                                              system.state_units))]
@@ -278,4 +281,5 @@ def assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver, 
                                                                 system.output_units))]
     return Result.build(ts, cols, outcome=outcome, message=message, stats=stats,
                         events=events, solver=solver, system=system.name,
-                        metadata=system.metadata, event=event, warnings=warnings)
+                        metadata=system.metadata, event=event, warnings=warnings,
+                        event_source=event_source)

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..analysis import launch_quality as lq
 from ..core import Outcome, Result
+from ..core.result import Event
 from .chain import ENERGY_STATES
 
 __all__ = ["LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "energy_balance", "launch_metrics",
@@ -99,7 +100,7 @@ def _ringing(res: Result, clutch: str) -> str | None:
     if amplitude <= capacity:
         return None
     t0 = float(res.t[touch[0]])
-    crossings = [e.t for e in res.events if e.name.startswith(f"{clutch}:") and e.t >= t0]
+    crossings = [t for t in _event_times(res, clutch) if t >= t0]
     rate = ""
     if len(crossings) > 2 and crossings[-1] > crossings[0]:
         hz = 0.5 * (len(crossings) - 1) / (crossings[-1] - crossings[0])
@@ -173,6 +174,38 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
     return out
 
 
+def _source(res: Result, event) -> str:
+    """The component ``event`` belongs to: its declared source (the network plant declares
+    them, with the components' kinds in ``metadata["kinds"]``).  The chain plant declares
+    none; its events are named ``<element>: ...`` and the engine's stall is its only
+    failing event (the fallback goes with that plant)."""
+    if "kinds" in res.metadata:
+        return event.source
+    return event.name.split(": ", 1)[0] if ": " in event.name else ""
+
+
+def _ended_by(res: Result) -> str:
+    """The component whose event ended the run ("" when none did)."""
+    if not res.event:
+        return ""
+    if "kinds" in res.metadata:
+        return res.event_source
+    return _source(res, Event(res.t[-1], res.event, ""))
+
+
+def _kind(res: Result, component: str) -> str:
+    kinds = res.metadata.get("kinds")
+    if kinds is None:       # the chain plant: its one failing event is the engine's stall
+        return "engine" if res.outcome == Outcome.EVENT_FAILED and "T_engine" in res.signals \
+            else ""
+    return kinds.get(component, "")
+
+
+def _event_times(res: Result, component: str) -> list[float]:
+    """Times [s] of the located events of ``component``."""
+    return [e.t for e in res.events if _source(res, e) == component]
+
+
 def _lockup_time(res: Result, clutch: str) -> float | None:
     """:func:`clutchsim.analysis.launch_quality.lockup_time_s` of ``clutch`` in ``res``:
     engaged = capacity above half its largest value; the clutch's located events."""
@@ -183,7 +216,7 @@ def _lockup_time(res: Result, clutch: str) -> float | None:
     if res.t.size < 2 or np.max(cap) <= 0:
         return None
     lk = f"{clutch}.locked"
-    events = [e.t for e in res.events if e.name.startswith(f"{clutch}:")]
+    events = _event_times(res, clutch)
     return lq.lockup_time_s(res.t, res[name], cap > 0.5 * np.max(cap),
                             locked=res[lk] if lk in res.signals else None,
                             event_times_s=events, lock_slip_radps=LOCK_SLIP)
@@ -236,7 +269,7 @@ def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None 
     events, min_step_s, wall_s."""
     m: dict = {"completed": res.status == "completed", "outcome": str(res.outcome),
                "message": res.message, "warnings": list(res.warnings)}
-    if res.outcome == Outcome.CHATTER and res.event.startswith(f"{clutch}:"):
+    if res.outcome == Outcome.CHATTER and _ended_by(res) == clutch:
         m["message"] = ("stopped by chatter detection at clutch lock-up (the slip speed of "
                         f"{clutch!r} reached zero and the switching law re-fired): "
                         + res.message)
@@ -249,7 +282,7 @@ def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None 
     eng = [s for s in res.signals if s == "omega_engine"]
     m["engine_speed_min_rpm"] = float(np.min(res[eng[0]]) * 30 / math.pi) if eng else None
     m["engine_stalled"] = (res.outcome == Outcome.EVENT_FAILED
-                           and res.event.startswith("engine stalled"))
+                           and _kind(res, _ended_by(res)) == "engine")
     if m["engine_stalled"]:
         m["outcome"] = "stalled"
     m["energy_balance_rel"] = energy_balance(res)["energy_balance_rel"]

@@ -121,6 +121,12 @@ class Plan:
         # lock-up, as a naive model should.
         self.exact_jacobian = not any(c.model.code in _JUMP_CODES for c in self.fes)
         self.module = load_module(self.topology, exact_jacobian=self.exact_jacobian)
+        # the component each event belongs to, in the generated event order: the friction
+        # elements' events first, then the components' own (render.event_layout)
+        sources = [c.name for c in self.fes for _ in range(c.model.n_events)]
+        sources += [self.event_templates[k][1] for k in sorted(self.event_templates)]
+        self.event_sources = tuple(sources)
+        self.kinds = {c.name: c.kind for c in comps}
 
     # ------------------------------------------------------------------ layout helpers
     def _slip_vector(self, c) -> np.ndarray:
@@ -308,12 +314,13 @@ class Plan:
         meta = dict(self.net.metadata if metadata is None else metadata)
         meta.update({"models": {c.name: c.model.name for c in self.fes},
                      "nodes": [self.asm.node_names[n] for n in self.asm.free],
-                     "network": self.topology.key})
+                     "network": self.topology.key, "kinds": self.kinds})
         return System(self.module.TAG(0), p, y0, self.state_names, self.state_units,
                       input_names=self.input_names, input_units=self.input_units,
                       output_names=self.output_names, output_units=self.output_units,
                       event_names=tuple(ev_names),
                       event_directions=self.event_directions,
+                      event_sources=self.event_sources,
                       name=name or self.net.name, metadata=meta,
                       quadratures=len(ENERGY))
 
