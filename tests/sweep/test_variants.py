@@ -46,7 +46,7 @@ def test_other_keys_rebuild_the_variant(plan, key, value):
     assert plan.direct(key, value) is None
     assert plan.system(((key, value),)) is None
     sc, system = plan.rebuilt(((key, value),))
-    assert system.n_states == plan.system(()).n_states
+    assert sc.data != plan.scenario.data and system.n_states == plan.system(()).n_states
 
 
 def test_the_base_value_changes_nothing(plan):

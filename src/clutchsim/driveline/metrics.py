@@ -70,15 +70,12 @@ def _held(res: Result, clutch: str) -> bool:
     cap = res[c_name]
     ok = (cap > 0.5 * np.max(cap)) & (np.abs(res[w_name]) < LOCK_SLIP) if np.max(cap) > 0 \
         else np.zeros(res.t.size, dtype=bool)
-    start = None
-    for i, flag in enumerate(ok):
-        if not flag:
-            start = None
-        elif start is None:
-            start = res.t[i]
-        elif res.t[i] - start >= LOCK_HOLD:
-            return True
-    return False
+    if not np.any(ok):
+        return False
+    # the start of the run of held samples each sample belongs to
+    starts = ok & np.concatenate(([True], ~ok[:-1]))
+    first = np.maximum.accumulate(np.where(starts, np.arange(ok.size), 0))
+    return bool(np.any(ok & (res.t - res.t[first] >= LOCK_HOLD)))
 
 
 def _ringing(res: Result, clutch: str) -> str | None:
