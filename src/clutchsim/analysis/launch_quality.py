@@ -188,7 +188,8 @@ def vdv_mps175(t_s, aw_mps2) -> float:
     t, aw = _arrays(t_s, aw_mps2)
     if t.size < 2:
         return 0.0
-    return float(np.trapezoid(aw ** 4, t)) ** 0.25
+    a2 = aw * aw
+    return float(np.trapezoid(a2 * a2, t)) ** 0.25
 
 
 def jerk_mps3(t_s, a_mps2, cutoff_Hz: float = JERK_CUTOFF_HZ, dt_s: float = FILTER_DT_S):

@@ -67,6 +67,7 @@ class VariantPlan:
         self.net = net
         self._chain = chain
         self._direct: dict = {}
+        self._inputs0 = scenario.inputs0()
         self._lock = threading.Lock()
         if net is not None:
             self.plan = compile_network(net)
@@ -155,7 +156,7 @@ class VariantPlan:
         p = self.plan.updated_vector(self.params, self.net.components, comps, touched)
         chain = self._chain
         try:
-            return self.plan.system(comps, inputs0=self.scenario.inputs0(), name=chain.name,
+            return self.plan.system(comps, inputs0=self._inputs0, name=chain.name,
                                     metadata=dict(chain.metadata), params=p)
         except ValueError:
             return None     # e.g. initial speeds that violate a gear: the rebuild says so
