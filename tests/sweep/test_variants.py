@@ -23,6 +23,7 @@ def plan():
     (("vehicle.mass", 1450.0), ("vehicle.grade", 4.0)),    # an inertia: derived block again
     (("inertia[1].J", 0.02),),
     (("coupling[1].c", 720.0), ("engine.kp", 0.03)),
+    (("coupling[0].friction.overrides.phi0", 1.1e-3), ("vehicle.mass", 1350.0)),
 ])
 def test_a_direct_variant_is_the_rebuilt_one_bit_for_bit(plan, changes):
     fast = plan.system(changes)
@@ -37,7 +38,6 @@ def test_a_direct_variant_is_the_rebuilt_one_bit_for_bit(plan, changes):
 
 
 @pytest.mark.parametrize("key, value", [
-    ("coupling[0].friction.overrides.phi0", 1.1e-3),    # a friction model parameter
     ("coupling[2].final_drive", 4.3),                   # enters a ratio through a product
     ("coupling[0].r_outer", 0.12),                      # read by the metrics, not the plant
     ("solver.rtol", 1e-7),
@@ -54,9 +54,21 @@ def test_the_base_value_changes_nothing(plan):
     np.testing.assert_array_equal(base.params, plan.params)
 
 
+def test_a_friction_parameter_builds_the_model_again(plan):
+    d = plan.direct("coupling[0].friction.overrides.phi0", 1.2e-3)
+    assert d is not None and d.path == ("overrides", "phi0")
+    fast = plan.system((("coupling[0].friction.overrides.phi0", 1.3e-3),))
+    clutch = fast.metadata["models"]["clutch"]
+    assert clutch == MODEL
+    _sc, slow = plan.rebuilt((("coupling[0].friction.overrides.phi0", 1.3e-3),))
+    np.testing.assert_array_equal(fast.params, slow.params)
+    assert not np.array_equal(fast.params, plan.params)
+
+
 @pytest.mark.parametrize("key, valid, bad, words", [
     ("vehicle.mass", 1400.0, -5.0, "vehicle.mass: = -5.0 kg is out of range: must be > 0 kg"),
     ("engine.stall_speed", 40.0, 90.0, "must be below idle_speed"),
+    ("coupling[0].friction.overrides.phi0", 1.2e-3, -1.0, "phi0"),
 ])
 def test_a_bad_value_of_a_direct_key_goes_to_the_loader(plan, key, valid, bad, words):
     assert plan.direct(key, valid) is not None

@@ -11,9 +11,13 @@ How a key is mapped: the first time a variant changes it, the scenario is built 
 that value the ordinary way (overrides, validation, chain, network) and compared with the
 base network.  The key is *direct* when exactly one value of one component changed, to
 the value given, and nothing else did (topology, solver settings, end time, the metrics'
-inputs).  Every other key (a friction model parameter, a gear or a gearbox selection that
-enters a ratio, a table, the solver's or the scenario's settings, a lining radius) is a
-*rebuild* key: a variant that changes one is built from the scenario text as before.  A
+inputs).  A key of a friction table (``coupling[0].friction.overrides.phi0``) whose
+element alone changed, in its friction model only, is direct too: per variant that model
+is built again from the element's friction table by the scenario builder
+(:func:`clutchsim.scenario.build.friction_model`), which checks it.  Every other key (a
+gear or a gearbox selection that enters a ratio, a table, the solver's or the scenario's
+settings, a lining radius) is a *rebuild* key: a variant that changes one is built from
+the scenario text as before.  A
 scenario that does not run on the network plant (a lossy gear, a shifting gearbox, a
 one-way clutch) rebuilds every variant.
 
@@ -38,6 +42,8 @@ __all__ = ["VariantPlan"]
 _PART = re.compile(r"([A-Za-z0-9_\-]+)(?:\[(\d+)\])?")
 #: sections whose keys never act on a component value alone
 _REBUILD_SECTIONS = ("scenario", "solver", "inputs", "network")
+#: a probe that changed nothing (a key left out of the file, given its default): ask again
+_UNSEEN = object()
 
 
 @dataclass(frozen=True)
@@ -48,6 +54,20 @@ class _Direct:
     param: str
     kwargs: dict
     schema: object      # the scenario schema Key of the key (or None)
+
+
+@dataclass(frozen=True)
+class _Friction:
+    """A key inside the friction table of element ``index`` (``table`` its key path,
+    ``path`` the keys inside its ``friction`` table): the element's friction model is
+    built again from that table, as the scenario builder does, with ``model`` acting on it
+    (``--model``; None: its own)."""
+
+    index: int
+    table: str
+    path: tuple
+    model: str | None
+    kwargs: dict
 
 
 class VariantPlan:
@@ -76,7 +96,8 @@ class VariantPlan:
 
     # ------------------------------------------------------------------ mapping
     def direct(self, key: str, value: float) -> _Direct | None:
-        """How ``key`` maps onto a component (None: a rebuild key).  The first call for a
+        """How ``key`` maps onto a component (``_Direct``: a value; ``_Friction``: a friction
+        model parameter; None: a rebuild key).  The first call for a
         key builds the scenario once with ``key = value`` (a value other than the base
         one); a value that the scenario rejects raises its :class:`ScenarioError`, and the
         key stays unmapped."""
@@ -85,6 +106,8 @@ class VariantPlan:
         with self._lock:
             if key not in self._direct:
                 found = self._map(key, value)
+                if found is _UNSEEN:
+                    return None
                 self._direct[key] = found
         return self._direct[key]
 
@@ -92,8 +115,8 @@ class VariantPlan:
         if self.net is None or key.split(".")[0].split("[")[0] in _REBUILD_SECTIONS:
             return None
         base = _value_at(self.scenario.data, key)
-        if not _is_number(base):
-            return None         # not a number in the file: nothing to compare with
+        if base is not None and not _is_number(base):
+            return None         # a table, a string: not a value of one component
         probe = self._rebuilt_scenario(((key, value),))
         chain = probe.chain(self.model)
         from ..network import Network
@@ -107,6 +130,10 @@ class VariantPlan:
             if not _same_pack(c0, c1):
                 changed += [(i, k) for k in c0.values if c0.values[k] != c1.values[k]] \
                     or [(i, None)]
+        if not changed and base is None:
+            return _UNSEEN      # the value a key left out has already: nothing to learn
+        if len(changed) == 1 and changed[0][1] is None and ".friction." in key:
+            return self._map_friction(key, value, changed[0][0], net)
         if len(changed) != 1 or changed[0][1] is None:
             return None
         i, param = changed[0]
@@ -126,6 +153,48 @@ class VariantPlan:
         spec = key_spec(self.scenario.data, key)
         return _Direct(i, param, kwargs, spec)
 
+    def _map_friction(self, key: str, value: float, i: int, probe_net) -> _Friction | None:
+        """A key of a friction table whose element ``i`` alone changed, in its model only:
+        direct when building that model again reproduces the probe's element."""
+        from .build import _replaced, effective_model
+        table, _, rest = key.partition(".friction.")
+        comp = self.net.components[i]
+        elem = _value_at(self.scenario.data, table)
+        if not isinstance(elem, dict) or not isinstance(elem.get("friction"), dict) or \
+                elem.get("name") != comp.name or "[" in rest:
+            return None
+        kwargs = _ctor_kwargs(comp)
+        if kwargs is None or "model" not in kwargs:
+            return None
+        eff = effective_model(self.scenario, self.model)
+        d = _Friction(i, table, tuple(rest.split(".")), eff if _replaced(elem, eff,
+                                                                         self.scenario)
+                      else None, kwargs)
+        new = self._friction_component(comp, ((d, value),))
+        if new is None or new.structure() != comp.structure() or \
+                not _same_pack(new, probe_net.components[i]):
+            return None
+        return d
+
+    def _friction_component(self, comp, items):
+        """``comp`` with its friction model built again from its table with ``items`` =
+        ``((_Friction, value), ...)`` set in it (None if the builder refuses it)."""
+        from .build import friction_model
+        d0 = items[0][0]
+        elem = _value_at(self.scenario.data, d0.table)
+        spec = elem["friction"]
+        for d, value in items:
+            spec = _with(spec, d.path, float(value))
+
+        def fail(problem, key=""):
+            raise ScenarioError(problem)
+        try:
+            model = friction_model(spec, d0.model, f"{d0.table}.friction", fail, comp.name)
+            kw = {k: comp.__dict__.get(k, v) for k, v in d0.kwargs.items()}
+            return type(comp)(comp.name, **{**kw, "model": model}, **comp.values)
+        except (TypeError, ValueError):
+            return None
+
     # ------------------------------------------------------------------ variants
     def system(self, changes):
         """The :class:`~clutchsim.core.System` of the variant ``changes`` = ``((key,
@@ -134,6 +203,7 @@ class VariantPlan:
         if self.net is None:
             return None
         comps = list(self.net.components)
+        friction: dict = {}
         touched = []
         for key, value in changes:
             base = _value_at(self.scenario.data, key)
@@ -142,17 +212,27 @@ class VariantPlan:
             d = self.direct(key, value)
             if d is None:
                 return None
+            if isinstance(d, _Friction):
+                friction.setdefault(d.index, []).append((d, value))
+                continue
             if d.schema is not None and not _schema_ok(d.schema, value):
                 return None
             comp = comps[d.index]
+            kw = {k: comp.__dict__.get(k, v) for k, v in d.kwargs.items()}
             try:
-                new = type(comp)(comp.name, **d.kwargs, **{**comp.values, d.param: value})
+                new = type(comp)(comp.name, **kw, **{**comp.values, d.param: value})
             except (TypeError, ValueError):
                 return None
             if new.structure() != comp.structure():
                 return None
             comps[d.index] = new
             touched.append(d.index)
+        for i, items in friction.items():
+            new = self._friction_component(comps[i], tuple(items))
+            if new is None or new.structure() != comps[i].structure():
+                return None
+            comps[i] = new
+            touched.append(i)
         p = self.plan.updated_vector(self.params, self.net.components, comps, touched)
         chain = self._chain
         try:
@@ -218,6 +298,15 @@ def _value_at(data: dict, key: str):
                 return None
             node = node[int(index)]
     return node
+
+
+def _with(table: dict, path: tuple, value) -> dict:
+    """A copy of the nested ``table`` with ``value`` at ``path`` (tables copied along it)."""
+    out = dict(table)
+    inner = out.get(path[0])
+    out[path[0]] = value if len(path) == 1 else \
+        _with(inner if isinstance(inner, dict) else {}, path[1:], value)
+    return out
 
 
 def _is_number(v) -> bool:
