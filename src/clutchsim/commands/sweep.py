@@ -22,7 +22,10 @@ examples:
 
 KEY is a scenario key as in --set (clutchsim run); SPEC is LO:HI:N (grid, N >= 1),
 V1,V2,... (values), uniform(A,B), loguniform(A,B) or normal(MU,SIGMA) (random, needs
---samples and --seed).  Grid keys form the full product.
+--samples and --seed).  Grid keys form the full product.  The scenario is built once; a key
+that sets one component value (vehicle.mass, a friction parameter, ...) only changes the
+parameter vector per run, other keys rebuild the scenario for the run (docs/sweeps.md).
+--option KEY=VALUE sets a solver option of every run (rtol, max_steps, wall_time, ...).
 
 outputs in DIR: results.parquet (one row per run: run, the varied keys, status, outcome,
 warnings, message, metrics; units in the Parquet field metadata), sweep.json, chunks/
