@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -12,6 +14,7 @@ from clutchsim.sweeps import sweep
 
 BASE = ["scenario.t_end=1.3", "solver.dt_out=0.005"]
 MODEL = "mykhailevych2020"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 @pytest.fixture(scope="module")
@@ -47,6 +50,14 @@ def test_other_keys_rebuild_the_variant(plan, key, value):
     assert plan.system(((key, value),)) is None
     sc, system = plan.rebuilt(((key, value),))
     assert sc.data != plan.scenario.data and system.n_states == plan.system(()).n_states
+
+
+def test_solver_options_of_the_sweep_keep_keys_direct():
+    from clutchsim.scenario.loader import with_solver_options
+    sc = with_solver_options(load_scenario(None, overrides=BASE), {"rtol": 1e-7})
+    plan = VariantPlan(sc, MODEL)
+    assert plan.direct("vehicle.mass", 1400.0) is not None
+    assert plan.scenario.options.rtol == 1e-7
 
 
 def test_the_base_value_changes_nothing(plan):
@@ -97,3 +108,20 @@ def test_a_stall_is_read_from_the_engine_component(plan):
     assert lr.result.event_source == "engine_torque"
     assert lr.result.metadata["kinds"]["engine_torque"] == "engine"
     assert lr.metrics["engine_stalled"] and lr.metrics["outcome"] == "stalled"
+
+
+def test_a_network_scenario_maps_its_component_keys():
+    sc = load_scenario(EXAMPLES / "simple_gear_shift.toml")
+    plan = VariantPlan(sc, None)
+    key = next(f"component[{i}].J" for i, c in enumerate(sc.data["component"])
+               if c["name"] == "load")
+    fast = plan.system(((key, 12.0),))
+    assert plan.direct(key, 12.0) is not None
+    np.testing.assert_array_equal(fast.params, plan.rebuilt(((key, 12.0),))[1].params)
+
+
+def test_a_chain_off_the_network_plant_rebuilds_every_variant():
+    plan = VariantPlan(load_scenario(EXAMPLES / "one_way_clutch.toml"), None)
+    assert plan.net is None and plan.system((("inertia[1].J", 2.0),)) is None
+    _sc, system = plan.rebuilt((("inertia[1].J", 2.0),))
+    assert system.n_states > 0

@@ -121,6 +121,8 @@ class VariantPlan:
         chain = probe.chain(self.model)
         from ..network import Network
         from ..network.plant import structure_key
+        if not isinstance(chain, Network) and chain.network_unsupported() is not None:
+            return None         # this value takes the scenario off the network plant
         net = chain if isinstance(chain, Network) else chain.network()
         if structure_key(net) != structure_key(self.net) or \
                 _observed(probe, net) != self.base:
@@ -256,11 +258,13 @@ class VariantPlan:
 
 
 def _observed(scenario, net) -> tuple:
-    """What else a run reads from the scenario besides the network's values."""
+    """What else a run reads from the scenario besides the network's values (its solver
+    options come from ``[solver]`` alone, a rebuild section, and may be replaced by the
+    sweep's ``--option``: they are not compared)."""
     from .run import expects_lockup, lining_geometry
-    return (scenario.t_end, scenario.options, scenario.solver, scenario.clutch,
-            scenario.models, tuple(scenario.inputs), lining_geometry(scenario),
-            expects_lockup(scenario), net.connections, net.name)
+    return (scenario.t_end, scenario.solver, scenario.clutch, scenario.models,
+            tuple(scenario.inputs), lining_geometry(scenario), expects_lockup(scenario),
+            net.connections, net.name)
 
 
 def _same_pack(a, b) -> bool:
