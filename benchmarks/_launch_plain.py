@@ -726,8 +726,7 @@ def check(method: str = "LSODA", rtol: float = 1e-8, atol: float = 1e-8,
     ref, run : clutchsim Result, PlainRun
         Only with ``return_runs``.
     """
-    from clutchsim.driveline.run import run_scenario
-    from clutchsim.scenario import load_scenario
+    from clutchsim.scenario import load_scenario, run_scenario
     ov = [f"solver.rtol={rtol!r}", f"solver.atol={atol!r}", "solver.wall_time=100000"]
     if t_end is not None:
         ov.append(f"scenario.t_end={t_end!r}")

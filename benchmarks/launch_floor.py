@@ -58,7 +58,7 @@ def _speed_error_rpm(res, ref) -> float:
 
 
 def _row(name, overrides, ref, repeats, same_model=True):
-    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import run_scenario
     sc = _load(overrides)
     r = run_scenario(sc, MODEL)
     total, integ = [], []
@@ -100,7 +100,7 @@ def _plant_ns(n: int = 200_000) -> dict:
     at t = 0.9 s of the default launch (clutch slipping), best of 5 loops of ``n`` calls
     (``n/10`` for the Jacobian)."""
     from clutchsim.core.system import plant_functions
-    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import run_scenario
     sc = _load([])
     res = run_scenario(sc, MODEL).result
     u0 = {name: float(np.asarray(sig(0.0)).ravel()[0]) for name, sig in sc.inputs.items()}
@@ -130,7 +130,7 @@ def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--repeats", type=int, default=15)
     a = ap.parse_args(argv)
-    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import run_scenario
     ref = run_scenario(_load(["solver.rtol=1e-10", "solver.atol=1e-12"]), MODEL).result
     rows = [_row(f"rtol {rt:g}", [f"solver.rtol={rt!r}", f"solver.atol={rt / 100!r}"],
                  ref, a.repeats) for rt in LADDER]

@@ -132,7 +132,7 @@ def child(a) -> None:
             r = simulate_plain(par, method, opts.rtol, opts.atol, opts.dt_out)
             return r, r.t, {n: r[n] for n in SPEEDS}, r.status, r.nfev, len(r.events)
     else:
-        from clutchsim.driveline.run import run_scenario
+        from clutchsim.scenario import run_scenario
 
         def run():
             res = run_scenario(sc, MODEL, solver=a.child).result
@@ -344,7 +344,7 @@ def main(argv=None):
         rep = check("LSODA", 1e-8, 1e-8, t_end=a.t_end)
         emit(rep)
         sys.exit(0 if rep["ok"] else 1)
-    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import run_scenario
     sc = _scenario(a.t_end)
     ms, lr = median_ms(lambda: run_scenario(sc, MODEL), repeats=a.repeats)
     ref = lr.result

@@ -153,8 +153,7 @@ def rig_case(repeats):
 
 
 def launch_case(repeats):
-    from clutchsim.driveline.run import run_scenario
-    from clutchsim.scenario import load_scenario
+    from clutchsim.scenario import load_scenario, run_scenario
     sc = load_scenario(None, overrides=["solver.wall_time=1000"])
     model = "mykhailevych2020"
 

@@ -14,8 +14,10 @@ grade (uniform 0–8 %).  Measured:
   process loads the compiled plant from the numba cache once, ~1 s, which would otherwise
   land inside the timed runs of whichever worker meets its first chunk there).
 
-Also ``setup_ms_per_run``: the Python time per run outside the integrator (overrides, parse,
-parameter packing, metrics) = wall per run on 1 thread minus the integrator's own wall time.
+Also ``setup_ms_per_run``: the Python time per run outside the integrator (the variant's
+parameter vector and system, the call into the compiled loop, the result, the metrics, and
+the sweep's own start-up and chunk files spread over the runs) = wall per run on 1 thread
+minus the integrator's own wall time.
 Issue 7 asks for 10,000 runs (the default; ~3 min on the 2-core project machine at ~30 ms
 per launch); ``--runs`` sets a smaller count (the result says which was used).
 
@@ -38,7 +40,7 @@ VARY = {"vehicle.mass": "uniform(1100, 1500)", "vehicle.grade": "uniform(0, 8)"}
 
 def _warm_worker():
     """Load the compiled launch plant in this (worker) process: one default launch."""
-    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import run_scenario
     return run_scenario(None, "mykhailevych2020").metrics["completed"]
 
 

@@ -31,8 +31,8 @@ def run_demo(out: str | Path = "clutchsim-out/demo", *, plots: bool = True) -> d
     ``report.html``.
     """
     from .benchmarks import run_benchmark, write_outputs
-    from .driveline.outputs import write_runs
     from .scenario import load_scenario
+    from .scenario.outputs import write_runs
 
     out = Path(out)
     t0 = time.perf_counter()

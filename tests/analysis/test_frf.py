@@ -11,7 +11,7 @@ import pytest
 
 from clutchsim.analysis import frequency_grid, frf_analysis
 from clutchsim.analysis.frf import ratio_unit
-from clutchsim.driveline.run import run_scenario
+from clutchsim.scenario import run_scenario
 
 REPO = Path(__file__).resolve().parents[2]
 

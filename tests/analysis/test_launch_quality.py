@@ -181,7 +181,7 @@ def test_bad_lining_geometry_names_key_value_rule_file_and_line(tmp_path, old, n
 
 
 def test_default_launch_metrics_and_weighted_signal(tmp_path):
-    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import run_scenario
     lr = run_scenario(None, "coulomb-robust", overrides=["solver.dt_out=0.005"])
     m, res = lr.metrics, lr.result
     # lock-up at the located stick event, not on the 5 ms output grid
@@ -210,7 +210,7 @@ def test_default_launch_metrics_and_weighted_signal(tmp_path):
 
 def test_quality_metrics_of_a_built_result_and_non_finite_values():
     from clutchsim.core.result import Result, Stats
-    from clutchsim.driveline.run import _quality
+    from clutchsim.driveline.metrics import _quality
     t = np.linspace(0.0, 2.0, 1001)
     slip = np.where(t < 1.0, 20.0 * (1.0 - t), 0.0)
     cap = np.clip(300.0 * (t - 0.2), 0.0, 240.0)

@@ -42,8 +42,7 @@ def cas():
 @pytest.fixture(scope="module")
 def tight():
     """clutchsim's default launch, 0-2 s at rtol = atol = 1e-8."""
-    from clutchsim.driveline.run import run_scenario
-    from clutchsim.scenario import load_scenario
+    from clutchsim.scenario import load_scenario, run_scenario
     sc = load_scenario(None, overrides=["solver.rtol=1e-8", "solver.atol=1e-8",
                                         "solver.wall_time=100000", "scenario.t_end=2.0"])
     return sc, run_scenario(sc, "mykhailevych2020").result

@@ -34,7 +34,7 @@ def _sigterm_self():
 
 
 def test_sigterm_during_a_run_removes_the_partial_directory(tmp_path, capsys, monkeypatch):
-    from clutchsim.driveline import outputs
+    from clutchsim.scenario import outputs
     real = outputs.write_runs
 
     def write_then_terminated(scenario, models, directory, **kw):

@@ -66,3 +66,32 @@ def test_unreachable_dask_scheduler_is_exit_2(tmp_path, capsys):
                  "--dask", f"tcp://127.0.0.1:{port}", "--connect-timeout", "1", *BASE]) == 2
     assert "no Dask scheduler answered" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []     # the failed connection leaves nothing behind
+
+
+def test_option_sets_the_solver_of_every_run(tmp_path, capsys):
+    out = tmp_path / "budget"
+    assert main(["sweep", "--vary", "vehicle.mass=1200,1400", "--option", "max_steps=50",
+                 "--metrics", "steps", "--out", str(out), "--json", "--no-plots",
+                 *BASE]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["outcome_counts"] == {"budget": 2}
+    t = read_results(out)
+    assert (t["steps"] == 50).all()
+    assert t.attrs["sweep"]["options"] == {"max_steps": 50}
+    # the options are part of the sweep: the same DIR with others is another sweep
+    assert main(["sweep", "--vary", "vehicle.mass=1200,1400", "--option", "max_steps=60",
+                 "--out", str(out), "--no-plots", *BASE]) == 2
+    assert "holds a different sweep" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("option, words", [
+    ("rtool=1e-7", "unknown solver option 'rtool' (did you mean 'rtol'?)"),
+    ("rtol=fast", "'fast' is not a number"),
+    ("max_steps=2.5", "must be an integer"),
+])
+def test_a_bad_option_is_one_line_and_exit_2(tmp_path, capsys, option, words):
+    assert main(["sweep", "--vary", "vehicle.mass=1300", "--option", option, "--out",
+                 str(tmp_path / "s"), *BASE]) == 2
+    err = capsys.readouterr().err
+    assert words in err and err.count("\n") == 1
+    assert not (tmp_path / "s").exists()

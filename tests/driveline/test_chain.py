@@ -5,7 +5,7 @@ import pytest
 
 from clutchsim.core import Constant, SolverOptions, simulate
 from clutchsim.driveline import Chain, FrictionElement, Gear, Inertia, SpringDamper, ThermalNode
-from clutchsim.driveline.run import energy_balance
+from clutchsim.driveline.metrics import energy_balance
 from clutchsim.friction import make_model
 
 OPTS = SolverOptions(rtol=1e-9, atol=1e-10)

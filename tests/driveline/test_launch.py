@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 from _dl_paths import EXAMPLES
 
-from clutchsim.driveline.run import run_scenario
-from clutchsim.scenario import load_scenario
+from clutchsim.scenario import load_scenario, run_scenario
 
 #: every driveline scenario in examples/ (fit_*.toml are identification specs)
 ALL_EXAMPLES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if not p.stem.startswith("fit_"))

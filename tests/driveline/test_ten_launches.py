@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from _dl_paths import EXAMPLES
 
-from clutchsim.driveline.run import energy_balance, run_scenario
-from clutchsim.scenario import load_scenario
+from clutchsim.driveline.metrics import energy_balance
+from clutchsim.scenario import load_scenario, run_scenario
 
 PERIOD = 12.0        # s between launches (examples/ten_launches.toml)
 SHARE = 0.47         # heat share of each metal face

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from _dl_paths import EXAMPLES
 
-from clutchsim.driveline import run_scenario
-from clutchsim.driveline.run import LOCK_SLIP, STEP_RATE_LIMIT
+from clutchsim import run_scenario
+from clutchsim.driveline.metrics import LOCK_SLIP, STEP_RATE_LIMIT
 
 LAUNCH = EXAMPLES / "launch.toml"
 F = "coupling[0].friction.overrides."

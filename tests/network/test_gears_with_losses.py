@@ -9,10 +9,10 @@ import pytest
 
 from clutchsim.core import SolverOptions, simulate
 from clutchsim.core.system import call_jac, call_rhs
-from clutchsim.driveline.run import energy_balance, run_scenario
+from clutchsim.driveline.metrics import energy_balance
 from clutchsim.network import Network, NetworkError, compile_network
 from clutchsim.network import components as nc
-from clutchsim.scenario import resolve_scenario
+from clutchsim.scenario import resolve_scenario, run_scenario
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 from _dl_paths import EXAMPLES, shared_dir
 
-from clutchsim.driveline.run import run_scenario
+from clutchsim.scenario import run_scenario
 
 REF = shared_dir() / "reference" / "modelica" / "Modelica" / "Mechanics" / "Rotational" / "Examples"
 TUBE = 2e-3

@@ -160,7 +160,7 @@ def test_values_reuse_the_compiled_topology():
 def test_chain_translation_keeps_the_launch():
     """The default launch (a chain file) runs on the generated network plant: lock-up of
     model (6) where the chain plant located it (1.1181887 s), energy balanced."""
-    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import run_scenario
     r = run_scenario(None, "mykhailevych2020")
     assert r.result.metadata["network"]
     assert r.metrics["lockup_time_s"] == pytest.approx(1.1181887, abs=1e-5)

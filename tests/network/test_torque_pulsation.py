@@ -9,9 +9,9 @@ import pytest
 
 from clutchsim.analysis.frf import frf_analysis
 from clutchsim.core import SolverOptions, simulate
-from clutchsim.driveline.run import run_scenario
 from clutchsim.network import Network, compile_network
 from clutchsim.network import components as nc
+from clutchsim.scenario import run_scenario
 
 SCENARIO = """
 [scenario]

@@ -5,10 +5,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from clutchsim.driveline.outputs import write_runs
 from clutchsim.report import build_report
 from clutchsim.report.tables import analyse
 from clutchsim.scenario import load_scenario
+from clutchsim.scenario.outputs import write_runs
 
 LAUNCH = Path(__file__).resolve().parents[2] / "examples" / "launch.toml"
 F = "coupling[0].friction.overrides."

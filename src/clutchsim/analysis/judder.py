@@ -6,7 +6,7 @@ criterion: the slipping mode loses its damping when the driveline damping plus t
 friction slope ``dT/dω`` falls below zero.
 
 :func:`judder_amplitude` is the time-domain metric of every run (``judder_amplitude_Nm``
-in :func:`~clutchsim.driveline.run.launch_metrics`): the amplitude of the clutch torque's
+in :func:`~clutchsim.driveline.metrics.launch_metrics`): the amplitude of the clutch torque's
 oscillation in the first-mode band while the clutch slips.
 """
 
@@ -119,7 +119,8 @@ def judder_amplitude(res, clutch: str = "clutch", band=JUDDER_BAND_HZ) -> float 
     n = max(math.ceil(span * 20.0 * hi), 8)
     t = np.linspace(t0, t1, n)
     x = np.interp(t, res.t, res[f"T_{clutch}"])
-    x = x - np.polyval(np.polyfit(t - t0, x, 1), t - t0)
+    tc = t - t.mean()           # the least-squares line, in closed form
+    x = x - x.mean() - tc * (float(tc @ x) / float(tc @ tc))
     spec = np.fft.rfft(x)
     f = np.fft.rfftfreq(n, d=(t[1] - t[0]))
     spec[(f < lo) | (f > hi)] = 0.0

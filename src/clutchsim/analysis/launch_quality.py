@@ -4,7 +4,7 @@ Every function takes time [s] and signal arrays (SI units; the unit is in the ar
 name) sampled on a possibly non-uniform grid that may hold the same time twice (the
 driveline output grid holds a sample before and after each located event).  The
 formulas and their sources are in ``docs/launch-quality.md``;
-:func:`clutchsim.driveline.run.launch_metrics` applies them to a driveline run.
+:func:`clutchsim.driveline.metrics.launch_metrics` applies them to a driveline run.
 
 Filters run on a uniform grid: the signal is interpolated linearly onto
 ``t0, t0 + dt, ...`` with :data:`FILTER_DT_S` (a 2 kHz rate, 20 times the W_d band limit
@@ -134,9 +134,22 @@ def _wd_sos(dt_s: float) -> tuple:
 
 @functools.lru_cache(maxsize=16)
 def _lowpass_sos(cutoff_Hz: float, dt_s: float):
-    """2nd-order Butterworth low-pass of corner ``cutoff_Hz`` for step ``dt_s`` (cached)."""
+    """``(sos, zi)``: 2nd-order Butterworth low-pass of corner ``cutoff_Hz`` for step
+    ``dt_s`` and its steady state for a unit input (cached)."""
     sos = signal.butter(2, cutoff_Hz, btype="low", fs=1.0 / dt_s, output="sos")
-    return sos
+    return sos, signal.sosfilt_zi(sos)
+
+
+def _filtfilt(sos, zi, x):
+    """``scipy.signal.sosfiltfilt(sos, x)`` (odd extension of its default length, each
+    pass started from the steady state ``zi`` of its first sample) with the filter's
+    ``zi`` computed once instead of on every call."""
+    ntaps = 2 * len(sos) + 1 - min(int((sos[:, 2] == 0).sum()), int((sos[:, 5] == 0).sum()))
+    edge = 3 * ntaps
+    ext = np.concatenate((2 * x[0] - x[edge:0:-1], x, 2 * x[-1] - x[-2:-(edge + 2):-1]))
+    y, _ = signal.sosfilt(sos, ext, zi=zi * ext[0])
+    y, _ = signal.sosfilt(sos, y[::-1], zi=zi * y[-1])
+    return y[::-1][edge:-edge]
 
 
 def weighted_acceleration_mps2(t_s, a_mps2, dt_s: float = FILTER_DT_S):
@@ -175,7 +188,8 @@ def vdv_mps175(t_s, aw_mps2) -> float:
     t, aw = _arrays(t_s, aw_mps2)
     if t.size < 2:
         return 0.0
-    return float(np.trapezoid(aw ** 4, t)) ** 0.25
+    a2 = aw * aw
+    return float(np.trapezoid(a2 * a2, t)) ** 0.25
 
 
 def jerk_mps3(t_s, a_mps2, cutoff_Hz: float = JERK_CUTOFF_HZ, dt_s: float = FILTER_DT_S):
@@ -192,9 +206,9 @@ def jerk_mps3(t_s, a_mps2, cutoff_Hz: float = JERK_CUTOFF_HZ, dt_s: float = FILT
     if tu.size < 3:
         return tu, np.zeros(tu.shape)
     dt = float(tu[1] - tu[0])
-    sos = _lowpass_sos(float(cutoff_Hz), dt)
+    sos, zi = _lowpass_sos(float(cutoff_Hz), dt)
     if tu.size > 3 * (2 * len(sos) + 1):
-        au = signal.sosfiltfilt(sos, au)
+        au = _filtfilt(sos, zi, au)
     return tu, np.gradient(au, dt)
 
 

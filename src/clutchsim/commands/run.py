@@ -50,10 +50,10 @@ def run(args) -> int:
 
     from .._util import check_output_dir
     from ..core.result import atomic_directory, atomic_write
-    from ..driveline.outputs import write_runs
     from ..progress import progress_for
     from ..report import build_report
     from ..scenario import load_scenario
+    from ..scenario.outputs import write_runs
     check_output_dir(args.out)
     sc = load_scenario(args.scenario, overrides=args.set)
     models = args.model or list(sc.models) or [None]

@@ -6,7 +6,7 @@ import argparse
 import logging
 
 from ..cli import UserError, emit_json
-from ._common import add_limit_flags, write_command
+from ._common import add_limit_flags, solver_option_items, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -22,7 +22,10 @@ examples:
 
 KEY is a scenario key as in --set (clutchsim run); SPEC is LO:HI:N (grid, N >= 1),
 V1,V2,... (values), uniform(A,B), loguniform(A,B) or normal(MU,SIGMA) (random, needs
---samples and --seed).  Grid keys form the full product.
+--samples and --seed).  Grid keys form the full product.  The scenario is built once; a key
+that sets one component value (vehicle.mass, a friction parameter, ...) only changes the
+parameter vector per run, other keys rebuild the scenario for the run (docs/sweeps.md).
+--option KEY=VALUE sets a solver option of every run (rtol, max_steps, wall_time, ...).
 
 outputs in DIR: results.parquet (one row per run: run, the varied keys, status, outcome,
 warnings, message, metrics; units in the Parquet field metadata), sweep.json, chunks/
@@ -56,6 +59,10 @@ def register(sub, common):
                    "first)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="override a key of the base scenario")
+    p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
+                   help="a solver option of every run, the same keys as a scenario's "
+                        "[solver] table (rtol, atol, h_max, dt_out, max_steps, wall_time, "
+                        "chatter_events, chatter_window, controller, ...); repeatable")
     p.add_argument("--keep-traces", action="store_true", help="also write every run's time "
                    "series (traces/)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
@@ -94,6 +101,7 @@ def run(args) -> int:
                 backend=backend, workers=args.workers, address=args.dask or "local",
                 connect_timeout=args.connect_timeout, chunk_size=args.chunk_size,
                 keep_traces=args.keep_traces, plots=not args.no_plots, load=not args.no_plots,
+                options=solver_option_items(args.option),
                 progress=progress_for(args, "runs"), max_runs=args.max_runs,
                 max_output_rows=args.max_output_rows)
     write_command(res.path, args.argv)

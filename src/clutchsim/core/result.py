@@ -129,11 +129,14 @@ class Stats:
 
 @dataclass(frozen=True)
 class Event:
-    """A located event: time [s], name, and what its reset did."""
+    """A located event: time [s], name, what its reset did, and the part of the plant it
+    belongs to (:attr:`System.event_sources <clutchsim.core.System>`; ``""`` if the plant
+    does not say)."""
 
     t: float
     name: str
     action: str
+    source: str = ""
 
 
 def _key(name: str, unit: str) -> str:
@@ -163,6 +166,9 @@ class Result:
         What happened, and for a failure where and why, and what to do about it.
     event : str
         Name of the event that ended the run (``""`` when none did).
+    event_source : str
+        The part of the plant that event belongs to (a component's name; ``""`` when no
+        event ended the run or the plant does not say).
     warnings : tuple of str
         Reasons not to trust a run that completed (each says the cause and the remedy).
     stats : Stats
@@ -185,6 +191,7 @@ class Result:
     metadata: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
     event: str = ""
     warnings: tuple[str, ...] = ()
+    event_source: str = ""
 
     def __post_init__(self):
         try:

@@ -57,7 +57,7 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
     y = y0.copy()
     t = t0
     status, message = Outcome.COMPLETED, f"completed to t = {t1:.9g} s"
-    ended_by = ""
+    ended_by = source = ""
     steps = 0
     wall0 = time.perf_counter()
     record(t, y, t + 1e-12 * max(1.0, abs(t)), rows)
@@ -132,21 +132,22 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
             if start[k] != 0.0:
                 side[k] = -np.sign(start[k])
             action = int(call_reset(tag, t, y, inputs_at(t, t_ref), p, k))
-            events.append(Event(t, system.event_names[k], ACTION_WORDS[action]))
+            events.append(Event(t, system.event_names[k], ACTION_WORDS[action],
+                                system.event_sources[k]))
             record(t, y, t_ref, rows)
             last_event_times.append(t)
             n_ch = opts.chatter_events
             if n_ch and len(last_event_times) > n_ch and \
                     t - last_event_times[-n_ch - 1] <= opts.chatter_window_for(t1 - t0):
                 status = Outcome.CHATTER
-                ended_by = system.event_names[k]
+                ended_by, source = system.event_names[k], system.event_sources[k]
                 message = (f"chatter detected: {n_ch} events within "
                            f"{opts.chatter_window_for(t1 - t0):g} s, "
                            f"the last of them '{system.event_names[k]}' at t = {t:.9g} s")
                 break
             if action in (Action.STOP, Action.FAIL):
                 status = Outcome.STOPPED if action == Action.STOP else Outcome.EVENT_FAILED
-                ended_by = system.event_names[k]
+                ended_by, source = system.event_names[k], system.event_sources[k]
                 message = (f"stopped by event '{system.event_names[k]}' at t = {t:.9g} s"
                            if action == Action.STOP
                            else f"{system.event_names[k]} at t = {t:.9g} s")
@@ -164,4 +165,4 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
                   events=len(events), min_step_s=float(dts[dts > 0].min()) if np.any(dts > 0)
                   else 0.0, wall_s=time.perf_counter() - wall0)
     return assemble(system, ts, ys, us, outs, status, message, stats, tuple(events), solver,
-                    event=ended_by)
+                    event=ended_by, event_source=source)

@@ -375,6 +375,11 @@ class System:
         One per event function.
     event_directions : sequence of int
         −1 (falling), +1 (rising) or 0 (both), one per event function.
+    event_sources : sequence of str, optional
+        The part of the plant each event function belongs to (a component's name), kept
+        with the located events (:attr:`Event.source`) and the result
+        (:attr:`Result.event_source`) so that code can tell which part ended a run without
+        reading its name; default ``""`` for each.
     name : str
         Human-readable name used in messages.
     quadratures : int
@@ -399,6 +404,7 @@ class System:
     name: str = "system"
     metadata: dict = field(default_factory=dict)
     quadratures: int = 0
+    event_sources: tuple[str, ...] = ()
 
     def __post_init__(self):
         if type(self.tag) not in _REGISTRY:
@@ -412,8 +418,11 @@ class System:
                      "output_names", "output_units", "event_names"):
             object.__setattr__(self, attr, _names(getattr(self, attr), attr))
         object.__setattr__(self, "event_directions", tuple(int(d) for d in self.event_directions))
+        sources = tuple(str(s) for s in self.event_sources) or ("",) * len(self.event_names)
+        object.__setattr__(self, "event_sources", sources)
         pairs = [("state_names", "state_units"), ("input_names", "input_units"),
-                 ("output_names", "output_units"), ("event_names", "event_directions")]
+                 ("output_names", "output_units"), ("event_names", "event_directions"),
+                 ("event_names", "event_sources")]
         for a, b in pairs:
             if len(getattr(self, a)) != len(getattr(self, b)):
                 raise ValueError(f"{self.name}: {a} and {b} differ in length")

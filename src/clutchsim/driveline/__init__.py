@@ -1,6 +1,9 @@
-"""Driveline: chain components (translated into networks), scenarios and launch metrics."""
+"""Driveline: chain components (translated into networks) and the launch metrics of a run.
 
-from ..scenario import load_scenario
+Running a scenario is :func:`clutchsim.scenario.run_scenario` (also
+``clutchsim.run_scenario``): this package does not import :mod:`clutchsim.scenario`.
+"""
+
 from .chain import ENERGY_STATES, Chain
 from .components import (
     Brake,
@@ -15,7 +18,7 @@ from .components import (
     ThermalNode,
     Vehicle,
 )
-from .run import LaunchResult, energy_balance, launch_metrics, run_scenario
+from .metrics import energy_balance, launch_metrics
 
 __all__ = [
     "ENERGY_STATES",
@@ -26,7 +29,6 @@ __all__ = [
     "Gear",
     "Gearbox",
     "Inertia",
-    "LaunchResult",
     "LossyGear",
     "OneWayClutch",
     "SpringDamper",
@@ -34,6 +36,4 @@ __all__ = [
     "Vehicle",
     "energy_balance",
     "launch_metrics",
-    "load_scenario",
-    "run_scenario",
 ]

@@ -308,17 +308,18 @@ class Assembly:
         self.pattern = tuple(map(tuple, (N != 0.0).astype(int)))
         self.check_inertia(self.node_inertia())
 
-    def check_inertia(self, J: np.ndarray) -> np.ndarray:
-        """The reduced inertia matrix ``Nᵀ·diag(J)·N``, or a NetworkError naming the flanges
-        of a coordinate without inertia."""
-        M = self.N.T @ (J[:, None] * self.N)
+    def check_inertia(self, J: np.ndarray, N: np.ndarray | None = None) -> np.ndarray:
+        """The reduced inertia matrix ``Nᵀ·diag(J)·N`` (default ``N``: the assembly's), or a
+        NetworkError naming the flanges of a coordinate without inertia."""
+        N = self.N if N is None else N
+        M = N.T @ (J[:, None] * N)
         if self.n_v == 0:
             return M
         w, vecs = np.linalg.eigh(M)
         scale = max(float(np.max(np.abs(J))), 1e-300)
         for k in range(self.n_v):
             if w[k] <= 1e-12 * scale:
-                motion = self.N @ vecs[:, k]
+                motion = N @ vecs[:, k]
                 big = np.abs(motion) > 1e-9 * np.max(np.abs(motion))
                 fl = [f for n in np.flatnonzero(big) for f in self.flanges_at[n]]
                 raise NetworkError(

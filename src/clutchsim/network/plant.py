@@ -107,6 +107,8 @@ class Plan:
                     size += n_val
                     self._pack_shape.append((c.name, key, n_val))
         self.n_values = size
+        self._table_size = {(c, k): n for c, k, n in self._pack_shape if n}
+        self._reductions: dict = {}
         nn, nv, m = asm.n_nodes, asm.n_v, len(self.sw)
         self.off_N = size
         self.off_Minv = self.off_N + nn * nv
@@ -129,6 +131,12 @@ class Plan:
         # lock-up, as a naive model should.
         self.exact_jacobian = not any(c.model.code in _JUMP_CODES for c in self.fes)
         self.module = load_module(self.topology, exact_jacobian=self.exact_jacobian)
+        # the component each event belongs to, in the generated event order: the friction
+        # elements' events first, then the components' own (render.event_layout)
+        sources = [c.name for c in self.fes for _ in range(c.model.n_events)]
+        sources += [self.event_templates[k][1] for k in sorted(self.event_templates)]
+        self.event_sources = tuple(sources)
+        self.kinds = {c.name: c.kind for c in comps}
 
     # ------------------------------------------------------------------ layout helpers
     def _slip_vector(self, c) -> np.ndarray:
@@ -197,51 +205,61 @@ class Plan:
         return out
 
     def _values(self, comps) -> np.ndarray:
-        by_name = {c.name: c for c in comps}
         p = np.zeros(self.n_params)
-        for c_name, key, n_val in self._pack_shape:
-            val = by_name[c_name].pack()[key]
-            if n_val == 0:
-                p[self.slot[(c_name, key)]] = float(val)
-            else:
-                arr = np.asarray(val, dtype=float).ravel()
-                if arr.size != n_val:
-                    raise NetworkError(f"{by_name[c_name].label}: {key} has {arr.size} "
-                                       f"entries, the compiled network {n_val}; a table's "
-                                       "length is part of the topology", c_name)
-                o = self.tables[(c_name, key)][0]
-                p[o:o + n_val] = arr
+        for c in comps:
+            self._pack_into(p, c)
         self._derive(p, comps)
         return p
 
+    def updated_vector(self, params, base, comps, changed) -> np.ndarray:
+        """``params`` (the vector of the components ``base``) with the components at the
+        indices ``changed`` of ``comps`` packed again.  The derived block is recomputed
+        only when their inertias or rigid relations differ from those in ``base``."""
+        if self.banks:      # the banks hold every value after each scheduled change
+            return self.values_vector(comps)
+        p = params.copy()
+        derive = False
+        for i in set(changed):
+            self._pack_into(p, comps[i])
+            derive = derive or comps[i].inertias() != base[i].inertias() or \
+                comps[i].constraints() != base[i].constraints()
+        if derive:
+            self._derive(p, comps)
+        return p
+
+    def _pack_into(self, p, c) -> None:
+        for key, val in c.pack().items():
+            slot = self.slot.get((c.name, key))
+            if slot is not None:
+                p[slot] = float(val)
+                continue
+            o, _n = self.tables[(c.name, key)]
+            arr = np.asarray(val, dtype=float).ravel()
+            n_val = self._table_size[(c.name, key)]
+            if arr.size != n_val:
+                raise NetworkError(f"{c.label}: {key} has {arr.size} entries, the compiled "
+                                   f"network {n_val}; a table's length is part of the "
+                                   "topology", c.name)
+            p[o:o + n_val] = arr
+
     def _derive(self, p, comps) -> None:
         asm = self.asm
-        G = np.array(asm.G)
         # rigid relations may carry values (gear ratios): rebuild them from the components
         by_name = {c.name: c for c in comps}
+        G = np.array(asm.G)
         for (c_name, i), row in self.relation_row.items():
             r = np.zeros(asm.n_nodes)
             for f, coef in by_name[c_name].constraints()[i].items():
                 r[asm.node_of[(c_name, f)]] += coef
             G[row] = r
-        N, free, _rank = asm.reduce(G)
-        free = tuple(f for f in free if f != asm.ground)
-        if free != asm.free or tuple(map(tuple, (N != 0.0).astype(int))) != asm.pattern:
-            raise NetworkError(f"network {self.net.name!r}: these values change which speeds "
-                               "are independent (a ratio at 0 or a special value); build the "
-                               "network again with them")
+        N, Gp = self._reduced(G)
         J = np.zeros(asm.n_nodes)
         for c in comps:
             for f, v in c.inertias().items():
                 J[asm.node_of[(c.name, f)]] += v
         M = N.T @ (J[:, None] * N)
         if asm.n_v:
-            asm_N = asm.N
-            asm.N = N
-            try:
-                asm.check_inertia(J)
-            finally:
-                asm.N = asm_N
+            asm.check_inertia(J, N)
             Minv = np.linalg.inv(M)
         else:
             Minv = np.zeros((0, 0))
@@ -256,8 +274,28 @@ class Plan:
         p[self.off_MB:self.off_MB + nv * m] = MB.ravel()
         p[self.off_S:self.off_S + m * m] = S.ravel()
         p[self.off_J:self.off_J + nn] = J
-        p[self.off_Gp:self.off_Gp + self.n_rel * nn] = np.linalg.pinv(G.T).ravel()
+        p[self.off_Gp:self.off_Gp + self.n_rel * nn] = Gp.ravel()
         p[self.off_G:self.off_G + self.n_rel * nn] = G.ravel()
+
+    def _reduced(self, G) -> tuple:
+        """``(N, pinv(Gᵀ))`` of the rigid relations ``G`` (the last few are kept: a sweep
+        over anything but ratios meets the same ``G`` in every variant)."""
+        key = G.tobytes()
+        hit = self._reductions.get(key)
+        if hit is not None:
+            return hit
+        asm = self.asm
+        N, free, _rank = asm.reduce(G)
+        free = tuple(f for f in free if f != asm.ground)
+        if free != asm.free or tuple(map(tuple, (N != 0.0).astype(int))) != asm.pattern:
+            raise NetworkError(f"network {self.net.name!r}: these values change which speeds "
+                               "are independent (a ratio at 0 or a special value); build the "
+                               "network again with them")
+        hit = (N, np.linalg.pinv(G.T))
+        if len(self._reductions) >= 8:
+            self._reductions.pop(next(iter(self._reductions)))
+        self._reductions[key] = hit
+        return hit
 
     # ------------------------------------------------------------------ initial state
     def initial_state(self, comps, inputs0=None) -> np.ndarray:
@@ -310,12 +348,13 @@ class Plan:
         meta = dict(self.net.metadata if metadata is None else metadata)
         meta.update({"models": {c.name: c.model.name for c in self.fes},
                      "nodes": [self.asm.node_names[n] for n in self.asm.free],
-                     "network": self.topology.key})
+                     "network": self.topology.key, "kinds": self.kinds})
         return System(self.module.TAG(0), p, y0, self.state_names, self.state_units,
                       input_names=self.input_names, input_units=self.input_units,
                       output_names=self.output_names, output_units=self.output_units,
                       event_names=tuple(ev_names),
                       event_directions=self.event_directions,
+                      event_sources=self.event_sources,
                       name=name or self.net.name, metadata=meta,
                       quadratures=len(ENERGY))
 

@@ -1,4 +1,5 @@
-"""Scenario files: TOML schema, loader and errors (file, key path, line)."""
+"""Scenario files: TOML schema, loader and errors (file, key path, line), and running
+them (:func:`run_scenario`)."""
 
 from .errors import ScenarioError
 from .loader import (
@@ -8,9 +9,11 @@ from .loader import (
     load_scenario,
     resolve_scenario,
 )
+from .run import LaunchResult, run_scenario
 from .schema import reference_markdown
 
 __all__ = [
+    "LaunchResult",
     "Scenario",
     "ScenarioError",
     "apply_overrides",
@@ -18,4 +21,5 @@ __all__ = [
     "load_scenario",
     "reference_markdown",
     "resolve_scenario",
+    "run_scenario",
 ]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import math
 import sys
 import tomllib
 from dataclasses import dataclass, field
@@ -24,6 +25,8 @@ __all__ = [
     "load_scenario",
     "parse_scenario",
     "resolve_scenario",
+    "toml_value",
+    "with_solver_options",
 ]
 
 DEFAULT_NAME = "launch.toml"
@@ -191,6 +194,33 @@ def resolve_scenario(scenario, overrides=None) -> Scenario:
         data = apply_overrides(scenario.data, overrides, scenario.file)
         return parse_scenario(data, text=scenario.text, file=scenario.file)
     return scenario
+
+
+def with_solver_options(scenario: Scenario, items) -> Scenario:
+    """``scenario`` with the solver options ``items`` (a mapping of
+    :attr:`SolverOptions.MAPPING_KEYS`, e.g. the ``--option KEY=VALUE`` items of the command
+    line) over its ``[solver]`` table: both are read together by
+    :meth:`SolverOptions.from_mapping`, as the table alone is.  ValueError names a bad key."""
+    if not items:
+        return scenario
+    from dataclasses import replace
+    table = {k: v for k, v in scenario.data.get("solver", {}).items() if k != "method"}
+    return replace(scenario, options=SolverOptions.from_mapping({**table, **dict(items)},
+                                                                dt_out=0.0))
+
+
+def toml_value(v) -> str:
+    """A TOML literal for an override's value (``key=<literal>``)."""
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    f = float(v)
+    if math.isnan(f):
+        return "nan"
+    if math.isinf(f):
+        return "inf" if f > 0 else "-inf"
+    return repr(f)
 
 
 def apply_overrides(data: dict, overrides, file: str = "<scenario>") -> dict:

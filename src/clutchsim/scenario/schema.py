@@ -15,7 +15,7 @@ from ..core.controllers import CONTROLLERS
 from ..core.options import DEFAULT_METHOD, SOLVERS
 
 __all__ = ["COUPLING_TYPES", "LINING_KEYS", "SECTIONS", "Key", "check_lining", "check_table",
-           "reference_markdown"]
+           "key_spec", "reference_markdown", "table_keys"]
 
 
 @dataclass(frozen=True)
@@ -279,6 +279,31 @@ SECTIONS = {
 def suggest(name: str, valid) -> str:
     m = difflib.get_close_matches(str(name), list(valid), n=1, cutoff=0.5)
     return f"; did you mean {m[0]!r}?" if m else ""
+
+
+def table_keys(data: dict, section: str, index: str = "") -> tuple:
+    """The schema keys of the table ``section`` (entry ``index`` of an array of tables:
+    a coupling's or a component's keys follow its ``type``); () if unknown."""
+    keys = SECTIONS.get(section, ((), ""))[0]
+    if section in ("coupling", "component"):
+        table = data.get(section)
+        if not index or not isinstance(table, list) or int(index) >= len(table) or \
+                not isinstance(table[int(index)], dict):
+            return ()
+        types = COUPLING_TYPES if section == "coupling" else component_types()
+        keys = types.get(table[int(index)].get("type"), ())
+    return keys or ()
+
+
+def key_spec(data: dict, key: str) -> Key | None:
+    """The schema :class:`Key` of a scenario key one level into its table
+    (``vehicle.mass``, ``inertia[2].J``, ``coupling[0].c``, ``component[1].J``), or None."""
+    import re
+    parts = re.findall(r"([A-Za-z0-9_\-]+)(?:\[(\d+)\])?", key)
+    if len(parts) != 2 or parts[1][1]:
+        return None
+    (section, index), (name, _) = parts
+    return next((k for k in table_keys(data, section, index) if k.name == name), None)
 
 
 def check_table(table: dict, keys: tuple, path: str, fail) -> None:

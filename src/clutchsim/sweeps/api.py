@@ -56,16 +56,17 @@ def _probe_values(spec) -> list[float]:
     return [spec.a, spec.b]
 
 
-def _check_keys(sc, vary, model, max_rows: int) -> None:
+def _check_keys(sc, vary, model, max_rows: int, solver_items: dict) -> None:
     """Every key must be a scenario key the loader accepts (unknown: suggest the closest),
     and the extreme values must give runs within the output limit."""
     from .._util import ResourceError, check_run_size
     from ..scenario import ScenarioError, resolve_scenario
-    from .design import toml_value
+    from ..scenario.loader import toml_value, with_solver_options
     for key, spec in vary.items():
         for v in _probe_values(spec):
             try:
-                probe = resolve_scenario(sc, [f"{key}={toml_value(v)}"])
+                probe = with_solver_options(resolve_scenario(sc, [f"{key}={toml_value(v)}"]),
+                                            solver_items)
                 check_run_size(probe.estimate(model), probe.options,
                                what=f"{key} = {v:g}", max_rows=max_rows)
             except ResourceError as exc:
@@ -79,6 +80,7 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
           backend="threads", workers: int | None = None, address: str = "local",
           connect_timeout: float = DEFAULT_CONNECT_TIMEOUT, chunk_size: int | None = None,
           keep_traces: bool = False, plots: bool = False, load: bool = True,
+          options=None,
           progress=None, max_runs: int | None = DEFAULT_MAX_RUNS,
           max_output_rows: int | None = DEFAULT_MAX_OUTPUT_ROWS) -> SweepResult:
     """Simulate ``scenario`` once per variant and collect the launch metrics in a table.
@@ -114,6 +116,10 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
         Runs per chunk (the unit of streaming and resume; default from the number of runs).
     keep_traces : bool
         Also write each run's time series to ``out/traces/run-NNNNNNN.parquet``.
+    options : mapping, optional
+        Solver options of every run (``{"rtol": 1e-7, "wall_time": 30}``: the keys of
+        :meth:`~clutchsim.core.SolverOptions.from_mapping`, the CLI's ``--option``), over
+        the scenario's ``[solver]`` table and a varied ``solver.*`` key.
     plots : bool
         Write figures (heat map for 2-D grids, histograms and scatter for samples).
     load : bool
@@ -140,7 +146,13 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
     """
     from .. import __version__
     from ..scenario import resolve_scenario
+    from ..scenario.loader import with_solver_options
     scenario = resolve_scenario(scenario, overrides)
+    solver_items = dict(options or {})
+    try:
+        scenario = with_solver_options(scenario, solver_items)
+    except (TypeError, ValueError) as exc:
+        raise SweepError(f"--option: {exc}") from None
     if model is None and scenario.models:
         model = scenario.models[0]
     vary = parse_vary(vary if vary is not None else {})
@@ -156,12 +168,14 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
     rows = max_output_rows if max_output_rows is not None else 2**62
     check_run_size(scenario.estimate(model), scenario.options,
                    what=f"{scenario.file}: {model or 'its own model'}", max_rows=rows)
-    _check_keys(scenario, vary, model, rows)
+    _check_keys(scenario, vary, model, rows, solver_items)
     spec_texts = {k: s.text() for k, s in vary.items()}
     identity = {"format": FORMAT, "scenario": scenario.data, "model": model,
                 "vary": spec_texts, "samples": samples if design.random_keys else None,
                 "seed": seed if design.random_keys else None, "metrics": list(metrics),
                 "keep_traces": bool(keep_traces)}
+    if solver_items:        # (absent when not given: the ids of earlier sweeps hold)
+        identity["options"] = solver_items
     sweep_id = digest(identity)
     units = {k: key_unit(scenario.data, k) for k in design.keys}
     manifest = {"format": FORMAT, "sweep_id": sweep_id, "scenario_name": scenario.name,
@@ -170,6 +184,7 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
                 "grid_keys": list(design.grid_keys), "random_keys": list(design.random_keys),
                 "samples": identity["samples"], "seed": identity["seed"],
                 "metrics": list(metrics), "keep_traces": bool(keep_traces), "units": units,
+                "options": solver_items,
                 "runs": design.n, "chunk_size": chunk_size or _default_chunk_size(design.n),
                 "clutchsim": __version__}
     tmp = None
@@ -250,7 +265,7 @@ def _execute(store, scenario, design, manifest, backend, workers, address,
     job = {"sweep_id": sid, "data": scenario.data, "text": scenario.text,
            "file": scenario.file, "model": manifest["model"], "keys": design.keys,
            "metrics": tuple(manifest["metrics"]), "keep_traces": bool(keep_traces),
-           "max_output": max_output_rows}
+           "max_output": max_output_rows, "options": manifest["options"]}
     counts: dict = {}
     outcomes: dict = {}
     state = {"done": done_runs, "warned": 0}

@@ -203,34 +203,18 @@ def parse_vary(items) -> dict:
     return out
 
 
-def toml_value(v) -> str:
-    """A TOML literal for an override."""
-    if isinstance(v, (bool, np.bool_)):
-        return "true" if v else "false"
-    if isinstance(v, (int, np.integer)):
-        return str(int(v))
-    f = float(v)
-    if math.isnan(f):
-        return "nan"
-    if math.isinf(f):
-        return "inf" if f > 0 else "-inf"
-    return repr(f)
-
-
 def key_unit(data: dict, key: str) -> str:
     """The unit of a scenario key from the schema ("" if the schema does not say)."""
-    from ..scenario.schema import COUPLING_TYPES, SECTIONS
+    from ..scenario.schema import SECTIONS, key_spec
     parts = re.findall(r"([A-Za-z0-9_\-]+)(?:\[(\d+)\])?", key)
     if not parts or parts[0][0] not in SECTIONS:
         return ""
     section, index = parts[0]
-    keys, _kind = SECTIONS[section]
     table = data.get(section)
-    if section == "coupling" and index and isinstance(table, list) and int(index) < len(table):
-        keys = COUPLING_TYPES.get(table[int(index)].get("type"), ())
     rest = [p[0] for p in parts[1:]]
     if len(rest) == 1:
-        return next((k.unit for k in (keys or ()) if k.name == rest[0]), "")
+        spec = key_spec(data, key)
+        return spec.unit if spec is not None else ""
     if len(rest) == 3 and rest[0] == "friction" and rest[1] == "overrides" and \
             isinstance(table, list) and index and int(index) < len(table):
         try:

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import replace
 
-from .design import toml_value
-
-__all__ = ["DEFAULT_METRICS", "METRICS", "run_chunk", "run_variant"]
+__all__ = ["DEFAULT_METRICS", "METRICS", "run_chunk", "run_variant", "variant_plan"]
 
 #: the ``warnings`` column joins a run's warnings with this
 
@@ -43,25 +42,32 @@ DEFAULT_METRICS = tuple(m for m in METRICS if m != "wall_s")
 def run_variant(job: dict, values: tuple) -> tuple[dict, object]:
     """One run: ``(row, frame)``; ``frame`` is the time series (only with keep_traces).
 
-    A run that fails (stall, NaN, budget) or whose parameters are invalid becomes a row
-    with its status and message; this function does not raise for those.  ``outcome`` is
-    the machine-readable reason (the launch metrics' ``outcome``: ``completed``,
-    ``stalled``, ``chatter``, ``budget``, ...; ``error`` for invalid parameters) and
-    ``warnings`` the run's warnings (a list of str).
+    The variant is a set of values on the scenario's network, built once per sweep and
+    process (:class:`clutchsim.scenario.variants.VariantPlan`); keys that change more
+    than a component value rebuild the scenario for the variant.  A run that fails
+    (stall, NaN, budget) or whose parameters are invalid becomes a row with its status
+    and message; this function does not raise for those.  ``outcome`` is the
+    machine-readable reason (the launch metrics' ``outcome``: ``completed``, ``stalled``,
+    ``chatter``, ``budget``, ...; ``error`` for invalid parameters) and ``warnings`` the
+    run's warnings (a list of str).
     """
-    from ..driveline.run import run_scenario
-    from ..scenario.loader import apply_overrides, parse_scenario
+    from ..scenario.loader import with_solver_options
+    from ..scenario.run import run_system
     row: dict = {"status": "error", "outcome": "error", "message": "", "warnings": []}
     frame = None
     try:
-        overrides = [f"{k}={toml_value(v)}" for k, v in zip(job["keys"], values)]
-        data = apply_overrides(job["data"], overrides, job["file"])
-        sc = parse_scenario(data, text=job["text"], file=job["file"])
+        plan = variant_plan(job)
+        changes = tuple(zip(job["keys"], values))
+        system = plan.system(changes)
+        sc = plan.scenario
+        if system is None:
+            sc, system = plan.rebuilt(changes)
+            sc = with_solver_options(sc, job.get("options"))
         options = sc.options
         cap = job.get("max_output")
         if cap is not None and options.dt_out == 0 and options.max_output > cap:
             options = replace(options, max_output=int(cap))
-        lr = run_scenario(sc, job["model"], options=options)
+        lr = run_system(sc, system, job["model"], options=options)
     except (ValueError, ArithmeticError, KeyError, TypeError) as exc:
         row["message"] = f"{type(exc).__name__}: {exc}"
         return row, frame
@@ -77,6 +83,30 @@ def run_variant(job: dict, values: tuple) -> tuple[dict, object]:
     if job["keep_traces"]:
         frame = lr.result.to_frame()
     return row, frame
+
+
+#: sweep id -> its VariantPlan in this process (threads share it; a few sweeps are kept)
+_PLANS: dict = {}
+_PLANS_LOCK = threading.Lock()
+
+
+def variant_plan(job: dict):
+    """The :class:`~clutchsim.scenario.variants.VariantPlan` of ``job``'s base scenario
+    and model, built once per process (a Dask worker builds its own)."""
+    plan = _PLANS.get(job["sweep_id"])
+    if plan is None:
+        with _PLANS_LOCK:
+            plan = _PLANS.get(job["sweep_id"])
+            if plan is None:
+                from ..scenario.loader import parse_scenario, with_solver_options
+                from ..scenario.variants import VariantPlan
+                sc = with_solver_options(parse_scenario(job["data"], text=job["text"],
+                                                        file=job["file"]), job.get("options"))
+                plan = VariantPlan(sc, job["model"])
+                while len(_PLANS) >= 4:
+                    _PLANS.pop(next(iter(_PLANS)))
+                _PLANS[job["sweep_id"]] = plan
+    return plan
 
 
 def run_chunk(job: dict, runs: list) -> dict:

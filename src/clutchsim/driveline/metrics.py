@@ -1,20 +1,22 @@
-"""Run a scenario with one or several friction models and compute the launch metrics."""
+"""The launch metrics and warnings of a driveline run (a :class:`~clutchsim.core.Result`).
+
+This module reads results only; running a scenario is :mod:`clutchsim.scenario.run`
+(the dependency runs one way: scenario -> driveline/network -> core)."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from types import MappingProxyType
 
 import numpy as np
 
 from ..analysis import launch_quality as lq
-from ..core import Outcome, Result, SolverOptions, simulate
+from ..core import Outcome, Result
 from .chain import ENERGY_STATES
 
-__all__ = ["STEP_RATE_LIMIT", "LaunchResult", "energy_balance", "expects_lockup",
-           "launch_metrics", "launch_warnings", "lining_geometry", "run_scenario",
-           "with_weighted_acceleration"]
+__all__ = ["LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "energy_balance", "launch_metrics",
+           "launch_warnings", "with_weighted_acceleration"]
 
 #: steps per simulated second above which a run is warned about [1/s].  The shipped
 #: scenarios take 7 to 1,900 (measured: default launch 365-530, ten launches 440-610, tip-out
@@ -27,66 +29,6 @@ LOCK_SLIP = 1.0
 LOCK_HOLD = 0.05
 
 
-@dataclass(frozen=True)
-class LaunchResult:
-    """One run: the core :class:`~clutchsim.core.Result`, the model and its metrics."""
-
-    model: str
-    result: Result
-    metrics: dict
-
-
-def run_scenario(scenario=None, model: str | None = None, *, overrides=None,
-                 solver: str | None = None, options: SolverOptions | None = None
-                 ) -> LaunchResult:
-    """Simulate ``scenario`` (default: the packaged launch) with ``model`` on its clutch.
-
-    Parameters
-    ----------
-    scenario : Scenario, str, Path or None
-        A loaded scenario or a path (``None``: the default launch).
-    model : str, optional
-        Friction model for the element ``scenario.clutch`` (default: the first of
-        ``scenario.models``, else the element's own model).
-    overrides : sequence of str, optional
-        ``key.path=value`` assignments (only with a path or None).
-    solver : str, optional
-    options : SolverOptions, optional
-        Replace the scenario's solver settings.
-    """
-    from ..scenario import resolve_scenario
-    scenario = resolve_scenario(scenario, overrides)
-    if model is None and scenario.models:
-        model = scenario.models[0]
-    chain = scenario.chain(model)
-    t0 = 0.0
-    u0 = {name: float(np.asarray(sig(t0)).ravel()[0]) for name, sig in scenario.inputs.items()}
-    system = chain.build(u0)
-    inputs = {n: scenario.inputs[n] for n in system.input_names}
-    opts = options if options is not None else scenario.options
-    res = simulate(system, (t0, scenario.t_end), inputs, solver=solver or scenario.solver,
-                   options=opts)
-    name = system.metadata["models"].get(scenario.clutch, model or "")
-    friction = any(isinstance(t, dict) and t.get("name") == scenario.clutch
-                   and t.get("type") == "clutch" for t in scenario.data.get("coupling", []))
-    res = res.with_warnings(*launch_warnings(res, scenario.clutch,
-                                             expect_lockup=expects_lockup(scenario),
-                                             friction=friction))
-    res = with_weighted_acceleration(res)
-    return LaunchResult(name, res, launch_metrics(res, clutch=scenario.clutch,
-                                                  lining=lining_geometry(scenario)))
-
-
-def lining_geometry(scenario) -> tuple | None:
-    """``(r_inner [m], r_outer [m], faces [-])`` of the scenario's clutch coupling (its
-    keys ``r_inner``, ``r_outer``, ``faces``, checked by the scenario loader), or None
-    when the element has no lining radii."""
-    for t in scenario.data.get("coupling", []):
-        if isinstance(t, dict) and t.get("name") == scenario.clutch and "r_outer" in t:
-            return float(t["r_inner"]), float(t["r_outer"]), int(t.get("faces", 2))
-    return None
-
-
 def with_weighted_acceleration(res: Result) -> Result:
     """``res`` with the signal ``a_weighted`` [m/s²]: ``a_vehicle`` weighted with ISO
     2631-1 W_d (:func:`clutchsim.analysis.launch_quality.weighted_acceleration_mps2`);
@@ -97,17 +39,6 @@ def with_weighted_acceleration(res: Result) -> Result:
     aw.flags.writeable = False
     return replace(res, data=MappingProxyType({**res.data, "a_weighted": aw}),
                    units=MappingProxyType({**res.units, "a_weighted": "m/s²"}))
-
-
-def expects_lockup(scenario) -> bool:
-    """Whether ``scenario`` expects its clutch element to lock up: ``[scenario]
-    expect_lockup``, by default true when that element is a friction clutch (a launch) and
-    false for the other kinds (a one-way clutch, a lossy gear, a brake)."""
-    value = scenario.data.get("scenario", {}).get("expect_lockup")
-    if value is not None:
-        return bool(value)
-    return any(isinstance(t, dict) and t.get("name") == scenario.clutch
-               and t.get("type") == "clutch" for t in scenario.data.get("coupling", []))
 
 
 def energy_balance(res: Result) -> dict:
@@ -138,15 +69,12 @@ def _held(res: Result, clutch: str) -> bool:
     cap = res[c_name]
     ok = (cap > 0.5 * np.max(cap)) & (np.abs(res[w_name]) < LOCK_SLIP) if np.max(cap) > 0 \
         else np.zeros(res.t.size, dtype=bool)
-    start = None
-    for i, flag in enumerate(ok):
-        if not flag:
-            start = None
-        elif start is None:
-            start = res.t[i]
-        elif res.t[i] - start >= LOCK_HOLD:
-            return True
-    return False
+    if not np.any(ok):
+        return False
+    # the start of the run of held samples each sample belongs to
+    starts = ok & np.concatenate(([True], ~ok[:-1]))
+    first = np.maximum.accumulate(np.where(starts, np.arange(ok.size), 0))
+    return bool(np.any(ok & (res.t - res.t[first] >= LOCK_HOLD)))
 
 
 def _ringing(res: Result, clutch: str) -> str | None:
@@ -168,7 +96,7 @@ def _ringing(res: Result, clutch: str) -> str | None:
     if amplitude <= capacity:
         return None
     t0 = float(res.t[touch[0]])
-    crossings = [e.t for e in res.events if e.name.startswith(f"{clutch}:") and e.t >= t0]
+    crossings = [t for t in _event_times(res, clutch) if t >= t0]
     rate = ""
     if len(crossings) > 2 and crossings[-1] > crossings[0]:
         hz = 0.5 * (len(crossings) - 1) / (crossings[-1] - crossings[0])
@@ -189,7 +117,8 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
                     friction: bool = True) -> list[str]:
     """Reasons not to trust a run that completed, each with its cause and remedy.
 
-    * the clutch never held although ``expect_lockup`` (see :func:`expects_lockup`);
+    * the clutch never held although ``expect_lockup`` (see
+      :func:`clutchsim.scenario.run.expects_lockup`);
     * (``friction``: the element is a friction clutch) its contact rings after lock-up
       with a torque amplitude above its capacity;
     * the step count is far above what the scenarios need: more than
@@ -241,6 +170,26 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
     return out
 
 
+def _source(res: Result, event) -> str:
+    """The component ``event`` belongs to (the network plant declares each event's source,
+    with the components' kinds in ``metadata["kinds"]``)."""
+    return event.source
+
+
+def _ended_by(res: Result) -> str:
+    """The component whose event ended the run ("" when none did)."""
+    return res.event_source if res.event else ""
+
+
+def _kind(res: Result, component: str) -> str:
+    return res.metadata.get("kinds", {}).get(component, "")
+
+
+def _event_times(res: Result, component: str) -> list[float]:
+    """Times [s] of the located events of ``component``."""
+    return [e.t for e in res.events if _source(res, e) == component]
+
+
 def _lockup_time(res: Result, clutch: str) -> float | None:
     """:func:`clutchsim.analysis.launch_quality.lockup_time_s` of ``clutch`` in ``res``:
     engaged = capacity above half its largest value; the clutch's located events."""
@@ -251,7 +200,7 @@ def _lockup_time(res: Result, clutch: str) -> float | None:
     if res.t.size < 2 or np.max(cap) <= 0:
         return None
     lk = f"{clutch}.locked"
-    events = [e.t for e in res.events if e.name.startswith(f"{clutch}:")]
+    events = _event_times(res, clutch)
     return lq.lockup_time_s(res.t, res[name], cap > 0.5 * np.max(cap),
                             locked=res[lk] if lk in res.signals else None,
                             event_times_s=events, lock_slip_radps=LOCK_SLIP)
@@ -304,7 +253,7 @@ def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None 
     events, min_step_s, wall_s."""
     m: dict = {"completed": res.status == "completed", "outcome": str(res.outcome),
                "message": res.message, "warnings": list(res.warnings)}
-    if res.outcome == Outcome.CHATTER and res.event.startswith(f"{clutch}:"):
+    if res.outcome == Outcome.CHATTER and _ended_by(res) == clutch:
         m["message"] = ("stopped by chatter detection at clutch lock-up (the slip speed of "
                         f"{clutch!r} reached zero and the switching law re-fired): "
                         + res.message)
@@ -317,7 +266,7 @@ def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None 
     eng = [s for s in res.signals if s == "omega_engine"]
     m["engine_speed_min_rpm"] = float(np.min(res[eng[0]]) * 30 / math.pi) if eng else None
     m["engine_stalled"] = (res.outcome == Outcome.EVENT_FAILED
-                           and res.event.startswith("engine stalled"))
+                           and _kind(res, _ended_by(res)) == "engine")
     if m["engine_stalled"]:
         m["outcome"] = "stalled"
     m["energy_balance_rel"] = energy_balance(res)["energy_balance_rel"]

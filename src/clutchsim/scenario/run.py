@@ -1,0 +1,88 @@
+"""Run a scenario: resolve it, pick the friction model, build the plant and its inputs,
+simulate, and compute the launch metrics (:mod:`clutchsim.driveline.metrics`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..core import Result, SolverOptions, simulate
+from ..driveline.metrics import launch_metrics, launch_warnings, with_weighted_acceleration
+from .loader import resolve_scenario
+
+__all__ = ["LaunchResult", "expects_lockup", "lining_geometry", "run_scenario"]
+
+
+@dataclass(frozen=True)
+class LaunchResult:
+    """One run: the core :class:`~clutchsim.core.Result`, the model and its metrics."""
+
+    model: str
+    result: Result
+    metrics: dict
+
+
+def run_scenario(scenario=None, model: str | None = None, *, overrides=None,
+                 solver: str | None = None, options: SolverOptions | None = None
+                 ) -> LaunchResult:
+    """Simulate ``scenario`` (default: the packaged launch) with ``model`` on its clutch.
+
+    Parameters
+    ----------
+    scenario : Scenario, str, Path or None
+        A loaded scenario or a path (``None``: the default launch).
+    model : str, optional
+        Friction model for the element ``scenario.clutch`` (default: the first of
+        ``scenario.models``, else the element's own model).
+    overrides : sequence of str, optional
+        ``key.path=value`` assignments (only with a path or None).
+    solver : str, optional
+    options : SolverOptions, optional
+        Replace the scenario's solver settings.
+    """
+    scenario = resolve_scenario(scenario, overrides)
+    if model is None and scenario.models:
+        model = scenario.models[0]
+    system = scenario.chain(model).build(scenario.inputs0())
+    return run_system(scenario, system, model, solver=solver, options=options)
+
+
+def run_system(scenario, system, model: str | None = None, *, solver: str | None = None,
+               options: SolverOptions | None = None) -> LaunchResult:
+    """Simulate ``system`` (built from ``scenario``, possibly with other parameter values)
+    with the scenario's inputs, span and solver, and compute the launch metrics."""
+    inputs = {n: scenario.inputs[n] for n in system.input_names}
+    opts = options if options is not None else scenario.options
+    res = simulate(system, (0.0, scenario.t_end), inputs, solver=solver or scenario.solver,
+                   options=opts)
+    name = system.metadata["models"].get(scenario.clutch, model or "")
+    res = res.with_warnings(*launch_warnings(res, scenario.clutch,
+                                             expect_lockup=expects_lockup(scenario),
+                                             friction=_is_friction_clutch(scenario)))
+    res = with_weighted_acceleration(res)
+    return LaunchResult(name, res, launch_metrics(res, clutch=scenario.clutch,
+                                                  lining=lining_geometry(scenario)))
+
+
+def _is_friction_clutch(scenario) -> bool:
+    return any(isinstance(t, dict) and t.get("name") == scenario.clutch
+               and t.get("type") == "clutch" for t in scenario.data.get("coupling", []))
+
+
+def lining_geometry(scenario) -> tuple | None:
+    """``(r_inner [m], r_outer [m], faces [-])`` of the scenario's clutch coupling (its
+    keys ``r_inner``, ``r_outer``, ``faces``, checked by the scenario loader), or None
+    when the element has no lining radii."""
+    for t in scenario.data.get("coupling", []):
+        if isinstance(t, dict) and t.get("name") == scenario.clutch and "r_outer" in t:
+            return float(t["r_inner"]), float(t["r_outer"]), int(t.get("faces", 2))
+    return None
+
+
+def expects_lockup(scenario) -> bool:
+    """Whether ``scenario`` expects its clutch element to lock up: ``[scenario]
+    expect_lockup``, by default true when that element is a friction clutch (a launch) and
+    false for the other kinds (a one-way clutch, a lossy gear, a brake)."""
+    value = scenario.data.get("scenario", {}).get("expect_lockup")
+    if value is not None:
+        return bool(value)
+    return _is_friction_clutch(scenario)
