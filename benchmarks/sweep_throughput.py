@@ -1,7 +1,7 @@
 """Throughput of ``clutchsim.sweep`` on launch variants (metrics only).
 
 Problem: the packaged default launch with model (6) (examples/launch.toml, 0–4 s, with the
-scenario's solver settings: ros34pw2, rtol = 1e-6, atol = 1e-8), seeded Monte Carlo over vehicle mass (uniform 1100–1500 kg) and road
+scenario's solver settings: rodas5p, rtol = 3e-6, atol = 1e-8), seeded Monte Carlo over vehicle mass (uniform 1100–1500 kg) and road
 grade (uniform 0–8 %).  Measured:
 
 * ``runs`` variants in-process on all cores (threads; the compiled integrator releases the
