@@ -223,6 +223,7 @@ def _component_keys(cls) -> tuple:
                         low=p.low, high=p.high, strict=p.strict))
     extra = {
         "clutch": CLUTCH[2:8], "brake": CLUTCH[2:8],
+        "dual_mass_flywheel": (CLUTCH[3], *CLUTCH[5:8]),
         "torque": (Key("input", "str", "Input signal: the torque [N·m].", required=True),),
         "engine": (Key("full_load", "table", "`{speed = [rad/s ...], torque = [N·m ...]}`.",
                        required=True),

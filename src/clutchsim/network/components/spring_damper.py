@@ -18,24 +18,34 @@ class TwistCoupling(Component):
     def initial_state(self, ctx):
         return [self.phi0]
 
-    @staticmethod
-    def twist(e) -> tuple[str, str]:
-        """The twist ``φ`` (state) and the twist rate ``ω_b − ω_a`` (a local)."""
-        return e.x("phi"), e.let("wr", f"{e.w('b')} - {e.w('a')}")
+    #: the flanges the twist is measured between (φ = φ_b − φ_a)
+    twist_flanges = ("a", "b")
 
-    @staticmethod
-    def emit_twist(e, wr: str, tau: str, k_phi: str, k_w: str) -> None:
+    def twist(self, e) -> tuple[str, str]:
+        """The twist ``φ`` (state) and the twist rate ``ω_b − ω_a`` (a local)."""
+        a, b = self.twist_flanges
+        return e.x("phi"), e.let("wr", f"{e.w(b)} - {e.w(a)}")
+
+    def emit_twist(self, e, wr: str, tau: str, k_phi: str, k_w: str) -> None:
         """The torques ``±tau`` on a and b, the twist equation ``dφ/dt = wr`` and their
         partial derivatives (``k_phi = ∂τ/∂φ``, ``k_w = ∂τ/∂wr``)."""
-        e.torque("a", tau)
-        e.torque("b", f"-{tau}")
+        a, b = self.twist_flanges
+        e.torque(a, tau)
+        e.torque(b, f"-{tau}")
         e.deriv("phi", wr)
-        for fl, sg in (("a", ""), ("b", "-")):
+        for fl, sg in ((a, ""), (b, "-")):
             e.dtorque(fl, e.kx("phi"), f"{sg}{k_phi}")
-            e.dtorque(fl, e.kw("b"), f"{sg}{k_w}")
-            e.dtorque(fl, e.kw("a"), f"{'-' if not sg else ''}{k_w}")
-        e.dderiv("phi", e.kw("b"), "1.0")
-        e.dderiv("phi", e.kw("a"), "-1.0")
+            e.dtorque(fl, e.kw(b), f"{sg}{k_w}")
+            e.dtorque(fl, e.kw(a), f"{'-' if not sg else ''}{k_w}")
+        e.dderiv("phi", e.kw(b), "1.0")
+        e.dderiv("phi", e.kw(a), "-1.0")
+
+    def book_viscous(self, e, wr: str, d: str) -> None:
+        """The power ``d·wr²`` of a viscous damper ``d`` in ``W_damping``, with its partials."""
+        a, b = self.twist_flanges
+        e.power("damp", f"{d} * {wr} * {wr}")
+        e.dpower("damp", e.kw(b), f"2.0 * {d} * {wr}")
+        e.dpower("damp", e.kw(a), f"-2.0 * {d} * {wr}")
 
 
 class SpringDamper(TwistCoupling):
@@ -73,9 +83,7 @@ class SpringDamper(TwistCoupling):
         ks = e.let("ks", f"{c} if {inner} else {c2}")
         tau = e.let("tau", f"{sp} + {d} * {wr}")
         self.emit_twist(e, wr, tau, ks, d)
-        e.power("damp", f"{d} * {wr} * {wr}")
-        e.dpower("damp", e.kw("b"), f"2.0 * {d} * {wr}")
-        e.dpower("damp", e.kw("a"), f"-2.0 * {d} * {wr}")
+        self.book_viscous(e, wr, d)
         ex = f"(abs({phi}) - {knee})"
         e.spring_energy(f"(0.5 * {c} * {phi} * {phi} if {inner} else 0.5 * {c} * {knee} * "
                         f"{knee} + {c} * {knee} * {ex} + 0.5 * {c2} * {ex} * {ex})")
