@@ -7,6 +7,7 @@ module here and one line below (``docs/network.md``: the recipe).
 from __future__ import annotations
 
 from .backlash import ElastoBacklash
+from .converter import TorqueConverter
 from .dmf import DualMassFlywheel
 from .engine import Engine
 from .friction import Brake, Clutch
@@ -20,9 +21,11 @@ from .torque_source import TorqueSource
 from .vehicle import Vehicle
 
 __all__ = ["COMPONENTS", "Brake", "Clutch", "DualMassFlywheel", "ElastoBacklash", "Engine",
-           "IdealGear", "Inertia", "Planetary", "QuadraticSpeedTorque", "SpringDamper", "ThermalNode", "TorqueSource", "Vehicle"]
+           "IdealGear", "Inertia", "Planetary", "QuadraticSpeedTorque", "SpringDamper",
+           "ThermalNode", "TorqueConverter", "TorqueSource", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, Planetary, Clutch, Brake,
                                   TorqueSource, QuadraticSpeedTorque, Engine, Vehicle,
-                                  ThermalNode, ElastoBacklash, DualMassFlywheel)}
+                                  ThermalNode, ElastoBacklash, DualMassFlywheel,
+                                  TorqueConverter)}
