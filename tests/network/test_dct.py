@@ -60,3 +60,16 @@ def test_shift_metrics_and_energy_balance(shift):
     assert m["lockup_time_s"] == pytest.approx(
         min(e.t for e in shift.result.events if e.name == "clutch2: stop"), abs=1e-3)
     assert m["slip_energy_J"] > 0 and m["vdv_mps175"] > 0
+
+
+def test_component_figure_shows_both_clutches(shift, tmp_path):
+    from clutchsim.plot._style import save_png
+    from clutchsim.plot.components import component_panels, plot_components
+    panels = component_panels(shift.result)
+    assert [p[0] for p in panels] == ["friction elements: torque passed on"]
+    assert [line[0] for line in panels[0][2]] == ["T_friction_clutch1", "T_friction_clutch2"]
+    fig, ax = plot_components(shift.result)
+    assert ax.shape == (1, 1) and len(ax[0, 0].lines) == 2
+    assert save_png(fig, tmp_path / "c.png").stat().st_size > 1000
+    with pytest.raises(TypeError, match="unknown keyword"):
+        plot_components(shift.result, colour="red")
