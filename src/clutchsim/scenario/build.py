@@ -285,7 +285,7 @@ def build_network(scenario, model: str | None = None):
                               ("mu_temperature", ("theta", "factor")),
                               ("mu_slip", ("slip", "factor"))):
                 if k in kw:
-                    kw[k] = _pairs(kw.get(k), a, b, f"{key}.{k}", fail)
+                    kw[k] = _pairs(kw[k], a, b, f"{key}.{k}", fail)
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
         elif t["type"] == "engine":
             _need_input(scenario, kw["throttle"], f"{key}.throttle")
