@@ -198,11 +198,12 @@ class Assembly:
         names[self.ground] = GROUND
         self.J_owner: list[list[str]] = [[] for _ in range(self.n_nodes)]
         for c in net.components:
-            for f in c.inertias():
+            bodies = c.inertias()
+            for f in bodies:
                 n = self.node_of[(c.name, f)]
                 self.J_owner[n].append(c.name)
-                if names[n] is None:
-                    names[n] = c.name
+                if names[n] is None:    # a component with two bodies names them by flange
+                    names[n] = c.name if len(bodies) == 1 else f"{c.name}_{f}"
         for c in net.components:
             for f in c.flanges:
                 n = self.node_of[(c.name, f)]

@@ -275,15 +275,17 @@ def build_network(scenario, model: str | None = None):
         key = f"component[{i}]"
         kw = {k: v for k, v in t.items() if k not in ("type", "name")}
         cls = COMPONENTS[t["type"]]
-        if t["type"] in ("clutch", "brake"):
-            _need_input(scenario, kw["command"], f"{key}.command")
+        if getattr(cls, "friction", False):
+            if cls.commanded:
+                _need_input(scenario, kw["command"], f"{key}.command")
             m = model if _replaced(t, model, scenario) else None
             kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
                                          t["name"])
             for k, (a, b) in (("clamp_table", ("position", "force")),
                               ("mu_temperature", ("theta", "factor")),
                               ("mu_slip", ("slip", "factor"))):
-                kw[k] = _pairs(kw.get(k), a, b, f"{key}.{k}", fail)
+                if k in kw:
+                    kw[k] = _pairs(kw[k], a, b, f"{key}.{k}", fail)
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
         elif t["type"] == "engine":
             _need_input(scenario, kw["throttle"], f"{key}.throttle")

@@ -226,6 +226,14 @@ def _component_keys(cls) -> tuple:
                         low=p.low, high=p.high, strict=p.strict))
     extra = {
         "clutch": CLUTCH[2:8], "brake": CLUTCH[2:8],
+        "dual_mass_flywheel": (CLUTCH[3], *CLUTCH[5:8]),
+        "torque_converter": (
+            Key("speed_ratio", "numbers", "Speed ratios turbine/pump of the tables, strictly "
+                "increasing in [0, 1), ending at the coupling point.", required=True),
+            Key("K", "numbers", "Capacity factor at each speed ratio, > 0 "
+                "(pump torque = (pump speed/K)²).", "rad/s/sqrt(N·m)", required=True),
+            Key("torque_ratio", "numbers", "Turbine/pump torque at each speed ratio, > 0, "
+                "with speed_ratio·torque_ratio <= 1.", required=True)),
         "torque": (Key("input", "str", "Input signal: the torque [N·m].", required=True),),
         "torque_pulsation": (Key("amplitude_table", "table", "`{speed = [rad/s ...], "
                                  "amplitude = [N·m ...]}`: amplitude against |speed| "

@@ -6,6 +6,9 @@ module here and one line below (``docs/network.md``: the recipe).
 
 from __future__ import annotations
 
+from .backlash import ElastoBacklash
+from .converter import TorqueConverter
+from .dmf import DualMassFlywheel
 from .engine import Engine
 from .friction import Brake, Clutch
 from .ideal_gear import IdealGear
@@ -20,12 +23,14 @@ from .torque_pulsation import TorquePulsation
 from .torque_source import TorqueSource
 from .vehicle import Vehicle
 
-__all__ = ["COMPONENTS", "Brake", "Clutch", "Engine", "Gearbox", "IdealGear", "Inertia",
-           "LossyGear", "OneWayClutch", "Planetary", "QuadraticSpeedTorque", "SpringDamper",
-           "ThermalNode", "TorquePulsation", "TorqueSource", "Vehicle"]
+__all__ = ["COMPONENTS", "Brake", "Clutch", "DualMassFlywheel", "ElastoBacklash", "Engine",
+           "Gearbox", "IdealGear", "Inertia", "LossyGear", "OneWayClutch", "Planetary",
+           "QuadraticSpeedTorque", "SpringDamper", "ThermalNode", "TorqueConverter",
+           "TorquePulsation", "TorqueSource", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
                                   Planetary, Clutch, OneWayClutch, Brake, TorqueSource,
                                   TorquePulsation, QuadraticSpeedTorque, Engine, Vehicle,
-                                  ThermalNode)}
+                                  ThermalNode, ElastoBacklash, DualMassFlywheel,
+                                  TorqueConverter)}

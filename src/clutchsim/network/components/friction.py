@@ -37,6 +37,8 @@ class _FrictionElement(Component):
                     default=0.0, low=0.0),)
     side_a = "a"
     side_b = "b"
+    #: the element reads its actuation from an input signal (False: always fully applied)
+    commanded = True
 
     def __init__(self, name, model, command, clamp_table=None, mu_temperature=None,
                  mu_slip=None, heat=(), locked0=None, z0=None, **values):
@@ -44,7 +46,7 @@ class _FrictionElement(Component):
         o = self.label
         if not isinstance(model, FrictionModel):
             raise TypeError(f"{o}: model must be a clutchsim friction model")
-        if not isinstance(command, str) or not command:
+        if self.commanded and (not isinstance(command, str) or not command):
             raise ValueError(f"{o}: command = {command!r} must name an input signal")
         self.model = model
         self.command = command
@@ -87,7 +89,7 @@ class _FrictionElement(Component):
         return tuple((node, f"share{k}") for k, (node, _s) in enumerate(self.heat))
 
     def inputs(self):
-        return (self.command,)
+        return (self.command,) if self.commanded else ()
 
     def check_network(self, net):
         for node, _ in self.heat:
@@ -146,7 +148,7 @@ class _FrictionElement(Component):
     def emit(self, e):
         i = e.g.plan.fe_index[self.name]
         s, sc = f"s{i}", f"sc{i}"
-        x = e.u(self.command)
+        x = e.u(self.command) if self.commanded else "1.0"
         self._partials = []
         if self.clamp_table is not None:
             o, n = e.table("clamp_table")

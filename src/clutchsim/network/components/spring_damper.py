@@ -6,7 +6,49 @@ from ..component import Component
 from ..spec import Param
 
 
-class SpringDamper(Component):
+class TwistCoupling(Component):
+    """A compliant coupling between flanges a and b with its twist as a state (Modelica's
+    ``PartialCompliantWithRelativeStates``): ``φ = φ_b − φ_a`` (state ``phi_<name>`` [rad],
+    from ``phi0``), ``dφ/dt = ω_b − ω_a``, its torque ``τ`` acting as ``+τ`` on a and ``−τ``
+    on b.  Subclasses declare ``phi0`` and write ``τ`` with :meth:`emit_twist`."""
+
+    def state_layout(self):
+        return [("phi", f"phi_{self.name}", "rad")]
+
+    def initial_state(self, ctx):
+        return [self.phi0]
+
+    #: the flanges the twist is measured between (φ = φ_b − φ_a)
+    twist_flanges = ("a", "b")
+
+    def twist(self, e) -> tuple[str, str]:
+        """The twist ``φ`` (state) and the twist rate ``ω_b − ω_a`` (a local)."""
+        a, b = self.twist_flanges
+        return e.x("phi"), e.let("wr", f"{e.w(b)} - {e.w(a)}")
+
+    def emit_twist(self, e, wr: str, tau: str, k_phi: str, k_w: str) -> None:
+        """The torques ``±tau`` on a and b, the twist equation ``dφ/dt = wr`` and their
+        partial derivatives (``k_phi = ∂τ/∂φ``, ``k_w = ∂τ/∂wr``)."""
+        a, b = self.twist_flanges
+        e.torque(a, tau)
+        e.torque(b, f"-{tau}")
+        e.deriv("phi", wr)
+        for fl, sg in ((a, ""), (b, "-")):
+            e.dtorque(fl, e.kx("phi"), f"{sg}{k_phi}")
+            e.dtorque(fl, e.kw(b), f"{sg}{k_w}")
+            e.dtorque(fl, e.kw(a), f"{'-' if not sg else ''}{k_w}")
+        e.dderiv("phi", e.kw(b), "1.0")
+        e.dderiv("phi", e.kw(a), "-1.0")
+
+    def book_viscous(self, e, wr: str, d: str) -> None:
+        """The power ``d·wr²`` of a viscous damper ``d`` in ``W_damping``, with its partials."""
+        a, b = self.twist_flanges
+        e.power("damp", f"{d} * {wr} * {wr}")
+        e.dpower("damp", e.kw(b), f"2.0 * {d} * {wr}")
+        e.dpower("damp", e.kw(a), f"-2.0 * {d} * {wr}")
+
+
+class SpringDamper(TwistCoupling):
     """Spring and damper in parallel between flanges a and b.
 
     Twist ``φ = φ_b − φ_a`` (state ``phi_<name>`` [rad]), ``dφ/dt = ω_b − ω_a``; torque
@@ -32,33 +74,16 @@ class SpringDamper(Component):
             raise ValueError(f"{self.label}: a two-stage spring (knee = {self.knee:g} rad > 0) "
                              "needs c2 > 0 N·m/rad")
 
-    def state_layout(self):
-        return [("phi", f"phi_{self.name}", "rad")]
-
-    def initial_state(self, ctx):
-        return [self.phi0]
-
     def emit(self, e):
         c, d, knee, c2 = (e.par(k) for k in ("c", "d", "knee", "c2"))
-        phi = e.x("phi")
-        wr = e.let("wr", f"{e.w('b')} - {e.w('a')}")
+        phi, wr = self.twist(e)
         inner = e.let("in1", f"{knee} <= 0.0 or abs({phi}) <= {knee}")
         sp = e.let("sp", f"{c} * {phi} if {inner} else math.copysign({c} * {knee} + {c2} * "
                          f"(abs({phi}) - {knee}), {phi})")
         ks = e.let("ks", f"{c} if {inner} else {c2}")
         tau = e.let("tau", f"{sp} + {d} * {wr}")
-        e.torque("a", tau)
-        e.torque("b", f"-{tau}")
-        e.deriv("phi", wr)
-        for fl, sg in (("a", ""), ("b", "-")):
-            e.dtorque(fl, e.kx("phi"), f"{sg}{ks}")
-            e.dtorque(fl, e.kw("b"), f"{sg}{d}")
-            e.dtorque(fl, e.kw("a"), f"{'-' if not sg else ''}{d}")
-        e.dderiv("phi", e.kw("b"), "1.0")
-        e.dderiv("phi", e.kw("a"), "-1.0")
-        e.power("damp", f"{d} * {wr} * {wr}")
-        e.dpower("damp", e.kw("b"), f"2.0 * {d} * {wr}")
-        e.dpower("damp", e.kw("a"), f"-2.0 * {d} * {wr}")
+        self.emit_twist(e, wr, tau, ks, d)
+        self.book_viscous(e, wr, d)
         ex = f"(abs({phi}) - {knee})"
         e.spring_energy(f"(0.5 * {c} * {phi} * {phi} if {inner} else 0.5 * {c} * {knee} * "
                         f"{knee} + {c} * {knee} * {ex} + 0.5 * {c2} * {ex} * {ex})")
