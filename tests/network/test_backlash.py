@@ -9,7 +9,7 @@ from scipy.integrate import solve_ivp
 from test_network import _jac_fd
 
 from clutchsim.core import SolverOptions, simulate
-from clutchsim.driveline.run import energy_balance
+from clutchsim.driveline.metrics import energy_balance
 from clutchsim.network import Network
 from clutchsim.network.components import ElastoBacklash, Inertia, TorqueSource
 
@@ -141,7 +141,7 @@ def test_tip_in_clunk_example_reverses_the_torque_through_the_lash():
     every crossing is a located gap-edge event; energy balanced."""
     from _dl_paths import EXAMPLES
 
-    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import run_scenario
     r = run_scenario(EXAMPLES / "tip_in_clunk.toml")
     res = r.result
     assert res.status == "completed", res.message

@@ -87,7 +87,7 @@ def test_launch_on_the_converter_and_lock_up_under_load():
     the converter carries nothing.  Energy balanced."""
     from _dl_paths import EXAMPLES
 
-    from clutchsim.driveline.run import run_scenario
+    from clutchsim.scenario import run_scenario
     r = run_scenario(EXAMPLES / "converter_launch.toml")
     res = r.result
     assert res.status == "completed", res.message

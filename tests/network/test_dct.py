@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from _dl_paths import EXAMPLES
 
-from clutchsim.driveline.run import run_scenario
+from clutchsim.scenario import run_scenario
 
 R1, R2, FD = 3.6, 2.1, 4.1
 
