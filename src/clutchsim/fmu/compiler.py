@@ -20,7 +20,7 @@ import numpy as np
 
 from .cprint import A1, A2, D, I, print_c
 
-__all__ = ["PLANT_ENTRIES", "CPlant", "CompilerError", "compile_shared", "find_compiler"]
+__all__ = ["PLANT_ENTRIES", "CPlant", "CompilerError", "NoCompilerError", "compile_shared", "find_compiler"]
 
 #: names looked for, in this order, after $CC
 COMPILERS = ("cc", "gcc", "clang")
@@ -40,12 +40,16 @@ PLANT_ENTRIES = {
 
 
 class CompilerError(RuntimeError):
-    """No C compiler, or the compiler rejected the printed program."""
+    """The compiler rejected the printed program."""
+
+
+class NoCompilerError(CompilerError, LookupError):
+    """No C compiler on this machine (the message says what was looked for)."""
 
 
 def find_compiler() -> str:
     """Path of the system C compiler (``$CC``, else the first of :data:`COMPILERS` on the
-    ``PATH``); :class:`CompilerError` saying what was looked for when there is none."""
+    ``PATH``); :class:`NoCompilerError` saying what was looked for when there is none."""
     cc = os.environ.get("CC")
     tried = []
     if cc:
@@ -58,7 +62,7 @@ def find_compiler() -> str:
         if found:
             return found
         tried.append(name)
-    raise CompilerError(
+    raise NoCompilerError(
         f"no C compiler found (looked for {', '.join(tried)} on the PATH); install one, "
         "e.g. `apt-get install gcc` (Debian/Ubuntu), `dnf install gcc` (Fedora) or "
         "`xcode-select --install` (macOS), or set CC to its path")
