@@ -10,15 +10,17 @@
    parameter vector, in its own order).
 
    Events.  The plant's event functions are the FMU's event indicators.  At an event
-   (fmi2NewDiscreteStates) every indicator that crossed zero since the last completed
-   step, in the plant's direction (-1 falling, +1 rising, 0 both), gets the plant's reset
-   map, as clutchsim's own integrators apply it; a reset that fails or stops the run
-   terminates the simulation.  "Since the last event": the indicators are recorded at the
-   end of initialisation and after each event's resets; an importer stops at every sign
-   change (that is what event indicators are for), so between two events each keeps its
-   sign.  (Not at fmi2CompletedIntegratorStep: importers call it after the step that ends
-   on the root, before the event.) */
+   (fmi2NewDiscreteStates) the first indicator that crossed zero since the last event, in
+   the plant's direction (-1 falling, +1 rising, 0 both), gets the plant's reset map, as
+   clutchsim's own integrators apply it (one event at a time; the reset map of a switching
+   element settles the others it affects: clutchsim's event iteration runs inside it); a
+   reset that fails or stops the run terminates the simulation.  "Since the last event":
+   the indicators are recorded at the end of initialisation and after each event; an
+   importer stops at every sign change (that is what event indicators are for), so between
+   two events each keeps its sign.  (Not at fmi2CompletedIntegratorStep: importers call it
+   after the step that ends on the root, before the event.) */
 
+#include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -125,9 +127,25 @@ static void indicators(Instance *m, double *g) {
 }
 
 static int crossed(int dir, double before, double now) {
-    int falling = before > 0.0 && now <= 0.0;
-    int rising = before < 0.0 && now >= 0.0;
-    return dir < 0 ? falling : (dir > 0 ? rising : (falling || rising));
+    /* clutchsim.core._driver._crossed */
+    return (dir >= 0 && before < 0.0 && now >= 0.0) || (dir <= 0 && before > 0.0 && now <= 0.0);
+}
+
+/* The indicators as the reference for the next crossing.  One exactly on zero (a reset
+   left it there: a released element's slip) takes the sign it moves to, as clutchsim's
+   integrators do ("start from the next sign"): probed a short step along the derivatives. */
+static void record_signs(Instance *m) {
+    double y1[ONE(CS_NX)], g1[ONE(CS_NZ)], h;
+    int k, zero = 0, i;
+    indicators(m, m->g_last);
+    for (k = 0; k < CS_NZ; k++) zero |= m->g_last[k] == 0.0;
+    if (!zero) return;
+    derivatives(m);
+    h = 1e-9 * (1.0 + fabs(m->t));
+    for (i = 0; i < CS_NX; i++) y1[i] = m->y[i] + h * m->dy[i];
+    cs_events(m->t + h, y1, m->u, m->p, g1);
+    for (k = 0; k < CS_NZ; k++)
+        if (m->g_last[k] == 0.0) m->g_last[k] = g1[k];
 }
 
 /* ---------------------------------------------------------------- common functions */
@@ -192,9 +210,15 @@ FMI2_EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
 
 FMI2_EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     Instance *m = (Instance *)c;
-    indicators(m, m->g_last);
-    m->mode = MODE_EVENT;
+    int k;
     changed(m);
+    record_signs(m);
+    /* a directional event whose function starts on its post-crossing side fires once at
+       the start (a stuck element loaded beyond its capacity), as in clutchsim */
+    for (k = 0; k < CS_NZ; k++)
+        if ((cs_event_dir[k] == -1 && m->g_last[k] < 0.0) || (cs_event_dir[k] == 1 && m->g_last[k] > 0.0))
+            m->g_last[k] = -m->g_last[k];
+    m->mode = MODE_EVENT;
     return fmi2OK;
 }
 
@@ -306,10 +330,12 @@ FMI2_EXPORT fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *inf
     info->nextEventTimeDefined = fmi2False;
     info->nextEventTime = 0.0;
     indicators(m, g);
-    for (k = 0; k < CS_NZ; k++) {
-        int action;
-        if (!crossed(cs_event_dir[k], m->g_last[k], g[k])) continue;
-        action = cs_reset(m->t, m->y, m->u, m->p, k);
+    /* the first indicator that crossed, as clutchsim applies one event at a time (its
+       reset map settles every switching element it affects) */
+    for (k = 0; k < CS_NZ; k++)
+        if (crossed(cs_event_dir[k], m->g_last[k], g[k])) break;
+    if (k < CS_NZ) {
+        int action = cs_reset(m->t, m->y, m->u, m->p, k);
         changed(m);
         logf_(m, fmi2OK, "events", "t = %.9g s: event %s (%s)", m->t, cs_event_names[k],
               action == ACTION_STATE_CHANGED ? "reset" : action == ACTION_CONTINUE ? "recorded"
@@ -323,7 +349,7 @@ FMI2_EXPORT fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *inf
             return action == ACTION_FAIL ? fmi2Error : fmi2OK;
         }
     }
-    indicators(m, m->g_last);     /* after the resets: the next crossing starts from here */
+    record_signs(m);      /* after the reset: the next crossing starts from here */
     return fmi2OK;
 }
 
