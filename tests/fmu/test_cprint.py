@@ -1,6 +1,8 @@
 """The generated plant printed as C (clutchsim.fmu.cprint) computes what the compiled plant
 computes: right-hand side, outputs, Jacobian, event functions and resets on random states
-of the default launch, for model (6) and for coulomb-robust (lock solve, event iteration)."""
+of the default launch, for model (6) and for coulomb-robust (lock solve, event iteration),
+and of Modelica's SimpleGearShift (a planetary set, a clutch and a brake switching) and
+ElasticBearing (a gear on a sprung support)."""
 
 import importlib.util
 import shutil
@@ -10,19 +12,20 @@ import pytest
 from _dl_paths import EXAMPLES
 
 from clutchsim.fmu import CPlant, CPrintError, print_c
-from clutchsim.network import compile_network
+from clutchsim.network import Network, compile_network
 from clutchsim.scenario import load_scenario
 
 pytestmark = pytest.mark.skipif(shutil.which("cc") is None and shutil.which("gcc") is None,
                                 reason="no C compiler on this machine")
 
 
-def launch(model):
-    sc = load_scenario(EXAMPLES / "launch.toml")
-    chain = sc.chain(model)
+def plant(scenario, model):
+    sc = load_scenario(EXAMPLES / scenario)
+    net = sc.chain(model)
+    net = net if isinstance(net, Network) else net.network()
     u0 = {n: float(np.asarray(s(0.0)).ravel()[0]) for n, s in sc.inputs.items()}
-    system = chain.build(u0)
-    return compile_network(chain.network()), system
+    plan = compile_network(net)
+    return plan, plan.system(net.components, inputs0=u0)
 
 
 def random_states(system, rng, k=100):
@@ -36,20 +39,23 @@ def rel(a, b):
     return float(np.max(np.abs(a - b) / (1.0 + np.abs(a)))) if np.size(a) else 0.0
 
 
-@pytest.mark.parametrize("model", ["mykhailevych2020", "coulomb-robust"])
-def test_c_plant_equals_compiled_plant(model):
-    plan, system = launch(model)
+@pytest.mark.parametrize(("scenario", "model"), [
+    ("launch.toml", "mykhailevych2020"), ("launch.toml", "coulomb-robust"),
+    ("simple_gear_shift.toml", None), ("elastic_bearing.toml", None)])
+def test_c_plant_equals_compiled_plant(scenario, model):
+    plan, system = plant(scenario, model)
     c = CPlant(plan)
     mod, p = plan.module, system.params
     n, no, ne = len(system.y0), len(system.output_names), len(system.event_names)
     rng = np.random.default_rng(7)
     worst = 0.0
     checked_lock = False
+    locks = [s[:-len(".locked")] for s in system.state_names if s.endswith(".locked")]
     for y, u, t in random_states(system, rng):
-        if model == "coulomb-robust":          # both modes of the switching element
-            ilk = system.state_names.index("clutch.locked")
+        for el in locks:                        # both modes of each switching element
+            ilk = system.state_names.index(f"{el}.locked")
             y[ilk] = float(rng.integers(0, 2))
-            y[system.state_names.index("clutch.mode")] = 0.0 if y[ilk] else float(
+            y[system.state_names.index(f"{el}.mode")] = 0.0 if y[ilk] else float(
                 rng.choice([-1.0, 1.0]))
             checked_lock |= y[ilk] > 0.5
         for name, size in (("rhs", n), ("outputs", no), ("events", ne)):
@@ -68,10 +74,10 @@ def test_c_plant_equals_compiled_plant(model):
             assert ra == rb, (k, ra, rb)
             worst = max(worst, rel(ya, yb))
     assert worst <= 1e-12
-    assert model != "coulomb-robust" or checked_lock
+    assert checked_lock or not locks
     # the printed program holds the kernels it calls, printed from their own source
     assert "mykhailevych2020_force" in c.program.source or model != "mykhailevych2020"
-    assert "cs_lock_solve" in c.program.source or model != "coulomb-robust"
+    assert "cs_lock_solve" in c.program.source or not locks
 
 
 @pytest.mark.parametrize(("line", "named"), [

@@ -249,3 +249,26 @@ def test_launch_fmu_with_coulomb_robust_locks_as_clutchsim(tmp_path):
     assert [e for e in info.event_indicators if e.startswith("clutch")] == [
         "clutch: stop", "clutch: breakaway"]
     assert energy_balance(f) < 1e-6
+
+
+@pytest.mark.slow
+def test_simple_gear_shift_fmu_matches_modelica(tmp_path):
+    """Modelica's SimpleGearShift (a planetary set shifted by a clutch and a brake): the
+    FMU switches at the MSL reference's times (brake breakaway 2.04082 s, clutch stop
+    2.11079 s) and its speeds lie in the tube of the reference result."""
+    scenario = EXAMPLES / "simple_gear_shift.toml"
+    _, f, _ = run_and_compare(tmp_path, scenario, "coulomb-robust", 1e-8, 1e-3,
+                              ["omega_engine", "omega_load", "w_slip_clutch", "E_kinetic",
+                               "W_friction"], [], ("clutch", "brake"))
+    assert abs(switches(f, "brake")[-1] - 2.04082) <= SWITCH_TOL
+    assert abs(switches(f, "clutch")[-1] - 2.11079) <= SWITCH_TOL
+    ref_path = shared_dir() / "reference" / "modelica" / "Modelica" / "Mechanics" / \
+        "Rotational" / "Examples" / "SimpleGearShift" / "SimpleGearShift.csv"
+    if not ref_path.exists():
+        pytest.skip(f"Modelica reference results not found at {ref_path} "
+                    "(set CLUTCHSIM_SHARED to the shared folder)")
+    ref = pd.read_csv(ref_path).drop_duplicates("time", keep="last")
+    for ours, theirs in (("omega_engine", "engine.w"), ("omega_load", "load.w")):
+        w = np.interp(ref["time"], f["time"], f[ours])
+        r = ref[theirs].to_numpy()
+        assert np.max(np.abs(w - r)) / max(np.max(np.abs(r)), 1.0) <= TUBE, ours
