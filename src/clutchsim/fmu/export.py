@@ -55,7 +55,10 @@ _ENTRIES = {"rhs": ("double", "a1", "a1", "a1", "a1"),
             "outputs": ("double", "a1", "a1", "a1", "a1"),
             "events": ("double", "a1", "a1", "a1", "a1"),
             "reset": ("double", "a1", "a1", "a1", "int")}
-_GLUE = Path(__file__).with_name("fmi2_me.c")
+_HERE = Path(__file__).parent
+#: the C files of an FMU besides the printed plant: the FMI glue of each version, the core
+_GLUE = {"2": "fmi2_me.c", "3": "fmi3_me.c"}
+_CORE = "plant_core.c"
 
 #: SI base-unit exponents (and offset) of the units clutchsim writes
 _UNITS = {
@@ -399,15 +402,18 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         src.mkdir()
         (src / "plant.c").write_text(program.source)
         (src / "model.h").write_text(header)
-        shutil.copyfile(_GLUE, src / "fmi2_me.c")
+        glue = _GLUE[fmi]
+        for f in (glue, _CORE):
+            shutil.copyfile(_HERE / f, src / f)
         binary = work / "binaries" / plat / f"{ident}{ext}"
         binary.parent.mkdir(parents=True)
-        compile_shared([src / "fmi2_me.c", src / "plant.c"], binary, include=[src])
+        compile_shared([src / glue, src / "plant.c"], binary, include=[src])
         (work / "modelDescription.xml").write_bytes(xml)
         zpath = work / "fmu.zip"
         with zipfile.ZipFile(zpath, "w", zipfile.ZIP_DEFLATED) as zf:
             for f in ("modelDescription.xml", f"binaries/{plat}/{ident}{ext}",
-                      "sources/plant.c", "sources/model.h", "sources/fmi2_me.c"):
+                      "sources/plant.c", "sources/model.h", f"sources/{glue}",
+                      f"sources/{_CORE}"):
                 zf.write(work / f, f)
         os.replace(zpath, out)
     finally:
