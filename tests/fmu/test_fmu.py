@@ -85,18 +85,21 @@ def assert_same_switches(f, res, elements, tol=SWITCH_TOL):
 
 
 @pytest.mark.slow
-def test_default_launch_fmu_reproduces_clutchsim(tmp_path):
+@pytest.mark.parametrize("fmi", ["2", "3"])
+def test_default_launch_fmu_reproduces_clutchsim(tmp_path, fmi):
     scenario = EXAMPLES / "launch.toml"
     path = tmp_path / "launch.fmu"
-    info = export_fmu(scenario, path, "mykhailevych2020")
+    info = export_fmu(scenario, path, "mykhailevych2020", fmi=fmi)
     assert validate_fmu(str(path)) == []
     md = fmpy.read_model_description(str(path))
-    assert md.fmiVersion == "2.0" and md.modelExchange is not None
+    assert md.fmiVersion == f"{fmi}.0" and md.modelExchange is not None
     assert md.coSimulation is None
     with zipfile.ZipFile(path) as zf:
         names = set(zf.namelist())
-    assert f"binaries/linux64/{info.model_identifier}.so" in names
-    assert {"modelDescription.xml", "sources/plant.c", "sources/fmi2_me.c"} <= names
+    assert info.platform == ("linux64" if fmi == "2" else "x86_64-linux")
+    assert f"binaries/{info.platform}/{info.model_identifier}.so" in names
+    assert {"modelDescription.xml", "sources/plant.c", f"sources/fmi{fmi}_me.c",
+            "sources/plant_core.c"} <= names
     # variables: clutchsim's names, units, start values
     by = {v.name: v for v in md.modelVariables}
     assert by["throttle"].causality == "input" and float(by["throttle"].start) == 0.1
@@ -152,7 +155,7 @@ def test_cli_writes_fmu_and_one_json_document(tmp_path, capsys):
 
 
 @pytest.mark.parametrize(("args", "message"), [
-    (["--fmi", "3"], r"--fmi 3: this version writes FMI 2\.0 only"),
+    (["--fmi", "4"], r"--fmi 4: this version writes FMI 2\.0, 3\.0 only"),
     (["--kind", "cs"], r"--kind cs: this version writes Model Exchange FMUs only"),
     (["--model", "no-such-model"], r"no-such-model"),
 ])
@@ -187,9 +190,10 @@ def test_cli_without_c_compiler_says_what_it_looked_for(tmp_path, capsys, monkey
     assert not out.exists()
 
 
-def run_and_compare(tmp_path, scenario, model, rtol, dt_out, smooth, jumpy, elements):
+def run_and_compare(tmp_path, scenario, model, rtol, dt_out, smooth, jumpy, elements,
+                    fmi="2"):
     path = tmp_path / f"{model}.fmu"
-    info = export_fmu(scenario, path, model)
+    info = export_fmu(scenario, path, model, fmi=fmi)
     assert validate_fmu(str(path)) == []
     r = run_scenario(scenario, model)
     res = r.result
@@ -212,7 +216,8 @@ def sc_end(scenario):
 
 
 @pytest.mark.slow
-def test_coupled_clutches_fmu_switches_as_clutchsim_and_modelica(tmp_path):
+@pytest.mark.parametrize("fmi", ["2", "3"])
+def test_coupled_clutches_fmu_switches_as_clutchsim_and_modelica(tmp_path, fmi):
     """Modelica's CoupledClutches (coulomb-robust: stick/slip with event iteration): three
     clutches, six event indicators; the FMU switches at clutchsim's times and its speeds lie
     in the tube of clutchsim's run and of the MSL reference."""
@@ -221,7 +226,7 @@ def test_coupled_clutches_fmu_switches_as_clutchsim_and_modelica(tmp_path):
     smooth = ["omega_J1", "omega_J2", "omega_J3", "omega_J4", "E_kinetic", "W_friction",
               *(f"w_slip_{c}" for c in clutches)]
     info, f, _ = run_and_compare(tmp_path, scenario, "coulomb-robust", 1e-8, 5e-4, smooth,
-                                 [f"T_{c}" for c in clutches], clutches)
+                                 [f"T_{c}" for c in clutches], clutches, fmi)
     assert info.event_indicators[:6] == tuple(f"{c}: {e}" for c in clutches
                                               for e in ("stop", "breakaway"))
     ref_path = shared_dir() / "reference" / "modelica" / "Modelica" / "Mechanics" / \

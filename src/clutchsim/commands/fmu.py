@@ -1,4 +1,4 @@
-"""``clutchsim fmu``: export a scenario's plant as an FMI 2.0 Model-Exchange FMU."""
+"""``clutchsim fmu``: export a scenario's plant as a Model-Exchange FMU (FMI 2.0 or 3.0)."""
 
 from __future__ import annotations
 
@@ -13,8 +13,9 @@ HELP = """\
 examples:
   clutchsim fmu examples/launch.toml --model mykhailevych2020 --out launch.fmu
   clutchsim fmu examples/coupled_clutches.toml --out coupled.fmu --json
+  clutchsim fmu examples/launch.toml --fmi 3 --out launch3.fmu
 
-The FMU (FMI 2.0, Model Exchange) holds the scenario's plant printed as C and compiled
+The FMU (FMI 2.0 or 3.0, Model Exchange) holds the scenario's plant printed as C and compiled
 with the system C compiler ($CC, cc, gcc or clang) for this platform, its C sources, and
 modelDescription.xml: states, inputs (start = the signal at t = 0), outputs with units,
 parameters.  It runs without Python.  Using it from FMPy and other tools: docs/fmu.md.
@@ -24,22 +25,22 @@ NAME.fmu appears only when complete.
 "compiler", "states", "inputs", "outputs", "parameters", "constants",
 "event_indicators", "size_bytes"}.
 
-exit status: 0 written, 2 bad input (a scenario or option error, no C compiler, a model
-or scenario that cannot be exported).
+exit status: 0 written, 2 bad input (a scenario or option error, an --fmi other than 2 or
+3, a --kind other than me, no C compiler, a model or scenario that cannot be exported).
 """
 
 
 def register(sub, common):
     p = sub.add_parser("fmu", parents=[common], help="export a scenario as an FMU",
                        description="Export a scenario's plant as a Functional Mock-up Unit "
-                       "(FMI 2.0 Model Exchange) that any FMI tool can run.", epilog=HELP,
+                       "(Model Exchange, FMI 2.0 or 3.0) that any FMI tool can run.", epilog=HELP,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--model", default=None,
                    help="friction model of the clutch element (default: the scenario's first)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="override a scenario key, e.g. vehicle.grade=12")
-    p.add_argument("--fmi", default="2", help="FMI version (2)")
+    p.add_argument("--fmi", default="2", help="FMI version: 2 (default) or 3")
     p.add_argument("--kind", default="me", help="interface: me (Model Exchange)")
     p.add_argument("--out", required=True, metavar="NAME.fmu", help="the FMU file to write")
     p.add_argument("--json", action="store_true", help="print what was written as JSON")

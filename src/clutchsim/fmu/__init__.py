@@ -1,4 +1,4 @@
-"""Export a scenario's plant as a Functional Mock-up Unit (FMI 2.0 Model Exchange).
+"""Export a scenario's plant as a Functional Mock-up Unit (Model Exchange, FMI 2.0 or 3.0).
 
 * :mod:`clutchsim.fmu.cprint` — the generated plant's Python source printed as C;
 * :mod:`clutchsim.fmu.compiler` — the system C compiler; the printed plant as a shared

@@ -1,8 +1,9 @@
-"""A scenario's plant as an FMI 2.0 Model-Exchange FMU (:func:`export_fmu`).
+"""A scenario's plant as a Model-Exchange FMU, FMI 2.0 or 3.0 (:func:`export_fmu`).
 
 The FMU holds ``modelDescription.xml``, ``binaries/<platform>/<id>.so`` (the printed plant,
-:mod:`clutchsim.fmu.cprint`, compiled with the FMI glue ``fmi2_me.c`` by the system C
-compiler) and ``sources/`` (the same C files, to rebuild it elsewhere).  It needs neither
+:mod:`clutchsim.fmu.cprint`, compiled by the system C compiler with the FMI glue
+``fmi2_me.c`` or ``fmi3_me.c`` over the FMI-independent core ``plant_core.c``) and
+``sources/`` (the same C files, to rebuild it elsewhere).  It needs neither
 Python nor clutchsim to run.  Variables carry clutchsim's own names:
 
 * states (outputs, start = the scenario's initial state): ``omega_<inertia>``, the
@@ -48,7 +49,7 @@ from .cprint import print_c
 __all__ = ["FMI_VERSIONS", "KINDS", "FmuError", "FmuExport", "export_fmu", "input_table"]
 
 #: FMI versions and interface kinds this version writes
-FMI_VERSIONS = ("2",)
+FMI_VERSIONS = ("2", "3")
 KINDS = ("me",)
 #: the plant's entry points the FMI glue calls (argument types, see cprint)
 _ENTRIES = {"rhs": ("double", "a1", "a1", "a1", "a1"),
@@ -110,14 +111,21 @@ class FmuExport:
         return d
 
 
-def _platform() -> tuple[str, str]:
-    bits = "64" if sys.maxsize > 2**32 else "32"
+def _platform(fmi: str) -> tuple[str, str]:
+    """The binaries folder (FMI 2: ``linux64``; FMI 3: ``x86_64-linux``) and the library's
+    extension for this machine."""
     if sys.platform.startswith("linux"):
-        return f"linux{bits}", ".so"
-    if sys.platform == "darwin":
-        return f"darwin{bits}", ".dylib"
-    raise FmuError(f"cannot build FMU binaries on {sys.platform} ({platform.machine()}): "
-                   "clutchsim builds them for Linux and macOS")
+        system, ext = "linux", ".so"
+    elif sys.platform == "darwin":
+        system, ext = "darwin", ".dylib"
+    else:
+        raise FmuError(f"cannot build FMU binaries on {sys.platform} ({platform.machine()}): "
+                       "clutchsim builds them for Linux and macOS")
+    if fmi == "2":
+        return f"{system}{'64' if sys.maxsize > 2**32 else '32'}", ext
+    arch = {"amd64": "x86_64", "arm64": "aarch64"}.get(platform.machine().lower(),
+                                                       platform.machine().lower())
+    return f"{arch}-{system}", ext
 
 
 def _structural_keys(c) -> set[str]:
@@ -201,24 +209,59 @@ def _c_string(s: str) -> str:
         .replace('"', '\\"') + '"'
 
 
-def _model_description(*, name, ident, guid, description, t_end, rtol, states, state_units,
-                       y0, inputs, input_units, u0, outputs, output_units, params, p,
-                       n_events, vr_u, vr_y, vr_p) -> bytes:
-    root = ET.Element("fmiModelDescription", {
-        "fmiVersion": "2.0", "modelName": name, "guid": guid, "description": description,
-        "generationTool": f"clutchsim {__version__}",
-        "generationDateAndTime": datetime.datetime.now(datetime.UTC).strftime(
-            "%Y-%m-%dT%H:%M:%SZ"),
-        "variableNamingConvention": "flat", "numberOfEventIndicators": str(n_events)})
-    ET.SubElement(root, "ModelExchange", {
-        "modelIdentifier": ident, "needsExecutionTool": "false",
-        "completedIntegratorStepNotNeeded": "true",
-        "canBeInstantiatedOnlyOncePerProcess": "false",
-        "canNotUseMemoryManagementFunctions": "false", "canGetAndSetFMUstate": "false",
-        "canSerializeFMUstate": "false", "providesDirectionalDerivative": "false"})
-    used = sorted({u for u in (*state_units, *map(_deriv_unit, state_units), *input_units,
-                               *output_units, *(q["unit"] for q in params))
-                   if u not in _DIMLESS})
+def _variables(*, states, state_units, y0, inputs, input_units, u0, outputs, output_units,
+               params, p, events, vr_u, vr_y, vr_p, vr_z) -> list[dict]:
+    """The FMU's variables, in order: name, value reference, causality, variability,
+    initial, unit, start, the value reference of the state a derivative belongs to, the
+    role in the model structure and a description (one list for FMI 2 and FMI 3)."""
+    out = []
+
+    def var(name, vr, causality, variability, initial, unit="", start=None, der=None,
+            role=None, desc=""):
+        out.append({"name": name, "vr": vr, "causality": causality,
+                    "variability": variability, "initial": initial, "unit": unit,
+                    "start": None if start is None else _num(start), "der": der,
+                    "role": role, "desc": desc})
+
+    for i, (s, u) in enumerate(zip(states, state_units)):
+        var(s, i, "output", "continuous", "exact", u, y0[i], role="output")
+    for i, (s, u) in enumerate(zip(states, state_units)):
+        var(f"der({s})", len(states) + i, "local", "continuous", "calculated", _deriv_unit(u),
+            der=i, role="derivative")
+    for i, (s, u) in enumerate(zip(inputs, input_units)):
+        var(s, vr_u + i, "input", "continuous", None, u, u0[i],
+            desc="input signal of the scenario")
+    for i, (s, u) in enumerate(zip(outputs, output_units)):
+        var(s, vr_y + i, "output", "continuous", "calculated", u, role="output")
+    for q in params:
+        if q["tunable"]:
+            var(q["name"], vr_p + q["slot"], "parameter", "tunable", "exact", q["unit"],
+                p[q["slot"]], desc=q["doc"])
+        else:
+            var(q["name"], vr_p + q["slot"], "local", "constant", "exact", q["unit"],
+                p[q["slot"]], desc=(q["doc"] + "; " if q["doc"] else "")
+                + "structural (an inertia or a ratio): change it in the scenario and export "
+                "again")
+    for k, e in enumerate(events):
+        var(f"event_indicator[{k}]", vr_z + k, "local", "continuous", "calculated",
+            role="indicator", desc=e)
+    return out
+
+
+def _header(root, *, ident, t_end, rtol, variables, fmi):
+    me = {"modelIdentifier": ident, "canGetAndSetFMU" + ("state" if fmi == "2" else "State"):
+          "false", "canSerializeFMU" + ("state" if fmi == "2" else "State"): "false"}
+    if fmi == "2":
+        me.update({"needsExecutionTool": "false", "completedIntegratorStepNotNeeded": "true",
+                   "canBeInstantiatedOnlyOncePerProcess": "false",
+                   "canNotUseMemoryManagementFunctions": "false",
+                   "providesDirectionalDerivative": "false"})
+    else:
+        me.update({"needsCompletedIntegratorStep": "false",
+                   "providesDirectionalDerivatives": "false",
+                   "providesAdjointDerivatives": "false"})
+    ET.SubElement(root, "ModelExchange", me)
+    used = sorted({v["unit"] for v in variables if v["unit"] not in _DIMLESS})
     if used:
         ud = ET.SubElement(root, "UnitDefinitions")
         for u in used:
@@ -228,56 +271,69 @@ def _model_description(*, name, ident, guid, description, t_end, rtol, states, s
                 ET.SubElement(el, "BaseUnit", {k: str(v) for k, v in base.items()})
     ET.SubElement(root, "DefaultExperiment", {"startTime": "0.0", "stopTime": _num(t_end),
                                               "tolerance": _num(rtol)})
+
+
+def _attrs(v, keys=("causality", "variability", "initial")) -> dict:
+    a = {"name": v["name"], "valueReference": str(v["vr"])}
+    if v["desc"]:
+        a["description"] = v["desc"]
+    a.update({k: v[k] for k in keys if v[k] is not None})
+    return a
+
+
+def _model_description(*, fmi, name, ident, guid, description, t_end, rtol, variables,
+                       n_events, vr_time) -> bytes:
+    """``modelDescription.xml`` of FMI ``fmi`` ("2" or "3") for ``variables``
+    (:func:`_variables`)."""
+    root = ET.Element("fmiModelDescription", {
+        "fmiVersion": f"{fmi}.0", "modelName": name,
+        ("guid" if fmi == "2" else "instantiationToken"): guid, "description": description,
+        "generationTool": f"clutchsim {__version__}",
+        "generationDateAndTime": datetime.datetime.now(datetime.UTC).strftime(
+            "%Y-%m-%dT%H:%M:%SZ"),
+        "variableNamingConvention": "flat",
+        **({"numberOfEventIndicators": str(n_events)} if fmi == "2" else {})})
+    _header(root, ident=ident, t_end=t_end, rtol=rtol, variables=variables, fmi=fmi)
     mv = ET.SubElement(root, "ModelVariables")
-    index = {}
-
-    def var(vname, vr, attrs, real, desc=""):
-        a = {"name": vname, "valueReference": str(vr), **attrs}
-        if desc:
-            a["description"] = desc
-        sv = ET.SubElement(mv, "ScalarVariable", a)
-        ET.SubElement(sv, "Real", {k: v for k, v in real.items()
-                                   if not (k == "unit" and v in _DIMLESS)})
-        index[vname] = len(index) + 1
-        return index[vname]
-
-    state_idx = []
-    for i, (s, u) in enumerate(zip(states, state_units)):
-        state_idx.append(var(s, i, {"causality": "output", "variability": "continuous",
-                                    "initial": "exact"}, {"unit": u, "start": _num(y0[i])}))
-    deriv_idx = []
-    for i, (s, u) in enumerate(zip(states, state_units)):
-        du = _deriv_unit(u)
-        deriv_idx.append(var(f"der({s})", len(states) + i,
-                             {"causality": "local", "variability": "continuous",
-                              "initial": "calculated"},
-                             {"derivative": str(state_idx[i]), "unit": du}))
-    for i, (s, u) in enumerate(zip(inputs, input_units)):
-        var(s, vr_u + i, {"causality": "input", "variability": "continuous"},
-            {"unit": u, "start": _num(u0[i])}, "input signal of the scenario")
-    out_idx = []
-    for i, (s, u) in enumerate(zip(outputs, output_units)):
-        out_idx.append(var(s, vr_y + i, {"causality": "output", "variability": "continuous",
-                                         "initial": "calculated"}, {"unit": u}))
-    for q in params:
-        attrs = ({"causality": "parameter", "variability": "tunable", "initial": "exact"}
-                 if q["tunable"] else {"causality": "local", "variability": "constant",
-                                       "initial": "exact"})
-        doc = q["doc"] if q["tunable"] else (
-            (q["doc"] + "; " if q["doc"] else "") + "structural (an inertia or a ratio): "
-            "change it in the scenario and export again")
-        var(q["name"], vr_p + q["slot"], attrs, {"unit": q["unit"],
-                                                 "start": _num(p[q["slot"]])}, doc)
-    ms = ET.SubElement(root, "ModelStructure")
-    o = ET.SubElement(ms, "Outputs")
-    for k in state_idx + out_idx:
-        ET.SubElement(o, "Unknown", {"index": str(k)})
-    d = ET.SubElement(ms, "Derivatives")
-    for k in deriv_idx:
-        ET.SubElement(d, "Unknown", {"index": str(k)})
-    iu = ET.SubElement(ms, "InitialUnknowns")
-    for k in sorted(out_idx + deriv_idx):
-        ET.SubElement(iu, "Unknown", {"index": str(k)})
+    if fmi == "2":
+        variables = [v for v in variables if v["role"] != "indicator"]
+        index = {v["vr"]: i + 1 for i, v in enumerate(variables)}
+        for v in variables:
+            sv = ET.SubElement(mv, "ScalarVariable", _attrs(v))
+            real = {"unit": v["unit"], "start": v["start"],
+                    "derivative": None if v["der"] is None else str(index[v["der"]])}
+            ET.SubElement(sv, "Real", {k: x for k, x in real.items()
+                                       if x is not None and not (k == "unit" and x in _DIMLESS)})
+        ms = ET.SubElement(root, "ModelStructure")
+        for tag, roles in (("Outputs", ("output",)), ("Derivatives", ("derivative",))):
+            el = ET.SubElement(ms, tag)
+            for v in variables:
+                if v["role"] in roles:
+                    ET.SubElement(el, "Unknown", {"index": str(index[v["vr"]])})
+        iu = ET.SubElement(ms, "InitialUnknowns")
+        for v in variables:
+            if v["initial"] == "calculated" and v["role"] in ("output", "derivative"):
+                ET.SubElement(iu, "Unknown", {"index": str(index[v["vr"]])})
+    else:
+        ET.SubElement(mv, "Float64", {"name": "time", "valueReference": str(vr_time),
+                                      "causality": "independent", "variability": "continuous",
+                                      "description": "simulation time"})
+        for v in variables:
+            a = _attrs(v)
+            for k, x in (("start", v["start"]), ("unit", v["unit"]),
+                         ("derivative", None if v["der"] is None else str(v["der"]))):
+                if x is not None and not (k == "unit" and x in _DIMLESS):
+                    a[k] = x
+            ET.SubElement(mv, "Float64", a)
+        ms = ET.SubElement(root, "ModelStructure")
+        for tag, pick in (("Output", lambda v: v["role"] == "output"),
+                          ("ContinuousStateDerivative", lambda v: v["role"] == "derivative"),
+                          ("InitialUnknown", lambda v: v["initial"] == "calculated"
+                           and v["role"] in ("output", "derivative")),
+                          ("EventIndicator", lambda v: v["role"] == "indicator")):
+            for v in variables:
+                if pick(v):
+                    ET.SubElement(ms, tag, {"valueReference": str(v["vr"])})
     ET.indent(root)
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
 
@@ -327,7 +383,7 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
     model : str, optional
         Friction model of the clutch element (default: the scenario's first model).
     fmi, kind : str
-        FMI version (``"2"``) and interface (``"me"``, Model Exchange).
+        FMI version (``"2"`` or ``"3"``) and interface (``"me"``, Model Exchange).
     overrides : sequence of str, optional
         ``key.path=value`` assignments (with a path or None).
 
@@ -347,7 +403,7 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         raise FmuError(f"--out {out}: an FMU file name ends in .fmu")
     if out.is_dir():
         raise FmuError(f"--out {out}: is a directory")
-    plat, ext = _platform()
+    plat, ext = _platform(fmi)
     cc = find_compiler()
     sc = resolve_scenario(scenario, overrides)
     if model is None and sc.models:
@@ -387,14 +443,17 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         _c_array("cs_event_dir", "int", [str(int(d)) for d in system.event_directions]),
         f"static const char *cs_event_names[{max(nz, 1)}] = {{"
         + (", ".join(_c_string(e) for e in system.event_names) or "0") + "};", ""])
+    variables = _variables(
+        states=system.state_names, state_units=system.state_units, y0=system.y0,
+        inputs=system.input_names, input_units=system.input_units,
+        u0=[u0[n] for n in system.input_names], outputs=system.output_names,
+        output_units=system.output_units, params=params, p=p, events=system.event_names,
+        vr_u=vr_u, vr_y=vr_y, vr_p=vr_p, vr_z=vr_p + np_)
     xml = _model_description(
-        name=sc.name, ident=ident, guid=guid,
+        fmi=fmi, name=sc.name, ident=ident, guid=guid,
         description=f"{sc.name}: clutchsim plant with {model or 'its own models'}",
-        t_end=sc.t_end, rtol=sc.options.rtol, states=system.state_names,
-        state_units=system.state_units, y0=system.y0, inputs=system.input_names,
-        input_units=system.input_units, u0=[u0[n] for n in system.input_names],
-        outputs=system.output_names, output_units=system.output_units, params=params,
-        p=p, n_events=nz, vr_u=vr_u, vr_y=vr_y, vr_p=vr_p)
+        t_end=sc.t_end, rtol=sc.options.rtol, variables=variables, n_events=nz,
+        vr_time=vr_p + np_ + nz)
     out.parent.mkdir(parents=True, exist_ok=True)
     work = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
     try:
@@ -419,7 +478,7 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return FmuExport(
-        path=out, fmi="2.0", kind="me", model=system.metadata["models"].get(sc.clutch, model
+        path=out, fmi=f"{fmi}.0", kind="me", model=system.metadata["models"].get(sc.clutch, model
                                                                             or ""),
         model_identifier=ident, guid=guid, platform=plat, compiler=Path(cc).name,
         states=system.state_names, inputs=system.input_names, outputs=system.output_names,

@@ -8,7 +8,7 @@
    Value references (all 64-bit floats): states [0, NX), their derivatives [NX, 2 NX),
    inputs [CS_VR_U, +NU), outputs [CS_VR_Y, +NY), parameters [CS_VR_P, +NP) (the plant's
    parameter vector, in its own order), then the event indicators [CS_VR_Z, +NZ) (FMI 3
-   names them as variables).
+   names them as variables) and the time CS_VR_T (FMI 3's independent variable).
 
    Events.  The plant's event functions are the FMU's event indicators.  At an event the
    first indicator that crossed zero since the last event, in the plant's direction (-1
@@ -37,6 +37,7 @@ int cs_reset(double t, double *y, double *u, double *p, int k);
 
 #define ONE(n) ((n) > 0 ? (n) : 1)
 #define CS_VR_Z (CS_VR_P + CS_NP)
+#define CS_VR_T (CS_VR_Z + CS_NZ)
 /* statuses: the same numbers in FMI 2 and FMI 3 */
 enum { ST_OK = 0, ST_WARNING = 1, ST_DISCARD = 2, ST_ERROR = 3, ST_FATAL = 4 };
 enum { ACTION_CONTINUE = 0, ACTION_STATE_CHANGED = 1, ACTION_STOP = 2, ACTION_FAIL = 3 };
@@ -169,6 +170,7 @@ static int core_get(Instance *m, const unsigned vr[], size_t n, double v[], cons
         else if (r >= CS_VR_Y && r < CS_VR_Y + CS_NY) { outputs(m); v[i] = m->out[r - CS_VR_Y]; }
         else if (r >= CS_VR_P && r < CS_VR_P + CS_NP) v[i] = m->p[r - CS_VR_P];
         else if (r >= CS_VR_Z && r < CS_VR_Z + CS_NZ) { indicators(m, m->g); v[i] = m->g[r - CS_VR_Z]; }
+        else if (r == CS_VR_T) v[i] = m->t;
         else {
             logf_(m, ST_ERROR, "error", "%s: unknown value reference %u", fn, r);
             return ST_ERROR;
