@@ -1,4 +1,5 @@
-"""``clutchsim fmu``: export a scenario's plant as a Model-Exchange FMU (FMI 2.0 or 3.0)."""
+"""``clutchsim fmu``: export a scenario's plant as an FMU (Model Exchange, FMI 2.0 or 3.0;
+co-simulation, FMI 2.0)."""
 
 from __future__ import annotations
 
@@ -14,11 +15,13 @@ examples:
   clutchsim fmu examples/launch.toml --model mykhailevych2020 --out launch.fmu
   clutchsim fmu examples/coupled_clutches.toml --out coupled.fmu --json
   clutchsim fmu examples/launch.toml --fmi 3 --out launch3.fmu
+  clutchsim fmu examples/launch.toml --kind both --out launch_mecs.fmu
 
-The FMU (FMI 2.0 or 3.0, Model Exchange) holds the scenario's plant printed as C and compiled
-with the system C compiler ($CC, cc, gcc or clang) for this platform, its C sources, and
-modelDescription.xml: states, inputs (start = the signal at t = 0), outputs with units,
-parameters.  It runs without Python.  Using it from FMPy and other tools: docs/fmu.md.
+The FMU (FMI 2.0 or 3.0, Model Exchange; with FMI 2.0 also co-simulation, with its own
+ROS2 solver) holds the scenario's plant printed as C and compiled with the system C
+compiler ($CC, cc, gcc or clang) for this platform, its C sources, and modelDescription.xml:
+states, inputs (start = the signal at t = 0), outputs with units, parameters.  It runs
+without Python.  Using it from FMPy and other tools: docs/fmu.md.
 NAME.fmu appears only when complete.
 
 --json prints {"path", "fmi", "kind", "model", "model_identifier", "guid", "platform",
@@ -26,7 +29,8 @@ NAME.fmu appears only when complete.
 "event_indicators", "size_bytes"}.
 
 exit status: 0 written, 2 bad input (a scenario or option error, an --fmi other than 2 or
-3, a --kind other than me, no C compiler, a model or scenario that cannot be exported).
+3, a --kind other than me, cs, both, co-simulation with FMI 3, no C compiler, a model or
+scenario that cannot be exported).
 """
 
 
@@ -41,7 +45,9 @@ def register(sub, common):
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="override a scenario key, e.g. vehicle.grade=12")
     p.add_argument("--fmi", default="2", help="FMI version: 2 (default) or 3")
-    p.add_argument("--kind", default="me", help="interface: me (Model Exchange)")
+    p.add_argument("--kind", default="me",
+                   help="interface: me (Model Exchange, default), cs (co-simulation, FMI 2), "
+                   "both")
     p.add_argument("--out", required=True, metavar="NAME.fmu", help="the FMU file to write")
     p.add_argument("--json", action="store_true", help="print what was written as JSON")
 
@@ -58,8 +64,8 @@ def run(args) -> int:
     if args.json:
         emit_json(info.to_dict())
     else:
-        log.info("%s: FMI %s Model Exchange, %d states, %d inputs, %d outputs, %d "
-                 "parameters, %d event indicators (%s), %s", info.path, info.fmi,
+        log.info("%s: FMI %s (%s), %d states, %d inputs, %d outputs, %d "
+                 "parameters, %d event indicators (%s), %s", info.path, info.fmi, info.kind,
                  len(info.states), len(info.inputs), len(info.outputs), len(info.parameters),
                  len(info.event_indicators), ", ".join(info.event_indicators) or "none",
                  info.platform)

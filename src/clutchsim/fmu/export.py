@@ -50,16 +50,17 @@ __all__ = ["FMI_VERSIONS", "KINDS", "FmuError", "FmuExport", "export_fmu", "inpu
 
 #: FMI versions and interface kinds this version writes
 FMI_VERSIONS = ("2", "3")
-KINDS = ("me",)
+KINDS = ("me", "cs", "both")
 #: the plant's entry points the FMI glue calls (argument types, see cprint)
 _ENTRIES = {"rhs": ("double", "a1", "a1", "a1", "a1"),
             "outputs": ("double", "a1", "a1", "a1", "a1"),
             "events": ("double", "a1", "a1", "a1", "a1"),
-            "reset": ("double", "a1", "a1", "a1", "int")}
+            "reset": ("double", "a1", "a1", "a1", "int"),
+            "jac": ("double", "a1", "a1", "a1", "a2")}
 _HERE = Path(__file__).parent
 #: the C files of an FMU besides the printed plant: the FMI glue of each version, the core
 _GLUE = {"2": "fmi2_me.c", "3": "fmi3_me.c"}
-_CORE = "plant_core.c"
+_CORE = ("plant_core.c", "rosenbrock.c")
 
 #: SI base-unit exponents (and offset) of the units clutchsim writes
 _UNITS = {
@@ -248,7 +249,7 @@ def _variables(*, states, state_units, y0, inputs, input_units, u0, outputs, out
     return out
 
 
-def _header(root, *, ident, t_end, rtol, variables, fmi):
+def _header(root, *, ident, t_end, rtol, variables, fmi, kind):
     me = {"modelIdentifier": ident, "canGetAndSetFMU" + ("state" if fmi == "2" else "State"):
           "false", "canSerializeFMU" + ("state" if fmi == "2" else "State"): "false"}
     if fmi == "2":
@@ -260,7 +261,16 @@ def _header(root, *, ident, t_end, rtol, variables, fmi):
         me.update({"needsCompletedIntegratorStep": "false",
                    "providesDirectionalDerivatives": "false",
                    "providesAdjointDerivatives": "false"})
-    ET.SubElement(root, "ModelExchange", me)
+    if kind in ("me", "both"):
+        ET.SubElement(root, "ModelExchange", me)
+    if kind in ("cs", "both"):
+        ET.SubElement(root, "CoSimulation", {
+            "modelIdentifier": ident, "needsExecutionTool": "false",
+            "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false",
+            "maxOutputDerivativeOrder": "0", "canRunAsynchronuously": "false",
+            "canBeInstantiatedOnlyOncePerProcess": "false",
+            "canNotUseMemoryManagementFunctions": "false", "canGetAndSetFMUstate": "false",
+            "canSerializeFMUstate": "false", "providesDirectionalDerivative": "false"})
     used = sorted({v["unit"] for v in variables if v["unit"] not in _DIMLESS})
     if used:
         ud = ET.SubElement(root, "UnitDefinitions")
@@ -281,8 +291,8 @@ def _attrs(v, keys=("causality", "variability", "initial")) -> dict:
     return a
 
 
-def _model_description(*, fmi, name, ident, guid, description, t_end, rtol, variables,
-                       n_events, vr_time) -> bytes:
+def _model_description(*, fmi, kind, name, ident, guid, description, t_end, rtol,
+                       variables, n_events, vr_time) -> bytes:
     """``modelDescription.xml`` of FMI ``fmi`` ("2" or "3") for ``variables``
     (:func:`_variables`)."""
     root = ET.Element("fmiModelDescription", {
@@ -293,7 +303,8 @@ def _model_description(*, fmi, name, ident, guid, description, t_end, rtol, vari
             "%Y-%m-%dT%H:%M:%SZ"),
         "variableNamingConvention": "flat",
         **({"numberOfEventIndicators": str(n_events)} if fmi == "2" else {})})
-    _header(root, ident=ident, t_end=t_end, rtol=rtol, variables=variables, fmi=fmi)
+    _header(root, ident=ident, t_end=t_end, rtol=rtol, variables=variables, fmi=fmi,
+            kind=kind)
     mv = ET.SubElement(root, "ModelVariables")
     if fmi == "2":
         variables = [v for v in variables if v["role"] != "indicator"]
@@ -396,8 +407,11 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         raise FmuError(f"--fmi {fmi}: this version writes FMI "
                        f"{', '.join(v + '.0' for v in FMI_VERSIONS)} only")
     if kind not in KINDS:
-        raise FmuError(f"--kind {kind}: this version writes Model Exchange FMUs only "
-                       "(--kind me); co-simulation is not implemented")
+        raise FmuError(f"--kind {kind}: one of {', '.join(KINDS)} (Model Exchange, "
+                       "co-simulation, both)")
+    if fmi == "3" and kind != "me":
+        raise FmuError(f"--kind {kind} with --fmi 3: this version writes FMI 3 FMUs for Model "
+                       "Exchange only (--kind me); use --fmi 2 for co-simulation")
     out = Path(out)
     if out.suffix.lower() != ".fmu":
         raise FmuError(f"--out {out}: an FMU file name ends in .fmu")
@@ -436,6 +450,8 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         f"#define CS_NZ {nz}", f"#define CS_NP {np_}", f"#define CS_VR_U {vr_u}",
         f"#define CS_VR_Y {vr_y}", f"#define CS_VR_P {vr_p}",
         f"#define CS_GUID {_c_string(guid)}",
+        f"#define CS_MODEL_EXCHANGE {int(kind in ('me', 'both'))}",
+        f"#define CS_COSIM {int(kind in ('cs', 'both'))}",
         _c_array("cs_y0", "double", [_num(v) for v in system.y0]),
         _c_array("cs_u0", "double", [_num(u0[n]) for n in system.input_names]),
         _c_array("cs_p0", "double", [_num(v) for v in p]),
@@ -450,7 +466,7 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         output_units=system.output_units, params=params, p=p, events=system.event_names,
         vr_u=vr_u, vr_y=vr_y, vr_p=vr_p, vr_z=vr_p + np_)
     xml = _model_description(
-        fmi=fmi, name=sc.name, ident=ident, guid=guid,
+        fmi=fmi, kind=kind, name=sc.name, ident=ident, guid=guid,
         description=f"{sc.name}: clutchsim plant with {model or 'its own models'}",
         t_end=sc.t_end, rtol=sc.options.rtol, variables=variables, n_events=nz,
         vr_time=vr_p + np_ + nz)
@@ -462,7 +478,7 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         (src / "plant.c").write_text(program.source)
         (src / "model.h").write_text(header)
         glue = _GLUE[fmi]
-        for f in (glue, _CORE):
+        for f in (glue, *_CORE):
             shutil.copyfile(_HERE / f, src / f)
         binary = work / "binaries" / plat / f"{ident}{ext}"
         binary.parent.mkdir(parents=True)
@@ -472,13 +488,13 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         with zipfile.ZipFile(zpath, "w", zipfile.ZIP_DEFLATED) as zf:
             for f in ("modelDescription.xml", f"binaries/{plat}/{ident}{ext}",
                       "sources/plant.c", "sources/model.h", f"sources/{glue}",
-                      f"sources/{_CORE}"):
+                      *(f"sources/{c}" for c in _CORE)):
                 zf.write(work / f, f)
         os.replace(zpath, out)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return FmuExport(
-        path=out, fmi=f"{fmi}.0", kind="me", model=system.metadata["models"].get(sc.clutch, model
+        path=out, fmi=f"{fmi}.0", kind=kind, model=system.metadata["models"].get(sc.clutch, model
                                                                             or ""),
         model_identifier=ident, guid=guid, platform=plat, compiler=Path(cc).name,
         states=system.state_names, inputs=system.input_names, outputs=system.output_names,

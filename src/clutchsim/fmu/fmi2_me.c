@@ -1,9 +1,11 @@
-/* FMI 2.0 Model Exchange glue of a clutchsim FMU (clutchsim/fmu/fmi2_me.c), over the
-   FMI-independent core plant_core.c (value references, events: see there).  The FMI 2.0
+/* FMI 2.0 glue of a clutchsim FMU (clutchsim/fmu/fmi2_me.c): Model Exchange and, where
+   model.h says so (CS_COSIM), co-simulation with the internal solver of rosenbrock.c;
+   over the FMI-independent core plant_core.c (value references, events: see there).  The FMI 2.0
    types are declared here from the standard's text (section 2.1), so the FMU needs no
    headers but the C library's. */
 
 #include "plant_core.c"
+#include "rosenbrock.c"
 
 /* ---------------------------------------------------------------- FMI 2.0 types */
 typedef void *fmi2Component;
@@ -72,9 +74,10 @@ FMI2_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2St
     Instance *m;
     (void)resources; (void)visible;
     if (!cb || !cb->allocateMemory || !cb->freeMemory) return NULL;
-    if (type != fmi2ModelExchange) {
+    if ((type == fmi2ModelExchange && !CS_MODEL_EXCHANGE) || (type == fmi2CoSimulation && !CS_COSIM)) {
         if (cb->logger) cb->logger(cb->componentEnvironment, name, fmi2Error, "error",
-                                   "this FMU supports Model Exchange only");
+                                   type == fmi2CoSimulation ? "this FMU is for Model Exchange only"
+                                                            : "this FMU is for co-simulation only");
         return NULL;
     }
     if (!guid || strcmp(guid, CS_GUID) != 0) {
@@ -104,7 +107,8 @@ FMI2_EXPORT void fmi2FreeInstance(fmi2Component c) {
 
 FMI2_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tol_defined, fmi2Real tol,
                                            fmi2Real t0, fmi2Boolean stop_defined, fmi2Real t1) {
-    (void)tol_defined; (void)tol; (void)stop_defined; (void)t1;
+    (void)stop_defined; (void)t1;
+    if (tol_defined && tol > 0.0) ((Instance *)c)->rtol = tol;
     ((Instance *)c)->t = t0;
     changed((Instance *)c);
     return fmi2OK;
@@ -167,13 +171,32 @@ UNSUPPORTED(fmi2SetRealInputDerivatives, (fmi2Component c, const fmi2ValueRefere
             const fmi2Integer order[], const fmi2Real v[]))
 UNSUPPORTED(fmi2GetRealOutputDerivatives, (fmi2Component c, const fmi2ValueReference vr[], size_t n,
             const fmi2Integer order[], fmi2Real v[]))
-UNSUPPORTED(fmi2DoStep, (fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_prior))
 UNSUPPORTED(fmi2CancelStep, (fmi2Component c))
 UNSUPPORTED(fmi2GetStatus, (fmi2Component c, const fmi2StatusKind k, fmi2Status *v))
 UNSUPPORTED(fmi2GetRealStatus, (fmi2Component c, const fmi2StatusKind k, fmi2Real *v))
 UNSUPPORTED(fmi2GetIntegerStatus, (fmi2Component c, const fmi2StatusKind k, fmi2Integer *v))
 UNSUPPORTED(fmi2GetBooleanStatus, (fmi2Component c, const fmi2StatusKind k, fmi2Boolean *v))
 UNSUPPORTED(fmi2GetStringStatus, (fmi2Component c, const fmi2StatusKind k, fmi2String *v))
+
+/* ---------------------------------------------------------------- co-simulation */
+FMI2_EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_prior) {
+    Instance *m = (Instance *)c;
+    double g[ONE(CS_NZ)];
+    (void)no_prior;
+    if (!CS_COSIM) return fmi2Error;
+    if (fabs(t - m->t) > 1e-9 * (1.0 + fabs(t))) {
+        logf_(m, ST_ERROR, "error", "fmi2DoStep: communication point %.17g s, but the FMU is at %.17g s", t, m->t);
+        return fmi2Error;
+    }
+    m->mode = MODE_CONT;
+    /* an event at the communication point: the start's directional events, an input jump */
+    indicators(m, g);
+    if (rb_crossing(m, m->g_last, g)) {
+        int vc, term, st = core_event(m, &vc, &term);
+        if (term) return st == ST_OK ? fmi2Discard : (fmi2Status)st;
+    }
+    return (fmi2Status)rb_integrate(m, t + h, m->rtol, 1e-2 * m->rtol, &m->h);
+}
 
 /* ---------------------------------------------------------------- model exchange */
 FMI2_EXPORT fmi2Status fmi2EnterEventMode(fmi2Component c) {

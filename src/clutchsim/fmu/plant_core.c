@@ -51,6 +51,7 @@ struct Instance {
     double y[ONE(CS_NX)], dy[ONE(CS_NX)], u[ONE(CS_NU)], p[ONE(CS_NP)];
     double out[ONE(CS_NY)], g[ONE(CS_NZ)], g_last[ONE(CS_NZ)];
     int dy_ok, out_ok, mode, logging;
+    double rtol, h;        /* co-simulation: the solver's tolerance and its last step */
     char *name;
     core_logger log;
     const void *env;       /* the importer's callbacks or environment */
@@ -74,6 +75,8 @@ static void core_start(Instance *m) {
     memcpy(m->u, cs_u0, sizeof m->u);
     memcpy(m->p, cs_p0, sizeof m->p);
     m->t = 0.0;
+    m->rtol = 1e-6;
+    m->h = 1e-5;
     m->mode = MODE_INSTANTIATED;
     changed(m);
 }
