@@ -1,8 +1,9 @@
 """The exported FMU, run by an independent importer (FMPy): it passes FMPy's compliance
-checks, completes with CVode and reproduces clutchsim's own run of the scenario inside the
-2e-3 tube (max |FMU - clutchsim| / max(|clutchsim|, 1) on the FMU's output grid), with an
-energy balance of its own run below 1e-6; ``clutchsim fmu`` refuses what it cannot export
-with exit status 2 and writes nothing."""
+checks, completes with CVode (Model Exchange, FMI 2 and FMI 3) or with its own ROS2 solver
+(co-simulation) and reproduces clutchsim's own run of the scenario inside the 2e-3 tube
+(max |FMU - clutchsim| / max(|clutchsim|, 1) on the FMU's output grid), switching at
+clutchsim's times, with an energy balance of its own run below 1e-6; ``clutchsim fmu``
+refuses what it cannot export with exit status 2 and writes nothing."""
 
 import json
 import shutil
