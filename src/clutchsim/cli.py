@@ -28,7 +28,8 @@ from ._version import __version__
 __all__ = ["SimulationFailed", "Terminated", "UserError", "emit_json", "main"]
 
 #: subcommand modules, in the order ``--help`` lists them
-COMMANDS = ("models", "rig", "bench", "run", "judder", "demo", "sweep", "fit", "report")
+COMMANDS = ("models", "rig", "bench", "run", "judder", "demo", "sweep", "fit", "report",
+            "fmu")
 
 EPILOG = """\
 examples:
@@ -37,6 +38,7 @@ examples:
   clutchsim rig --model lugre --force 0 --spring 2 --pull-speed 0.1 --t-end 30 --out rig.csv
   clutchsim bench drift --model lugre --model elastoplastic --out drift/ --json
   clutchsim run examples/launch.toml --model mykhailevych2020 --out launch/
+  clutchsim fmu examples/launch.toml --model mykhailevych2020 --out launch.fmu
 
 exit status: 0 success, 1 a simulation did not complete, 2 bad input.
 """

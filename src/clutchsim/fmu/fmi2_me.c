@@ -1,0 +1,258 @@
+/* FMI 2.0 glue of a clutchsim FMU (clutchsim/fmu/fmi2_me.c): Model Exchange and, where
+   model.h says so (CS_COSIM), co-simulation with the internal solver of rosenbrock.c;
+   over the FMI-independent core plant_core.c (value references, events: see there).  The FMI 2.0
+   types are declared here from the standard's text (section 2.1), so the FMU needs no
+   headers but the C library's. */
+
+#include "plant_core.c"
+#include "rosenbrock.c"
+
+/* ---------------------------------------------------------------- FMI 2.0 types */
+typedef void *fmi2Component;
+typedef void *fmi2ComponentEnvironment;
+typedef void *fmi2FMUstate;
+typedef unsigned int fmi2ValueReference;
+typedef double fmi2Real;
+typedef int fmi2Integer;
+typedef int fmi2Boolean;
+typedef char fmi2Char;
+typedef const fmi2Char *fmi2String;
+typedef char fmi2Byte;
+#define fmi2True 1
+#define fmi2False 0
+
+typedef enum { fmi2OK, fmi2Warning, fmi2Discard, fmi2Error, fmi2Fatal, fmi2Pending } fmi2Status;
+typedef enum { fmi2ModelExchange, fmi2CoSimulation } fmi2Type;
+typedef enum { fmi2DoStepStatus, fmi2PendingStatus, fmi2LastSuccessfulTime, fmi2Terminated } fmi2StatusKind;
+
+typedef void (*fmi2CallbackLogger)(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String, fmi2String, ...);
+typedef void *(*fmi2CallbackAllocateMemory)(size_t, size_t);
+typedef void (*fmi2CallbackFreeMemory)(void *);
+typedef void (*fmi2StepFinished)(fmi2ComponentEnvironment, fmi2Status);
+
+typedef struct {
+    const fmi2CallbackLogger logger;
+    const fmi2CallbackAllocateMemory allocateMemory;
+    const fmi2CallbackFreeMemory freeMemory;
+    const fmi2StepFinished stepFinished;
+    const fmi2ComponentEnvironment componentEnvironment;
+} fmi2CallbackFunctions;
+
+typedef struct {
+    fmi2Boolean newDiscreteStatesNeeded;
+    fmi2Boolean terminateSimulation;
+    fmi2Boolean nominalsOfContinuousStatesChanged;
+    fmi2Boolean valuesOfContinuousStatesChanged;
+    fmi2Boolean nextEventTimeDefined;
+    fmi2Real nextEventTime;
+} fmi2EventInfo;
+
+#if defined(_WIN32)
+#define FMI2_EXPORT __declspec(dllexport)
+#else
+#define FMI2_EXPORT __attribute__((visibility("default")))
+#endif
+
+static void log_fmi2(Instance *m, int st, const char *cat, const char *msg) {
+    const fmi2CallbackFunctions *cb = (const fmi2CallbackFunctions *)m->env;
+    if (cb && cb->logger) cb->logger(cb->componentEnvironment, m->name, (fmi2Status)st, cat, "%s", msg);
+}
+
+/* ---------------------------------------------------------------- common functions */
+FMI2_EXPORT const char *fmi2GetTypesPlatform(void) { return "default"; }
+FMI2_EXPORT const char *fmi2GetVersion(void) { return "2.0"; }
+
+FMI2_EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String cats[]) {
+    (void)n; (void)cats;
+    ((Instance *)c)->logging = on;
+    return fmi2OK;
+}
+
+FMI2_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
+                                          fmi2String resources, const fmi2CallbackFunctions *cb,
+                                          fmi2Boolean visible, fmi2Boolean logging) {
+    Instance *m;
+    (void)resources; (void)visible;
+    if (!cb || !cb->allocateMemory || !cb->freeMemory) return NULL;
+    if ((type == fmi2ModelExchange && !CS_MODEL_EXCHANGE) || (type == fmi2CoSimulation && !CS_COSIM)) {
+        if (cb->logger) cb->logger(cb->componentEnvironment, name, fmi2Error, "error",
+                                   type == fmi2CoSimulation ? "this FMU is for Model Exchange only"
+                                                            : "this FMU is for co-simulation only");
+        return NULL;
+    }
+    if (!guid || strcmp(guid, CS_GUID) != 0) {
+        if (cb->logger) cb->logger(cb->componentEnvironment, name, fmi2Error, "error",
+                                   "wrong GUID %s (expected %s)", guid ? guid : "(null)", CS_GUID);
+        return NULL;
+    }
+    m = (Instance *)cb->allocateMemory(1, sizeof(Instance));
+    if (!m) return NULL;
+    m->env = cb;
+    m->log = log_fmi2;
+    m->logging = logging;
+    m->name = (char *)cb->allocateMemory(strlen(name ? name : "") + 1, 1);
+    if (m->name) strcpy(m->name, name ? name : "");
+    core_start(m);
+    return m;
+}
+
+FMI2_EXPORT void fmi2FreeInstance(fmi2Component c) {
+    Instance *m = (Instance *)c;
+    const fmi2CallbackFunctions *cb;
+    if (!m) return;
+    cb = (const fmi2CallbackFunctions *)m->env;
+    if (m->name) cb->freeMemory(m->name);
+    cb->freeMemory(m);
+}
+
+FMI2_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tol_defined, fmi2Real tol,
+                                           fmi2Real t0, fmi2Boolean stop_defined, fmi2Real t1) {
+    (void)stop_defined; (void)t1;
+    if (tol_defined && tol > 0.0) ((Instance *)c)->rtol = tol;
+    ((Instance *)c)->t = t0;
+    changed((Instance *)c);
+    return fmi2OK;
+}
+
+FMI2_EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
+    ((Instance *)c)->mode = MODE_INIT;
+    return fmi2OK;
+}
+
+FMI2_EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
+    core_exit_init((Instance *)c);
+    return fmi2OK;
+}
+
+FMI2_EXPORT fmi2Status fmi2Terminate(fmi2Component c) {
+    ((Instance *)c)->mode = MODE_TERMINATED;
+    return fmi2OK;
+}
+
+FMI2_EXPORT fmi2Status fmi2Reset(fmi2Component c) {
+    core_start((Instance *)c);
+    return fmi2OK;
+}
+
+FMI2_EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[]) {
+    return (fmi2Status)core_get((Instance *)c, vr, n, v, "fmi2GetReal");
+}
+
+FMI2_EXPORT fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Real v[]) {
+    return (fmi2Status)core_set((Instance *)c, vr, n, v, "fmi2SetReal");
+}
+
+#define NO_TYPE(T, CT)                                                                       \
+    FMI2_EXPORT fmi2Status fmi2Get##T(fmi2Component c, const fmi2ValueReference vr[], size_t n, CT v[]) { \
+        (void)vr; (void)v; if (n == 0) return fmi2OK;                                        \
+        logf_((Instance *)c, ST_ERROR, "error", "fmi2Get" #T ": the FMU has no such variables"); \
+        return fmi2Error; }                                                                   \
+    FMI2_EXPORT fmi2Status fmi2Set##T(fmi2Component c, const fmi2ValueReference vr[], size_t n, const CT v[]) { \
+        (void)vr; (void)v; if (n == 0) return fmi2OK;                                        \
+        logf_((Instance *)c, ST_ERROR, "error", "fmi2Set" #T ": the FMU has no such variables"); \
+        return fmi2Error; }
+NO_TYPE(Integer, fmi2Integer)
+NO_TYPE(Boolean, fmi2Boolean)
+NO_TYPE(String, fmi2String)
+
+#define UNSUPPORTED(call, args)                                                              \
+    FMI2_EXPORT fmi2Status call args {                                                       \
+        logf_((Instance *)c, ST_ERROR, "error", #call " is not supported by this FMU");     \
+        return fmi2Error; }
+UNSUPPORTED(fmi2GetFMUstate, (fmi2Component c, fmi2FMUstate *s))
+UNSUPPORTED(fmi2SetFMUstate, (fmi2Component c, fmi2FMUstate s))
+UNSUPPORTED(fmi2FreeFMUstate, (fmi2Component c, fmi2FMUstate *s))
+UNSUPPORTED(fmi2SerializedFMUstateSize, (fmi2Component c, fmi2FMUstate s, size_t *n))
+UNSUPPORTED(fmi2SerializeFMUstate, (fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t n))
+UNSUPPORTED(fmi2DeSerializeFMUstate, (fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *s))
+UNSUPPORTED(fmi2GetDirectionalDerivative, (fmi2Component c, const fmi2ValueReference u[], size_t nu,
+            const fmi2ValueReference z[], size_t nz, const fmi2Real du[], fmi2Real dz[]))
+UNSUPPORTED(fmi2SetRealInputDerivatives, (fmi2Component c, const fmi2ValueReference vr[], size_t n,
+            const fmi2Integer order[], const fmi2Real v[]))
+UNSUPPORTED(fmi2GetRealOutputDerivatives, (fmi2Component c, const fmi2ValueReference vr[], size_t n,
+            const fmi2Integer order[], fmi2Real v[]))
+UNSUPPORTED(fmi2CancelStep, (fmi2Component c))
+UNSUPPORTED(fmi2GetStatus, (fmi2Component c, const fmi2StatusKind k, fmi2Status *v))
+UNSUPPORTED(fmi2GetRealStatus, (fmi2Component c, const fmi2StatusKind k, fmi2Real *v))
+UNSUPPORTED(fmi2GetIntegerStatus, (fmi2Component c, const fmi2StatusKind k, fmi2Integer *v))
+UNSUPPORTED(fmi2GetBooleanStatus, (fmi2Component c, const fmi2StatusKind k, fmi2Boolean *v))
+UNSUPPORTED(fmi2GetStringStatus, (fmi2Component c, const fmi2StatusKind k, fmi2String *v))
+
+/* ---------------------------------------------------------------- co-simulation */
+FMI2_EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_prior) {
+    Instance *m = (Instance *)c;
+    double g[ONE(CS_NZ)];
+    (void)no_prior;
+    if (!CS_COSIM) return fmi2Error;
+    if (fabs(t - m->t) > 1e-9 * (1.0 + fabs(t))) {
+        logf_(m, ST_ERROR, "error", "fmi2DoStep: communication point %.17g s, but the FMU is at %.17g s", t, m->t);
+        return fmi2Error;
+    }
+    m->mode = MODE_CONT;
+    /* an event at the communication point: the start's directional events, an input jump */
+    indicators(m, g);
+    if (rb_crossing(m, m->g_last, g)) {
+        int vc, term, st = core_event(m, &vc, &term);
+        if (term) return st == ST_OK ? fmi2Discard : (fmi2Status)st;
+    }
+    return (fmi2Status)rb_integrate(m, t + h, m->rtol, 1e-2 * m->rtol, &m->h);
+}
+
+/* ---------------------------------------------------------------- model exchange */
+FMI2_EXPORT fmi2Status fmi2EnterEventMode(fmi2Component c) {
+    ((Instance *)c)->mode = MODE_EVENT;
+    return fmi2OK;
+}
+
+FMI2_EXPORT fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
+    int values_changed, terminate, st;
+    st = core_event((Instance *)c, &values_changed, &terminate);
+    info->newDiscreteStatesNeeded = fmi2False;
+    info->terminateSimulation = terminate;
+    info->nominalsOfContinuousStatesChanged = fmi2False;
+    info->valuesOfContinuousStatesChanged = values_changed;
+    info->nextEventTimeDefined = fmi2False;
+    info->nextEventTime = 0.0;
+    return (fmi2Status)st;
+}
+
+FMI2_EXPORT fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
+    ((Instance *)c)->mode = MODE_CONT;
+    return fmi2OK;
+}
+
+FMI2_EXPORT fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean no_set_prior,
+                                                   fmi2Boolean *enter_event, fmi2Boolean *terminate) {
+    (void)c; (void)no_set_prior;
+    *enter_event = fmi2False;
+    *terminate = fmi2False;
+    return fmi2OK;
+}
+
+FMI2_EXPORT fmi2Status fmi2SetTime(fmi2Component c, fmi2Real t) {
+    ((Instance *)c)->t = t;
+    changed((Instance *)c);
+    return fmi2OK;
+}
+
+FMI2_EXPORT fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t n) {
+    return (fmi2Status)core_set_states((Instance *)c, x, n);
+}
+
+FMI2_EXPORT fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real dx[], size_t n) {
+    return (fmi2Status)core_get_derivatives((Instance *)c, dx, n);
+}
+
+FMI2_EXPORT fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real g[], size_t n) {
+    return (fmi2Status)core_get_indicators((Instance *)c, g, n);
+}
+
+FMI2_EXPORT fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t n) {
+    return (fmi2Status)core_get_states((Instance *)c, x, n);
+}
+
+FMI2_EXPORT fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x[], size_t n) {
+    (void)c;
+    core_nominals(x, n);
+    return fmi2OK;
+}

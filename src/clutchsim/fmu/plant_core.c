@@ -1,0 +1,233 @@
+/* The FMI-independent core of a clutchsim FMU (clutchsim/fmu/plant_core.c), included by
+   the FMI 2 and FMI 3 glue (fmi2_me.c, fmi3_me.c).
+
+   It holds one instance of the printed plant (plant.c: cs_rhs, cs_outputs, cs_events,
+   cs_reset) with its layout (model.h: sizes, start values, value references, event
+   directions, names, the token).
+
+   Value references (all 64-bit floats): states [0, NX), their derivatives [NX, 2 NX),
+   inputs [CS_VR_U, +NU), outputs [CS_VR_Y, +NY), parameters [CS_VR_P, +NP) (the plant's
+   parameter vector, in its own order), then the event indicators [CS_VR_Z, +NZ) (FMI 3
+   names them as variables) and the time CS_VR_T (FMI 3's independent variable).
+
+   Events.  The plant's event functions are the FMU's event indicators.  At an event the
+   first indicator that crossed zero since the last event, in the plant's direction (-1
+   falling, +1 rising, 0 both), gets the plant's reset map, as clutchsim's own integrators
+   apply it (one event at a time; the reset map of a switching element settles the others
+   it affects: clutchsim's event iteration runs inside it); a reset that fails or stops the
+   run terminates the simulation.  "Since the last event": the indicators are recorded at
+   the end of initialisation and after each event; an importer stops at every sign change
+   (that is what event indicators are for), so between two events each keeps its sign.
+   (Not at the completed integrator step: importers call it after the step that ends on the
+   root, before the event.) */
+
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "model.h"
+
+void cs_rhs(double t, double *y, double *u, double *p, double *dy);
+void cs_outputs(double t, double *y, double *u, double *p, double *out);
+void cs_events(double t, double *y, double *u, double *p, double *g);
+int cs_reset(double t, double *y, double *u, double *p, int k);
+
+#define ONE(n) ((n) > 0 ? (n) : 1)
+#define CS_VR_Z (CS_VR_P + CS_NP)
+#define CS_VR_T (CS_VR_Z + CS_NZ)
+/* statuses: the same numbers in FMI 2 and FMI 3 */
+enum { ST_OK = 0, ST_WARNING = 1, ST_DISCARD = 2, ST_ERROR = 3, ST_FATAL = 4 };
+enum { ACTION_CONTINUE = 0, ACTION_STATE_CHANGED = 1, ACTION_STOP = 2, ACTION_FAIL = 3 };
+enum { MODE_INSTANTIATED, MODE_INIT, MODE_EVENT, MODE_CONT, MODE_TERMINATED };
+
+typedef struct Instance Instance;
+typedef void (*core_logger)(Instance *m, int status, const char *category, const char *message);
+
+struct Instance {
+    double t;
+    double y[ONE(CS_NX)], dy[ONE(CS_NX)], u[ONE(CS_NU)], p[ONE(CS_NP)];
+    double out[ONE(CS_NY)], g[ONE(CS_NZ)], g_last[ONE(CS_NZ)];
+    int dy_ok, out_ok, mode, logging;
+    double rtol, h;        /* co-simulation: the solver's tolerance and its last step */
+    char *name;
+    core_logger log;
+    const void *env;       /* the importer's callbacks or environment */
+};
+
+static void logf_(Instance *m, int st, const char *cat, const char *fmt, ...) {
+    char buf[1024];
+    va_list ap;
+    if (!m || !m->log) return;
+    if (st == ST_OK && !m->logging) return;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    m->log(m, st, cat, buf);
+}
+
+static void changed(Instance *m) { m->dy_ok = 0; m->out_ok = 0; }
+
+static void core_start(Instance *m) {
+    memcpy(m->y, cs_y0, sizeof m->y);
+    memcpy(m->u, cs_u0, sizeof m->u);
+    memcpy(m->p, cs_p0, sizeof m->p);
+    m->t = 0.0;
+    m->rtol = 1e-6;
+    m->h = 1e-5;
+    m->mode = MODE_INSTANTIATED;
+    changed(m);
+}
+
+static void derivatives(Instance *m) {
+    if (!m->dy_ok) {
+        memset(m->dy, 0, sizeof m->dy);
+        cs_rhs(m->t, m->y, m->u, m->p, m->dy);
+        m->dy_ok = 1;
+    }
+}
+
+static void outputs(Instance *m) {
+    if (!m->out_ok) {
+        cs_outputs(m->t, m->y, m->u, m->p, m->out);
+        m->out_ok = 1;
+    }
+}
+
+static void indicators(Instance *m, double *g) {
+    if (CS_NZ > 0) cs_events(m->t, m->y, m->u, m->p, g);
+}
+
+static int crossed(int dir, double before, double now) {
+    /* clutchsim.core._driver._crossed */
+    return (dir >= 0 && before < 0.0 && now >= 0.0) || (dir <= 0 && before > 0.0 && now <= 0.0);
+}
+
+/* The indicators as the reference for the next crossing.  One exactly on zero (a reset
+   left it there: a released element's slip) takes the sign it moves to, as clutchsim's
+   integrators do ("start from the next sign"): probed a short step along the derivatives. */
+static void record_signs(Instance *m) {
+    double y1[ONE(CS_NX)], g1[ONE(CS_NZ)], h;
+    int k, zero = 0, i;
+    indicators(m, m->g_last);
+    for (k = 0; k < CS_NZ; k++) zero |= m->g_last[k] == 0.0;
+    if (!zero) return;
+    derivatives(m);
+    h = 1e-9 * (1.0 + fabs(m->t));
+    for (i = 0; i < CS_NX; i++) y1[i] = m->y[i] + h * m->dy[i];
+    cs_events(m->t + h, y1, m->u, m->p, g1);
+    for (k = 0; k < CS_NZ; k++)
+        if (m->g_last[k] == 0.0) m->g_last[k] = g1[k];
+}
+
+/* End of initialisation: a directional event whose function starts on its post-crossing
+   side fires once at the start (a stuck element loaded beyond its capacity), as in
+   clutchsim. */
+static void core_exit_init(Instance *m) {
+    int k;
+    changed(m);
+    record_signs(m);
+    for (k = 0; k < CS_NZ; k++)
+        if ((cs_event_dir[k] == -1 && m->g_last[k] < 0.0) || (cs_event_dir[k] == 1 && m->g_last[k] > 0.0))
+            m->g_last[k] = -m->g_last[k];
+    m->mode = MODE_EVENT;
+}
+
+/* One event (see the top of the file); returns the status. */
+static int core_event(Instance *m, int *values_changed, int *terminate) {
+    double g[ONE(CS_NZ)];
+    int k;
+    *values_changed = 0;
+    *terminate = 0;
+    indicators(m, g);
+    for (k = 0; k < CS_NZ; k++)
+        if (crossed(cs_event_dir[k], m->g_last[k], g[k])) break;
+    if (k < CS_NZ) {
+        int action = cs_reset(m->t, m->y, m->u, m->p, k);
+        changed(m);
+        logf_(m, ST_OK, "events", "t = %.9g s: event %s (%s)", m->t, cs_event_names[k],
+              action == ACTION_STATE_CHANGED ? "reset" : action == ACTION_CONTINUE ? "recorded"
+              : action == ACTION_STOP ? "stop" : "fail");
+        if (action == ACTION_STATE_CHANGED) *values_changed = 1;
+        if (action == ACTION_STOP || action == ACTION_FAIL) {
+            *terminate = 1;
+            logf_(m, action == ACTION_FAIL ? ST_ERROR : ST_OK, "events",
+                  "t = %.9g s: %s: the run ends here", m->t, cs_event_names[k]);
+            m->mode = MODE_TERMINATED;
+            return action == ACTION_FAIL ? ST_ERROR : ST_OK;
+        }
+    }
+    record_signs(m);      /* after the reset: the next crossing starts from here */
+    return ST_OK;
+}
+
+static int core_get(Instance *m, const unsigned vr[], size_t n, double v[], const char *fn) {
+    size_t i;
+    for (i = 0; i < n; i++) {
+        unsigned r = vr[i];
+        if (r < CS_NX) v[i] = m->y[r];
+        else if (r < 2 * CS_NX) { derivatives(m); v[i] = m->dy[r - CS_NX]; }
+        else if (r >= CS_VR_U && r < CS_VR_U + CS_NU) v[i] = m->u[r - CS_VR_U];
+        else if (r >= CS_VR_Y && r < CS_VR_Y + CS_NY) { outputs(m); v[i] = m->out[r - CS_VR_Y]; }
+        else if (r >= CS_VR_P && r < CS_VR_P + CS_NP) v[i] = m->p[r - CS_VR_P];
+        else if (r >= CS_VR_Z && r < CS_VR_Z + CS_NZ) { indicators(m, m->g); v[i] = m->g[r - CS_VR_Z]; }
+        else if (r == CS_VR_T) v[i] = m->t;
+        else {
+            logf_(m, ST_ERROR, "error", "%s: unknown value reference %u", fn, r);
+            return ST_ERROR;
+        }
+    }
+    return ST_OK;
+}
+
+static int core_set(Instance *m, const unsigned vr[], size_t n, const double v[], const char *fn) {
+    size_t i;
+    for (i = 0; i < n; i++) {
+        unsigned r = vr[i];
+        if (r < CS_NX && m->mode != MODE_CONT) m->y[r] = v[i];
+        else if (r >= CS_VR_U && r < CS_VR_U + CS_NU) m->u[r - CS_VR_U] = v[i];
+        else if (r >= CS_VR_P && r < CS_VR_P + CS_NP && cs_p_settable[r - CS_VR_P]) m->p[r - CS_VR_P] = v[i];
+        else {
+            logf_(m, ST_ERROR, "error", "%s: value reference %u cannot be set%s", fn, r,
+                  (r >= CS_VR_P && r < CS_VR_P + CS_NP)
+                      ? " (a structural value: an inertia or a ratio; change it in the scenario "
+                        "and export again)" : "");
+            return ST_ERROR;
+        }
+    }
+    changed(m);
+    return ST_OK;
+}
+
+static int core_set_states(Instance *m, const double x[], size_t n) {
+    if (n != CS_NX) return ST_ERROR;
+    memcpy(m->y, x, n * sizeof(double));
+    changed(m);
+    return ST_OK;
+}
+
+static int core_get_states(Instance *m, double x[], size_t n) {
+    if (n != CS_NX) return ST_ERROR;
+    memcpy(x, m->y, n * sizeof(double));
+    return ST_OK;
+}
+
+static int core_get_derivatives(Instance *m, double dx[], size_t n) {
+    if (n != CS_NX) return ST_ERROR;
+    derivatives(m);
+    memcpy(dx, m->dy, n * sizeof(double));
+    return ST_OK;
+}
+
+static int core_get_indicators(Instance *m, double g[], size_t n) {
+    if (n != CS_NZ) return ST_ERROR;
+    indicators(m, g);
+    return ST_OK;
+}
+
+static void core_nominals(double x[], size_t n) {
+    size_t i;
+    for (i = 0; i < n; i++) x[i] = 1.0;
+}

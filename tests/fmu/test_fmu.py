@@ -1,0 +1,339 @@
+"""The exported FMU, run by an independent importer (FMPy): it passes FMPy's compliance
+checks, completes with CVode (Model Exchange, FMI 2 and FMI 3) or with its own ROS2 solver
+(co-simulation) and reproduces clutchsim's own run of the scenario inside the 2e-3 tube
+(max |FMU - clutchsim| / max(|clutchsim|, 1) on the FMU's output grid), switching at
+clutchsim's times, with an energy balance of its own run below 1e-6; ``clutchsim fmu``
+refuses what it cannot export with exit status 2 and writes nothing."""
+
+import json
+import shutil
+import zipfile
+
+import numpy as np
+import pandas as pd
+import pytest
+from _dl_paths import EXAMPLES, shared_dir
+
+from clutchsim.cli import main
+from clutchsim.driveline.run import run_scenario
+from clutchsim.fmu import export_fmu, input_table
+
+fmpy = pytest.importorskip("fmpy", reason="FMPy (the dev extra) runs the exported FMUs")
+from fmpy.validation import validate_fmu
+
+pytestmark = pytest.mark.skipif(shutil.which("cc") is None and shutil.which("gcc") is None,
+                                reason="no C compiler on this machine")
+
+TUBE = 2e-3
+#: switch times [s], FMU under FMPy against clutchsim.  FMPy's simulate_fmu sets the inputs
+#: in CVode's root function only (not in its right-hand side), so within each internal step
+#: the FMU sees the inputs of the step's start: CoupledClutches' 5 Hz torque input then
+#: shifts clutch1's second stop by 1.1e-4 s (driven by scipy with the inputs set in the
+#: right-hand side, the same FMU follows clutchsim to 3e-10, docs/fmu.md)
+SWITCH_TOL = 3e-4
+ENERGY = ("W_in", "W_friction", "W_damping", "W_road", "E_grade", "W_sync")
+
+
+def tube(f, res, name, mask=None):
+    ref = np.interp(f["time"], res.t, res[name])
+    err = np.abs(f[name] - ref) / max(float(np.max(np.abs(res[name]))), 1.0)
+    return float(np.max(err if mask is None else err[mask]))
+
+
+def tube_tv(f, res, name, dt):
+    """The tube with a width in time as well (as CSV-compare's): how far each FMU sample
+    lies outside clutchsim's values within ``dt`` of its time, over the signal's range.
+    For a signal that rings or jumps, where a shift by a fraction of a step is a large
+    difference in value."""
+    t, y = res.t, res[name]
+    worst = 0.0
+    for ti, xi in zip(f["time"], f[name]):
+        lo_i, hi_i = np.searchsorted(t, ti - dt), np.searchsorted(t, ti + dt, side="right")
+        vals = np.r_[y[lo_i:hi_i], np.interp([ti - dt, ti + dt], t, y)]
+        worst = max(worst, float(vals.min()) - xi, xi - float(vals.max()))
+    return worst / max(float(np.max(np.abs(y))), 1.0)
+
+
+def energy_balance(f):
+    resid = f["W_in"] - sum(f[k] for k in ENERGY[1:]) - (f["E_kinetic"] - f["E_kinetic"][0]) \
+        - (f["E_spring"] - f["E_spring"][0])
+    return abs(resid[-1]) / max(abs(f["W_in"][-1]), float(np.max(f["E_kinetic"])))
+
+
+def simulate(path, scenario, names, rtol, dt_out, record_events=False):
+    md = fmpy.read_model_description(str(path))
+    inputs = [v.name for v in md.modelVariables if v.causality == "input"]
+    return fmpy.simulate_fmu(str(path), solver="CVode", relative_tolerance=rtol,
+                             output_interval=dt_out, output=names, record_events=record_events,
+                             input=input_table(scenario, dt=dt_out / 2, names=inputs))
+
+
+def switches(f, element):
+    """Times at which the FMU run switched ``element`` (its mode or lock flag changed
+    between the two rows FMPy records at an event)."""
+    t = f["time"]
+    changed = (np.diff(f[f"{element}.mode"]) != 0) | (np.diff(f[f"{element}.locked"]) != 0)
+    return t[1:][changed & (np.diff(t) == 0)]
+
+
+def assert_same_switches(f, res, elements, tol=SWITCH_TOL):
+    for el in elements:
+        ours = [e.t for e in res.events if e.name.startswith(f"{el}:") and e.t > 0.0
+                and e.action == "reset"]
+        theirs = switches(f, el)
+        assert len(theirs) == len(ours), (el, theirs, ours)
+        assert np.max(np.abs(np.array(theirs) - np.array(ours)), initial=0.0) <= tol, el
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("fmi", ["2", "3"])
+def test_default_launch_fmu_reproduces_clutchsim(tmp_path, fmi):
+    scenario = EXAMPLES / "launch.toml"
+    path = tmp_path / "launch.fmu"
+    info = export_fmu(scenario, path, "mykhailevych2020", fmi=fmi)
+    assert validate_fmu(str(path)) == []
+    md = fmpy.read_model_description(str(path))
+    assert md.fmiVersion == f"{fmi}.0" and md.modelExchange is not None
+    assert md.coSimulation is None
+    with zipfile.ZipFile(path) as zf:
+        names = set(zf.namelist())
+    assert info.platform == ("linux64" if fmi == "2" else "x86_64-linux")
+    assert f"binaries/{info.platform}/{info.model_identifier}.so" in names
+    assert {"modelDescription.xml", "sources/plant.c", f"sources/fmi{fmi}_me.c",
+            "sources/plant_core.c"} <= names
+    # variables: clutchsim's names, units, start values
+    by = {v.name: v for v in md.modelVariables}
+    assert by["throttle"].causality == "input" and float(by["throttle"].start) == 0.1
+    assert float(by["clutch_command"].start) == 0.0
+    assert by["omega_engine"].unit == "rad/s" and float(by["omega_engine"].start) == 83.78
+    assert by["T_clutch"].causality == "output" and by["T_clutch"].unit == "N·m"
+    assert by["theta_pressure_plate"].unit == "°C"
+    assert by["clutch.friction.T_stat"].variability == "tunable"
+    assert by["engine.J"].variability == "constant"      # structural: in M⁻¹
+    # model (6) has one set of equations: its only clutch indicator is the zero crossing
+    # of the slip, where its reset policy (clamp) re-initialises phi; the other is the
+    # engine's stall
+    assert md.numberOfEventIndicators == 2
+    assert [e for e in info.event_indicators if e.startswith("clutch")] == [
+        "clutch: velocity_zero_crossing"]
+
+    r = run_scenario(scenario, "mykhailevych2020")
+    res = r.result
+    assert res.status == "completed"
+    out = ["omega_engine", "omega_disc", "omega_gearbox_input", "omega_wheels", "w_slip_clutch",
+           "T_clutch", "theta_pressure_plate", "theta_flywheel", "E_kinetic", "E_spring",
+           *ENERGY]
+    f = simulate(path, scenario, out, 1e-7, 2e-3)
+    assert f["time"][-1] == pytest.approx(4.0)
+    for name in out:
+        if name != "T_clutch":
+            assert tube(f, res, name) <= TUBE, name
+    # the clutch torque jumps where the reset re-initialises phi and rings after lock-up
+    # (~400 Hz): the tube is given a width of one output interval in time as well
+    assert tube_tv(f, res, "T_clutch", 2e-3) <= TUBE
+    assert energy_balance(f) < 1e-6
+    # lock-up reached in the FMU run as in clutchsim's
+    assert abs(f["w_slip_clutch"][-1]) < 1e-2
+
+
+def run_cli(capsys, *argv):
+    code = main(list(argv))
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err
+
+
+def test_cli_writes_fmu_and_one_json_document(tmp_path, capsys):
+    out = tmp_path / "sub" / "launch.fmu"
+    code, stdout, err = run_cli(capsys, "fmu", str(EXAMPLES / "launch.toml"), "--model",
+                                "mykhailevych2020", "--out", str(out), "--json")
+    assert code == 0, err
+    doc = json.loads(stdout)
+    assert doc["path"] == str(out) and out.is_file()
+    assert doc["fmi"] == "2.0" and doc["kind"] == "me" and doc["model"] == "mykhailevych2020"
+    assert "omega_engine" in doc["states"] and "T_clutch" in doc["outputs"]
+    assert doc["inputs"] == ["clutch_command", "throttle"]
+    assert sorted(p.name for p in out.parent.iterdir()) == ["launch.fmu"]   # no leftovers
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--fmi", "4"], r"--fmi 4: this version writes FMI 2\.0, 3\.0 only"),
+    (["--kind", "xy"], r"--kind xy: one of me, cs, both"),
+    (["--fmi", "3", "--kind", "cs"], r"--kind cs with --fmi 3: .*Model Exchange only"),
+    (["--model", "no-such-model"], r"no-such-model"),
+])
+def test_cli_refuses_bad_options(tmp_path, capsys, args, message):
+    out = tmp_path / "x.fmu"
+    code, stdout, err = run_cli(capsys, "fmu", str(EXAMPLES / "launch.toml"), *args,
+                                "--out", str(out))
+    assert code == 2, err
+    assert stdout == ""
+    assert pytest.importorskip("re").search(message, err), err
+    assert "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_cli_refuses_scenario_that_cannot_export(tmp_path, capsys):
+    out = tmp_path / "owc.fmu"
+    code, _, err = run_cli(capsys, "fmu", str(EXAMPLES / "one_way_clutch.toml"), "--out",
+                           str(out))
+    assert code == 2, err
+    assert "cannot export" in err and "one-way clutch" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_cli_without_c_compiler_says_what_it_looked_for(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("CC", "no-such-cc")
+    monkeypatch.setenv("PATH", str(tmp_path / "empty"))
+    out = tmp_path / "launch.fmu"
+    code, _, err = run_cli(capsys, "fmu", str(EXAMPLES / "launch.toml"), "--out", str(out))
+    assert code == 2, err
+    assert "no C compiler found" in err and "$CC=no-such-cc" in err and "gcc" in err
+    assert "apt-get install gcc" in err
+    assert not out.exists()
+
+
+def run_and_compare(tmp_path, scenario, model, rtol, dt_out, smooth, jumpy, elements,
+                    fmi="2"):
+    path = tmp_path / f"{model}.fmu"
+    info = export_fmu(scenario, path, model, fmi=fmi)
+    assert validate_fmu(str(path)) == []
+    r = run_scenario(scenario, model)
+    res = r.result
+    assert res.status == "completed"
+    f = simulate(path, scenario, [*smooth, *jumpy, *(f"{e}.{s}" for e in elements
+                                                   for s in ("mode", "locked"))],
+                 rtol, dt_out, record_events=True)
+    assert f["time"][-1] == pytest.approx(sc_end(scenario))
+    for name in smooth:
+        assert tube(f, res, name) <= TUBE, name
+    for name in jumpy:      # torques jump at the switches: a width in time of one interval
+        assert tube_tv(f, res, name, dt_out) <= TUBE, name
+    assert_same_switches(f, res, elements)
+    return info, f, res
+
+
+def sc_end(scenario):
+    from clutchsim.scenario import load_scenario
+    return load_scenario(scenario).t_end
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("fmi", ["2", "3"])
+def test_coupled_clutches_fmu_switches_as_clutchsim_and_modelica(tmp_path, fmi):
+    """Modelica's CoupledClutches (coulomb-robust: stick/slip with event iteration): three
+    clutches, six event indicators; the FMU switches at clutchsim's times and its speeds lie
+    in the tube of clutchsim's run and of the MSL reference."""
+    scenario = EXAMPLES / "coupled_clutches.toml"
+    clutches = ("clutch1", "clutch2", "clutch3")
+    smooth = ["omega_J1", "omega_J2", "omega_J3", "omega_J4", "E_kinetic", "W_friction",
+              *(f"w_slip_{c}" for c in clutches)]
+    info, f, _ = run_and_compare(tmp_path, scenario, "coulomb-robust", 1e-8, 5e-4, smooth,
+                                 [f"T_{c}" for c in clutches], clutches, fmi)
+    assert info.event_indicators[:6] == tuple(f"{c}: {e}" for c in clutches
+                                              for e in ("stop", "breakaway"))
+    ref_path = shared_dir() / "reference" / "modelica" / "Modelica" / "Mechanics" / \
+        "Rotational" / "Examples" / "CoupledClutches" / "CoupledClutches.csv"
+    if not ref_path.exists():
+        pytest.skip(f"Modelica reference results not found at {ref_path} "
+                    "(set CLUTCHSIM_SHARED to the shared folder)")
+    ref = pd.read_csv(ref_path).drop_duplicates("time", keep="last")
+    w = ref["J1.w"].to_numpy()
+    speeds = [w]
+    for c in clutches:
+        w = w + ref[f"{c}.w_rel"].to_numpy()
+        speeds.append(w)
+    for k, w_ref in enumerate(speeds):
+        ours = np.interp(ref["time"], f["time"], f[f"omega_J{k + 1}"])
+        assert np.max(np.abs(ours - w_ref)) / max(np.max(np.abs(w_ref)), 1.0) <= TUBE, k
+
+
+@pytest.mark.slow
+def test_launch_fmu_with_coulomb_robust_locks_as_clutchsim(tmp_path):
+    smooth = ["omega_engine", "omega_disc", "omega_wheels", "w_slip_clutch",
+              "theta_pressure_plate", "E_kinetic", "E_spring", *ENERGY]
+    info, f, _ = run_and_compare(tmp_path, EXAMPLES / "launch.toml", "coulomb-robust", 1e-7,
+                                 2e-3, smooth, ["T_clutch"], ("clutch",))
+    assert [e for e in info.event_indicators if e.startswith("clutch")] == [
+        "clutch: stop", "clutch: breakaway"]
+    assert energy_balance(f) < 1e-6
+
+
+@pytest.mark.slow
+def test_simple_gear_shift_fmu_matches_modelica(tmp_path):
+    """Modelica's SimpleGearShift (a planetary set shifted by a clutch and a brake): the
+    FMU switches at the MSL reference's times (brake breakaway 2.04082 s, clutch stop
+    2.11079 s) and its speeds lie in the tube of the reference result."""
+    scenario = EXAMPLES / "simple_gear_shift.toml"
+    _, f, _ = run_and_compare(tmp_path, scenario, "coulomb-robust", 1e-8, 1e-3,
+                              ["omega_engine", "omega_load", "w_slip_clutch", "E_kinetic",
+                               "W_friction"], [], ("clutch", "brake"))
+    assert abs(switches(f, "brake")[-1] - 2.04082) <= SWITCH_TOL
+    assert abs(switches(f, "clutch")[-1] - 2.11079) <= SWITCH_TOL
+    ref_path = shared_dir() / "reference" / "modelica" / "Modelica" / "Mechanics" / \
+        "Rotational" / "Examples" / "SimpleGearShift" / "SimpleGearShift.csv"
+    if not ref_path.exists():
+        pytest.skip(f"Modelica reference results not found at {ref_path} "
+                    "(set CLUTCHSIM_SHARED to the shared folder)")
+    ref = pd.read_csv(ref_path).drop_duplicates("time", keep="last")
+    for ours, theirs in (("omega_engine", "engine.w"), ("omega_load", "load.w")):
+        w = np.interp(ref["time"], f["time"], f[ours])
+        r = ref[theirs].to_numpy()
+        assert np.max(np.abs(w - r)) / max(np.max(np.abs(r)), 1.0) <= TUBE, ours
+
+
+def simulate_cs(path, scenario, names, rtol, dt_out):
+    md = fmpy.read_model_description(str(path))
+    inputs = [v.name for v in md.modelVariables if v.causality == "input"]
+    return fmpy.simulate_fmu(str(path), fmi_type="CoSimulation", relative_tolerance=rtol,
+                             output_interval=dt_out, output=names,
+                             input=input_table(scenario, dt=dt_out, names=inputs))
+
+
+@pytest.mark.slow
+def test_cosimulation_fmu_with_its_own_rosenbrock_solver(tmp_path):
+    """--kind both: the same FMU for Model Exchange and for co-simulation, where its own
+    ROS2 solver (exact Jacobian, events located by bisection) integrates each
+    communication step.  FMPy holds the inputs over a communication step (0.25 ms here;
+    with 0.5 ms the damper's stored energy is off by 2.4e-3 of its range, with 1 ms the
+    slip by 2.3e-3; the solver's tolerance changes neither)."""
+    scenario = EXAMPLES / "launch.toml"
+    path = tmp_path / "launch.fmu"
+    info = export_fmu(scenario, path, "mykhailevych2020", kind="both")
+    assert info.kind == "both" and validate_fmu(str(path)) == []
+    md = fmpy.read_model_description(str(path))
+    assert md.modelExchange is not None and md.coSimulation is not None
+    res = run_scenario(scenario, "mykhailevych2020").result
+    smooth = ["omega_engine", "omega_disc", "omega_wheels", "w_slip_clutch", "E_kinetic",
+              "E_spring", "theta_pressure_plate", *ENERGY]
+    f = simulate_cs(path, scenario, [*smooth, "T_clutch"], 1e-8, 2.5e-4)
+    assert f["time"][-1] == pytest.approx(4.0)
+    for name in smooth:
+        assert tube(f, res, name) <= TUBE, name
+    assert tube_tv(f, res, "T_clutch", 1e-3) <= TUBE
+    assert energy_balance(f) < 1e-6
+    # the same FMU as Model Exchange
+    g = simulate(path, scenario, ["omega_disc"], 1e-7, 2e-3)
+    assert tube(g, res, "omega_disc") <= TUBE
+
+
+@pytest.mark.slow
+def test_cosimulation_coupled_clutches_switches_within_a_step(tmp_path):
+    scenario = EXAMPLES / "coupled_clutches.toml"
+    clutches = ("clutch1", "clutch2", "clutch3")
+    path = tmp_path / "cc.fmu"
+    export_fmu(scenario, path, "coulomb-robust", kind="cs")
+    assert validate_fmu(str(path)) == []
+    res = run_scenario(scenario, "coulomb-robust").result
+    smooth = ["omega_J1", "omega_J2", "omega_J3", "omega_J4", "E_kinetic", "W_friction",
+              *(f"w_slip_{c}" for c in clutches)]
+    dt = 2.5e-4
+    f = simulate_cs(path, scenario, [*smooth, *(f"{c}.{s}" for c in clutches
+                                                for s in ("mode", "locked"))], 1e-8, dt)
+    for name in smooth:
+        assert tube(f, res, name) <= TUBE, name
+    for c in clutches:       # each switch seen at the first communication point after it
+        ours = [e.t for e in res.events if e.name.startswith(f"{c}:") and e.action == "reset"]
+        moved = (np.diff(f[f"{c}.locked"]) != 0) | (np.diff(f[f"{c}.mode"]) != 0)
+        seen = f["time"][1:][moved]
+        assert len(seen) == len(ours), (c, seen, ours)
+        assert np.all((seen >= np.array(ours) - 1e-9) & (seen <= np.array(ours) + dt + SWITCH_TOL)), c
