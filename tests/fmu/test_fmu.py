@@ -15,8 +15,8 @@ import pytest
 from _dl_paths import EXAMPLES, shared_dir
 
 from clutchsim.cli import main
-from clutchsim.driveline.run import run_scenario
 from clutchsim.fmu import export_fmu, input_table
+from clutchsim.scenario import run_scenario
 
 fmpy = pytest.importorskip("fmpy", reason="FMPy (the dev extra) runs the exported FMUs")
 from fmpy.validation import validate_fmu
@@ -76,11 +76,15 @@ def switches(f, element):
     return t[1:][changed & (np.diff(t) == 0)]
 
 
-def assert_same_switches(f, res, elements, tol=SWITCH_TOL):
+def assert_same_switches(f, res, elements, tol=SWITCH_TOL, skip=()):
+    """The FMU's switches of each element at clutchsim's times; ``skip``: windows
+    ``(t0, t1)`` [s] left out on both sides."""
+    def kept(ts):
+        return [t for t in ts if not any(a <= t <= b for a, b in skip)]
     for el in elements:
-        ours = [e.t for e in res.events if e.name.startswith(f"{el}:") and e.t > 0.0
-                and e.action == "reset"]
-        theirs = switches(f, el)
+        ours = kept([e.t for e in res.events if e.name.startswith(f"{el}:") and e.t > 0.0
+                     and e.action == "reset" and "shift to gear" not in e.name])
+        theirs = kept(list(switches(f, el)))
         assert len(theirs) == len(ours), (el, theirs, ours)
         assert np.max(np.abs(np.array(theirs) - np.array(ours)), initial=0.0) <= tol, el
 
@@ -172,13 +176,36 @@ def test_cli_refuses_bad_options(tmp_path, capsys, args, message):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_cli_refuses_scenario_that_cannot_export(tmp_path, capsys):
-    out = tmp_path / "owc.fmu"
-    code, _, err = run_cli(capsys, "fmu", str(EXAMPLES / "one_way_clutch.toml"), "--out",
-                           str(out))
-    assert code == 2, err
-    assert "cannot export" in err and "one-way clutch" in err
-    assert list(tmp_path.iterdir()) == []
+@pytest.mark.slow
+@pytest.mark.parametrize(("example", "model", "element", "speeds", "dt_out"), [
+    ("one_way_clutch", None, "oneWayClutch", ["omega_inertiaIn", "omega_inertiaOut"], 2.5e-4),
+    ("lossy_gear_demo1", None, "gear", ["omega_Inertia1", "omega_Inertia2"], 1e-3),
+    ("shift_1_2", "mykhailevych2020", "gearbox", ["omega_engine", "omega_wheels"], 1e-3),
+])
+def test_freewheel_lossy_gear_and_shift_fmus_switch_as_clutchsim(tmp_path, example, model,
+                                                                   element, speeds, dt_out):
+    """The other switching laws export too: a one-way clutch (Modelica OneWayClutch), a
+    lossy gear that sticks (LossyGearDemo1) and a gearbox with losses that shifts (its
+    bank of values switched at the shift's event): the FMU switches at clutchsim's times
+    and its speeds lie in clutchsim's tube.  FMPy sets the inputs only at its root-function
+    calls (docs/fmu.md): the one-way clutch's 3 Hz drive needs 0.25 ms output steps for
+    that to stay inside the tube (1 ms: 2.07e-3 of the range).  Like Modelica's reference,
+    the FMU under CVode locks the freewheel for 0.7 ms at 1.4993 s, where its slip only
+    touches zero in clutchsim's run (the near-tangent case of docs/validation-modelica.md):
+    that window is left out of the switch comparison.  In the shift the clutch disc rings
+    at its contact mode after each engagement (model (6)), which a 1 ms grid samples out of
+    phase: the disc speed is left out there, the synchroniser's W_sync is compared."""
+    scenario = EXAMPLES / f"{example}.toml"
+    skip = ((1.499, 1.5005),) if example == "one_way_clutch" else ()
+    jumpy = ["W_sync", "ratio_gearbox"] if example == "shift_1_2" else []
+    info, f, res = run_and_compare(tmp_path, scenario, model, 1e-8, dt_out,
+                                   [*speeds, "E_kinetic", "W_friction"], jumpy, (element,),
+                                   skip=skip)
+    assert f"{element}: stop" in info.event_indicators
+    if example == "shift_1_2":
+        assert any("shift to gear 2" in e for e in info.event_indicators)
+        w = np.interp(res.t, f["time"], f["omega_wheels"])
+        assert np.max(np.abs(w - res["omega_wheels"])) <= TUBE * np.max(res["omega_wheels"])
 
 
 def test_cli_without_c_compiler_says_what_it_looked_for(tmp_path, capsys, monkeypatch):
@@ -193,8 +220,8 @@ def test_cli_without_c_compiler_says_what_it_looked_for(tmp_path, capsys, monkey
 
 
 def run_and_compare(tmp_path, scenario, model, rtol, dt_out, smooth, jumpy, elements,
-                    fmi="2"):
-    path = tmp_path / f"{model}.fmu"
+                    fmi="2", skip=()):
+    path = tmp_path / f"{model or 'plant'}.fmu"
     info = export_fmu(scenario, path, model, fmi=fmi)
     assert validate_fmu(str(path)) == []
     r = run_scenario(scenario, model)
@@ -208,7 +235,7 @@ def run_and_compare(tmp_path, scenario, model, rtol, dt_out, smooth, jumpy, elem
         assert tube(f, res, name) <= TUBE, name
     for name in jumpy:      # torques jump at the switches: a width in time of one interval
         assert tube_tv(f, res, name, dt_out) <= TUBE, name
-    assert_same_switches(f, res, elements)
+    assert_same_switches(f, res, elements, skip=skip)
     return info, f, res
 
 

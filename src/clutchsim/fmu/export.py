@@ -172,6 +172,17 @@ def _parameters(plan, comps) -> list[dict]:
                               units.get(key, ""), docs.get(key, ""), not structural))
             continue
         off, n = plan.tables[(c_name, key)]
+        if key == "model" and not dataclasses.is_dataclass(c.model):
+            # a lossy gear's loss table (its columns, one row per speed)
+            from ..network.components.lossy_gear import LOSS_COLUMNS
+            rows = n_val // len(LOSS_COLUMNS)
+            for k, col in enumerate(LOSS_COLUMNS):
+                for i in range(rows):
+                    out.append(_param(off + k * rows + i, f"{c_name}.loss_table.{col}[{i}]",
+                                      "rad/s" if col == "speed" else
+                                      ("N·m" if col.startswith("tau") else "1"),
+                                      f"loss table: {col}, row {i}", not structural))
+            continue
         if key == "model":
             model = c.model
             fields = [f.name for f in dataclasses.fields(model)]
@@ -365,11 +376,6 @@ def _plant_of(scenario, model):
     from ..network import Network, compile_network
     obj = scenario.chain(model)
     if not isinstance(obj, Network):
-        why = obj.network_unsupported()
-        if why is not None:
-            raise FmuError(f"cannot export {scenario.name!r}: {why} is not a network "
-                           "component yet; the FMU is printed from the generated network "
-                           "plant (docs/network.md lists what it holds)")
         obj = obj.network()
     plan = compile_network(obj)
     u0 = {n: float(np.asarray(s(0.0)).ravel()[0]) for n, s in scenario.inputs.items()}
