@@ -155,3 +155,18 @@ def test_tip_in_clunk_example_reverses_the_torque_through_the_lash():
     assert 0.5 < first["lash: gap edge -b/2"] < first["lash: gap edge +b/2"] < 0.7
     assert any(1.5 < e.t < 1.6 and e.name == "lash: gap edge -b/2" for e in res.events)
     assert r.metrics["energy_balance_rel"] < 1e-6
+
+
+def test_run_writes_the_components_figure(tmp_path):
+    """``write_runs`` (what ``clutchsim run --out`` calls) adds ``components_MODEL.png`` for a
+    run with gear lash, and not for the default launch, which has none of those parts."""
+    from _dl_paths import EXAMPLES
+
+    from clutchsim.scenario import load_scenario
+    from clutchsim.scenario.outputs import write_runs
+    sc = load_scenario(EXAMPLES / "tip_in_clunk.toml")
+    model = sc.models[0] if sc.models else None
+    write_runs(sc, [model], tmp_path / "lash")
+    assert sorted(p.name for p in (tmp_path / "lash").glob("components_*.png"))
+    write_runs(load_scenario(None), ["mykhailevych2020"], tmp_path / "launch")
+    assert not list((tmp_path / "launch").glob("components_*.png"))

@@ -45,7 +45,8 @@ def plot_launch(result, *, clutch: str = "clutch", title: str = "", **kw):
         if name.startswith("theta_"):
             a.plot(t, result[name], label=name[6:])
     a.set_ylabel("temperature [°C]")
-    a.legend(loc="best", fontsize=8)
+    if a.get_legend_handles_labels()[0]:       # a network without thermal nodes has none
+        a.legend(loc="best", fontsize=8)
     a.set_title("lining (pressure plate) and flywheel temperature")
     for a, sig, lab in ((ax[2, 0], "v_vehicle", "vehicle speed [km/h]"),
                         (ax[2, 1], "a_vehicle", "acceleration [m/s²]")):

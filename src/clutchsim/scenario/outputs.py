@@ -20,8 +20,9 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
     Writes ``timeseries[_MODEL].csv`` / ``.parquet`` (units in the column names),
     ``summary.json`` (``{"scenario", "file", "models": {MODEL: metrics}}``), a copy of the
     scenario text as ``scenario.toml``, and with ``plots`` one ``launch_MODEL.png`` per model
-    and, for several models, ``comparison.png``.  Returns the summary.  ``progress``, if
-    given, is called as ``progress(done, total)`` after each model.  The caller makes
+    and, for several models, ``comparison.png``; a run with gear lash, a dual-mass flywheel
+    or a torque converter also gets ``components_MODEL.png``.  Returns the summary.
+    ``progress``, if given, is called as ``progress(done, total)`` after each model.  The caller makes
     the directory atomic (see :func:`clutchsim.core.result.atomic_directory`).
     """
     from .run import run_scenario
@@ -51,10 +52,16 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
         atomic_write(directory / "scenario.toml", lambda p: Path(p).write_text(scenario.text))
     if plots:
         from ..plot._style import save_png
+        from ..plot.components import plot_components
         from ..plot.launch import plot_comparison, plot_launch
         for name, res in runs.items():
             fig, _ = plot_launch(res, clutch=scenario.clutch)
             save_png(fig, directory / f"launch_{name}.png")
+            # lash, dual-mass flywheels, torque converters: their own figure
+            if any(s.startswith(("contact_", "T_spring_", "speed_ratio_")) for s in res.signals):
+                made = plot_components(res)
+                if made is not None:
+                    save_png(made[0], directory / f"components_{name}.png")
         if len(runs) > 1:
             fig, _ = plot_comparison(runs, clutch=scenario.clutch)
             save_png(fig, directory / "comparison.png")
