@@ -115,3 +115,31 @@ def test_forced_response_matches_the_frequency_response(tmp_path):
     basis = np.column_stack([np.sin(2.0 * phi), np.cos(2.0 * phi), np.ones_like(phi)])
     (s_, c_, _), *_ = np.linalg.lstsq(basis, res["T_spring"][sel], rcond=None)
     assert math.hypot(s_, c_) == pytest.approx(fr.magnitude[0] * 0.05, rel=2e-4)
+
+
+def test_pressure_plate_runout_modulates_the_capacity_with_the_shaft_angle():
+    """A brake (tanh friction, saturated) on a spinning inertia with runout 10 % at order 2:
+    its torque is F_c·tanh(w/v_t)·(1 + 0.1·sin(2·φ)), φ the flange's angle; the angle is a
+    state of the element, the energy balance closes and the Jacobian is exact."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_gears_with_losses import _jacobian_error
+
+    from clutchsim.friction import TanhFriction
+    net = Network([nc.Inertia("a", J=2.0, omega0=100.0),
+                   nc.Brake("br", TanhFriction(F_c=20.0, v_t=0.01), "com", runout=(0.1, 2.0))],
+                  [("br.flange", "a.a")])
+    system = compile_network(net).system(inputs0={"com": 1.0})
+    res = simulate(system, (0.0, 1.0), {"com": 1.0}, solver="rodas5p",
+                   options=SolverOptions(rtol=1e-10, atol=1e-12, dt_out=1e-3))
+    assert res.status == "completed", res.message
+    w, phi = res["omega_a"], res["angle_br"]
+    expected = 20.0 * np.tanh(w / 0.01) * (1.0 + 0.1 * np.sin(2.0 * phi))
+    assert np.max(np.abs(res["T_br"] - expected)) < 1e-9 * 20.0
+    assert phi[-1] == pytest.approx(np.trapezoid(w, res.t), rel=1e-6)
+    ke = 0.5 * 2.0 * w ** 2
+    assert abs(ke[0] - ke[-1] - res["W_friction"][-1]) < 1e-8 * ke[0]
+    assert _jacobian_error(system, res) < 1e-6
+    with pytest.raises(ValueError, match=r"runout amplitude = 1 must be in \[0, 1\)"):
+        nc.Brake("br", TanhFriction(F_c=20.0, v_t=0.01), "com", runout=(1.0, 2.0))

@@ -382,6 +382,9 @@ class FrictionElement:
         Ideal ratio on its input side [-].
     locked0 : bool, optional
         Start locked (switching models only); default: locked if the slip is zero.
+    runout : (amplitude [-], order [-]), optional
+        Clamp-load oscillation of pressure-plate runout: the capacity is multiplied by
+        ``1 + amplitude·sin(order·φ_b)``, ``φ_b`` the angle of side b (the input shaft).
     """
 
     name: str
@@ -395,6 +398,7 @@ class FrictionElement:
     ratio: float = 1.0
     locked0: bool | None = None
     z0: tuple | None = field(default=None)
+    runout: tuple | None = None
 
     def __post_init__(self):
         o = f"friction element {self.name!r}"

@@ -102,6 +102,20 @@ def _pairs(tab, a, b, key, fail):
     return (tab[a], tab[b])
 
 
+def _runout(tab, key, fail):
+    """``(amplitude, order)`` of a ``runout = {amplitude, order}`` table, or None."""
+    if tab is None:
+        return None
+    if not isinstance(tab, dict) or set(tab) != {"amplitude", "order"}:
+        got = sorted(tab) if isinstance(tab, dict) else repr(tab)
+        fail(f"must be a table {{amplitude = ..., order = ...}}, got {got}", key)
+    for k in ("amplitude", "order"):
+        v = tab[k]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            fail(f"= {v!r} must be a finite number", f"{key}.{k}")
+    return (float(tab["amplitude"]), float(tab["order"]))
+
+
 def _number_list(value, key, fail):
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         value = [value]
@@ -232,6 +246,7 @@ def build_chain(scenario, model: str | None = None) -> Chain:
                                           f"{key}.mu_temperature", fail)
             kw["mu_slip"] = _pairs(kw.get("mu_slip"), "slip", "factor", f"{key}.mu_slip", fail)
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
+            kw["runout"] = _runout(kw.get("runout"), f"{key}.runout", fail)
             couplings.append(guard(lambda kw=kw: FrictionElement(**kw), key))
     brakes = []
     for i, t in enumerate(data.get("brake", [])):
@@ -287,6 +302,8 @@ def build_network(scenario, model: str | None = None):
                 if k in kw:
                     kw[k] = _pairs(kw[k], a, b, f"{key}.{k}", fail)
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
+            if "runout" in kw:
+                kw["runout"] = _runout(kw["runout"], f"{key}.runout", fail)
         elif t["type"] == "engine":
             _need_input(scenario, kw["throttle"], f"{key}.throttle")
             fl = _pairs(kw.pop("full_load"), "speed", "torque", f"{key}.full_load", fail)

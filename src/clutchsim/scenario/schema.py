@@ -103,6 +103,11 @@ CLUTCH = (
     Key("faces", "int", "Number of friction faces (default 2: a single-plate dry clutch).",
         "-", low=1, high=100),
 )
+#: pressure-plate runout of a clutch (a clamp-load oscillation; docs/judder.md)
+RUNOUT = Key("runout", "table", "`{amplitude = 0.02, order = 1}`: clamp-load oscillation "
+             "`1 + amplitude·sin(order·φ_b)` of pressure-plate runout, `φ_b` the angle of "
+             "side b (the input shaft); amplitude in [0, 1), order > 0 per turn.")
+CLUTCH = (*CLUTCH, RUNOUT)
 #: the lining geometry keys of a clutch: the launch metrics read them, the chain does not
 LINING_KEYS = ("r_inner", "r_outer", "faces")
 SPRING = (
@@ -225,7 +230,7 @@ def _component_keys(cls) -> tuple:
                         required=p.default is None and not optional,
                         low=p.low, high=p.high, strict=p.strict))
     extra = {
-        "clutch": CLUTCH[2:8], "brake": CLUTCH[2:8],
+        "clutch": (*CLUTCH[2:8], RUNOUT), "brake": (*CLUTCH[2:8], RUNOUT),
         "dual_mass_flywheel": (CLUTCH[3], *CLUTCH[5:8]),
         "torque_converter": (
             Key("speed_ratio", "numbers", "Speed ratios turbine/pump of the tables, strictly "

@@ -41,9 +41,18 @@ class _FrictionElement(Component):
     commanded = True
 
     def __init__(self, name, model, command, clamp_table=None, mu_temperature=None,
-                 mu_slip=None, heat=(), locked0=None, z0=None, **values):
+                 mu_slip=None, heat=(), locked0=None, z0=None, runout=None, **values):
         super().__init__(name, **values)
         o = self.label
+        self.runout = None
+        if runout is not None:
+            amp, order = (float(v) for v in runout)
+            if not 0.0 <= amp < 1.0:
+                raise ValueError(f"{o}: runout amplitude = {amp:g} must be in [0, 1) (a "
+                                 "fraction of the clamp load)")
+            if not order > 0.0:
+                raise ValueError(f"{o}: runout order = {order:g} must be > 0")
+            self.runout = (amp, order)
         if not isinstance(model, FrictionModel):
             raise TypeError(f"{o}: model must be a clutchsim friction model")
         if self.commanded and (not isinstance(command, str) or not command):
@@ -79,7 +88,7 @@ class _FrictionElement(Component):
                      for k in ("clamp_table", "mu_temperature", "mu_slip"))
         return (self.model.name, self.model.code, self.model.n_states,
                 len(self.model.pack()), self.command, tabs,
-                tuple(n for n, _ in self.heat), self.has_drag)
+                tuple(n for n, _ in self.heat), self.has_drag, self.runout is not None)
 
     def slip(self):
         return {self.side_b: 1.0, self.side_a: -1.0}
@@ -112,6 +121,8 @@ class _FrictionElement(Component):
             tab = getattr(self, key)
             if tab is not None:
                 d[key] = np.concatenate([tab[0], tab[1]])
+        if self.runout is not None:
+            d["runout_amplitude"], d["runout_order"] = self.runout
         return d
 
     def state_layout(self):
@@ -120,6 +131,8 @@ class _FrictionElement(Component):
         out = [(f"z{i}", f"{self.name}.{n}", u) for i, (n, u) in enumerate(zip(names, units))]
         if self.lockable:
             out.append(("locked", f"{self.name}.locked", "-"))
+        if self.runout is not None:
+            out.append(("runout", f"angle_{self.name}", "rad"))
         return out
 
     def _slip0(self, ctx) -> float:
@@ -143,6 +156,8 @@ class _FrictionElement(Component):
         vals = list(z)
         if self.lockable:
             vals.append(1.0 if self._locked0(ctx) else 0.0)
+        if self.runout is not None:
+            vals.append(0.0)
         return vals
 
     def emit(self, e):
@@ -175,6 +190,19 @@ class _FrictionElement(Component):
                 e.line(f"{dth} = {dth} * {ms}")
             e.line(f"{sc} = {sc} * {ms}")
         e.line(f"{sc} = max({sc}, 0.0)")
+        if self.runout is not None:
+            # pressure-plate runout: the clamp load oscillates at `order` per turn of side b
+            arg = e.let("ro_arg", f"{e.par('runout_order')} * {e.x('runout')}")
+            fac = e.let("ro_fac", f"1.0 + {e.par('runout_amplitude')} * math.sin({arg})")
+            dro = e.let("dsc_ro", f"{sc} * {e.par('runout_amplitude')} * "
+                                  f"{e.par('runout_order')} * math.cos({arg})")
+            for d in (dth, dsl):
+                if d is not None:
+                    e.line(f"{d} = {d} * {fac}")
+            e.line(f"{sc} = {sc} * {fac}")
+            self._partials.append((e.kx("runout"), dro))
+            e.deriv("runout", e.w(self.side_b))
+            e.dderiv("runout", e.kw(self.side_b), "1.0")
         if dth is not None:
             self._partials.append((e.ktheta(self.heat[0][0]), dth))
         if dsl is not None:
