@@ -73,3 +73,18 @@ def test_component_figure_shows_both_clutches(shift, tmp_path):
     assert save_png(fig, tmp_path / "c.png").stat().st_size > 1000
     with pytest.raises(TypeError, match="unknown keyword"):
         plot_components(shift.result, colour="red")
+
+
+def test_two_clutches_commanded_onto_the_same_shaft_are_refused(tmp_path):
+    """Both DCT clutches onto the odd input shaft: a clear error naming both clutches and
+    the shafts, with the file and the component's line."""
+    from clutchsim.scenario import ScenarioError, load_scenario
+    text = (EXAMPLES / "dct_upshift.toml").read_text()
+    bad = tmp_path / "dct_bad.toml"
+    bad.write_text(text.replace('["clutch2.b", "shaft_even.a"],',
+                                '["clutch2.b", "shaft_odd.a"],'))
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(bad).chain()
+    msg = str(info.value)
+    assert "dct_bad.toml" in msg and "clutch 'clutch2'" in msg and "clutch 'clutch1'" in msg
+    assert "two clutches commanded onto the same shaft" in msg

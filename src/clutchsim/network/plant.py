@@ -44,6 +44,7 @@ class Plan:
         self.fes = [c for c in comps if getattr(c, "friction", False)]
         for c in comps:
             c.check_network(net)
+        self._check_parallel_clutches()
         # switching block: elements whose force reads the stick torque (lockable or not)
         # (lossy gears last: where a brake and a stuck gear hold the same part, the brake
         # carries the torque up to its capacity and the gear the rest; the split is not
@@ -137,6 +138,24 @@ class Plan:
         sources += [self.event_templates[k][1] for k in sorted(self.event_templates)]
         self.event_sources = tuple(sources)
         self.kinds = {c.name: c.kind for c in comps}
+
+    def _check_parallel_clutches(self) -> None:
+        """Two clutches joining the same two nodes are one clutch pack, or a mistake: a
+        dual-clutch transmission's clutches drive separate input shafts."""
+        seen: dict = {}
+        for c in self.fes:
+            if getattr(c, "kind", "") != "clutch":
+                continue
+            pair = frozenset((self.asm.node_of[(c.name, "a")], self.asm.node_of[(c.name, "b")]))
+            other = seen.get(pair)
+            if other is not None:
+                shafts = " and ".join(sorted(self.asm.node_names[n] for n in pair))
+                raise NetworkError(f"{c.label}: joins the same shafts as {other.label} "
+                                   f"({shafts}): two clutches commanded onto the same shaft "
+                                   "(the clutches of a dual-clutch transmission drive "
+                                   "separate input shafts; one clutch pack is one clutch)",
+                                   c.name)
+            seen[pair] = c
 
     # ------------------------------------------------------------------ layout helpers
     def _slip_vector(self, c) -> np.ndarray:
