@@ -232,6 +232,9 @@ def build_chain(scenario, model: str | None = None) -> Chain:
                                           f"{key}.mu_temperature", fail)
             kw["mu_slip"] = _pairs(kw.get("mu_slip"), "slip", "factor", f"{key}.mu_slip", fail)
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
+            if "wear" in kw:
+                from ..network.wear import WearLaw
+                kw["wear"] = WearLaw.from_table(kw["wear"], fail, f"{key}.wear")
             couplings.append(guard(lambda kw=kw: FrictionElement(**kw), key))
     brakes = []
     for i, t in enumerate(data.get("brake", [])):

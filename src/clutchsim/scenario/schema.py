@@ -91,6 +91,9 @@ CLUTCH = (
     Key("mu_temperature", "table", "`{theta = [°C ...], factor = [...]}`: mu(theta)/mu_ref at the "
         "first heat node."),
     Key("mu_slip", "table", "`{slip = [rad/s ...], factor = [...]}`: mu(|w|)/mu_ref."),
+    Key("wear", "table", "Lining wear law `{k_w = m³/J, area = m², reserve = m, lining = m, "
+        "E_a = J/mol, theta_ref = °C, theta_crit = °C, crit_gain = 1/K, shift = 1/m}` "
+        "(clutchsim.network.wear; needs `heat`): adds the state `wear_<name>` [m]."),
     Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
         "friction power |T·w| goes."),
     _n("drag", "Drag torque of the open element.", "N·m", low=0.0, high=1e6),
