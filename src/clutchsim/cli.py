@@ -28,7 +28,8 @@ from ._version import __version__
 __all__ = ["SimulationFailed", "Terminated", "UserError", "emit_json", "main"]
 
 #: subcommand modules, in the order ``--help`` lists them
-COMMANDS = ("models", "rig", "bench", "run", "judder", "demo", "sweep", "fit", "report")
+COMMANDS = ("models", "rig", "bench", "run", "judder", "demo", "sweep", "fit", "report",
+            "durability")
 
 EPILOG = """\
 examples:

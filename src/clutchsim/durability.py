@@ -44,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["BLOCK_WEAR", "THETA_TOL", "Duty", "DurabilityResult", "load_duty",
+__all__ = ["BLOCK_WEAR", "THETA_TOL", "DurabilityFailed", "DurabilityResult", "Duty", "load_duty",
            "run_durability"]
 
 #: cycle-start temperatures that repeat to this [K] end the thermal run-in (accelerated)
@@ -53,6 +53,10 @@ THETA_TOL = 0.5
 BLOCK_WEAR = 0.02
 #: fewest cycles simulated before extrapolating
 MIN_CYCLES = 3
+
+
+class DurabilityFailed(RuntimeError):
+    """A manoeuvre run that did not complete (the study stops there)."""
 
 
 @dataclass(frozen=True)
@@ -213,8 +217,7 @@ class _Runner:
         inputs = {n: sc.inputs[n] for n in system.input_names}
         res = simulate(system, (0.0, sc.t_end), inputs, solver=sc.solver, options=sc.options)
         if res.status != "completed":
-            from .cli import SimulationFailed
-            raise SimulationFailed(f"manoeuvre {self.man.name!r} ({sc.file}) did not "
+            raise DurabilityFailed(f"manoeuvre {self.man.name!r} ({sc.file}) did not "
                                    f"complete: {res.message}")
         th_end = {c.name: float(res[f"theta_{c.name}"][-1]) for c in self.thermal}
         th_end = self.cool(th_end, self.man.rest)
@@ -359,9 +362,9 @@ def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
         if dw <= 0.0:
             n = cycles - done
         else:
-            n = max(int(BLOCK_WEAR * law.reserve / dw), 1)
+            n = max(math.floor(BLOCK_WEAR * law.reserve / dw), 1)
             n = min(n, cycles - done)
-            left = int(math.ceil((law.reserve - wear) / dw))
+            left = math.ceil((law.reserve - wear) / dw)
             if left <= n:
                 life = done + left
                 n = left
@@ -374,3 +377,43 @@ def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
     return DurabilityResult(duty.name, "accelerated" if accelerated else "full", cycles, sims,
                             {k: np.asarray(v) for k, v in hist.items()}, wear, F, cap, life,
                             worst, time.perf_counter() - t0)
+
+
+def write_durability(res: DurabilityResult, directory, *, plots: bool = True) -> None:
+    """``durability.csv`` (with a units row) and, with ``plots``, ``durability.png``:
+    wear, clamp force, capacity and peak temperature over the cycles."""
+    from .core.result import atomic_write
+    directory = Path(directory)
+    keys = list(UNITS)
+    rows = [",".join(keys), ",".join(UNITS[k] for k in keys)]
+    for i in range(len(res.history["cycle"])):
+        rows.append(",".join(repr(float(res.history[k][i])) for k in keys))
+    atomic_write(directory / "durability.csv",
+                 lambda p: Path(p).write_text("\n".join(rows) + "\n", encoding="utf-8"))
+    if not plots:
+        return
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    h = res.history
+    fig, ax = plt.subplots(2, 2, figsize=(10, 6.5), sharex=True)
+    sim = h["simulated"] > 0.5
+    for a, key, label in ((ax[0, 0], "wear_m", "axial wear [mm]"),
+                          (ax[0, 1], "clamp_force_N", "clamp force [N]"),
+                          (ax[1, 0], "capacity_Nm", "capacity [N·m]"),
+                          (ax[1, 1], "peak_theta_C", "peak temperature [°C]")):
+        y = h[key] * (1e3 if key == "wear_m" else 1.0)
+        a.plot(h["cycle"], y, "-", color="0.6", lw=1)
+        a.plot(h["cycle"][sim], y[sim], "o", ms=3, label="simulated")
+        a.set_ylabel(label)
+        a.grid(alpha=0.3)
+    for a in ax[1]:
+        a.set_xlabel("cycle")
+    ax[0, 0].legend()
+    life = "not reached" if res.life_cycles is None else f"{res.life_cycles} cycles"
+    fig.suptitle(f"{res.duty}: {res.cycles} cycles ({res.mode}, {res.simulated_cycles} "
+                 f"simulated); life {life}")
+    fig.tight_layout()
+    atomic_write(directory / "durability.png", lambda p: fig.savefig(p, dpi=110,
+                                                                    format="png"))
+    plt.close(fig)

@@ -247,13 +247,13 @@ class _R:
               ("wear_k", "wear_EaR", "wear_Tref", "wear_thc", "wear_gain")}
         th = f"y[{P.state_index[(c.heat[0][0], 'theta')]}]"
         return [f"wT{e} = {th} + 273.15",
-                f"wa{e} = {sl['wear_k']} * math.exp({sl['wear_EaR']} * "
-                f"(1.0 / {sl['wear_Tref']} - 1.0 / wT{e}))",
+                (f"wa{e} = {sl['wear_k']} * math.exp({sl['wear_EaR']} * "
+                 f"(1.0 / {sl['wear_Tref']} - 1.0 / wT{e}))"),
                 f"wx{e} = {th} - {sl['wear_thc']}",
                 f"wc{e} = 1.0 + {sl['wear_gain']} * wx{e} if wx{e} > 0.0 else 1.0",
                 f"kw{e} = wa{e} * wc{e}",
-                f"dkw{e} = wa{e} * {sl['wear_EaR']} / (wT{e} * wT{e}) * wc{e} + "
-                f"(wa{e} * {sl['wear_gain']} if wx{e} > 0.0 else 0.0)"]
+                (f"dkw{e} = wa{e} * {sl['wear_EaR']} / (wT{e} * wT{e}) * wc{e} + "
+                 f"(wa{e} * {sl['wear_gain']} if wx{e} > 0.0 else 0.0)")]
 
     def switch_block(self, full: bool) -> list[str]:
         P, m, nv = self.P, self.m, self.nv
@@ -820,7 +820,7 @@ class _R:
                 key, expr = entry[0], entry[1]
                 cond = entry[2] if len(entry) > 2 else "True"
                 lines = self.expand("J", idx, key, f"({expr}) / {cap}")
-                if cond != "True":
+                if cond != "True" and lines:    # (a partial by a grounded speed: none)
                     b.append(f"if {cond}:")
                     b += _ind(lines)
                 else:

@@ -133,7 +133,7 @@ class WearLaw:
             msg = f"{key} = {table!r} must be a table {{k_w = ..., area = ..., ...}}"
             if fail:
                 fail(msg, key)
-            raise ValueError(msg)
+            raise TypeError(msg)
         for k in table:
             if k not in known:
                 msg = f"unknown key {k!r}; keys: {', '.join(known)}"
