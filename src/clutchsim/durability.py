@@ -26,12 +26,15 @@ clutch follows its ``clamp_table`` there.
 Between manoeuvres the thermal network cools for ``rest`` seconds (its linear equations,
 solved exactly by a matrix exponential).
 
-The accelerated mode runs whole cycles until the cycle-start temperatures repeat (to
-``THETA_TOL``), then takes the wear per cycle of a simulated cycle as the rate for a block
-of cycles, re-simulating one cycle after each block; a block ends where the wear has grown
-by ``BLOCK_WEAR`` of the reserve (the clamp force, and with it the slip work, changes with
-the wear) or at the end of life.  The worn-out clutch (``wear >= reserve``) is a reported
-end of life: ``life_cycles``.
+The accelerated mode simulates probes of ``PROBE`` consecutive cycles and extrapolates a
+block of cycles after each: the temperature history of a linear thermal network under a
+periodic load approaches its periodic state geometrically, so the cycle-to-cycle changes
+of the cycle-start temperatures and of the wear per cycle are extrapolated with the ratio
+of their last two changes (per node; clipped to [0, 0.999]).  A block is at most as long
+as all cycles before it (the simulated cycles thin out geometrically) and adds at most
+``BLOCK_WEAR`` of the wear reserve (the clamp force, and with it the slip work, changes
+with the wear).  A worn-out clutch (``wear >= reserve``) is a reported end of life:
+``life_cycles``.
 """
 
 from __future__ import annotations
@@ -44,15 +47,13 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["BLOCK_WEAR", "THETA_TOL", "DurabilityFailed", "DurabilityResult", "Duty", "load_duty",
+__all__ = ["BLOCK_WEAR", "PROBE", "DurabilityFailed", "DurabilityResult", "Duty", "load_duty",
            "run_durability"]
 
-#: cycle-start temperatures that repeat to this [K] end the thermal run-in (accelerated)
-THETA_TOL = 0.5
 #: a block of extrapolated cycles adds at most this fraction of the wear reserve
 BLOCK_WEAR = 0.02
-#: fewest cycles simulated before extrapolating
-MIN_CYCLES = 3
+#: consecutive cycles simulated before each block of extrapolated cycles
+PROBE = 3
 
 
 class DurabilityFailed(RuntimeError):
@@ -294,6 +295,14 @@ def _clamp(duty, fe, wear):
     return duty.clamp_force * f, static_capacity(fe.model) * f
 
 
+def _ratio(prev, last):
+    """Per-entry ratio ``last/prev`` of successive changes, in [0, 0.999] (0 where the
+    change vanished or changed sign: no trend to extrapolate)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(prev != 0.0, last / prev, 0.0)
+    return np.clip(np.nan_to_num(r), 0.0, 0.999)
+
+
 def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
                    progress=None) -> DurabilityResult:
     """Run the duty cycle ``duty`` (a :class:`Duty` or a path) for ``cycles`` cycles
@@ -314,8 +323,6 @@ def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
     hist = {k: [] for k in UNITS}
     worst = 0.0
     life = None
-    start_prev = None
-    steady = not accelerated
 
     def one_cycle(theta, wear):
         nonlocal worst
@@ -340,6 +347,7 @@ def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
             hist[k].append(float(v))
 
     sims = 0
+    run = []             # consecutive simulated cycles since the last block: (start θ, dw)
     while done < cycles and life is None:
         start = np.array(list(theta.values()))
         w_before = wear
@@ -347,32 +355,39 @@ def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
         sims += 1
         done += 1
         record(done, wear, peak, work, True)
+        if progress is not None:
+            progress(done, cycles)
         if wear >= law.reserve:
             life = done
             break
-        if progress is not None:
-            progress(done, cycles)
-        if accelerated and not steady and start_prev is not None and sims >= MIN_CYCLES \
-                and float(np.max(np.abs(start - start_prev))) < THETA_TOL:
-            steady = True
-        start_prev = start
-        if not (accelerated and steady):
+        run.append((start, wear - w_before))
+        if not accelerated or len(run) < PROBE or done >= cycles:
             continue
-        dw = wear - w_before
-        if dw <= 0.0:
-            n = cycles - done
-        else:
-            n = max(math.floor(BLOCK_WEAR * law.reserve / dw), 1)
-            n = min(n, cycles - done)
-            left = math.ceil((law.reserve - wear) / dw)
-            if left <= n:
-                life = done + left
-                n = left
-        # the block: periodic temperatures, wear at the simulated cycle's rate
-        wear += n * dw
+        # a block: the cycle-to-cycle changes of the start temperatures and of the wear per
+        # cycle decay geometrically (a linear thermal network under a periodic load), ratio
+        # r from the last three cycles; the block is at most as long as all cycles so far
+        (_th0, dw0), (th1, dw1), (th2, dw2) = run[-3:]
+        end = np.array(list(theta.values()))
+        r_th = _ratio(th2 - th1, end - th2)
+        d2 = end - th2
+        r = _ratio(np.array([dw1 - dw0]), np.array([dw2 - dw1]))[0]
+        n = min(cycles - done, done)
+        if dw2 > 0.0:
+            n = min(n, max(math.floor(BLOCK_WEAR * law.reserve / dw2), 1))
+        dws = dw2 + (dw2 - dw1) * np.cumsum(r ** np.arange(1, n + 1))
+        dws = np.maximum(dws, 0.0)
+        total = np.cumsum(dws)
+        hit = np.flatnonzero(wear + total >= law.reserve)
+        if hit.size:
+            n = int(hit[0]) + 1
+            life = done + n
+        wear += float(total[n - 1])
+        geo = np.where(r_th > 0.0, r_th * (1.0 - r_th ** n) / np.maximum(1.0 - r_th, 1e-300),
+                       0.0)
+        theta = {k: float(v) for k, v in zip(theta, end + d2 * geo)}
         done += n
-        if n:
-            record(done, wear, peak, work, False)
+        record(done, wear, peak, work, False)
+        run = []
     F, cap = _clamp(duty, fe, wear)
     return DurabilityResult(duty.name, "accelerated" if accelerated else "full", cycles, sims,
                             {k: np.asarray(v) for k, v in hist.items()}, wear, F, cap, life,

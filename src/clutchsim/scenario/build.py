@@ -288,6 +288,9 @@ def build_network(scenario, model: str | None = None):
                               ("mu_slip", ("slip", "factor"))):
                 kw[k] = _pairs(kw.get(k), a, b, f"{key}.{k}", fail)
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
+            if "wear" in kw:
+                from ..network.wear import WearLaw
+                kw["wear"] = WearLaw.from_table(kw["wear"], fail, f"{key}.wear")
         elif t["type"] == "engine":
             _need_input(scenario, kw["throttle"], f"{key}.throttle")
             fl = _pairs(kw.pop("full_load"), "speed", "torque", f"{key}.full_load", fail)

@@ -91,11 +91,11 @@ CLUTCH = (
     Key("mu_temperature", "table", "`{theta = [°C ...], factor = [...]}`: mu(theta)/mu_ref at the "
         "first heat node."),
     Key("mu_slip", "table", "`{slip = [rad/s ...], factor = [...]}`: mu(|w|)/mu_ref."),
+    Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
+        "friction power |T·w| goes."),
     Key("wear", "table", "Lining wear law `{k_w = m³/J, area = m², reserve = m, lining = m, "
         "E_a = J/mol, theta_ref = °C, theta_crit = °C, crit_gain = 1/K, shift = 1/m}` "
         "(clutchsim.network.wear; needs `heat`): adds the state `wear_<name>` [m]."),
-    Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
-        "friction power |T·w| goes."),
     _n("drag", "Drag torque of the open element.", "N·m", low=0.0, high=1e6),
     _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
     _n("r_inner", "Inner radius of the friction linings (with `r_outer`; only for the "
@@ -228,7 +228,7 @@ def _component_keys(cls) -> tuple:
                         required=p.default is None and not optional,
                         low=p.low, high=p.high, strict=p.strict))
     extra = {
-        "clutch": CLUTCH[2:8], "brake": CLUTCH[2:8],
+        "clutch": CLUTCH[2:9], "brake": CLUTCH[2:9],
         "torque": (Key("input", "str", "Input signal: the torque [N·m].", required=True),),
         "engine": (Key("full_load", "table", "`{speed = [rad/s ...], torque = [N·m ...]}`.",
                        required=True),
