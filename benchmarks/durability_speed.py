@@ -1,7 +1,7 @@
 """Time the 1,000-cycle accelerated durability study (issue 21: <= 60 s on this machine).
 
-examples/duty_passenger_car.toml (ten launches per cycle), 1,000 cycles, accelerated: the
-median wall time of 5 runs after a warm-up (the compile), and the number of cycles it
+examples/durability/passenger_car.toml (ten launches per cycle), 1,000 cycles,
+accelerated: the median wall time of 5 runs after a warm-up (the compile), and the number of cycles it
 simulated.  Baseline in the same run: the full cycle-by-cycle mode on the first 50 cycles
 (median of 3), scaled to 1,000 cycles (its cost per cycle is constant), and the wear both
 give after 50 cycles.  Prints one JSON object on the last line of stdout.
@@ -18,7 +18,7 @@ from pathlib import Path
 
 from clutchsim.durability import load_duty, run_durability
 
-DUTY = Path(__file__).resolve().parents[1] / "examples" / "duty_passenger_car.toml"
+DUTY = Path(__file__).resolve().parents[1] / "examples" / "durability" / "passenger_car.toml"
 
 
 def _time(fn, n):

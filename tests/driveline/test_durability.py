@@ -92,6 +92,16 @@ def test_worn_out_clutch_is_a_reported_end_of_life(tmp_path):
     assert acc.summary()["life_cycles"] == acc.life_cycles
 
 
+@pytest.mark.parametrize("name", ["passenger_car", "hot_climate"])
+def test_example_duty_cycles_load(name):
+    duty = load_duty(EXAMPLES / "durability" / f"{name}.toml")
+    assert duty.sequence == (("level_launch", 6), ("grade_launch", 3), ("hill_start", 1))
+    hill = duty.manoeuvres["hill_start"].scenario
+    assert hill.data["vehicle"]["grade"] == 12
+    hot = name == "hot_climate"
+    assert hill.data["thermal"][0]["ambient"] == (45 if hot else 20)
+
+
 def test_duty_naming_a_missing_manoeuvre_names_file_and_line(tmp_path):
     f = _duty(tmp_path, manoeuvre="lanch")
     with pytest.raises(ScenarioError) as exc:

@@ -9,8 +9,8 @@ from ._common import write_command
 
 HELP = """\
 examples:
-  clutchsim durability examples/duty_passenger_car.toml --out dur/ --json
-  clutchsim durability examples/duty_hot_climate.toml --cycles 200 --full --out hot/
+  clutchsim durability examples/durability/passenger_car.toml --out dur/ --json
+  clutchsim durability examples/durability/hot_climate.toml --cycles 200 --full --out hot/
 
 outputs in DIR: durability.csv (per recorded cycle: wear, clamp force, capacity, peak
 temperature, friction work, simulated or extrapolated), summary.json {"kind":
