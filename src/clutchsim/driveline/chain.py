@@ -199,7 +199,7 @@ class Chain:
                 comps.append(nc.Clutch(c.name, c.model, c.command, clamp_table=c.clamp_table,
                                        mu_temperature=c.mu_temperature, mu_slip=c.mu_slip,
                                        heat=c.heat, locked0=c.locked0, z0=c.z0, drag=c.drag,
-                                       runout=c.runout))
+                                       runout=c.runout, wear=c.wear))
             conns += [(a, f"{c.name}.a"), (f"{c.name}.b", b)]
         for br in self.brakes:
             comps.append(nc.Brake(br.name, br.model, br.command, clamp_table=br.clamp_table,

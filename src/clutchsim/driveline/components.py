@@ -376,6 +376,8 @@ class FrictionElement:
         mu(slip)/mu_ref.
     heat : tuple of (node name, share)
         Where the friction power |tau·w| goes (shares in [0, 1], sum <= 1).
+    wear : WearLaw, optional
+        Lining wear law (:mod:`clutchsim.network.wear`); adds the state ``wear_<name>``.
     drag : float
         Drag torque of the open element [N·m] (``drag·tanh(w / 1 rad/s)``).
     ratio : float
@@ -399,6 +401,7 @@ class FrictionElement:
     locked0: bool | None = None
     z0: tuple | None = field(default=None)
     runout: tuple | None = None
+    wear: object = None
 
     def __post_init__(self):
         o = f"friction element {self.name!r}"

@@ -88,6 +88,13 @@ class Plan:
         for e_name, _ in ENERGY:
             sn.append(e_name)
             su.append("J")
+        # lining wear of friction elements with a wear law: quadratures after the accounts
+        self.wearing = [c for c in self.fes if getattr(c, "wear", None) is not None]
+        for c in self.wearing:
+            self.state_index[(c.name, "wear")] = len(sn)
+            sn.append(f"wear_{c.name}")
+            su.append("m")
+        self.n_quadratures = len(ENERGY) + len(self.wearing)
         self.state_names, self.state_units = tuple(sn), tuple(su)
         self.n = len(sn)
         # ---- parameter layout
@@ -347,6 +354,8 @@ class Plan:
                 y0[self.state_index[(c.name, s_name)]] = v
         for c in self.thermal:
             y0[self.state_index[(c.name, "theta")]] = by_name[c.name].theta0
+        for c in self.wearing:
+            y0[self.state_index[(c.name, "wear")]] = by_name[c.name].wear0
         return y0
 
     # ------------------------------------------------------------------ system
@@ -375,7 +384,7 @@ class Plan:
                       event_directions=self.event_directions,
                       event_sources=self.event_sources,
                       name=name or self.net.name, metadata=meta,
-                      quadratures=len(ENERGY))
+                      quadratures=self.n_quadratures)
 
     # ------------------------------------------------------------------ rendering
     def render(self, g) -> str:

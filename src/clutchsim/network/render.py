@@ -217,6 +217,10 @@ class _R:
             pw["fric"].append(f"fT{e} * s{e}")
         for i, (_name, acc) in enumerate(ENERGY):
             L.append(f"dy[{P.y_energy + i}] = {' + '.join(pw[acc]) or '0.0'}")
+        for c in P.wearing:                  # lining wear (network/wear.py)
+            L += self.wear_rate(c)
+            L.append(f"dy[{P.state_index[(c.name, 'wear')]}] = kw{P.fe_index[c.name]} * "
+                     f"q{P.fe_index[c.name]}")
         if full:
             for n in range(asm.n_nodes):
                 terms = [f"{P.N(n, k)} * a{k}" for k in range(self.nv) if asm.pattern[n][k]]
@@ -235,6 +239,21 @@ class _R:
                 terms = [f"p[{P.off_Gp + r * nn + n}] * R{n}" for n in range(nn)]
                 L.append(f"lam{r} = {' + '.join(terms)}")
         return L
+
+    def wear_rate(self, c) -> list[str]:
+        """``kw<e> = k(θ)/area`` and ``dkw<e> = d(kw)/dθ`` (:mod:`clutchsim.network.wear`)."""
+        P, e = self.P, self.P.fe_index[c.name]
+        sl = {k: f"p[{P.slot[(c.name, k)]}]" for k in
+              ("wear_k", "wear_EaR", "wear_Tref", "wear_thc", "wear_gain")}
+        th = f"y[{P.state_index[(c.heat[0][0], 'theta')]}]"
+        return [f"wT{e} = {th} + 273.15",
+                (f"wa{e} = {sl['wear_k']} * math.exp({sl['wear_EaR']} * "
+                 f"(1.0 / {sl['wear_Tref']} - 1.0 / wT{e}))"),
+                f"wx{e} = {th} - {sl['wear_thc']}",
+                f"wc{e} = 1.0 + {sl['wear_gain']} * wx{e} if wx{e} > 0.0 else 1.0",
+                f"kw{e} = wa{e} * wc{e}",
+                (f"dkw{e} = wa{e} * {sl['wear_EaR']} / (wT{e} * wT{e}) * wc{e} + "
+                 f"(wa{e} * {sl['wear_gain']} if wx{e} > 0.0 else 0.0)")]
 
     def switch_block(self, full: bool) -> list[str]:
         P, m, nv = self.P, self.m, self.nv
@@ -747,6 +766,14 @@ class _R:
                 for nd in np.flatnonzero(gv):
                     hrows.append((("w", int(nd)),
                                   f"{share} * sq{e} * fT{e} * {float(gv[nd])!r}", cond))
+            if getattr(c, "wear", None) is not None:     # wear rate kw(θ)·|T s|
+                wr, th = P.state_index[(c.name, "wear")], P.state_index[(c.heat[0][0], "theta")]
+                for key, expr in parts:
+                    blk += self.expand("J", wr, key, f"kw{e} * sq{e} * ({expr}) * s{e}")
+                for nd in np.flatnonzero(gv):
+                    blk += self.expand("J", wr, ("w", int(nd)),
+                                       f"kw{e} * sq{e} * fT{e} * {float(gv[nd])!r}")
+                blk.append(f"J[{wr}, {th}] += dkw{e} * q{e}")
             b.append(f"if {cond}:")
             b += _ind(blk)
             if cond != "True":
@@ -793,7 +820,7 @@ class _R:
                 key, expr = entry[0], entry[1]
                 cond = entry[2] if len(entry) > 2 else "True"
                 lines = self.expand("J", idx, key, f"({expr}) / {cap}")
-                if cond != "True":
+                if cond != "True" and lines:    # (a partial by a grounded speed: none)
                     b.append(f"if {cond}:")
                     b += _ind(lines)
                 else:

@@ -247,6 +247,9 @@ def build_chain(scenario, model: str | None = None) -> Chain:
             kw["mu_slip"] = _pairs(kw.get("mu_slip"), "slip", "factor", f"{key}.mu_slip", fail)
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
             kw["runout"] = _runout(kw.get("runout"), f"{key}.runout", fail)
+            if "wear" in kw:
+                from ..network.wear import WearLaw
+                kw["wear"] = WearLaw.from_table(kw["wear"], fail, f"{key}.wear")
             couplings.append(guard(lambda kw=kw: FrictionElement(**kw), key))
     brakes = []
     for i, t in enumerate(data.get("brake", [])):
@@ -304,6 +307,9 @@ def build_network(scenario, model: str | None = None):
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
             if "runout" in kw:
                 kw["runout"] = _runout(kw["runout"], f"{key}.runout", fail)
+            if "wear" in kw:
+                from ..network.wear import WearLaw
+                kw["wear"] = WearLaw.from_table(kw["wear"], fail, f"{key}.wear")
         elif t["type"] == "engine":
             _need_input(scenario, kw["throttle"], f"{key}.throttle")
             fl = _pairs(kw.pop("full_load"), "speed", "torque", f"{key}.full_load", fail)

@@ -93,6 +93,9 @@ CLUTCH = (
     Key("mu_slip", "table", "`{slip = [rad/s ...], factor = [...]}`: mu(|w|)/mu_ref."),
     Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
         "friction power |T·w| goes."),
+    Key("wear", "table", "Lining wear law `{k_w = m³/J, area = m², reserve = m, lining = m, "
+        "E_a = J/mol, theta_ref = °C, theta_crit = °C, crit_gain = 1/K, shift = 1/m}` "
+        "(clutchsim.network.wear; needs `heat`): adds the state `wear_<name>` [m]."),
     _n("drag", "Drag torque of the open element.", "N·m", low=0.0, high=1e6),
     _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
     _n("r_inner", "Inner radius of the friction linings (with `r_outer`; only for the "
@@ -230,7 +233,7 @@ def _component_keys(cls) -> tuple:
                         required=p.default is None and not optional,
                         low=p.low, high=p.high, strict=p.strict))
     extra = {
-        "clutch": (*CLUTCH[2:8], RUNOUT), "brake": (*CLUTCH[2:8], RUNOUT),
+        "clutch": (*CLUTCH[2:9], RUNOUT), "brake": (*CLUTCH[2:9], RUNOUT),
         "dual_mass_flywheel": (CLUTCH[3], *CLUTCH[5:8]),
         "torque_converter": (
             Key("speed_ratio", "numbers", "Speed ratios turbine/pump of the tables, strictly "

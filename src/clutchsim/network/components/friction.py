@@ -6,7 +6,10 @@ its torque ``τ`` is the friction model's force in the direction of ``w`` (the s
 full actuation; the capacity multiplier is ``scale = act(u)·μ(θ)/μ_ref·μ(|w|)/μ_ref``
 (>= 0), where ``act`` is the command input (COM in [0, 1]) or, with ``clamp_table``, the
 normalised clamp force of a diaphragm-spring characteristic at the position the input
-gives; ``μ(θ)`` is read at the first heat node's temperature.  coulomb-robust elements lock
+gives, scaled by ``1 + installed_shift`` (lining wear moves the spring's engaged,
+installed position from 1 to ``1 + installed_shift``; the open clutch stays at 0); ``μ(θ)`` is read at the first heat node's temperature.  With a ``wear`` law
+(:class:`~clutchsim.network.wear.WearLaw`) the element has a quadrature state
+``wear_<name>`` [m], the axial lining wear, starting at ``wear0``.  coulomb-robust elements lock
 and free (a state ``<name>.locked``); the generated plant solves their stick torques.
 """
 
@@ -17,6 +20,7 @@ import numpy as np
 from ...friction.base import FrictionModel
 from ..component import Component
 from ..spec import Param, check_table
+from ..wear import WearLaw
 
 
 def _table(owner, key, tab):
@@ -34,14 +38,20 @@ def static_capacity(model: FrictionModel) -> float:
 class _FrictionElement(Component):
     friction = True
     params = (Param("drag", "N·m", "drag torque of the open element, drag·tanh(w/1 rad/s)",
-                    default=0.0, low=0.0),)
+                    default=0.0, low=0.0),
+              Param("installed_shift", "-", "lining wear's shift of the diaphragm spring's "
+                    "installed position: clamp_table is read at command·(1 + installed_shift)",
+                    default=0.0, low=-1.0, strict=True),
+              Param("wear0", "m", "axial lining wear at the start (with a wear law)",
+                    default=0.0, low=0.0))
     side_a = "a"
     side_b = "b"
     #: the element reads its actuation from an input signal (False: always fully applied)
     commanded = True
 
     def __init__(self, name, model, command, clamp_table=None, mu_temperature=None,
-                 mu_slip=None, heat=(), locked0=None, z0=None, runout=None, **values):
+                 mu_slip=None, heat=(), locked0=None, z0=None, runout=None, wear=None,
+                 **values):
         super().__init__(name, **values)
         o = self.label
         self.runout = None
@@ -75,6 +85,12 @@ class _FrictionElement(Component):
         if self.mu_temperature is not None and not shares:
             raise ValueError(f"{o}: mu_temperature needs a thermal node (heat)")
         self.heat = tuple(shares)
+        if wear is not None and not isinstance(wear, WearLaw):
+            raise TypeError(f"{o}: wear must be a clutchsim.network.wear.WearLaw")
+        if wear is not None and not shares:
+            raise ValueError(f"{o}: a wear law needs a thermal node (heat): its rate reads "
+                             "the first heat node's temperature")
+        self.wear = wear
         self.locked0 = locked0
         self.z0 = None if z0 is None else tuple(float(v) for v in z0)
         self.has_drag = self.drag != 0.0
@@ -88,7 +104,8 @@ class _FrictionElement(Component):
                      for k in ("clamp_table", "mu_temperature", "mu_slip"))
         return (self.model.name, self.model.code, self.model.n_states,
                 len(self.model.pack()), self.command, tabs,
-                tuple(n for n, _ in self.heat), self.has_drag, self.runout is not None)
+                tuple(n for n, _ in self.heat), self.has_drag, self.runout is not None,
+                self.wear is not None)
 
     def slip(self):
         return {self.side_b: 1.0, self.side_a: -1.0}
@@ -123,6 +140,8 @@ class _FrictionElement(Component):
                 d[key] = np.concatenate([tab[0], tab[1]])
         if self.runout is not None:
             d["runout_amplitude"], d["runout_order"] = self.runout
+        if self.wear is not None:
+            d.update(self.wear.pack())
         return d
 
     def state_layout(self):
@@ -168,7 +187,8 @@ class _FrictionElement(Component):
         if self.clamp_table is not None:
             o, n = e.table("clamp_table")
             act = e.tmp("act")
-            e.line(f"{act}, {e.tmp('dact')} = table(p, {o}, {n}, {x})")
+            e.line(f"{act}, {e.tmp('dact')} = table(p, {o}, {n}, {x} * (1.0 + "
+                   f"{e.par('installed_shift')}))")
         else:
             act = x
         e.line(f"{sc} = {act} if {act} > 0.0 else 0.0")
