@@ -205,7 +205,7 @@ class _Runner:
 
     def run(self, theta: dict, wear: float):
         from .core import simulate
-        from .driveline.run import energy_balance
+        from .driveline.metrics import energy_balance
         sc = self.man.scenario
         comps = []
         for c in self.net.components:
