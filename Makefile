@@ -18,7 +18,7 @@ demo: $(STAMP)
 	$(BIN)/clutchsim demo --out clutchsim-out/demo
 
 test: $(STAMP)
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n 2 --dist loadfile --durations=15
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/core_speed.py

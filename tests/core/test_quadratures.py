@@ -68,9 +68,11 @@ def test_launch_with_and_without_quadratures_agree(method):
     register_system(Differenced, rhs=fns.rhs, events=fns.events, reset=fns.reset,
                     outputs=fns.outputs)
     sys_ = replace(sys_, tag=Differenced(0))
-    a = simulate(sys_, (0.0, 1.6), inputs, solver=method, options=sc.options)
+    # the tolerances this comparison was written for (the scenario's own are looser now)
+    opts = replace(sc.options, rtol=1e-6, atol=1e-8)
+    a = simulate(sys_, (0.0, 1.6), inputs, solver=method, options=opts)
     b = simulate(replace(sys_, quadratures=0), (0.0, 1.6), inputs, solver=method,
-                 options=sc.options)
+                 options=opts)
     assert a.status == b.status == "completed"
     assert a.stats.jacobians == b.stats.jacobians
     # fewer right-hand sides: the quadrature columns are not differenced
