@@ -51,7 +51,10 @@ def test_a_ringing_contact_is_warned_about_three_ways():
 def test_many_steps_alone():
     # the seed's literal "zeroing" reset: the clutch locks, but the contact chatters through
     # thousands of resets (17,000 steps per simulated second)
-    lr = run_scenario(LAUNCH, "mykhailevych2020", overrides=[F + "reset='zero'"])
+    # (on the solver the warning was calibrated with: RODAS5P takes ~4,700 steps/s here)
+    lr = run_scenario(LAUNCH, "mykhailevych2020",
+                      overrides=[F + "reset='zero'", 'solver.method="ros34pw2"',
+                                 "solver.rtol=1e-6"])
     assert lr.result.stats.steps / 4.0 > STEP_RATE_LIMIT
     assert _kinds(lr.result.warnings) == {"steps"}
 

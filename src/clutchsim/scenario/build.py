@@ -293,7 +293,9 @@ def build_network(scenario, model: str | None = None):
         key = f"component[{i}]"
         kw = {k: v for k, v in t.items() if k not in ("type", "name")}
         cls = COMPONENTS[t["type"]]
-        if getattr(cls, "friction", False):
+        # friction elements with a friction model (a lossy gear's `friction` is a
+        # property; a one-way clutch has its own law, below)
+        if getattr(cls, "friction", False) is True and t["type"] != "one_way_clutch":
             if cls.commanded:
                 _need_input(scenario, kw["command"], f"{key}.command")
             m = model if _replaced(t, model, scenario) else None
