@@ -22,11 +22,13 @@ import math
 import numpy as np
 
 from .._jit import jit
+from ._borrow import borrowed
 from ._clock import now as _now
 from ._engine import dense_coefficients, dense_eval, erk_step, inputs_at, jacobian, ros_step
 from ._linalg import factor_iteration_matrix
 from .controllers import C_B1, C_B2, C_B3, C_KIND, C_MAX, C_MIN, C_SAFETY
 from .methods import EXPLICIT
+from .signals import SignalBank
 from .status import Action, Code
 from .system import system_events, system_outputs, system_reset, system_rhs
 
@@ -229,6 +231,17 @@ def _controller_factor(ctrl, q, e, e_old, e_older, h, h_old, first):
     return min(fmax, max(fmin, fac))
 
 
+@jit(inline="always")
+def _block(ws, o, rows, cols):
+    """Rows × cols of ``ws`` from offset ``o`` as a borrowed C-contiguous matrix."""
+    return borrowed(ws[o:o + rows * cols].reshape((rows, cols)))
+
+
+@jit
+def _release(ws, iws):
+    """The owners of the loop's borrowed work arrays are used for the last time here."""
+
+
 @jit
 def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs, fopt, iopt):
     """Integrate the plant ``tag`` from ``t0`` to ``t1`` with the method ``tab``/``mopt``.
@@ -272,29 +285,50 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     ev_t = np.empty(ecap)
     ev_k = np.empty(ecap, dtype=np.int64)
     ev_a = np.empty(ecap, dtype=np.int64)
-    ring = np.full(max(ch_n, 1), -np.inf)
 
-    y = y0.copy()
-    y_new = np.empty(n)
-    ytmp = np.empty(n)
-    ftmp = np.empty(n)
-    f1 = np.empty(n)
-    err = np.empty(n)
-    f0 = np.empty(n)
-    K = np.empty((max(s_stages, 1), n))
-    dense = np.empty((5, n))
-    J = np.zeros((n, n))     # quadrature columns stay zero
-    M = np.empty((n, n))
-    piv = np.empty(n, dtype=np.int64)
-    dfdt = np.empty(n)
-    u = np.zeros(n_in)
-    uc = np.array([np.nan, np.nan])     # (t, t_ref) of the inputs held in u
-    out = np.zeros(n_outputs)
-    g_old = np.empty(n_ev)
-    g_new = np.empty(n_ev)
-    g_prev = np.empty(n_ev)
-    g_tmp = np.empty(n_ev)
-    g_samp = np.empty((N_SAMPLES, n_ev))
+    # The arguments and the work arrays as borrowed views (_borrow.py): the loop passes
+    # them to the plant and to its helpers a few hundred times per step, and counting
+    # their references was a quarter of its time.  The owners of the work arrays (`ws`,
+    # `iws`) live until the end (see the last lines).
+    p = borrowed(p)
+    bank = SignalBank(borrowed(bank.data), bank.n_channels)
+    bps = borrowed(bps)
+    ev_dir = borrowed(ev_dir)
+    tab = (borrowed(tab[0]), borrowed(tab[1]), borrowed(tab[2]), borrowed(tab[3]),
+           borrowed(tab[4]), borrowed(tab[5]), borrowed(tab[6]))
+    n_k = max(s_stages, 1)
+    n_ring = max(ch_n, 1)
+    ws = np.zeros(8 * n + n_k * n + 5 * n + 2 * n * n + n_in + 2 + n_outputs
+                  + (4 + N_SAMPLES) * n_ev + n_ring)
+    iws = np.zeros(n, dtype=np.int64)
+    vec = _block(ws, 0, 8, n)
+    y, y_new, ytmp, ftmp, f1, err, f0, dfdt = (vec[0], vec[1], vec[2], vec[3], vec[4],
+                                               vec[5], vec[6], vec[7])
+    y[:] = y0
+    o = 8 * n
+    K = _block(ws, o, n_k, n)
+    o += n_k * n
+    dense = _block(ws, o, 5, n)
+    o += 5 * n
+    J = _block(ws, o, n, n)     # quadrature columns stay zero
+    o += n * n
+    M = _block(ws, o, n, n)
+    o += n * n
+    gv = _block(ws, o, 4, n_ev)
+    g_old, g_new, g_prev, g_tmp = gv[0], gv[1], gv[2], gv[3]
+    o += 4 * n_ev
+    g_samp = _block(ws, o, N_SAMPLES, n_ev)
+    o += N_SAMPLES * n_ev
+    u = borrowed(ws[o:o + n_in])
+    o += n_in
+    uc = borrowed(ws[o:o + 2])     # (t, t_ref) of the inputs held in u
+    uc[:] = np.nan
+    o += 2
+    out = borrowed(ws[o:o + n_outputs])
+    o += n_outputs
+    ring = borrowed(ws[o:o + n_ring])
+    ring[:] = -np.inf
+    piv = borrowed(iws)
 
     t = t0
     status = DONE
@@ -699,5 +733,6 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     ne = stats[S_EVENTS]
     ts, ys, us, outs = buf
     ev_t, ev_k, ev_a = log
+    _release(ws, iws)
     return (status, t, info_k, info_i, ts[:n_out], ys[:n_out], us[:n_out], outs[:n_out],
             ev_t[:ne], ev_k[:ne], ev_a[:ne], stats, h_smallest, _now() - t_wall0)
