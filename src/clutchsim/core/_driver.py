@@ -114,7 +114,7 @@ def _grow(a, cap):
     return b
 
 
-@jit
+@jit(inline="always")
 def _push(buf, n_out, t, y, u, out):
     """Append one output row (time, state, inputs, outputs), growing the buffers."""
     ts, ys, us, outs = buf

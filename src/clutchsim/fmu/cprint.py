@@ -18,7 +18,8 @@ and its line):
   (chained too), ``and``/``or``/``not`` on conditions, conditional expressions, ``abs``,
   ``min``, ``max``, ``float``, ``int``, ``math.*`` functions and ``math.pi``, module-level
   numeric constants, calls of other compiled functions;
-* arrays (float64): the entry points' arguments, local ``np.zeros``/``np.empty`` of one or
+* arrays (float64): the entry points' arguments, local ``np.zeros``/``np.empty`` (or their
+  stack forms ``local_zeros``/``local_empty``, :mod:`clutchsim.core._borrow`) of one or
   two dimensions, indexing ``a[i]``/``a[i, j]`` with integer indices, and slices
   ``a[i:j]`` passed to a function (a pointer into ``a``).
 
@@ -55,6 +56,20 @@ _C_WORDS = {"auto", "case", "char", "const", "default", "do", "double", "enum", 
 _BINOP = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*"}
 _CMP = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "==",
         ast.NotEq: "!="}
+
+#: the array constructors of the generated code and the kernels, and what they fill
+_ARRAY_MAKERS = {"np.zeros": "zeros", "np.empty": "empty", "local_zeros": "zeros",
+                 "local_empty": "empty"}
+
+
+def _array_maker(func) -> str | None:
+    """``"zeros"``/``"empty"`` when ``func`` (a call's function) creates a local array."""
+    if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
+        return _ARRAY_MAKERS.get(f"{func.value.id}.{func.attr}")
+    if isinstance(func, ast.Name):
+        return _ARRAY_MAKERS.get(func.id)
+    return None
+
 
 PRELUDE = """\
 #include <math.h>
@@ -577,8 +592,7 @@ class _Body:
 
     def assign(self, s, tgt, value, emit, pad):
         # array creation
-        if isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) \
-                and isinstance(value.func.value, ast.Name) and value.func.value.id == "np":
+        if isinstance(value, ast.Call) and _array_maker(value.func):
             return self.new_array(s, tgt, value, pad)
         if isinstance(tgt, ast.Name):
             code, t = self.expr(value)
@@ -620,9 +634,10 @@ class _Body:
         self.fail(s, "an assignment to this target")
 
     def new_array(self, s, tgt, value, pad):
-        kind = value.func.attr
-        if kind not in ("zeros", "empty") or len(value.args) != 1 or value.keywords:
-            self.fail(s, f"np.{kind}(...) (only np.zeros(shape) and np.empty(shape))")
+        kind = _array_maker(value.func)
+        if kind is None or len(value.args) != 1 or value.keywords:
+            self.fail(s, f"{ast.unparse(value.func)}(...) (only np.zeros(shape), np.empty(shape) "
+                      "and their stack forms local_zeros(shape), local_empty(shape))")
         if not isinstance(tgt, ast.Name):
             self.fail(s, "an array created into something other than a name")
         shape = value.args[0]

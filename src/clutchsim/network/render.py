@@ -257,8 +257,8 @@ class _R:
 
     def switch_block(self, full: bool) -> list[str]:
         P, m, nv = self.P, self.m, self.nv
-        L = [f"act = np.zeros({m})", f"rr = np.empty({m})", f"tau = np.empty({m})",
-             f"shl = np.empty({m})"]
+        L = [f"act = local_zeros({m})", f"rr = local_empty({m})", f"tau = local_empty({m})",
+             f"shl = local_empty({m})"]
         for i, c in enumerate(P.sw):
             e = P.fe_index[c.name]
             L.append(f"lk{e} = {self.lk(c)}")
@@ -414,6 +414,7 @@ class _R:
                  f'{len(P.net.components)} components, {self.n} states.  Do not edit."""'),
                 "import math", "", "import numpy as np", "",
                 "from clutchsim._jit import jit",
+                "from clutchsim.core._borrow import local_empty, local_zeros  # noqa: F401",
                 *[f"from {m} import {n}" for m, n in sorted(self.imports)],
                 "from clutchsim.network._kernels import lock_solve, table  # noqa: F401",
                 "", f"N_STATES = {self.n}", f"N_FE = {len(self.fe)}", ""]
@@ -422,7 +423,7 @@ class _R:
         return ["@jit", "def rhs(t, y, u, p, dy):", *_ind(self.body(False)), ""]
 
     def full(self) -> list[str]:
-        L = ["@jit", "def _full(t, y, u, p, aux):", f"    dy = np.empty({self.n})"]
+        L = ["@jit", "def _full(t, y, u, p, aux):", f"    dy = local_empty({self.n})"]
         b = self.body(True)
         for c in self.fe:
             e = self.P.fe_index[c.name]
@@ -456,8 +457,8 @@ class _R:
         L = ["@jit", "def _project(y, p):"]
         if not m:
             return L + ["    return", ""]
-        b = [f"act = np.zeros({m})", f"rr = np.empty({m})", f"tau = np.empty({m})",
-             f"shl = np.empty({m})"]
+        b = [f"act = local_zeros({m})", f"rr = local_empty({m})", f"tau = local_empty({m})",
+             f"shl = local_empty({m})"]
         for i, c in enumerate(P.sw):
             b.append(f"act[{i}] = 1.0 if {self.lk(c)} else 0.0")
             b.append(f"rr[{i}] = " + " + ".join(f"{self.B(i, k)} * y[{k}]" for k in range(nv)))
@@ -512,7 +513,7 @@ class _R:
 
     def events(self) -> list[str]:
         L = ["@jit", "def events(t, y, u, p, g):"]
-        b = [f"aux = np.empty({self.aux_size()})", "_full(t, y, u, p, aux)"]
+        b = [f"aux = local_empty({self.aux_size()})", "_full(t, y, u, p, aux)"]
         k = 0
         for kind, obj, off, _cnt in self.event_layout():
             if kind == "fe":
@@ -564,7 +565,7 @@ class _R:
             acts = [f"act[{j}] = 1.0 if {self.lk(c2)} else 0.0" for j, c2 in enumerate(P.sw)]
             b += [(f"if ((j == 0 and action == {RESET_CHANGED}) or (j == 1 and action == "
                   f"{RESET_RELEASED})) and aux[{AUX_W * e + 1}] > 0.0:"),
-                  f"    act = np.zeros({self.m})", *_ind(acts),
+                  f"    act = local_zeros({self.m})", *_ind(acts),
                   f"    act[{i}] = 0.0",
                   f"    if held_by_others(p, {P.off_S}, {self.m}, act, {i}):",
                   f"        y[{iz}] = 0.0"]
@@ -582,8 +583,8 @@ class _R:
         L = ["@jit", "def _settle(t, y, u, p, e0, aux):"]
         if not lockable:
             return L + ["    return", ""]
-        b = [f"done = np.zeros({len(self.fe)})", "if e0 >= 0:", "    done[e0] = 1.0",
-             "gb = np.empty(4)",
+        b = [f"done = local_zeros({len(self.fe)})", "if e0 >= 0:", "    done[e0] = 1.0",
+             "gb = local_empty(4)",
              "vmax = 0.0"]
         b += [f"vmax = max(vmax, abs(y[{k}]))" for k in range(self.nv)]
         b += ["w_tol = 1e-9 * (1.0 + vmax)",
@@ -615,7 +616,7 @@ class _R:
                 i = P.sw_index[c.name]
                 b += [(f"    if hit < 0 and y[{ilk}] <= 0.5 and y[{iz}] == 0.0 and "
                       f"aux[{AUX_W * e + 1}] > 0.0:"),
-                      f"        act = np.zeros({self.m})"]
+                      f"        act = local_zeros({self.m})"]
                 b += [f"        act[{j}] = 1.0 if {self.lk(c2)} else 0.0"
                       for j, c2 in enumerate(P.sw) if j != i]
                 b += [f"        if not held_by_others(p, {P.off_S}, {self.m}, act, {i}):"]
@@ -635,7 +636,7 @@ class _R:
     def reset(self) -> list[str]:
         P = self.P
         L = ["@jit", "def reset(t, y, u, p, k):"]
-        b = [f"aux = np.empty({self.aux_size()})", "_full(t, y, u, p, aux)"]
+        b = [f"aux = local_empty({self.aux_size()})", "_full(t, y, u, p, aux)"]
         for kind, obj, off, cnt in self.event_layout():
             if kind == "fe":
                 e = P.fe_index[obj.name]
@@ -679,7 +680,7 @@ class _R:
 
     def outputs(self) -> list[str]:
         P, asm = self.P, self.asm
-        L = ["@jit", "def outputs(t, y, u, p, out):", f"    dy = np.empty({self.n})"]
+        L = ["@jit", "def outputs(t, y, u, p, out):", f"    dy = local_empty({self.n})"]
         b = self.body(True)
         names, units = [], []
         for i, (name, unit, expr, setup) in enumerate(self.g.outputs):
@@ -706,10 +707,10 @@ class _R:
     def jac(self) -> list[str]:
         P, asm, g, n, nv, m = self.P, self.asm, self.g, self.n, self.nv, self.m
         nn = asm.n_nodes
-        L = ["@jit", "def jac(t, y, u, p, J):", f"    dy = np.empty({n})"]
+        L = ["@jit", "def jac(t, y, u, p, J):", f"    dy = local_empty({n})"]
         b = [f"for i in range({n}):", f"    for j in range({n}):", "        J[i, j] = 0.0"]
         b += self.body(False)
-        b.append(f"dT = np.zeros(({nn}, {n}))")
+        b.append(f"dT = local_zeros(({nn}, {n}))")
         for node, key, expr in g.dtorques:
             b += self.expand("dT", node, key, expr)
         for idx, key, expr in g.dderivs:
@@ -728,8 +729,8 @@ class _R:
                                      f"fT{e} * {float(gv[nd])!r}")
                 continue
             cond = f"not lk{e}" if c.name in P.sw_index else "True"
-            blk = [f"Jz{e} = np.zeros(({nz}, {nz + 1}))", f"dF{e} = np.zeros({nz + 3})",
-                   f"dz{e} = np.zeros({max(nz, 1)})",
+            blk = [f"Jz{e} = local_zeros(({nz}, {nz + 1}))", f"dF{e} = local_zeros({nz + 3})",
+                   f"dz{e} = local_zeros({max(nz, 1)})",
                    f"{self.fcall('friction_jacobian', c, f'Fe{e}', dz=f'dz{e}[:{nz}]', extra=f', Jz{e}, dF{e}')}",
                    f"dTs{e} = dF{e}[{nz}]"]
             if getattr(c, "has_drag", False):
@@ -786,7 +787,7 @@ class _R:
                 if els:
                     b += ["else:", *_ind(els)]
         # generalised: dF = N^T dT, then M^-1 and the lock projection
-        b.append(f"dG = np.zeros(({max(nv, 1)}, {n}))")
+        b.append(f"dG = local_zeros(({max(nv, 1)}, {n}))")
         for k in range(nv):
             for nd in range(nn):
                 if asm.pattern[nd][k]:
@@ -835,7 +836,7 @@ class _R:
         lossy = [c for c in P.sw if _lossy(c)]
         if not lossy:
             return []
-        L = [f"dTc = np.empty({nn})"] + [f"dTc[{nd}] = dT[{nd}, col]" for nd in range(nn)]
+        L = [f"dTc = local_empty({nn})"] + [f"dTc[{nd}] = dT[{nd}, col]" for nd in range(nn)]
         for c in lossy:
             e = P.fe_index[c.name]
             i, r, na, _o, _n = self.lossy_meta(c)
