@@ -127,3 +127,43 @@ def test_parameters_and_event_index_reach_the_plant(solver):
     assert [round(e.t, 9) for e in res.events] == [round(1 / 7, 9), round(2 / 7, 9)]
     assert res.final("log") == pytest.approx(7 * 1000 + 107)
     assert np.all(res["c"] == 7.0)
+
+
+@pytest.mark.parametrize("solver", ["rodas5p", "dopri5"])
+def test_passing_events_are_located_without_restarting_the_step(solver):
+    # Monitoring events whose reset changes nothing: with Action.PASS the step goes on
+    # through the crossing, with CONTINUE it restarts there.  Both locate every crossing
+    # at its analytic time; PASS takes fewer steps and gives the same solution.
+    from clutchsim.core import CONTINUE, PASS
+    from clutchsim.core.reference_problems import monitored_oscillator
+    omega, Omega, t_end = 3.0, 2.0 * np.pi, 6.0
+    opts = SolverOptions(rtol=1e-9, atol=1e-12)
+    runs = {a: simulate(monitored_oscillator(omega, Omega, int(a)), (0.0, t_end),
+                        solver=solver, options=opts) for a in (CONTINUE, PASS)}
+    for res in runs.values():
+        assert res.status == "completed"
+        assert {ev.action for ev in res.events} == {"recorded"}
+        tx = np.array([ev.t for ev in res.events if ev.name == "x = 0"])
+        ts = np.array([ev.t for ev in res.events if ev.name == "sin(Ωt) = 0"])
+        kx = np.arange(tx.size)
+        assert tx.size == np.sum((kx + 0.5) * np.pi / omega < t_end) == 6
+        assert np.abs(tx - (kx + 0.5) * np.pi / omega).max() < 1e-9
+        ks = np.arange(1, ts.size + 1)
+        assert ts.size == 11                               # k·π/Ω inside (0, 6)
+        assert np.abs(ts - ks * np.pi / Omega).max() < 1e-9
+        assert np.abs(res["x"] - np.cos(omega * res.t)).max() < 1e-6
+        assert np.all(np.diff([ev.t for ev in res.events]) > 0)   # in time order
+    assert runs[PASS].stats.steps < runs[CONTINUE].stats.steps
+
+
+def test_two_passing_crossings_in_one_step_are_both_located():
+    # x stays 1 (omega = 0): the steps grow to h_max = 0.7 periods of sin(Ωt), so a step
+    # holds up to two of its crossings, found by the samples inside the step.
+    from clutchsim.core import PASS
+    from clutchsim.core.reference_problems import monitored_oscillator
+    res = simulate(monitored_oscillator(0.0, 2.0 * np.pi, int(PASS)), (0.0, 20.0),
+                   solver="rodas5p", options=SolverOptions(h_max=0.7))
+    t = np.array([ev.t for ev in res.events])
+    assert t.size == 39                                    # k/2 inside (0, 20)
+    assert np.abs(t - 0.5 * np.arange(1, 40)).max() < 1e-9
+    assert res.stats.steps < t.size                        # some steps hold two

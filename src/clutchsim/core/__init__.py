@@ -5,11 +5,12 @@ from .result import Event, Result, Stats, atomic_write
 from .signals import Constant, Pulse, Ramp, Signal, Sine, Step, Sum, Table, as_signal
 from .simulate import simulate
 from .status import Action, Outcome
-from .system import CONTINUE, FAIL, STATE_CHANGED, STOP, System, register_system
+from .system import CONTINUE, FAIL, PASS, STATE_CHANGED, STOP, System, register_system
 
 __all__ = [
     "CONTINUE",
     "FAIL",
+    "PASS",
     "SOLVERS",
     "STATE_CHANGED",
     "STOP",

@@ -43,6 +43,7 @@ CHATTER = int(Code.CHATTER)
 NON_FINITE = int(Code.NON_FINITE)
 JAC_NON_FINITE = int(Code.JAC_NON_FINITE)
 _STATE_CHANGED = int(Action.STATE_CHANGED)
+_PASS = int(Action.PASS)
 _STOP = int(Action.STOP)
 _FAIL = int(Action.FAIL)
 
@@ -298,14 +299,14 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
            borrowed(tab[4]), borrowed(tab[5]), borrowed(tab[6]))
     n_k = max(s_stages, 1)
     n_ring = max(ch_n, 1)
-    ws = np.zeros(8 * n + n_k * n + 5 * n + 2 * n * n + n_in + 2 + n_outputs
-                  + (4 + N_SAMPLES) * n_ev + n_ring)
+    ws = np.zeros(9 * n + n_k * n + 5 * n + 2 * n * n + n_in + 2 + n_outputs
+                  + (5 + N_SAMPLES) * n_ev + n_ring)
     iws = np.zeros(n, dtype=np.int64)
-    vec = _block(ws, 0, 8, n)
-    y, y_new, ytmp, ftmp, f1, err, f0, dfdt = (vec[0], vec[1], vec[2], vec[3], vec[4],
-                                               vec[5], vec[6], vec[7])
+    vec = _block(ws, 0, 9, n)
+    y, y_new, ytmp, ftmp, f1, err, f0, dfdt, y_ev = (vec[0], vec[1], vec[2], vec[3], vec[4],
+                                                     vec[5], vec[6], vec[7], vec[8])
     y[:] = y0
-    o = 8 * n
+    o = 9 * n
     K = _block(ws, o, n_k, n)
     o += n_k * n
     dense = _block(ws, o, 5, n)
@@ -314,9 +315,9 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     o += n * n
     M = _block(ws, o, n, n)
     o += n * n
-    gv = _block(ws, o, 4, n_ev)
-    g_old, g_new, g_prev, g_tmp = gv[0], gv[1], gv[2], gv[3]
-    o += 4 * n_ev
+    gv = _block(ws, o, 5, n_ev)
+    g_old, g_new, g_prev, g_tmp, g_seg = gv[0], gv[1], gv[2], gv[3], gv[4]
+    o += 5 * n_ev
     g_samp = _block(ws, o, N_SAMPLES, n_ev)
     o += N_SAMPLES * n_ev
     u = borrowed(ws[o:o + n_in])
@@ -600,8 +601,6 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
         rejected_last = False
 
         # ---- events inside the step ----
-        k_first = -1
-        t_first = t_new
         if n_ev > 0:
             inputs_at(bank, t_new, t_ref, u, uc)
             system_events(tag, t_new, y_new, u, p, g_new)
@@ -626,68 +625,93 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     stats[S_EV_CALLS] += 1
             for k in range(n_ev):
                 g_samp[ns - 1, k] = g_new[k]
-            for k in range(n_ev):
-                ga = g_old[k]
-                ta = t
-                for j in range(ns):
-                    gb = g_samp[j, k]
-                    tb = t_new if j == ns - 1 else t + (j + 1.0) / ns * h
-                    if ga == 0.0:       # on the surface (just reset): start from the next sign
-                        ga = gb
-                        ta = tb
-                        continue
-                    if _crossed(ga, gb, ev_dir[k]):
-                        if tb > t_first and k_first >= 0:
+                g_seg[k] = g_old[k]
+            # Scan [t_seg, t_new] for the earliest crossing.  An event whose reset passes
+            # (Action.PASS: nothing changed and the right-hand side is smooth there) is
+            # logged and the scan goes on past it in the same step; any other action
+            # ends the step at the event.
+            t_seg = t
+            ended = DONE
+            action = _PASS
+            te = t_new
+            while True:
+                k_first = -1
+                t_first = t_new
+                for k in range(n_ev):
+                    ga = g_seg[k]
+                    ta = t_seg
+                    for j in range(ns):
+                        tb = t_new if j == ns - 1 else t + (j + 1.0) / ns * h
+                        if tb <= t_seg:
+                            continue
+                        gb = g_samp[j, k]
+                        if ga == 0.0:   # on the surface (just reset): start from the next sign
+                            ga = gb
+                            ta = tb
+                            continue
+                        if _crossed(ga, gb, ev_dir[k]):
+                            # a bracket that starts after the earliest crossing found so
+                            # far cannot hold an earlier one (one that ends after it can)
+                            if ta >= t_first and k_first >= 0:
+                                break
+                            if not dense_ready:
+                                dense_coefficients(dkind, tab, K, y, y_new, f0, f1, h, dense)
+                                dense_ready = True
+                            te = _locate(tag, bank, p, dkind, dense, t, h, t_ref, k, ta, tb,
+                                         ga, gb, ev_tol, ytmp, u, uc, g_tmp, stats)
+                            if k_first < 0 or te < t_first:
+                                t_first = te
+                                k_first = k
                             break
-                        if not dense_ready:
-                            dense_coefficients(dkind, tab, K, y, y_new, f0, f1, h, dense)
-                            dense_ready = True
-                        te = _locate(tag, bank, p, dkind, dense, t, h, t_ref, k, ta, tb, ga,
-                                     gb, ev_tol, ytmp, u, uc, g_tmp, stats)
-                        if k_first < 0 or te < t_first:
-                            t_first = te
-                            k_first = k
-                        break
-                    if gb != 0.0:
-                        ga = gb
-                        ta = tb
-
-        if k_first >= 0:
-            te = t_first
-            if te < t_new:
-                dense_eval(dkind, dense, (te - t) / h, y)
-            else:
-                for i in range(n):
-                    y[i] = y_new[i]
-            if dt_out > 0:
-                while next_out < te and n_out < max_output:
-                    dense_eval(dkind, dense, (next_out - t) / h, ytmp)
-                    inputs_at(bank, next_out, t_ref, u, uc)
-                    system_outputs(tag, next_out, ytmp, u, p, out)
-                    buf, n_out = _push(buf, n_out, next_out, ytmp, u, out)
-                    next_out = t0 + (round((next_out - t0) / dt_out) + 1) * dt_out
-            t = te
-            inputs_at(bank, t, t_ref, u, uc)
-            system_outputs(tag, t, y, u, p, out)
-            buf, n_out = _push(buf, n_out, t, y, u, out)
-            log, action, ended = _apply_event(tag, t, y, u, p, k_first, log, ring, ch_n,
-                                              ch_window, stats)
-            if ended != DONE:
+                        if gb != 0.0:
+                            ga = gb
+                            ta = tb
+                if k_first < 0:
+                    break
+                te = t_first
+                if te < t_new:
+                    dense_eval(dkind, dense, (te - t) / h, y_ev)
+                else:
+                    for i in range(n):
+                        y_ev[i] = y_new[i]
+                if dt_out > 0:
+                    while next_out < te and n_out < max_output:
+                        dense_eval(dkind, dense, (next_out - t) / h, ytmp)
+                        inputs_at(bank, next_out, t_ref, u, uc)
+                        system_outputs(tag, next_out, ytmp, u, p, out)
+                        buf, n_out = _push(buf, n_out, next_out, ytmp, u, out)
+                        next_out = t0 + (round((next_out - t0) / dt_out) + 1) * dt_out
+                inputs_at(bank, te, t_ref, u, uc)
+                system_outputs(tag, te, y_ev, u, p, out)
+                buf, n_out = _push(buf, n_out, te, y_ev, u, out)
+                log, action, ended = _apply_event(tag, te, y_ev, u, p, k_first, log, ring,
+                                                  ch_n, ch_window, stats)
+                system_events(tag, te, y_ev, u, p, g_seg)
+                stats[S_EV_CALLS] += 1
+                if ended != DONE or action != _PASS:
+                    break
+                t_seg = te
+            if k_first >= 0 and ended != DONE:
                 status = ended
                 info_k = k_first
                 break
-            system_events(tag, t, y, u, p, g_old)
-            stats[S_EV_CALLS] += 1
-            have_history = False
-            f0_valid = False
-            if not w_method:
-                jac_valid = False
-            if action == _STATE_CHANGED:
-                system_outputs(tag, t, y, u, p, out)
-                buf, n_out = _push(buf, n_out, t, y, u, out)
-                check_jump = True
-            h = h_next
-            continue
+            if k_first >= 0:
+                # the step ends at the event: restart from the state the reset left
+                t = te
+                for i in range(n):
+                    y[i] = y_ev[i]
+                for k in range(n_ev):
+                    g_old[k] = g_seg[k]
+                have_history = False
+                f0_valid = False
+                if not w_method:
+                    jac_valid = False
+                if action == _STATE_CHANGED:
+                    system_outputs(tag, t, y, u, p, out)
+                    buf, n_out = _push(buf, n_out, t, y, u, out)
+                    check_jump = True
+                h = h_next
+                continue
 
         # ---- no event: advance ----
         if dt_out > 0:

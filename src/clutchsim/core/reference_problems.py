@@ -1,7 +1,8 @@
 """Reference problems with known solutions: the test bed of the integrators.
 
 Harmonic oscillator (exact), Riccati equation y' = -2ty² (exact 1/(1+t²)), bouncing ball
-(analytic impact times), stiff van der Pol, a naive sign() switch (chatters), and a
+(analytic impact times), an oscillator watched by monitoring events (analytic crossing
+times), stiff van der Pol, a naive sign() switch (chatters), and a
 right-hand side that turns NaN.  They live in the package (not in the tests) so that every
 process can import their tag types: numba's cache index records them.
 """
@@ -34,6 +35,40 @@ def oscillator(omega=2.0, zeta=0.0, x0=1.0, v0=0.0):
     """x'' + 2ζω x' + ω² x = u."""
     return System(Oscillator(), np.array([omega, zeta]), np.array([x0, v0]), ("x", "v"),
                   ("m", "m/s"), input_names=("F",), input_units=("N",), name="oscillator")
+
+
+class Monitored(NamedTuple):
+    k: int = 0
+
+
+@jit
+def _monitored_rhs(t, y, u, p, dy):
+    dy[0] = y[1]
+    dy[1] = -p[0] * p[0] * y[0]
+
+
+@jit
+def _monitored_events(t, y, u, p, g):
+    g[0] = y[0]
+    g[1] = math.sin(p[1] * t)
+
+
+@jit
+def _monitored_reset(t, y, u, p, k):
+    return int(p[2])
+
+
+register_system(Monitored, rhs=_monitored_rhs, events=_monitored_events,
+                reset=_monitored_reset)
+
+
+def monitored_oscillator(omega=1.0, Omega=2.0 * math.pi, action=0):
+    """x'' = -ω² x (x0 = 1, v0 = 0) with two monitoring events whose reset changes nothing
+    and answers ``action``: ``x`` crossing zero (at t = (k + ½)·π/ω) and ``sin(Ω·t)``
+    crossing zero (at t = k·π/Ω)."""
+    return System(Monitored(), np.array([omega, Omega, float(action)]), np.array([1.0, 0.0]),
+                  ("x", "v"), ("m", "m/s"), event_names=("x = 0", "sin(Ωt) = 0"),
+                  event_directions=(0, 0), name="monitored oscillator")
 
 
 class Ball(NamedTuple):

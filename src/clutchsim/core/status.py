@@ -30,11 +30,14 @@ class Action(enum.IntEnum):
     STOP = 2
     #: stop the run as failed (e.g. the engine stalled)
     FAIL = 3
+    #: the event is recorded, the state is unchanged and the right-hand side is smooth
+    #: across the crossing (a monitoring event): integration goes on through it
+    PASS = 4
 
 
 #: the words for :class:`Action` in :attr:`clutchsim.core.Event.action`
 ACTION_WORDS = {Action.CONTINUE: "recorded", Action.STATE_CHANGED: "reset",
-                Action.STOP: "stop", Action.FAIL: "fail"}
+                Action.STOP: "stop", Action.FAIL: "fail", Action.PASS: "recorded"}
 
 
 class Code(enum.IntEnum):

@@ -10,7 +10,7 @@ A plant (a friction test rig, a driveline, ...) defines four compiled functions
     post-crossing side fires once at the initial time);
 ``reset(t, y, u, p, k) -> action``
     called at the located event ``k``; may change ``y`` in place (a *reset map*) and returns
-    one of :data:`CONTINUE`, :data:`STATE_CHANGED`, :data:`STOP`, :data:`FAIL`;
+    one of :data:`CONTINUE`, :data:`STATE_CHANGED`, :data:`STOP`, :data:`FAIL`, :data:`PASS`;
 ``outputs(t, y, u, p, out)``
     writes algebraic output signals (forces, powers, ...),
 ``jac(t, y, u, p, J)`` (optional)
@@ -55,6 +55,7 @@ from .status import Action
 __all__ = [
     "CONTINUE",
     "FAIL",
+    "PASS",
     "STATE_CHANGED",
     "STOP",
     "System",
@@ -71,6 +72,7 @@ CONTINUE = Action.CONTINUE
 STATE_CHANGED = Action.STATE_CHANGED
 STOP = Action.STOP
 FAIL = Action.FAIL
+PASS = Action.PASS
 
 
 class _Functions(NamedTuple):

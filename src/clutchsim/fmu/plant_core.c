@@ -40,7 +40,8 @@ int cs_reset(double t, double *y, double *u, double *p, int k);
 #define CS_VR_T (CS_VR_Z + CS_NZ)
 /* statuses: the same numbers in FMI 2 and FMI 3 */
 enum { ST_OK = 0, ST_WARNING = 1, ST_DISCARD = 2, ST_ERROR = 3, ST_FATAL = 4 };
-enum { ACTION_CONTINUE = 0, ACTION_STATE_CHANGED = 1, ACTION_STOP = 2, ACTION_FAIL = 3 };
+enum { ACTION_CONTINUE = 0, ACTION_STATE_CHANGED = 1, ACTION_STOP = 2, ACTION_FAIL = 3,
+       ACTION_PASS = 4 };
 enum { MODE_INSTANTIATED, MODE_INIT, MODE_EVENT, MODE_CONT, MODE_TERMINATED };
 
 typedef struct Instance Instance;
@@ -148,7 +149,8 @@ static int core_event(Instance *m, int *values_changed, int *terminate) {
         int action = cs_reset(m->t, m->y, m->u, m->p, k);
         changed(m);
         logf_(m, ST_OK, "events", "t = %.9g s: event %s (%s)", m->t, cs_event_names[k],
-              action == ACTION_STATE_CHANGED ? "reset" : action == ACTION_CONTINUE ? "recorded"
+              action == ACTION_STATE_CHANGED ? "reset"
+              : (action == ACTION_CONTINUE || action == ACTION_PASS) ? "recorded"
               : action == ACTION_STOP ? "stop" : "fail");
         if (action == ACTION_STATE_CHANGED) *values_changed = 1;
         if (action == ACTION_STOP || action == ACTION_FAIL) {

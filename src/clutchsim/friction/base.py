@@ -141,6 +141,11 @@ class FrictionModel(abc.ABC):
     #: does the force read the stick force ``F_e``?  (plants skip computing it otherwise;
     #: :func:`clutchsim.friction.kernels.uses_stick_force` is the compiled twin)
     uses_stick_force: ClassVar[bool] = False
+    #: is the force continuous in time across the model's event crossings when its reset
+    #: changes nothing (``FrictionReset.NONE``)?  Plants then answer ``Action.PASS`` and
+    #: the integrator steps through such a crossing instead of restarting at it.  False
+    #: for a model whose force switches at its event (coulomb-naive's sign).
+    smooth_at_events: ClassVar[bool] = False
 
     # ------------------------------------------------------------------ hooks
     @abc.abstractmethod

@@ -158,6 +158,8 @@ class Mykhailevych2020(FrictionModel):
     }
     default_parameter_set: ClassVar[str] = "mykhailevych2020_translational"
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (("velocity_zero_crossing", 0),)
+    #: at v = 0 the sliding term sign(v)·(1 − exp(−|v/ω0|^p)) is zero from both sides
+    smooth_at_events: ClassVar[bool] = True
 
     @property
     def T_din(self) -> float:

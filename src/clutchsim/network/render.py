@@ -19,6 +19,7 @@ _ACTIONS = {"continue": int(Action.CONTINUE), "stop": int(Action.STOP),
             "fail": int(Action.FAIL)}
 _CHANGED = int(Action.STATE_CHANGED)
 _CONT = int(Action.CONTINUE)
+_PASS = int(Action.PASS)
 NO_EVENT = 1.0
 #: slots of ``aux`` per friction element: slip, scale, stick torque, torque, shielded, and
 #: the flange-a torque of a lossy gear
@@ -645,7 +646,10 @@ class _R:
                 if _lockable(obj):
                     b += [f"    if action != {RESET_NONE}:",
                           f"        _settle(t, y, u, p, {e}, aux)"]
-                b += [f"    return {_CHANGED} if action != {RESET_NONE} else {_CONT}"]
+                # one-way clutches and lossy gears carry their own laws, not a model
+                smooth = getattr(getattr(obj, "model", None), "smooth_at_events", False)
+                none = _PASS if smooth else _CONT
+                b += [f"    return {_CHANGED} if action != {RESET_NONE} else {none}"]
             elif obj[3] == "bank":
                 b += [f"if k == {off}:", f"    _bank(t, y, u, p, {self.banks.index(obj)})",
                       "    _settle(t, y, u, p, -1, aux)", f"    return {_CHANGED}"]
