@@ -13,9 +13,21 @@ import numpy as np
 import pandas as pd
 import pytest
 from _dl_paths import EXAMPLES, shared_dir
+from _fmu_tools import (
+    ENERGY,
+    SWITCH_TOL,
+    TUBE,
+    assert_same_switches,
+    energy_balance,
+    simulate,
+    simulate_cs,
+    switches,
+    tube,
+    tube_tv,
+)
 
 from clutchsim.cli import main
-from clutchsim.fmu import export_fmu, input_table
+from clutchsim.fmu import export_fmu
 from clutchsim.scenario import run_scenario
 
 fmpy = pytest.importorskip("fmpy", reason="FMPy (the dev extra) runs the exported FMUs")
@@ -23,70 +35,6 @@ from fmpy.validation import validate_fmu
 
 pytestmark = pytest.mark.skipif(shutil.which("cc") is None and shutil.which("gcc") is None,
                                 reason="no C compiler on this machine")
-
-TUBE = 2e-3
-#: switch times [s], FMU under FMPy against clutchsim.  FMPy's simulate_fmu sets the inputs
-#: in CVode's root function only (not in its right-hand side), so within each internal step
-#: the FMU sees the inputs of the step's start: CoupledClutches' 5 Hz torque input then
-#: shifts clutch1's second stop by 1.1e-4 s (driven by scipy with the inputs set in the
-#: right-hand side, the same FMU follows clutchsim to 3e-10, docs/fmu.md)
-SWITCH_TOL = 3e-4
-ENERGY = ("W_in", "W_friction", "W_damping", "W_road", "E_grade", "W_sync")
-
-
-def tube(f, res, name, mask=None):
-    ref = np.interp(f["time"], res.t, res[name])
-    err = np.abs(f[name] - ref) / max(float(np.max(np.abs(res[name]))), 1.0)
-    return float(np.max(err if mask is None else err[mask]))
-
-
-def tube_tv(f, res, name, dt):
-    """The tube with a width in time as well (as CSV-compare's): how far each FMU sample
-    lies outside clutchsim's values within ``dt`` of its time, over the signal's range.
-    For a signal that rings or jumps, where a shift by a fraction of a step is a large
-    difference in value."""
-    t, y = res.t, res[name]
-    worst = 0.0
-    for ti, xi in zip(f["time"], f[name]):
-        lo_i, hi_i = np.searchsorted(t, ti - dt), np.searchsorted(t, ti + dt, side="right")
-        vals = np.r_[y[lo_i:hi_i], np.interp([ti - dt, ti + dt], t, y)]
-        worst = max(worst, float(vals.min()) - xi, xi - float(vals.max()))
-    return worst / max(float(np.max(np.abs(y))), 1.0)
-
-
-def energy_balance(f):
-    resid = f["W_in"] - sum(f[k] for k in ENERGY[1:]) - (f["E_kinetic"] - f["E_kinetic"][0]) \
-        - (f["E_spring"] - f["E_spring"][0])
-    return abs(resid[-1]) / max(abs(f["W_in"][-1]), float(np.max(f["E_kinetic"])))
-
-
-def simulate(path, scenario, names, rtol, dt_out, record_events=False):
-    md = fmpy.read_model_description(str(path))
-    inputs = [v.name for v in md.modelVariables if v.causality == "input"]
-    return fmpy.simulate_fmu(str(path), solver="CVode", relative_tolerance=rtol,
-                             output_interval=dt_out, output=names, record_events=record_events,
-                             input=input_table(scenario, dt=dt_out / 2, names=inputs))
-
-
-def switches(f, element):
-    """Times at which the FMU run switched ``element`` (its mode or lock flag changed
-    between the two rows FMPy records at an event)."""
-    t = f["time"]
-    changed = (np.diff(f[f"{element}.mode"]) != 0) | (np.diff(f[f"{element}.locked"]) != 0)
-    return t[1:][changed & (np.diff(t) == 0)]
-
-
-def assert_same_switches(f, res, elements, tol=SWITCH_TOL, skip=()):
-    """The FMU's switches of each element at clutchsim's times; ``skip``: windows
-    ``(t0, t1)`` [s] left out on both sides."""
-    def kept(ts):
-        return [t for t in ts if not any(a <= t <= b for a, b in skip)]
-    for el in elements:
-        ours = kept([e.t for e in res.events if e.name.startswith(f"{el}:") and e.t > 0.0
-                     and e.action == "reset" and "shift to gear" not in e.name])
-        theirs = kept(list(switches(f, el)))
-        assert len(theirs) == len(ours), (el, theirs, ours)
-        assert np.max(np.abs(np.array(theirs) - np.array(ours)), initial=0.0) <= tol, el
 
 
 @pytest.mark.slow
@@ -306,14 +254,6 @@ def test_simple_gear_shift_fmu_matches_modelica(tmp_path):
         w = np.interp(ref["time"], f["time"], f[ours])
         r = ref[theirs].to_numpy()
         assert np.max(np.abs(w - r)) / max(np.max(np.abs(r)), 1.0) <= TUBE, ours
-
-
-def simulate_cs(path, scenario, names, rtol, dt_out):
-    md = fmpy.read_model_description(str(path))
-    inputs = [v.name for v in md.modelVariables if v.causality == "input"]
-    return fmpy.simulate_fmu(str(path), fmi_type="CoSimulation", relative_tolerance=rtol,
-                             output_interval=dt_out, output=names,
-                             input=input_table(scenario, dt=dt_out, names=inputs))
 
 
 @pytest.mark.slow
