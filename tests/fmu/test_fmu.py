@@ -27,8 +27,8 @@ from _fmu_tools import (
 )
 
 from clutchsim.cli import main
-from clutchsim.fmu import export_fmu
-from clutchsim.scenario import run_scenario
+from clutchsim.fmu import export_fmu, input_table
+from clutchsim.scenario import load_scenario, run_scenario
 
 fmpy = pytest.importorskip("fmpy", reason="FMPy (the dev extra) runs the exported FMUs")
 from fmpy.validation import validate_fmu
@@ -311,3 +311,44 @@ def test_cosimulation_coupled_clutches_switches_within_a_step(tmp_path):
         seen = f["time"][1:][moved]
         assert len(seen) == len(ours), (c, seen, ours)
         assert np.all((seen >= np.array(ours) - 1e-9) & (seen <= np.array(ours) + dt + SWITCH_TOL)), c
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("fmi", ["2", "3"])
+def test_stall_ends_the_fmu_run_where_the_engine_speed_falls_below_its_stall_speed(tmp_path,
+                                                                                 fmi):
+    """The clutch dumped at 5 % throttle stalls the engine: the FMU's stall indicator ends
+    the run with an error status, as Model Exchange (fmi2NewDiscreteStates /
+    fmi3UpdateDiscreteStates) where the engine speed reaches the stall speed on clutchsim's
+    own trajectory, and as co-simulation (fmi2DoStep / fmi3DoStep, FMI 3 with
+    terminateSimulation) within a communication step of that time."""
+    sc = load_scenario(EXAMPLES / "launch.toml", overrides=[
+        "inputs.throttle=0.05", "inputs.clutch_command=ramp(0.2, 0.05, 1.0)",
+        "scenario.expect_lockup=false", "scenario.t_end=0.5", "solver.dt_out=1e-4"])
+    path = tmp_path / "stall.fmu"
+    info = export_fmu(sc, path, "mykhailevych2020", fmi=fmi, kind="both")
+    stall = next(e for e in info.event_indicators if e.startswith("engine stalled"))
+    res = run_scenario(sc, "mykhailevych2020").result
+    w = res["omega_engine"]
+    i = int(np.argmax(w < 41.89))             # the first sample below the stall speed
+    t_stall = float(np.interp(41.89, [w[i], w[i - 1]], [res.t[i], res.t[i - 1]]))
+    assert 0.25 < t_stall < 0.3
+    dt = 5e-4
+    for typ in ("ModelExchange", "CoSimulation"):
+        rec = {}
+
+        def keep(t, recorder, rec=rec):
+            rec["r"] = recorder
+            return True
+        with pytest.raises(fmpy.fmi1.FMICallException, match="status 3"):
+            fmpy.simulate_fmu(str(path), fmi_type=typ, relative_tolerance=1e-7,
+                              output_interval=dt, output=["omega_engine"], record_events=True,
+                              step_finished=keep, input=input_table(sc, dt=dt / 2,
+                                                                    names=list(info.inputs)))
+        f = rec["r"].result()
+        if typ == "ModelExchange":          # stopped at the located event
+            assert f["time"][-1] == pytest.approx(t_stall, abs=SWITCH_TOL), stall
+            assert f["omega_engine"][-1] == pytest.approx(41.89, abs=1e-6)
+        else:       # the step that fails holds the stall; the inputs, held over each
+            # step, move it by less than a step (0.286730 s here)
+            assert t_stall - dt <= f["time"][-1] < t_stall + dt
