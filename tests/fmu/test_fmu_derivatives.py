@@ -121,6 +121,8 @@ def test_model_structure_declares_the_derivatives(plant):
         assert me["providesDirectionalDerivatives"] == me["providesAdjointDerivatives"] == "true"
     knowns = {v.name for v in plant.states} | {v.name for v in md.modelVariables
                                                 if v.causality == "input"}
+    if plant.fmi == "3":        # FMI 3 declares the time, a known as well
+        knowns.add("time")
     for d in md.derivatives:
         assert {v.name for v in d.dependencies} == knowns
         assert set(d.dependenciesKind) == {"dependent"}
@@ -174,6 +176,18 @@ def test_directional_derivative_to_inputs_and_of_outputs(plant):
         v = rng.standard_normal(p.nx)
         p.set_point(x, u)
         assert rel(p.dd(p.y_vr, p.x_vr, v), central(h, x, v)) <= TOL
+        if p.fmi == "3":        # the time, FMI 3's independent variable, is a known too
+
+            def k(tt, u=u, x=x):
+                p.fmu.setTime(float(tt[0]))
+                p.set_point(x, u)
+                return p.get(p.dx_vr + p.y_vr)
+            vr_t = next(v.valueReference for v in p.md.modelVariables if v.name == "time")
+            p.fmu.setTime(0.7)
+            p.set_point(x, u)
+            assert rel(p.dd(p.dx_vr + p.y_vr, [vr_t], [1.0]),
+                       central(k, np.array([0.7]), np.array([1.0]))) <= TOL
+            p.fmu.setTime(0.0)
 
 
 def test_adjoint_derivative_is_the_transpose(plant):

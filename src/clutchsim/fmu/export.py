@@ -367,22 +367,23 @@ def _model_description(*, fmi, kind, name, ident, guid, description, t_end, rtol
             for v in variables:
                 if pick(v):
                     ET.SubElement(ms, tag, {"valueReference": str(v["vr"]),
-                                            **(_dependencies(v, variables, vrs) if deps else {})})
+                                            **(_dependencies(v, variables, vrs, vr_time)
+                                               if deps else {})})
     ET.indent(root)
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
 
 
-def _dependencies(v, variables, ref) -> dict:
-    """The ``dependencies`` of an output or a derivative on the knowns (the states and the
-    inputs; ``ref``: a known's value reference -> its index (FMI 2) or value reference
-    (FMI 3)).  A state as output depends on itself with the factor 1 (``constant``); a
+def _dependencies(v, variables, ref, time=None) -> dict:
+    """The ``dependencies`` of an output or a derivative on the knowns (the states, the
+    inputs and, in FMI 3, the time: ``time``, its value reference; ``ref``: a known's value
+    reference -> its index (FMI 2) or value reference (FMI 3)).  A state as output depends on itself with the factor 1 (``constant``); a
     derivative or an output signal is declared to depend on every known (``dependent``:
     the plant's exact Jacobian says nothing of structural zeros, and a dependency left out
     would be a claim)."""
     if v["role"] == "state":
         return {"dependencies": str(ref[v["vr"]]), "dependenciesKind": "constant"}
     knowns = [ref[k["vr"]] for k in variables if k["role"] == "state"
-              or k["causality"] == "input"]
+              or k["causality"] == "input"] + ([] if time is None else [time])
     return {"dependencies": " ".join(map(str, knowns)),
             "dependenciesKind": " ".join(["dependent"] * len(knowns))}
 
