@@ -13,80 +13,28 @@ import numpy as np
 import pandas as pd
 import pytest
 from _dl_paths import EXAMPLES, shared_dir
+from _fmu_tools import (
+    ENERGY,
+    SWITCH_TOL,
+    TUBE,
+    assert_same_switches,
+    energy_balance,
+    simulate,
+    simulate_cs,
+    switches,
+    tube,
+    tube_tv,
+)
 
 from clutchsim.cli import main
 from clutchsim.fmu import export_fmu, input_table
-from clutchsim.scenario import run_scenario
+from clutchsim.scenario import load_scenario, run_scenario
 
 fmpy = pytest.importorskip("fmpy", reason="FMPy (the dev extra) runs the exported FMUs")
 from fmpy.validation import validate_fmu
 
 pytestmark = pytest.mark.skipif(shutil.which("cc") is None and shutil.which("gcc") is None,
                                 reason="no C compiler on this machine")
-
-TUBE = 2e-3
-#: switch times [s], FMU under FMPy against clutchsim.  FMPy's simulate_fmu sets the inputs
-#: in CVode's root function only (not in its right-hand side), so within each internal step
-#: the FMU sees the inputs of the step's start: CoupledClutches' 5 Hz torque input then
-#: shifts clutch1's second stop by 1.1e-4 s (driven by scipy with the inputs set in the
-#: right-hand side, the same FMU follows clutchsim to 3e-10, docs/fmu.md)
-SWITCH_TOL = 3e-4
-ENERGY = ("W_in", "W_friction", "W_damping", "W_road", "E_grade", "W_sync")
-
-
-def tube(f, res, name, mask=None):
-    ref = np.interp(f["time"], res.t, res[name])
-    err = np.abs(f[name] - ref) / max(float(np.max(np.abs(res[name]))), 1.0)
-    return float(np.max(err if mask is None else err[mask]))
-
-
-def tube_tv(f, res, name, dt):
-    """The tube with a width in time as well (as CSV-compare's): how far each FMU sample
-    lies outside clutchsim's values within ``dt`` of its time, over the signal's range.
-    For a signal that rings or jumps, where a shift by a fraction of a step is a large
-    difference in value."""
-    t, y = res.t, res[name]
-    worst = 0.0
-    for ti, xi in zip(f["time"], f[name]):
-        lo_i, hi_i = np.searchsorted(t, ti - dt), np.searchsorted(t, ti + dt, side="right")
-        vals = np.r_[y[lo_i:hi_i], np.interp([ti - dt, ti + dt], t, y)]
-        worst = max(worst, float(vals.min()) - xi, xi - float(vals.max()))
-    return worst / max(float(np.max(np.abs(y))), 1.0)
-
-
-def energy_balance(f):
-    resid = f["W_in"] - sum(f[k] for k in ENERGY[1:]) - (f["E_kinetic"] - f["E_kinetic"][0]) \
-        - (f["E_spring"] - f["E_spring"][0])
-    return abs(resid[-1]) / max(abs(f["W_in"][-1]), float(np.max(f["E_kinetic"])))
-
-
-def simulate(path, scenario, names, rtol, dt_out, record_events=False):
-    md = fmpy.read_model_description(str(path))
-    inputs = [v.name for v in md.modelVariables if v.causality == "input"]
-    return fmpy.simulate_fmu(str(path), solver="CVode", relative_tolerance=rtol,
-                             output_interval=dt_out, output=names, record_events=record_events,
-                             input=input_table(scenario, dt=dt_out / 2, names=inputs))
-
-
-def switches(f, element):
-    """Times at which the FMU run switched ``element`` (its mode or lock flag changed
-    between the two rows FMPy records at an event)."""
-    t = f["time"]
-    changed = (np.diff(f[f"{element}.mode"]) != 0) | (np.diff(f[f"{element}.locked"]) != 0)
-    return t[1:][changed & (np.diff(t) == 0)]
-
-
-def assert_same_switches(f, res, elements, tol=SWITCH_TOL, skip=()):
-    """The FMU's switches of each element at clutchsim's times; ``skip``: windows
-    ``(t0, t1)`` [s] left out on both sides."""
-    def kept(ts):
-        return [t for t in ts if not any(a <= t <= b for a, b in skip)]
-    for el in elements:
-        ours = kept([e.t for e in res.events if e.name.startswith(f"{el}:") and e.t > 0.0
-                     and e.action == "reset" and "shift to gear" not in e.name])
-        theirs = kept(list(switches(f, el)))
-        assert len(theirs) == len(ours), (el, theirs, ours)
-        assert np.max(np.abs(np.array(theirs) - np.array(ours)), initial=0.0) <= tol, el
 
 
 @pytest.mark.slow
@@ -162,7 +110,6 @@ def test_cli_writes_fmu_and_one_json_document(tmp_path, capsys):
 @pytest.mark.parametrize(("args", "message"), [
     (["--fmi", "4"], r"--fmi 4: this version writes FMI 2\.0, 3\.0 only"),
     (["--kind", "xy"], r"--kind xy: one of me, cs, both"),
-    (["--fmi", "3", "--kind", "cs"], r"--kind cs with --fmi 3: .*Model Exchange only"),
     (["--model", "no-such-model"], r"no-such-model"),
 ])
 def test_cli_refuses_bad_options(tmp_path, capsys, args, message):
@@ -308,27 +255,27 @@ def test_simple_gear_shift_fmu_matches_modelica(tmp_path):
         assert np.max(np.abs(w - r)) / max(np.max(np.abs(r)), 1.0) <= TUBE, ours
 
 
-def simulate_cs(path, scenario, names, rtol, dt_out):
-    md = fmpy.read_model_description(str(path))
-    inputs = [v.name for v in md.modelVariables if v.causality == "input"]
-    return fmpy.simulate_fmu(str(path), fmi_type="CoSimulation", relative_tolerance=rtol,
-                             output_interval=dt_out, output=names,
-                             input=input_table(scenario, dt=dt_out, names=inputs))
-
-
 @pytest.mark.slow
-def test_cosimulation_fmu_with_its_own_rosenbrock_solver(tmp_path):
+@pytest.mark.parametrize("fmi", ["2", "3"])
+def test_cosimulation_fmu_with_its_own_rosenbrock_solver(tmp_path, fmi):
     """--kind both: the same FMU for Model Exchange and for co-simulation, where its own
     ROS2 solver (exact Jacobian, events located by bisection) integrates each
-    communication step.  FMPy holds the inputs over a communication step (0.25 ms here;
-    with 0.5 ms the damper's stored energy is off by 2.4e-3 of its range, with 1 ms the
-    slip by 2.3e-3; the solver's tolerance changes neither)."""
+    communication step; in FMI 3 without event mode (the FMU handles its events inside
+    fmi3DoStep, as in FMI 2).  FMPy holds the inputs over a communication step (0.25 ms
+    here; with 0.5 ms the damper's stored energy is off by 2.4e-3 of its range, with 1 ms
+    the slip by 2.3e-3; the solver's tolerance changes neither)."""
     scenario = EXAMPLES / "launch.toml"
     path = tmp_path / "launch.fmu"
-    info = export_fmu(scenario, path, "mykhailevych2020", kind="both")
+    info = export_fmu(scenario, path, "mykhailevych2020", fmi=fmi, kind="both")
     assert info.kind == "both" and validate_fmu(str(path)) == []
     md = fmpy.read_model_description(str(path))
+    assert md.fmiVersion == f"{fmi}.0"
     assert md.modelExchange is not None and md.coSimulation is not None
+    with zipfile.ZipFile(path) as zf:
+        assert f"sources/fmi{fmi}_me.c" in zf.namelist() and "sources/rosenbrock.c" in \
+            zf.namelist()
+        if fmi == "3":
+            assert b'hasEventMode="false"' in zf.read("modelDescription.xml")
     res = run_scenario(scenario, "mykhailevych2020").result
     smooth = ["omega_engine", "omega_disc", "omega_wheels", "w_slip_clutch", "E_kinetic",
               "E_spring", "theta_pressure_plate", *ENERGY]
@@ -364,3 +311,44 @@ def test_cosimulation_coupled_clutches_switches_within_a_step(tmp_path):
         seen = f["time"][1:][moved]
         assert len(seen) == len(ours), (c, seen, ours)
         assert np.all((seen >= np.array(ours) - 1e-9) & (seen <= np.array(ours) + dt + SWITCH_TOL)), c
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("fmi", ["2", "3"])
+def test_stall_ends_the_fmu_run_where_the_engine_speed_falls_below_its_stall_speed(tmp_path,
+                                                                                 fmi):
+    """The clutch dumped at 5 % throttle stalls the engine: the FMU's stall indicator ends
+    the run with an error status, as Model Exchange (fmi2NewDiscreteStates /
+    fmi3UpdateDiscreteStates) where the engine speed reaches the stall speed on clutchsim's
+    own trajectory, and as co-simulation (fmi2DoStep / fmi3DoStep, FMI 3 with
+    terminateSimulation) within a communication step of that time."""
+    sc = load_scenario(EXAMPLES / "launch.toml", overrides=[
+        "inputs.throttle=0.05", "inputs.clutch_command=ramp(0.2, 0.05, 1.0)",
+        "scenario.expect_lockup=false", "scenario.t_end=0.5", "solver.dt_out=1e-4"])
+    path = tmp_path / "stall.fmu"
+    info = export_fmu(sc, path, "mykhailevych2020", fmi=fmi, kind="both")
+    stall = next(e for e in info.event_indicators if e.startswith("engine stalled"))
+    res = run_scenario(sc, "mykhailevych2020").result
+    w = res["omega_engine"]
+    i = int(np.argmax(w < 41.89))             # the first sample below the stall speed
+    t_stall = float(np.interp(41.89, [w[i], w[i - 1]], [res.t[i], res.t[i - 1]]))
+    assert 0.25 < t_stall < 0.3
+    dt = 5e-4
+    for typ in ("ModelExchange", "CoSimulation"):
+        rec = {}
+
+        def keep(t, recorder, rec=rec):
+            rec["r"] = recorder
+            return True
+        with pytest.raises(fmpy.fmi1.FMICallException, match="status 3"):
+            fmpy.simulate_fmu(str(path), fmi_type=typ, relative_tolerance=1e-7,
+                              output_interval=dt, output=["omega_engine"], record_events=True,
+                              step_finished=keep, input=input_table(sc, dt=dt / 2,
+                                                                    names=list(info.inputs)))
+        f = rec["r"].result()
+        if typ == "ModelExchange":          # stopped at the located event
+            assert f["time"][-1] == pytest.approx(t_stall, abs=SWITCH_TOL), stall
+            assert f["omega_engine"][-1] == pytest.approx(41.89, abs=1e-6)
+        else:       # the step that fails holds the stall; the inputs, held over each
+            # step, move it by less than a step (0.286730 s here)
+            assert t_stall - dt <= f["time"][-1] < t_stall + dt

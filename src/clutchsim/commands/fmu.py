@@ -1,5 +1,5 @@
-"""``clutchsim fmu``: export a scenario's plant as an FMU (Model Exchange, FMI 2.0 or 3.0;
-co-simulation, FMI 2.0)."""
+"""``clutchsim fmu``: export a scenario's plant as an FMU (Model Exchange and co-simulation,
+FMI 2.0 or 3.0)."""
 
 from __future__ import annotations
 
@@ -16,12 +16,13 @@ examples:
   clutchsim fmu examples/coupled_clutches.toml --out coupled.fmu --json
   clutchsim fmu examples/launch.toml --fmi 3 --out launch3.fmu
   clutchsim fmu examples/launch.toml --kind both --out launch_mecs.fmu
+  clutchsim fmu examples/launch.toml --fmi 3 --kind cs --out launch3_cs.fmu
 
-The FMU (FMI 2.0 or 3.0, Model Exchange; with FMI 2.0 also co-simulation, with its own
-ROS2 solver) holds the scenario's plant printed as C and compiled with the system C
-compiler ($CC, cc, gcc or clang) for this platform, its C sources, and modelDescription.xml:
-states, inputs (start = the signal at t = 0), outputs with units, parameters.  It runs
-without Python.  Using it from FMPy and other tools: docs/fmu.md.
+The FMU (FMI 2.0 or 3.0; Model Exchange, co-simulation with its own ROS2 solver, or both;
+directional derivatives, exact to the states) holds the scenario's plant printed as C and
+compiled with the system C compiler ($CC, cc, gcc or clang) for this platform, its C
+sources, and modelDescription.xml: states, inputs (start = the signal at t = 0), outputs
+with units, parameters.  It runs without Python.  Using it from FMPy and other tools: docs/fmu.md.
 NAME.fmu appears only when complete.
 
 --json prints {"path", "fmi", "kind", "model", "model_identifier", "guid", "platform",
@@ -29,15 +30,16 @@ NAME.fmu appears only when complete.
 "event_indicators", "size_bytes"}.
 
 exit status: 0 written, 2 bad input (a scenario or option error, an --fmi other than 2 or
-3, a --kind other than me, cs, both, co-simulation with FMI 3, no C compiler, a model or
-scenario that cannot be exported).
+3, a --kind other than me, cs, both, no C compiler, a model or scenario that cannot be
+exported).
 """
 
 
 def register(sub, common):
     p = sub.add_parser("fmu", parents=[common], help="export a scenario as an FMU",
                        description="Export a scenario's plant as a Functional Mock-up Unit "
-                       "(Model Exchange, FMI 2.0 or 3.0) that any FMI tool can run.", epilog=HELP,
+                       "(FMI 2.0 or 3.0, Model Exchange or co-simulation) that any FMI tool "
+                       "can run.", epilog=HELP,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--model", default=None,
@@ -46,8 +48,7 @@ def register(sub, common):
                    help="override a scenario key, e.g. vehicle.grade=12")
     p.add_argument("--fmi", default="2", help="FMI version: 2 (default) or 3")
     p.add_argument("--kind", default="me",
-                   help="interface: me (Model Exchange, default), cs (co-simulation, FMI 2), "
-                   "both")
+                   help="interface: me (Model Exchange, default), cs (co-simulation), both")
     p.add_argument("--out", required=True, metavar="NAME.fmu", help="the FMU file to write")
     p.add_argument("--json", action="store_true", help="print what was written as JSON")
 

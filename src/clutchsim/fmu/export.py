@@ -1,8 +1,11 @@
-"""A scenario's plant as a Model-Exchange FMU, FMI 2.0 or 3.0 (:func:`export_fmu`).
+"""A scenario's plant as an FMU, FMI 2.0 or 3.0, Model Exchange, co-simulation or both
+(:func:`export_fmu`).
 
 The FMU holds ``modelDescription.xml``, ``binaries/<platform>/<id>.so`` (the printed plant,
 :mod:`clutchsim.fmu.cprint`, compiled by the system C compiler with the FMI glue
-``fmi2_me.c`` or ``fmi3_me.c`` over the FMI-independent core ``plant_core.c``) and
+``fmi2_me.c`` or ``fmi3_me.c`` over the FMI-independent core ``plant_core.c``, the
+functions both versions share ``fmi_common.c`` and the co-simulation solver
+``rosenbrock.c``) and
 ``sources/`` (the same C files, to rebuild it elsewhere).  It needs neither
 Python nor clutchsim to run.  Variables carry clutchsim's own names:
 
@@ -60,7 +63,7 @@ _ENTRIES = {"rhs": ("double", "a1", "a1", "a1", "a1"),
 _HERE = Path(__file__).parent
 #: the C files of an FMU besides the printed plant: the FMI glue of each version, the core
 _GLUE = {"2": "fmi2_me.c", "3": "fmi3_me.c"}
-_CORE = ("plant_core.c", "rosenbrock.c")
+_CORE = ("plant_core.c", "fmi_common.c", "rosenbrock.c")
 
 #: SI base-unit exponents (and offset) of the units clutchsim writes
 _UNITS = {
@@ -236,7 +239,7 @@ def _variables(*, states, state_units, y0, inputs, input_units, u0, outputs, out
                     "role": role, "desc": desc})
 
     for i, (s, u) in enumerate(zip(states, state_units)):
-        var(s, i, "output", "continuous", "exact", u, y0[i], role="output")
+        var(s, i, "output", "continuous", "exact", u, y0[i], role="state")
     for i, (s, u) in enumerate(zip(states, state_units)):
         var(f"der({s})", len(states) + i, "local", "continuous", "calculated", _deriv_unit(u),
             der=i, role="derivative")
@@ -261,27 +264,32 @@ def _variables(*, states, state_units, y0, inputs, input_units, u0, outputs, out
 
 
 def _header(root, *, ident, t_end, rtol, variables, fmi, kind):
-    me = {"modelIdentifier": ident, "canGetAndSetFMU" + ("state" if fmi == "2" else "State"):
-          "false", "canSerializeFMU" + ("state" if fmi == "2" else "State"): "false"}
+    """The interface elements (ModelExchange, CoSimulation), the units and the default
+    experiment.  Both interfaces provide directional derivatives (plant_core.c; FMI 3 also
+    adjoint ones); FMI 3's co-simulation has no event mode: it handles its events inside
+    fmi3DoStep, as FMI 2's does."""
+    common = {"modelIdentifier": ident, "needsExecutionTool": "false",
+              "canBeInstantiatedOnlyOncePerProcess": "false"}
     if fmi == "2":
-        me.update({"needsExecutionTool": "false", "completedIntegratorStepNotNeeded": "true",
-                   "canBeInstantiatedOnlyOncePerProcess": "false",
-                   "canNotUseMemoryManagementFunctions": "false",
-                   "providesDirectionalDerivative": "false"})
+        common.update({"canNotUseMemoryManagementFunctions": "false",
+                       "canGetAndSetFMUstate": "false", "canSerializeFMUstate": "false",
+                       "providesDirectionalDerivative": "true"})
+        me = {**common, "completedIntegratorStepNotNeeded": "true"}
+        cs = {**common, "canHandleVariableCommunicationStepSize": "true",
+              "canInterpolateInputs": "false", "maxOutputDerivativeOrder": "0",
+              "canRunAsynchronuously": "false"}
     else:
-        me.update({"needsCompletedIntegratorStep": "false",
-                   "providesDirectionalDerivatives": "false",
-                   "providesAdjointDerivatives": "false"})
+        common.update({"canGetAndSetFMUState": "false", "canSerializeFMUState": "false",
+                       "providesDirectionalDerivatives": "true",
+                       "providesAdjointDerivatives": "true"})
+        me = {**common, "needsCompletedIntegratorStep": "false"}
+        cs = {**common, "canHandleVariableCommunicationStepSize": "true",
+              "maxOutputDerivativeOrder": "0", "hasEventMode": "false",
+              "providesIntermediateUpdate": "false", "mightReturnEarlyFromDoStep": "false"}
     if kind in ("me", "both"):
         ET.SubElement(root, "ModelExchange", me)
     if kind in ("cs", "both"):
-        ET.SubElement(root, "CoSimulation", {
-            "modelIdentifier": ident, "needsExecutionTool": "false",
-            "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false",
-            "maxOutputDerivativeOrder": "0", "canRunAsynchronuously": "false",
-            "canBeInstantiatedOnlyOncePerProcess": "false",
-            "canNotUseMemoryManagementFunctions": "false", "canGetAndSetFMUstate": "false",
-            "canSerializeFMUstate": "false", "providesDirectionalDerivative": "false"})
+        ET.SubElement(root, "CoSimulation", cs)
     used = sorted({v["unit"] for v in variables if v["unit"] not in _DIMLESS})
     if used:
         ud = ET.SubElement(root, "UnitDefinitions")
@@ -327,11 +335,12 @@ def _model_description(*, fmi, kind, name, ident, guid, description, t_end, rtol
             ET.SubElement(sv, "Real", {k: x for k, x in real.items()
                                        if x is not None and not (k == "unit" and x in _DIMLESS)})
         ms = ET.SubElement(root, "ModelStructure")
-        for tag, roles in (("Outputs", ("output",)), ("Derivatives", ("derivative",))):
+        for tag, roles in (("Outputs", ("state", "output")), ("Derivatives", ("derivative",))):
             el = ET.SubElement(ms, tag)
             for v in variables:
                 if v["role"] in roles:
-                    ET.SubElement(el, "Unknown", {"index": str(index[v["vr"]])})
+                    ET.SubElement(el, "Unknown", {"index": str(index[v["vr"]]),
+                                                  **_dependencies(v, variables, index)})
         iu = ET.SubElement(ms, "InitialUnknowns")
         for v in variables:
             if v["initial"] == "calculated" and v["role"] in ("output", "derivative"):
@@ -348,16 +357,35 @@ def _model_description(*, fmi, kind, name, ident, guid, description, t_end, rtol
                     a[k] = x
             ET.SubElement(mv, "Float64", a)
         ms = ET.SubElement(root, "ModelStructure")
-        for tag, pick in (("Output", lambda v: v["role"] == "output"),
-                          ("ContinuousStateDerivative", lambda v: v["role"] == "derivative"),
-                          ("InitialUnknown", lambda v: v["initial"] == "calculated"
-                           and v["role"] in ("output", "derivative")),
-                          ("EventIndicator", lambda v: v["role"] == "indicator")):
+        vrs = {v["vr"]: v["vr"] for v in variables}
+        for tag, pick, deps in (
+                ("Output", lambda v: v["role"] in ("state", "output"), True),
+                ("ContinuousStateDerivative", lambda v: v["role"] == "derivative", True),
+                ("InitialUnknown", lambda v: v["initial"] == "calculated"
+                 and v["role"] in ("output", "derivative"), False),
+                ("EventIndicator", lambda v: v["role"] == "indicator", False)):
             for v in variables:
                 if pick(v):
-                    ET.SubElement(ms, tag, {"valueReference": str(v["vr"])})
+                    ET.SubElement(ms, tag, {"valueReference": str(v["vr"]),
+                                            **(_dependencies(v, variables, vrs, vr_time)
+                                               if deps else {})})
     ET.indent(root)
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+
+
+def _dependencies(v, variables, ref, time=None) -> dict:
+    """The ``dependencies`` of an output or a derivative on the knowns (the states, the
+    inputs and, in FMI 3, the time: ``time``, its value reference; ``ref``: a known's value
+    reference -> its index (FMI 2) or value reference (FMI 3)).  A state as output depends on itself with the factor 1 (``constant``); a
+    derivative or an output signal is declared to depend on every known (``dependent``:
+    the plant's exact Jacobian says nothing of structural zeros, and a dependency left out
+    would be a claim)."""
+    if v["role"] == "state":
+        return {"dependencies": str(ref[v["vr"]]), "dependenciesKind": "constant"}
+    knowns = [ref[k["vr"]] for k in variables if k["role"] == "state"
+              or k["causality"] == "input"] + ([] if time is None else [time])
+    return {"dependencies": " ".join(map(str, knowns)),
+            "dependenciesKind": " ".join(["dependent"] * len(knowns))}
 
 
 def _deriv_unit(u: str) -> str:
@@ -400,7 +428,8 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
     model : str, optional
         Friction model of the clutch element (default: the scenario's first model).
     fmi, kind : str
-        FMI version (``"2"`` or ``"3"``) and interface (``"me"``, Model Exchange).
+        FMI version (``"2"`` or ``"3"``) and interface (``"me"``, Model Exchange; ``"cs"``,
+        co-simulation with the FMU's own ROS2 solver; ``"both"``).
     overrides : sequence of str, optional
         ``key.path=value`` assignments (with a path or None).
 
@@ -415,9 +444,6 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
     if kind not in KINDS:
         raise FmuError(f"--kind {kind}: one of {', '.join(KINDS)} (Model Exchange, "
                        "co-simulation, both)")
-    if fmi == "3" and kind != "me":
-        raise FmuError(f"--kind {kind} with --fmi 3: this version writes FMI 3 FMUs for Model "
-                       "Exchange only (--kind me); use --fmi 2 for co-simulation")
     out = Path(out)
     if out.suffix.lower() != ".fmu":
         raise FmuError(f"--out {out}: an FMU file name ends in .fmu")

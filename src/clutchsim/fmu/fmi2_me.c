@@ -53,6 +53,17 @@ typedef struct {
 #define FMI2_EXPORT __attribute__((visibility("default")))
 #endif
 
+#define FMI_FN(name) fmi2##name
+#define FMI_EXPORT FMI2_EXPORT
+#define FMI_INSTANCE fmi2Component
+#define FMI_STATUS fmi2Status
+#define FMI_BOOLEAN fmi2Boolean
+#define FMI_STRING fmi2String
+#define FMI_TRUE fmi2True
+#define FMI_FALSE fmi2False
+#define FMI_GET_DERIVATIVES fmi2GetDerivatives
+#include "fmi_common.c"
+
 static void log_fmi2(Instance *m, int st, const char *cat, const char *msg) {
     const fmi2CallbackFunctions *cb = (const fmi2CallbackFunctions *)m->env;
     if (cb && cb->logger) cb->logger(cb->componentEnvironment, m->name, (fmi2Status)st, cat, "%s", msg);
@@ -61,12 +72,6 @@ static void log_fmi2(Instance *m, int st, const char *cat, const char *msg) {
 /* ---------------------------------------------------------------- common functions */
 FMI2_EXPORT const char *fmi2GetTypesPlatform(void) { return "default"; }
 FMI2_EXPORT const char *fmi2GetVersion(void) { return "2.0"; }
-
-FMI2_EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String cats[]) {
-    (void)n; (void)cats;
-    ((Instance *)c)->logging = on;
-    return fmi2OK;
-}
 
 FMI2_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
                                           fmi2String resources, const fmi2CallbackFunctions *cb,
@@ -93,6 +98,7 @@ FMI2_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2St
     m->name = (char *)cb->allocateMemory(strlen(name ? name : "") + 1, 1);
     if (m->name) strcpy(m->name, name ? name : "");
     core_start(m);
+    m->cosim = type == fmi2CoSimulation;
     return m;
 }
 
@@ -116,21 +122,6 @@ FMI2_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tol_defi
 
 FMI2_EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
     ((Instance *)c)->mode = MODE_INIT;
-    return fmi2OK;
-}
-
-FMI2_EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
-    core_exit_init((Instance *)c);
-    return fmi2OK;
-}
-
-FMI2_EXPORT fmi2Status fmi2Terminate(fmi2Component c) {
-    ((Instance *)c)->mode = MODE_TERMINATED;
-    return fmi2OK;
-}
-
-FMI2_EXPORT fmi2Status fmi2Reset(fmi2Component c) {
-    core_start((Instance *)c);
     return fmi2OK;
 }
 
@@ -165,8 +156,6 @@ UNSUPPORTED(fmi2FreeFMUstate, (fmi2Component c, fmi2FMUstate *s))
 UNSUPPORTED(fmi2SerializedFMUstateSize, (fmi2Component c, fmi2FMUstate s, size_t *n))
 UNSUPPORTED(fmi2SerializeFMUstate, (fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t n))
 UNSUPPORTED(fmi2DeSerializeFMUstate, (fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *s))
-UNSUPPORTED(fmi2GetDirectionalDerivative, (fmi2Component c, const fmi2ValueReference u[], size_t nu,
-            const fmi2ValueReference z[], size_t nz, const fmi2Real du[], fmi2Real dz[]))
 UNSUPPORTED(fmi2SetRealInputDerivatives, (fmi2Component c, const fmi2ValueReference vr[], size_t n,
             const fmi2Integer order[], const fmi2Real v[]))
 UNSUPPORTED(fmi2GetRealOutputDerivatives, (fmi2Component c, const fmi2ValueReference vr[], size_t n,
@@ -180,30 +169,18 @@ UNSUPPORTED(fmi2GetStringStatus, (fmi2Component c, const fmi2StatusKind k, fmi2S
 
 /* ---------------------------------------------------------------- co-simulation */
 FMI2_EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_prior) {
-    Instance *m = (Instance *)c;
-    double g[ONE(CS_NZ)];
     (void)no_prior;
-    if (!CS_COSIM) return fmi2Error;
-    if (fabs(t - m->t) > 1e-9 * (1.0 + fabs(t))) {
-        logf_(m, ST_ERROR, "error", "fmi2DoStep: communication point %.17g s, but the FMU is at %.17g s", t, m->t);
-        return fmi2Error;
-    }
-    m->mode = MODE_CONT;
-    /* an event at the communication point: the start's directional events, an input jump */
-    indicators(m, g);
-    if (rb_crossing(m, m->g_last, g)) {
-        int vc, term, st = core_event(m, &vc, &term);
-        if (term) return st == ST_OK ? fmi2Discard : (fmi2Status)st;
-    }
-    return (fmi2Status)rb_integrate(m, t + h, m->rtol, 1e-2 * m->rtol, &m->h);
+    return (fmi2Status)rb_do_step((Instance *)c, t, h, "fmi2DoStep");
+}
+
+FMI2_EXPORT fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference unk[],
+                                                    size_t n_unk, const fmi2ValueReference kn[], size_t n_kn,
+                                                    const fmi2Real seed[], fmi2Real sens[]) {
+    return (fmi2Status)core_directional((Instance *)c, unk, n_unk, kn, n_kn, seed, sens,
+                                        "fmi2GetDirectionalDerivative");
 }
 
 /* ---------------------------------------------------------------- model exchange */
-FMI2_EXPORT fmi2Status fmi2EnterEventMode(fmi2Component c) {
-    ((Instance *)c)->mode = MODE_EVENT;
-    return fmi2OK;
-}
-
 FMI2_EXPORT fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
     int values_changed, terminate, st;
     st = core_event((Instance *)c, &values_changed, &terminate);
@@ -216,43 +193,3 @@ FMI2_EXPORT fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *inf
     return (fmi2Status)st;
 }
 
-FMI2_EXPORT fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
-    ((Instance *)c)->mode = MODE_CONT;
-    return fmi2OK;
-}
-
-FMI2_EXPORT fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean no_set_prior,
-                                                   fmi2Boolean *enter_event, fmi2Boolean *terminate) {
-    (void)c; (void)no_set_prior;
-    *enter_event = fmi2False;
-    *terminate = fmi2False;
-    return fmi2OK;
-}
-
-FMI2_EXPORT fmi2Status fmi2SetTime(fmi2Component c, fmi2Real t) {
-    ((Instance *)c)->t = t;
-    changed((Instance *)c);
-    return fmi2OK;
-}
-
-FMI2_EXPORT fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t n) {
-    return (fmi2Status)core_set_states((Instance *)c, x, n);
-}
-
-FMI2_EXPORT fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real dx[], size_t n) {
-    return (fmi2Status)core_get_derivatives((Instance *)c, dx, n);
-}
-
-FMI2_EXPORT fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real g[], size_t n) {
-    return (fmi2Status)core_get_indicators((Instance *)c, g, n);
-}
-
-FMI2_EXPORT fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t n) {
-    return (fmi2Status)core_get_states((Instance *)c, x, n);
-}
-
-FMI2_EXPORT fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x[], size_t n) {
-    (void)c;
-    core_nominals(x, n);
-    return fmi2OK;
-}

@@ -1,13 +1,16 @@
-/* FMI 3.0 Model Exchange glue of a clutchsim FMU (clutchsim/fmu/fmi3_me.c), over the
-   FMI-independent core plant_core.c (value references, events: see there).  The FMI 3.0
-   types are declared here from the standard's text (section 2.2), so the FMU needs no
-   headers but the C library's.  Only Float64 variables exist; the event indicators are
+/* FMI 3.0 glue of a clutchsim FMU (clutchsim/fmu/fmi3_me.c): Model Exchange and, where
+   model.h says so (CS_COSIM), co-simulation without event mode with the internal solver of
+   rosenbrock.c (the same as FMI 2's); over the FMI-independent core plant_core.c (value
+   references, events, directional derivatives: see there) and the functions both versions
+   share (fmi_common.c).  The FMI 3.0 types are declared here from the standard's text
+   (section 2.2), so the FMU needs no headers but the C library's.  Only Float64 variables exist; the event indicators are
    variables too (value references [CS_VR_Z, +NZ)). */
 
 #include <stdbool.h>
 #include <stdint.h>
 
 #include "plant_core.c"
+#include "rosenbrock.c"
 
 typedef void *fmi3Instance;
 typedef void *fmi3InstanceEnvironment;
@@ -54,24 +57,28 @@ static void log_fmi3(Instance *m, int st, const char *cat, const char *msg) {
 
 #define M ((Instance *)instance)
 
-/* ---------------------------------------------------------------- common functions */
-FMI3_EXPORT const char *fmi3GetVersion(void) { return "3.0"; }
+#define FMI_FN(name) fmi3##name
+#define FMI_EXPORT FMI3_EXPORT
+#define FMI_INSTANCE fmi3Instance
+#define FMI_STATUS fmi3Status
+#define FMI_BOOLEAN fmi3Boolean
+#define FMI_STRING fmi3String
+#define FMI_TRUE true
+#define FMI_FALSE false
+#define FMI_GET_DERIVATIVES fmi3GetContinuousStateDerivatives
+#include "fmi_common.c"
 
-FMI3_EXPORT fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean on, size_t n,
-                                           const fmi3String cats[]) {
-    (void)n; (void)cats;
-    M->logging = on;
-    return fmi3OK;
-}
-
-FMI3_EXPORT fmi3Instance fmi3InstantiateModelExchange(
-        fmi3String name, fmi3String token, fmi3String resources, fmi3Boolean visible,
-        fmi3Boolean logging, fmi3InstanceEnvironment env, fmi3LogMessageCallback log) {
+static fmi3Instance instantiate(fmi3String name, fmi3String token, fmi3Boolean logging,
+                                fmi3InstanceEnvironment env, fmi3LogMessageCallback log, int cosim) {
     Instance *m;
     Env3 *e;
-    (void)resources; (void)visible;
     if (!token || strcmp(token, CS_GUID) != 0) {
         if (log) log(env, fmi3Error, "error", "wrong instantiation token");
+        return NULL;
+    }
+    if ((cosim && !CS_COSIM) || (!cosim && !CS_MODEL_EXCHANGE)) {
+        if (log) log(env, fmi3Error, "error", cosim ? "this FMU is for Model Exchange only"
+                                                    : "this FMU is for co-simulation only");
         return NULL;
     }
     m = (Instance *)calloc(1, sizeof(Instance));
@@ -85,18 +92,36 @@ FMI3_EXPORT fmi3Instance fmi3InstantiateModelExchange(
     m->name = (char *)calloc(strlen(name ? name : "") + 1, 1);
     if (m->name) strcpy(m->name, name ? name : "");
     core_start(m);
+    m->cosim = cosim;
     return m;
 }
 
+/* ---------------------------------------------------------------- common functions */
+FMI3_EXPORT const char *fmi3GetVersion(void) { return "3.0"; }
+
+FMI3_EXPORT fmi3Instance fmi3InstantiateModelExchange(
+        fmi3String name, fmi3String token, fmi3String resources, fmi3Boolean visible,
+        fmi3Boolean logging, fmi3InstanceEnvironment env, fmi3LogMessageCallback log) {
+    (void)resources; (void)visible;
+    return instantiate(name, token, logging, env, log, 0);
+}
+
+/* Co-simulation without event mode (hasEventMode="false"): the FMU handles its events
+   inside fmi3DoStep, with its own solver (rosenbrock.c), as the FMI 2 co-simulation does.
+   It does not return early and has no intermediate update. */
 FMI3_EXPORT fmi3Instance fmi3InstantiateCoSimulation(
         fmi3String name, fmi3String token, fmi3String resources, fmi3Boolean visible,
         fmi3Boolean logging, fmi3Boolean event_mode, fmi3Boolean early_return,
         const fmi3ValueReference req[], size_t n_req, fmi3InstanceEnvironment env,
         fmi3LogMessageCallback log, void *intermediate_update) {
-    (void)name; (void)token; (void)resources; (void)visible; (void)logging; (void)event_mode;
-    (void)early_return; (void)req; (void)n_req; (void)intermediate_update;
-    if (log) log(env, fmi3Error, "error", "this FMU supports Model Exchange only");
-    return NULL;
+    (void)resources; (void)visible; (void)early_return; (void)req; (void)n_req;
+    (void)intermediate_update;
+    if (event_mode) {
+        if (log) log(env, fmi3Error, "error", "this FMU has no event mode (hasEventMode=false): "
+                     "it handles its events inside fmi3DoStep");
+        return NULL;
+    }
+    return instantiate(name, token, logging, env, log, 1);
 }
 
 FMI3_EXPORT fmi3Instance fmi3InstantiateScheduledExecution(
@@ -119,30 +144,11 @@ FMI3_EXPORT void fmi3FreeInstance(fmi3Instance instance) {
 FMI3_EXPORT fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tol_defined,
                                                    fmi3Float64 tol, fmi3Float64 t0,
                                                    fmi3Boolean stop_defined, fmi3Float64 t1) {
-    (void)tol_defined; (void)tol; (void)stop_defined; (void)t1;
+    (void)stop_defined; (void)t1;
+    if (tol_defined && tol > 0.0) M->rtol = tol;      /* co-simulation: the solver's tolerance */
     M->t = t0;
     M->mode = MODE_INIT;
     changed(M);
-    return fmi3OK;
-}
-
-FMI3_EXPORT fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) {
-    core_exit_init(M);
-    return fmi3OK;
-}
-
-FMI3_EXPORT fmi3Status fmi3EnterEventMode(fmi3Instance instance) {
-    M->mode = MODE_EVENT;
-    return fmi3OK;
-}
-
-FMI3_EXPORT fmi3Status fmi3Terminate(fmi3Instance instance) {
-    M->mode = MODE_TERMINATED;
-    return fmi3OK;
-}
-
-FMI3_EXPORT fmi3Status fmi3Reset(fmi3Instance instance) {
-    core_start(M);
     return fmi3OK;
 }
 
@@ -202,12 +208,6 @@ UNSUPPORTED(fmi3FreeFMUState, (fmi3Instance instance, fmi3FMUState *s))
 UNSUPPORTED(fmi3SerializedFMUStateSize, (fmi3Instance instance, fmi3FMUState s, size_t *n))
 UNSUPPORTED(fmi3SerializeFMUState, (fmi3Instance instance, fmi3FMUState s, fmi3Byte b[], size_t n))
 UNSUPPORTED(fmi3DeserializeFMUState, (fmi3Instance instance, const fmi3Byte b[], size_t n, fmi3FMUState *s))
-UNSUPPORTED(fmi3GetDirectionalDerivative, (fmi3Instance instance, const fmi3ValueReference unk[],
-            size_t n_unk, const fmi3ValueReference kn[], size_t n_kn, const fmi3Float64 seed[],
-            size_t n_seed, fmi3Float64 sens[], size_t n_sens))
-UNSUPPORTED(fmi3GetAdjointDerivative, (fmi3Instance instance, const fmi3ValueReference unk[],
-            size_t n_unk, const fmi3ValueReference kn[], size_t n_kn, const fmi3Float64 seed[],
-            size_t n_seed, fmi3Float64 sens[], size_t n_sens))
 UNSUPPORTED(fmi3EnterConfigurationMode, (fmi3Instance instance))
 UNSUPPORTED(fmi3ExitConfigurationMode, (fmi3Instance instance))
 UNSUPPORTED(fmi3GetIntervalDecimal, (fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
@@ -226,12 +226,65 @@ UNSUPPORTED(fmi3SetShiftDecimal, (fmi3Instance instance, const fmi3ValueReferenc
             const fmi3Float64 s[]))
 UNSUPPORTED(fmi3SetShiftFraction, (fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
             const fmi3UInt64 c[], const fmi3UInt64 r[]))
-UNSUPPORTED(fmi3EnterStepMode, (fmi3Instance instance))
 UNSUPPORTED(fmi3GetOutputDerivatives, (fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
             const fmi3Int32 orders[], fmi3Float64 v[], size_t nv))
-UNSUPPORTED(fmi3DoStep, (fmi3Instance instance, fmi3Float64 t, fmi3Float64 h, fmi3Boolean no_prior,
-            fmi3Boolean *event_needed, fmi3Boolean *terminate, fmi3Boolean *early, fmi3Float64 *last))
 UNSUPPORTED(fmi3ActivateModelPartition, (fmi3Instance instance, fmi3ValueReference clock, fmi3Float64 t))
+
+FMI3_EXPORT fmi3Status fmi3GetDirectionalDerivative(
+        fmi3Instance instance, const fmi3ValueReference unk[], size_t n_unk,
+        const fmi3ValueReference kn[], size_t n_kn, const fmi3Float64 seed[], size_t n_seed,
+        fmi3Float64 sens[], size_t n_sens) {
+    if (n_seed != n_kn || n_sens != n_unk) return fmi3Error;
+    return (fmi3Status)core_directional(M, unk, n_unk, kn, n_kn, seed, sens,
+                                        "fmi3GetDirectionalDerivative");
+}
+
+/* FMI 3 fmi3GetAdjointDerivative: sens = seed^T (d unknowns / d knowns), column by column
+   with core_directional (so with the same exact and differenced parts). */
+static int adjoint(Instance *m, const unsigned unk[], size_t n_unk, const unsigned kn[],
+                        size_t n_kn, const double seed[], double sens[], const char *fn) {
+    double col[ONE(2 * CS_NX + CS_NY)], one = 1.0;
+    size_t i, j;
+    if (n_unk > ONE(2 * CS_NX + CS_NY)) {
+        logf_(m, ST_ERROR, "error", "%s: %u unknowns, more than the FMU has", fn, (unsigned)n_unk);
+        return ST_ERROR;
+    }
+    for (j = 0; j < n_kn; j++) {
+        int st = core_directional(m, unk, n_unk, &kn[j], 1, &one, col, fn);
+        if (st != ST_OK) return st;
+        sens[j] = 0.0;
+        for (i = 0; i < n_unk; i++) sens[j] += seed[i] * col[i];
+    }
+    return ST_OK;
+}
+
+FMI3_EXPORT fmi3Status fmi3GetAdjointDerivative(
+        fmi3Instance instance, const fmi3ValueReference unk[], size_t n_unk,
+        const fmi3ValueReference kn[], size_t n_kn, const fmi3Float64 seed[], size_t n_seed,
+        fmi3Float64 sens[], size_t n_sens) {
+    if (n_seed != n_unk || n_sens != n_kn) return fmi3Error;
+    return (fmi3Status)adjoint(M, unk, n_unk, kn, n_kn, seed, sens, "fmi3GetAdjointDerivative");
+}
+
+/* ---------------------------------------------------------------- co-simulation */
+FMI3_EXPORT fmi3Status fmi3EnterStepMode(fmi3Instance instance) {
+    M->mode = MODE_CONT;
+    return fmi3OK;
+}
+
+FMI3_EXPORT fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 t, fmi3Float64 h,
+                                  fmi3Boolean no_prior, fmi3Boolean *event_needed,
+                                  fmi3Boolean *terminate, fmi3Boolean *early, fmi3Float64 *last) {
+    int st;
+    (void)no_prior;
+    st = rb_do_step(M, t, h, "fmi3DoStep");
+    *event_needed = false;
+    *early = false;
+    *last = M->t;
+    *terminate = st == ST_DISCARD || st == ST_ERROR;
+    /* a terminal stop ends the run where it happened (lastSuccessfulTime) */
+    return st == ST_DISCARD ? fmi3OK : (fmi3Status)st;
+}
 
 FMI3_EXPORT fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance) {
     (void)instance;
@@ -254,47 +307,6 @@ FMI3_EXPORT fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boole
 }
 
 /* ---------------------------------------------------------------- model exchange */
-FMI3_EXPORT fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance) {
-    M->mode = MODE_CONT;
-    return fmi3OK;
-}
-
-FMI3_EXPORT fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean no_prior,
-                                                   fmi3Boolean *enter_event, fmi3Boolean *terminate) {
-    (void)instance; (void)no_prior;
-    *enter_event = false;
-    *terminate = false;
-    return fmi3OK;
-}
-
-FMI3_EXPORT fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 t) {
-    M->t = t;
-    changed(M);
-    return fmi3OK;
-}
-
-FMI3_EXPORT fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 x[], size_t n) {
-    return (fmi3Status)core_set_states(M, x, n);
-}
-
-FMI3_EXPORT fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 dx[], size_t n) {
-    return (fmi3Status)core_get_derivatives(M, dx, n);
-}
-
-FMI3_EXPORT fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 g[], size_t n) {
-    return (fmi3Status)core_get_indicators(M, g, n);
-}
-
-FMI3_EXPORT fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 x[], size_t n) {
-    return (fmi3Status)core_get_states(M, x, n);
-}
-
-FMI3_EXPORT fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 x[], size_t n) {
-    (void)instance;
-    core_nominals(x, n);
-    return fmi3OK;
-}
-
 FMI3_EXPORT fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *n) {
     (void)instance;
     *n = CS_NZ;

@@ -34,6 +34,7 @@ void cs_rhs(double t, double *y, double *u, double *p, double *dy);
 void cs_outputs(double t, double *y, double *u, double *p, double *out);
 void cs_events(double t, double *y, double *u, double *p, double *g);
 int cs_reset(double t, double *y, double *u, double *p, int k);
+void cs_jac(double t, double *y, double *u, double *p, double *J, int J_nc);
 
 #define ONE(n) ((n) > 0 ? (n) : 1)
 #define CS_VR_Z (CS_VR_P + CS_NP)
@@ -52,6 +53,7 @@ struct Instance {
     double y[ONE(CS_NX)], dy[ONE(CS_NX)], u[ONE(CS_NU)], p[ONE(CS_NP)];
     double out[ONE(CS_NY)], g[ONE(CS_NZ)], g_last[ONE(CS_NZ)];
     int dy_ok, out_ok, mode, logging;
+    int cosim;             /* instantiated for co-simulation */
     double rtol, h;        /* co-simulation: the solver's tolerance and its last step */
     char *name;
     core_logger log;
@@ -232,4 +234,106 @@ static int core_get_indicators(Instance *m, double g[], size_t n) {
 static void core_nominals(double x[], size_t n) {
     size_t i;
     for (i = 0; i < n; i++) x[i] = 1.0;
+}
+
+/* ---------------------------------------------------------------- directional derivatives
+   sens = (d unknowns / d knowns) seed (FMI 2 fmi2GetDirectionalDerivative, FMI 3
+   fmi3GetDirectionalDerivative).  Knowns: states, inputs, tunable parameters, the time
+   (FMI 3's independent variable).  Unknowns:
+   the states' derivatives, the states (as outputs), the output signals.
+   - The derivatives with respect to the states: the plant's exact Jacobian (cs_jac).
+   - The states with respect to the knowns: the seed of the state itself (exact).
+   - The derivatives with respect to inputs, parameters and time, and the output signals: a
+     fourth-order central difference along the seed in the FMU (the plant has no exact
+     Jacobian for them), step 1e-5 of the moved values (relative error about 1e-10). */
+
+#define DD_STEP 1e-5
+
+/* rhs (outs = 0) or outputs (outs = 1) at the instance's point moved by
+   s * (dx, du, dp, dt) */
+static void dd_eval(Instance *m, int outs, double s, const double *dx, const double *du,
+                    const double *dp, double dt, double *res) {
+    double y[ONE(CS_NX)], u[ONE(CS_NU)], p[ONE(CS_NP)];
+    int i;
+    for (i = 0; i < CS_NX; i++) y[i] = m->y[i] + s * dx[i];
+    for (i = 0; i < CS_NU; i++) u[i] = m->u[i] + s * du[i];
+    for (i = 0; i < CS_NP; i++) p[i] = m->p[i] + s * dp[i];
+    if (outs) cs_outputs(m->t + s * dt, y, u, p, res);
+    else {
+        memset(res, 0, CS_NX * sizeof(double));
+        cs_rhs(m->t + s * dt, y, u, p, res);
+    }
+}
+
+/* the step of a central difference along (dx, du, dp): DD_STEP of each moved value (at most) */
+static double dd_step(Instance *m, const double *dx, const double *du, const double *dp,
+                      double dt) {
+    double s = dt != 0.0 ? (1.0 + fabs(m->t)) / fabs(dt) : HUGE_VAL;
+    int i;
+    for (i = 0; i < CS_NX; i++) if (dx[i] != 0.0) s = fmin(s, (1.0 + fabs(m->y[i])) / fabs(dx[i]));
+    for (i = 0; i < CS_NU; i++) if (du[i] != 0.0) s = fmin(s, (1.0 + fabs(m->u[i])) / fabs(du[i]));
+    for (i = 0; i < CS_NP; i++) if (dp[i] != 0.0) s = fmin(s, (1.0 + fabs(m->p[i])) / fabs(dp[i]));
+    return s == HUGE_VAL ? 0.0 : DD_STEP * s;
+}
+
+/* the fourth-order central difference (Richardson's): (8 (f(s) - f(-s)) - (f(2s) - f(-2s))) / 12 s;
+   the friction laws' steep slip transitions make a second-order one's error reach 1e-6 */
+static void dd_central(Instance *m, int outs, const double *dx, const double *du, const double *dp,
+                       double dt, double *res, int n) {
+    double a[ONE(CS_NX + CS_NY)], b[ONE(CS_NX + CS_NY)], c[ONE(CS_NX + CS_NY)];
+    double d[ONE(CS_NX + CS_NY)], s = dd_step(m, dx, du, dp, dt);
+    int i;
+    if (s == 0.0) { memset(res, 0, n * sizeof(double)); return; }
+    dd_eval(m, outs, s, dx, du, dp, dt, a);
+    dd_eval(m, outs, -s, dx, du, dp, dt, b);
+    dd_eval(m, outs, 2.0 * s, dx, du, dp, dt, c);
+    dd_eval(m, outs, -2.0 * s, dx, du, dp, dt, d);
+    for (i = 0; i < n; i++) res[i] = (8.0 * (a[i] - b[i]) - (c[i] - d[i])) / (12.0 * s);
+}
+
+static int core_directional(Instance *m, const unsigned unk[], size_t n_unk, const unsigned kn[],
+                            size_t n_kn, const double seed[], double sens[], const char *fn) {
+    enum { N = ONE(CS_NX) };
+    double dx[N], du[ONE(CS_NU)], dp[ONE(CS_NP)], zero[N], J[N * N];
+    double drhs[N], dout[ONE(CS_NY)], dt = 0.0;
+    int have_j = 0, have_rhs = 0, have_out = 0, other = 0;
+    size_t i;
+    memset(dx, 0, sizeof dx); memset(du, 0, sizeof du); memset(dp, 0, sizeof dp);
+    memset(zero, 0, sizeof zero);
+    for (i = 0; i < n_kn; i++) {
+        unsigned r = kn[i];
+        if (r < CS_NX) dx[r] += seed[i];
+        else if (r >= CS_VR_U && r < CS_VR_U + CS_NU) { du[r - CS_VR_U] += seed[i]; other |= seed[i] != 0.0; }
+        else if (r >= CS_VR_P && r < CS_VR_P + CS_NP && cs_p_settable[r - CS_VR_P]) {
+            dp[r - CS_VR_P] += seed[i]; other |= seed[i] != 0.0;
+        } else if (r == CS_VR_T) { dt += seed[i]; other |= seed[i] != 0.0; }
+        else {
+            logf_(m, ST_ERROR, "error", "%s: value reference %u is not a known (a state, an "
+                  "input, a tunable parameter or the time)", fn, r);
+            return ST_ERROR;
+        }
+    }
+    for (i = 0; i < n_unk; i++) {
+        unsigned r = unk[i];
+        if (r < CS_NX) sens[i] = dx[r];
+        else if (r < 2 * CS_NX) {
+            int k = (int)(r - CS_NX), j;
+            if (!have_j) {
+                memset(J, 0, sizeof J);
+                cs_jac(m->t, m->y, m->u, m->p, J, CS_NX);
+                have_j = 1;
+            }
+            if (other && !have_rhs) { dd_central(m, 0, zero, du, dp, dt, drhs, CS_NX); have_rhs = 1; }
+            sens[i] = other ? drhs[k] : 0.0;
+            for (j = 0; j < CS_NX; j++) sens[i] += J[k * CS_NX + j] * dx[j];
+        } else if (r >= CS_VR_Y && r < CS_VR_Y + CS_NY) {
+            if (!have_out) { dd_central(m, 1, dx, du, dp, dt, dout, CS_NY); have_out = 1; }
+            sens[i] = dout[r - CS_VR_Y];
+        } else {
+            logf_(m, ST_ERROR, "error", "%s: value reference %u is not an unknown (a state, a "
+                  "derivative or an output)", fn, r);
+            return ST_ERROR;
+        }
+    }
+    return ST_OK;
 }

@@ -16,8 +16,6 @@
    the step's start) to 1e-12 s, the state is placed just past it, and the core applies
    the reset as in Model Exchange (core_event). */
 
-void cs_jac(double t, double *y, double *u, double *p, double *J, int J_nc);
-
 #define RB_G 1.7071067811865475     /* 1 + 1/sqrt(2) */
 
 /* LU with partial pivoting of the n x n row-major a, in place; 0 if singular */
@@ -168,4 +166,27 @@ static int rb_integrate(Instance *m, double t_end, double rtol, double atol, dou
     }
     *h_io = h;
     return ST_OK;
+}
+
+/* One communication step from t to t + h (fmi2DoStep, fmi3DoStep): an event at the
+   communication point first (the start's directional events, an input jump), then the
+   integration with its events; the status (ST_DISCARD: a terminal stop ended the run at
+   m->t). */
+static int rb_do_step(Instance *m, double t, double h, const char *fn) {
+    double g[ONE(CS_NZ)];
+    if (!CS_COSIM || !m->cosim) {
+        logf_(m, ST_ERROR, "error", "%s: the instance is not for co-simulation", fn);
+        return ST_ERROR;
+    }
+    if (fabs(t - m->t) > 1e-9 * (1.0 + fabs(t))) {
+        logf_(m, ST_ERROR, "error", "%s: communication point %.17g s, but the FMU is at %.17g s", fn, t, m->t);
+        return ST_ERROR;
+    }
+    m->mode = MODE_CONT;
+    indicators(m, g);
+    if (rb_crossing(m, m->g_last, g)) {
+        int vc, term, st = core_event(m, &vc, &term);
+        if (term) return st == ST_OK ? ST_DISCARD : st;
+    }
+    return rb_integrate(m, t + h, m->rtol, 1e-2 * m->rtol, &m->h);
 }
