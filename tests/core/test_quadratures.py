@@ -74,7 +74,9 @@ def test_launch_with_and_without_quadratures_agree(method):
     b = simulate(replace(sys_, quadratures=0), (0.0, 1.6), inputs, solver=method,
                  options=opts)
     assert a.status == b.status == "completed"
-    assert a.stats.jacobians == b.stats.jacobians
+    # the same steps up to round-off: the full 16 x 16 LU and the 10 x 10 block with its
+    # substitution differ in the last bits, which may move a step or two
+    assert abs(a.stats.jacobians - b.stats.jacobians) <= 0.01 * b.stats.jacobians
     # fewer right-hand sides: the quadrature columns are not differenced
     assert a.stats.rhs_evals < b.stats.rhs_evals
     # on the output grid (event rows sit at times that differ within the event tolerance
