@@ -59,12 +59,14 @@ class Plan:
                                "its loss in closed form)", lossy[1].name)
         self.sw_index = {c.name: i for i, c in enumerate(self.sw)}
         self.fe_index = {c.name: i for i, c in enumerate(self.fes)}
-        # ---- inputs
+        # ---- signals between components, then the external inputs
+        self.produced = produced_signals(comps)
+        self.emit_order = _signal_order(self.mech_order, self.produced)
         names: list[str] = []
         units: list[str] = []
         for c in comps:
             for n in c.inputs():
-                if n not in names:
+                if n not in names and n not in self.produced:
                     names.append(n)
                     units.append(c.input_units().get(n, "-"))
         self.input_names, self.input_units = tuple(names), tuple(units)
@@ -390,6 +392,53 @@ class Plan:
     def render(self, g) -> str:
         from .render import render
         return render(self, g)
+
+
+def produced_signals(comps) -> dict:
+    """Full signal name -> (producing component, unit) of every produced signal."""
+    out: dict = {}
+    for c in comps:
+        for local, unit in c.signals().items():
+            out[c.signal_name(local)] = (c, unit)
+    return out
+
+
+def _signal_order(comps, produced) -> list:
+    """``comps`` with every producer of a feedthrough signal before its consumers (stable:
+    otherwise in the listed order); a loop of feedthrough signals is a NetworkError naming
+    it (a component whose signals follow from its states breaks a loop)."""
+    deps = {}
+    for c in comps:
+        deps[c.name] = [produced[n][0] for n in c.inputs()
+                        if n in produced and produced[n][0].feedthrough
+                        and produced[n][0] is not c]
+    for c in comps:
+        own = [n for n in c.inputs() if n in produced and produced[n][0] is c]
+        if own and c.feedthrough:
+            raise NetworkError(f"{c.label}: reads its own signal {own[0]!r} at the same "
+                               "instant (an algebraic loop)", c.name)
+    order: list = []
+    state: dict = {}
+
+    def visit(c, path):
+        st = state.get(c.name)
+        if st == 2:
+            return
+        if st == 1:
+            loop = path[path.index(c.name):] + [c.name]
+            raise NetworkError(f"{c.label}: a loop of signals that no state breaks: "
+                               f"{' -> '.join(loop)} (each reads the next one's signal at "
+                               "the same instant; put a lag, an actuator or another "
+                               "component with states in the loop)", c.name)
+        state[c.name] = 1
+        for d in deps[c.name]:
+            visit(d, [*path, c.name])
+        state[c.name] = 2
+        order.append(c)
+
+    for c in comps:
+        visit(c, [])
+    return order
 
 
 def _sum_products(pairs) -> str:
