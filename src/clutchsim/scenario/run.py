@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..analysis.actuation import controller_warnings
 from ..core import Result, SolverOptions, simulate
 from ..driveline.metrics import launch_metrics, launch_warnings, with_weighted_acceleration
 from .loader import resolve_scenario
@@ -57,7 +58,8 @@ def run_system(scenario, system, model: str | None = None, *, solver: str | None
     name = system.metadata["models"].get(scenario.clutch, model or "")
     res = res.with_warnings(*launch_warnings(res, scenario.clutch,
                                              expect_lockup=expects_lockup(scenario),
-                                             friction=_is_friction_clutch(scenario)))
+                                             friction=_is_friction_clutch(scenario)),
+                            *controller_warnings(scenario, system, res))
     res = with_weighted_acceleration(res)
     return LaunchResult(name, res, launch_metrics(res, clutch=scenario.clutch,
                                                   lining=lining_geometry(scenario)))

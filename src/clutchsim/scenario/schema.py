@@ -47,6 +47,10 @@ SCENARIO = (
     Key("expect_lockup", "bool", "Whether that element should lock up during the run: if it "
         "never does, the run gets a warning (default: true when it is a `clutch`, as in a "
         "launch; false for the other kinds)."),
+    Key("compare", "str", "Another scenario file (relative to this one) to compare this "
+        "launch with: `clutchsim run` runs it too and writes `quality_comparison.json` (the "
+        "launch-quality metrics, one row per launch, in the report) and "
+        "`comparison_launch.png`."),
 )
 SOLVER = (
     Key("method", "str", f"{DEFAULT_METHOD} (default), "
@@ -250,6 +254,27 @@ def _component_keys(cls) -> tuple:
                        required=True),
                    Key("throttle", "str", "Throttle input signal [-].", required=True)),
         "thermal_node": (Key("link", "str", "Another thermal node this one conducts to."),),
+        "release_system": (
+            Key("travel", "str", "Signal of the engagement travel [m] (e.g. an actuator's "
+                "`<name>.position`).", required=True),
+            Key("cushion", "table", "Cushion (lining) spring `{compression = [m ...], force = "
+                "[N ...]}` from (0, 0), both strictly increasing.", required=True),
+            Key("spring", "table", "Diaphragm (lever) spring in series, at the bearing: "
+                "`{deflection = [m ...], force = [N ...]}` from (0, 0), both strictly "
+                "increasing (default: rigid).")),
+        "hydraulic_actuator": (Key("command", "str", "Signal of the pressure command [Pa].",
+                                   required=True),),
+        "electromechanical_actuator": (Key("command", "str", "Signal of the position command "
+                                           "[m].", required=True),),
+        "launch_controller": (
+            Key("target", "str", "Signal of the target speed ω_a − ω_b [rad/s].",
+                required=True),
+            Key("feedforward", "str", "Signal of the engine torque [N·m] (e.g. "
+                "`engine.torque`), times `k_ff`."),
+            Key("command_unit", "str", "Unit of the command it produces: -, N, Pa or m.")),
+        "driver": (
+            Key("target", "str", "Signal of the target speed [m/s].", required=True),
+            Key("feedforward", "str", "Signal of a throttle feed-forward [-].")),
         "lossy_gear": (LOSSY_GEAR[3],),
         "gearbox": (GEARBOX[2], GEARBOX[5]),
         "one_way_clutch": (ONE_WAY_CLUTCH[2], ONE_WAY_CLUTCH[5], ONE_WAY_CLUTCH[6]),
