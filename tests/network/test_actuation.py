@@ -234,6 +234,8 @@ def _bad(tmp_path, name, old, new):
      "force = [0.0, 300.0, 900.0, 800.0",
      ["component[1].cushion",
       "cushion.force[3] = 800 N must be greater than cushion.force[2] = 900 N", "monotone"]),
+    ("launch_actuated", "r_inner = 0.075", "r_inner = 0.11",
+     ["component[4].r_inner", "= 0.11 m must be below r_outer = 0.1 m", "r_inner < r_outer"]),
     ("launch_hydraulic", "dead_time = 0.04", "dead_time = -0.01",
      ["component[1].dead_time", "= -0.01 s", ">= 0"]),
     ("launch_actuated", 'travel = "actuator.position"', 'travel = "actuator.positon"',

@@ -311,7 +311,8 @@ def build_network(scenario, model: str | None = None):
     needs = []              # (signal, key): checked once every component's signals are known
     for i, t in enumerate(data.get("component", [])):
         key = f"component[{i}]"
-        kw = {k: v for k, v in t.items() if k not in ("type", "name")}
+        kw = {k: v for k, v in t.items() if k not in ("type", "name")
+              and not (t["type"] == "clutch" and k in LINING_KEYS)}
         cls = COMPONENTS[t["type"]]
         needs += [(kw[k], f"{key}.{k}") for k in getattr(cls, "signal_keys", ())
                   if isinstance(kw.get(k), str)]

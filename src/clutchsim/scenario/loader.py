@@ -371,6 +371,8 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
                              f"{suggest(str(ctype), types)} (types: {', '.join(types)})",
                              f"{path}.type")
                     check_table(tab, types[ctype], path, fail)
+                    if ctype == "clutch":
+                        check_lining(tab, path, fail)
                 elif name == "coupling":
                     ctype = tab.get("type")
                     if ctype not in COUPLING_TYPES:

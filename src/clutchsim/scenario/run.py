@@ -71,10 +71,10 @@ def _is_friction_clutch(scenario) -> bool:
 
 
 def lining_geometry(scenario) -> tuple | None:
-    """``(r_inner [m], r_outer [m], faces [-])`` of the scenario's clutch coupling (its
-    keys ``r_inner``, ``r_outer``, ``faces``, checked by the scenario loader), or None
-    when the element has no lining radii."""
-    for t in scenario.data.get("coupling", []):
+    """``(r_inner [m], r_outer [m], faces [-])`` of the scenario's clutch, a coupling or a
+    network component (its keys ``r_inner``, ``r_outer``, ``faces``, checked by the
+    scenario loader), or None when the element has no lining radii."""
+    for t in (*scenario.data.get("coupling", []), *scenario.data.get("component", [])):
         if isinstance(t, dict) and t.get("name") == scenario.clutch and "r_outer" in t:
             return float(t["r_inner"]), float(t["r_outer"]), int(t.get("faces", 2))
     return None

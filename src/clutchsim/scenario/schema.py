@@ -237,7 +237,8 @@ def _component_keys(cls) -> tuple:
                         required=p.default is None and not optional,
                         low=p.low, high=p.high, strict=p.strict))
     extra = {
-        "clutch": (*CLUTCH[2:9], RUNOUT), "brake": (*CLUTCH[2:9], RUNOUT),
+        "clutch": (*CLUTCH[2:9], RUNOUT, *(k for k in CLUTCH if k.name in LINING_KEYS)),
+        "brake": (*CLUTCH[2:9], RUNOUT),
         "dual_mass_flywheel": (CLUTCH[3], *CLUTCH[5:8]),
         "torque_converter": (
             Key("speed_ratio", "numbers", "Speed ratios turbine/pump of the tables, strictly "
