@@ -284,3 +284,22 @@ def test_unstable_controller_gains_warn_with_the_margin():
     [msg] = controller_warnings(sc, replace(system, params=p), r.result)
     assert "launch controller 'controller'" in msg and "unstable" in msg
     assert f"gain margin {0.5:.3g}" in msg
+
+
+def test_run_compares_the_closed_loop_launch_with_the_open_loop_one(tmp_path):
+    """`clutchsim run` on the closed-loop launch runs the open-loop launch of `[scenario]
+    compare` too: one row per launch in quality_comparison.json (and so in the report),
+    the chain's figures; closing the loop lowers the jerk and the lock-up shock."""
+    import json
+
+    from clutchsim.cli import main
+    out = tmp_path / "run"
+    assert main(["run", str(EXAMPLES / "launch_closed_loop.toml"), "--model", "coulomb-robust",
+                 "--out", str(out), "-q"]) == 0
+    doc = json.loads((out / "quality_comparison.json").read_text())
+    closed, open_ = doc["launches"].values()
+    assert closed["jerk_peak_mps3"] < 0.5 * open_["jerk_peak_mps3"]
+    assert abs(closed["lockup_shock_mps2"]) < 0.5 * abs(open_["lockup_shock_mps2"])
+    for png in ("characteristic.png", "actuation_coulomb-robust.png", "comparison_launch.png"):
+        assert (out / png).stat().st_size > 1000
+    assert "quality_comparison.json › launches" in (out / "report.html").read_text()
