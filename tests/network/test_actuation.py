@@ -122,6 +122,17 @@ def test_series_characteristic_and_play_hysteresis(bench):
         0.02 * slope * lag
 
 
+def test_initial_state_reads_the_produced_signals():
+    """A release system's play starts at its travel's initial value when the travel is an
+    actuator's signal (the plant's outputs at the initial state)."""
+    net = Network([Inertia("m", J=1.0), ServoActuator("s", command="xc", bandwidth=5.0,
+                                                      x0=7e-3),
+                   ReleaseSystem("r", travel="s.position", cushion=CUSHION,
+                                 touch_point=5e-3, hysteresis=4e-4)], [["m.a", "ground"]])
+    sys_ = net.build({"xc": 7e-3})
+    assert sys_.y0[sys_.state_names.index("r.travel_played")] == 7e-3
+
+
 @pytest.fixture(scope="module")
 def loop():
     """A slip loop: a PI controller holds the speed of a driven inertia against a brake it

@@ -360,6 +360,23 @@ class Plan:
             y0[self.state_index[(c.name, "wear")]] = by_name[c.name].wear0
         return y0
 
+    def _with_signals0(self, comps, inputs0, y0, p) -> np.ndarray:
+        """The initial state again, with the produced signals' values at ``y0`` among the
+        initial inputs (a clutch commanded by a signal, a release system's play), until
+        they stop changing (a chain of signals takes one pass per link)."""
+        inputs0 = dict(inputs0 or {})
+        u = np.array([inputs0.get(n, 0.0) for n in self.input_names], dtype=float)
+        out = np.zeros(len(self.output_names))
+        for _ in range(len(self.produced) + 1):
+            self.module.outputs(0.0, y0, u, p[:self.n_params].copy(), out)
+            given = {**inputs0, **{n: float(out[self.output_names.index(n)])
+                                   for n in self.produced}}
+            y1 = self.initial_state(comps, given)
+            if np.array_equal(y1, y0):
+                break
+            y0 = y1
+        return y0
+
     # ------------------------------------------------------------------ system
     def system(self, comps=None, inputs0=None, *, name=None, metadata=None,
                params=None) -> System:
@@ -369,6 +386,8 @@ class Plan:
         comps = self.net.components if comps is None else tuple(comps)
         p = self.values_vector(comps) if params is None else params
         y0 = self.initial_state(comps, inputs0)
+        if self.produced:
+            y0 = self._with_signals0(comps, inputs0, y0, p)
         by_name = {c.name: c for c in comps}
         ev_names = list(self.event_names)
         for k, tmpl in self.event_templates.items():
