@@ -87,7 +87,9 @@ CLUTCH = (
     Key("type", "str", "clutch | one_way_clutch | spring_damper | gear | lossy_gear | gearbox.",
         required=True),
     Key("command", "str", "Actuation input: COM in [0, 1] (seed eqs. 1-2), or the pedal / "
-        "actuator position read through `clamp_table`.", required=True),
+        "actuator position read through `clamp_table`; in a network also another "
+        "component's signal (`<component>.<signal>`), e.g. a release system's clamp force "
+        "[N] with `clamp_reference`.", required=True),
     Key("friction", "table", "Friction model of the element (see [friction]).", required=True),
     Key("clamp_table", "table", "Diaphragm-spring characteristic `{position = [...], force = "
         "[...]}`: clamp force normalised by the force at which the model's capacity is given "
