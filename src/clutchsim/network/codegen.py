@@ -47,7 +47,7 @@ __all__ = ["Emitter", "generate", "load_module"]
 ENERGY = (("W_in", "in"), ("W_friction", "fric"), ("W_damping", "damp"), ("W_road", "road"),
           ("E_grade", "grade"), ("W_sync", "sync"))
 #: version of the generated code's layout; part of every module's hash
-GENERATOR_VERSION = 1
+GENERATOR_VERSION = 2
 
 _ALLOWED = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.BoolOp, ast.Compare, ast.IfExp,
             ast.Call, ast.Name, ast.Load, ast.Constant, ast.Attribute, ast.Subscript,
@@ -110,8 +110,46 @@ class Emitter:
         return f"y[{self.g.state_index[(node, 'theta')]}]"
 
     def u(self, name: str) -> str:
-        """Input signal ``name`` (as declared by :meth:`inputs`)."""
+        """Signal ``name`` (as declared by :meth:`inputs`): the local of the component that
+        produces it, else the external input's channel."""
+        if name in self.g.plan.produced:
+            var = self.g.signal_var.get(name)
+            if var is None:     # the plan orders producers first: a bug if it happens
+                raise ValueError(f"{self.c.label}: signal {name!r} is read before "
+                                 f"{self.g.plan.produced[name][0].label} produced it")
+            return var
         return f"u[{self.g.channel[name]}]"
+
+    def du(self, name: str) -> list[tuple]:
+        """Partial derivatives ``(key, local)`` of signal ``name`` with respect to states
+        and speeds (keys as :meth:`kw`/:meth:`kx`); empty for an external input."""
+        self.u(name)
+        return list(self.g.signal_partials.get(name, ()))
+
+    def chain(self, name: str, factor: str) -> list[tuple]:
+        """``(key, factor·∂signal/∂key)`` of signal ``name``: the partials of an expression
+        whose derivative with respect to the signal is ``factor``."""
+        return [(k, f"({factor}) * {d}") for k, d in self.du(name)]
+
+    def signal(self, local: str, expr: str) -> str:
+        """Produce the component's signal ``local`` (declared by :meth:`signals`) as
+        ``expr``; returns its local variable.  It is also an output."""
+        if local not in self.c.signals():
+            raise ValueError(f"{self.c.label}: signal {local!r} is not declared by "
+                             "signals()")
+        name = self.c.signal_name(local)
+        var = self.let(f"sig_{local}", expr)
+        self.g.signal_var[name] = var
+        self.g.signal_partials[name] = []
+        self.output(name, self.c.signals()[local], var)
+        return var
+
+    def dsignal(self, local: str, key, expr: str) -> None:
+        """Partial derivative of the produced signal ``local`` with respect to ``key``."""
+        name = self.c.signal_name(local)
+        parts = self.g.signal_partials[name]
+        var = self.let(f"dsig_{local}_{len(parts)}", expr)
+        parts.append((key, var))
 
     def tmp(self, base: str) -> str:
         """A local variable name private to this component."""
@@ -232,7 +270,14 @@ class _Gen:
         self.outputs: list = []
         self.events: list = []
         self.springs: list = []
-        for c in plan.mech_order:
+        self.signal_var: dict = {}
+        self.signal_partials: dict = {}
+        # signals that follow from states alone first (they break loops of signals), then
+        # every component's equations, producers before the consumers of their signals
+        for c in plan.emit_order:
+            if c.signals() and not c.feedthrough:
+                c.emit_signals(Emitter(self, c))
+        for c in plan.emit_order:
             if getattr(c, "friction", False):
                 plan.friction_prelude(self, c)
             c.emit(Emitter(self, c))

@@ -9,13 +9,21 @@ A component says once what it is:
 * ``states``: the continuous states it owns (:class:`~clutchsim.network.spec.StateSpec`);
 * its equations, in :meth:`Component.emit`, written against an emitter ``e``
   (:class:`~clutchsim.network.codegen.Emitter`): ``e.w(flange)`` a flange speed,
-  ``e.par(name)`` a parameter, ``e.x(state)`` a state, ``e.u(input)`` an input signal;
+  ``e.par(name)`` a parameter, ``e.x(state)`` a state, ``e.u(input)`` an input signal
+  (an external input, or a signal another component produces: ``e.du(input)`` gives its
+  partial derivatives to chain into this component's own);
   ``e.torque(flange, expr)`` applies a torque on a flange, ``e.deriv(state, expr)`` sets a
   state derivative, ``e.power(account, expr)`` books a power in the energy accounts, and
   every equation gives its exact partial derivatives beside it (``e.dtorque``,
   ``e.dderiv``).  Expressions are strings in a small, C-like subset of Python
   (arithmetic, comparisons, ``math`` functions, conditional expressions); the generator
   writes them into one straight-line compiled module per topology;
+* the signals it *produces* (:meth:`Component.signals`, named ``<component>.<signal>``):
+  ``e.signal(name, unit, expr)`` with its partials ``e.dsignal(name, key, expr)``; other
+  components read them by that full name where they would read an input.  A component
+  whose signals read no input at the same instant (they follow from its states) sets
+  ``feedthrough = False`` and writes them in :meth:`Component.emit_signals`: they are
+  emitted before every component's equations, so they break loops of signals;
 * rigid parts: :meth:`Component.inertias` (inertia at a flange) and
   :meth:`Component.constraints` (linear relations between flange speeds, e.g. a gear).
 
@@ -44,6 +52,9 @@ class Component:
     grounded: ClassVar[tuple[str, ...]] = ()
     params: ClassVar[tuple[Param, ...]] = ()
     states: ClassVar[tuple[StateSpec, ...]] = ()
+    #: do its signals read its inputs at the same instant (False: they follow from its
+    #: states and flange speeds alone, written by :meth:`emit_signals`)
+    feedthrough: ClassVar[bool] = True
 
     def __init__(self, name: str, **values):
         if not isinstance(name, str) or not name or not name.replace("_", "a").isalnum():
@@ -102,6 +113,15 @@ class Component:
         """Unit of each input of :meth:`inputs`."""
         return {}
 
+    def signals(self) -> dict[str, str]:
+        """Signals it produces: local name -> unit.  Their full names are
+        ``<component>.<local name>``; each is also an output (a results column)."""
+        return {}
+
+    def signal_name(self, local: str) -> str:
+        """The full name of its produced signal ``local``."""
+        return f"{self.name}.{local}"
+
     def inertias(self) -> dict[str, float]:
         """Inertia [kg·m²] it puts at each of its flanges."""
         return {}
@@ -149,6 +169,10 @@ class Component:
                                  f"{closest(key, specs)}")
             new.values[key] = check_value(self.label, specs[key], val)
         return new
+
+    def emit_signals(self, e) -> None:
+        """Write the signals of a component with ``feedthrough = False`` (from its states
+        and flange speeds only); runs before any component's :meth:`emit`."""
 
     def emit(self, e) -> None:
         """Write the equations (see the module docstring)."""

@@ -59,12 +59,14 @@ class Plan:
                                "its loss in closed form)", lossy[1].name)
         self.sw_index = {c.name: i for i, c in enumerate(self.sw)}
         self.fe_index = {c.name: i for i, c in enumerate(self.fes)}
-        # ---- inputs
+        # ---- signals between components, then the external inputs
+        self.produced = produced_signals(comps)
+        self.emit_order = _signal_order(self.mech_order, self.produced)
         names: list[str] = []
         units: list[str] = []
         for c in comps:
             for n in c.inputs():
-                if n not in names:
+                if n not in names and n not in self.produced:
                     names.append(n)
                     units.append(c.input_units().get(n, "-"))
         self.input_names, self.input_units = tuple(names), tuple(units)
@@ -358,6 +360,23 @@ class Plan:
             y0[self.state_index[(c.name, "wear")]] = by_name[c.name].wear0
         return y0
 
+    def _with_signals0(self, comps, inputs0, y0, p) -> np.ndarray:
+        """The initial state again, with the produced signals' values at ``y0`` among the
+        initial inputs (a clutch commanded by a signal, a release system's play), until
+        they stop changing (a chain of signals takes one pass per link)."""
+        inputs0 = dict(inputs0 or {})
+        u = np.array([inputs0.get(n, 0.0) for n in self.input_names], dtype=float)
+        out = np.zeros(len(self.output_names))
+        for _ in range(len(self.produced) + 1):
+            self.module.outputs(0.0, y0, u, p[:self.n_params].copy(), out)
+            given = {**inputs0, **{n: float(out[self.output_names.index(n)])
+                                   for n in self.produced}}
+            y1 = self.initial_state(comps, given)
+            if np.array_equal(y1, y0):
+                break
+            y0 = y1
+        return y0
+
     # ------------------------------------------------------------------ system
     def system(self, comps=None, inputs0=None, *, name=None, metadata=None,
                params=None) -> System:
@@ -367,6 +386,8 @@ class Plan:
         comps = self.net.components if comps is None else tuple(comps)
         p = self.values_vector(comps) if params is None else params
         y0 = self.initial_state(comps, inputs0)
+        if self.produced:
+            y0 = self._with_signals0(comps, inputs0, y0, p)
         by_name = {c.name: c for c in comps}
         ev_names = list(self.event_names)
         for k, tmpl in self.event_templates.items():
@@ -390,6 +411,53 @@ class Plan:
     def render(self, g) -> str:
         from .render import render
         return render(self, g)
+
+
+def produced_signals(comps) -> dict:
+    """Full signal name -> (producing component, unit) of every produced signal."""
+    out: dict = {}
+    for c in comps:
+        for local, unit in c.signals().items():
+            out[c.signal_name(local)] = (c, unit)
+    return out
+
+
+def _signal_order(comps, produced) -> list:
+    """``comps`` with every producer of a feedthrough signal before its consumers (stable:
+    otherwise in the listed order); a loop of feedthrough signals is a NetworkError naming
+    it (a component whose signals follow from its states breaks a loop)."""
+    deps = {}
+    for c in comps:
+        deps[c.name] = [produced[n][0] for n in c.inputs()
+                        if n in produced and produced[n][0].feedthrough
+                        and produced[n][0] is not c]
+    for c in comps:
+        own = [n for n in c.inputs() if n in produced and produced[n][0] is c]
+        if own and c.feedthrough:
+            raise NetworkError(f"{c.label}: reads its own signal {own[0]!r} at the same "
+                               "instant (an algebraic loop)", c.name)
+    order: list = []
+    state: dict = {}
+
+    def visit(c, path):
+        st = state.get(c.name)
+        if st == 2:
+            return
+        if st == 1:
+            loop = path[path.index(c.name):] + [c.name]
+            raise NetworkError(f"{c.label}: a loop of signals that no state breaks: "
+                               f"{' -> '.join(loop)} (each reads the next one's signal at "
+                               "the same instant; put a lag, an actuator or another "
+                               "component with states in the loop)", c.name)
+        state[c.name] = 1
+        for d in deps[c.name]:
+            visit(d, [*path, c.name])
+        state[c.name] = 2
+        order.append(c)
+
+    for c in comps:
+        visit(c, [])
+    return order
 
 
 def _sum_products(pairs) -> str:

@@ -170,6 +170,25 @@ def _need_input(scenario, name: str, key: str) -> None:
                       f"{'; inputs: ' + ', '.join(inputs) if inputs else ''}", key)
 
 
+def _check_signals(scenario, comps, needs, where) -> None:
+    """Every signal a component reads is an [inputs] entry or another component's signal
+    (``<component>.<signal>``), and no signal is both."""
+    from ..network.plant import produced_signals
+    produced = produced_signals(comps)
+    for name, (comp, _unit) in produced.items():
+        if name in scenario.inputs:
+            scenario.fail(f"signal {name!r} is produced by {comp.label} ({where[comp.name]}) "
+                          "and also given here: a signal has one source (remove one)",
+                          f"inputs.{name}")
+    for name, key in needs:
+        if name in produced or name in scenario.inputs:
+            continue
+        known = [*scenario.inputs, *produced]
+        scenario.fail(f"signal {name!r} is neither defined in [inputs] nor produced by a "
+                      f"component{suggest(name, known)}"
+                      f"{'; signals: ' + ', '.join(known) if known else ''}", key)
+
+
 def build_chain(scenario, model: str | None = None) -> Chain:
     """Build the :class:`Chain` of ``scenario`` with ``model`` on its clutch element."""
     data = scenario.data
@@ -289,15 +308,19 @@ def build_network(scenario, model: str | None = None):
 
     comps = []
     where = {}
+    needs = []              # (signal, key): checked once every component's signals are known
     for i, t in enumerate(data.get("component", [])):
         key = f"component[{i}]"
-        kw = {k: v for k, v in t.items() if k not in ("type", "name")}
+        kw = {k: v for k, v in t.items() if k not in ("type", "name")
+              and not (t["type"] == "clutch" and k in LINING_KEYS)}
         cls = COMPONENTS[t["type"]]
+        needs += [(kw[k], f"{key}.{k}") for k in getattr(cls, "signal_keys", ())
+                  if isinstance(kw.get(k), str)]
         # friction elements with a friction model (a lossy gear's `friction` is a
         # property; a one-way clutch has its own law, below)
         if getattr(cls, "friction", False) is True and t["type"] != "one_way_clutch":
             if cls.commanded:
-                _need_input(scenario, kw["command"], f"{key}.command")
+                needs.append((kw["command"], f"{key}.command"))
             m = model if _replaced(t, model, scenario) else None
             kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
                                          t["name"])
@@ -313,11 +336,11 @@ def build_network(scenario, model: str | None = None):
                 from ..network.wear import WearLaw
                 kw["wear"] = WearLaw.from_table(kw["wear"], fail, f"{key}.wear")
         elif t["type"] == "engine":
-            _need_input(scenario, kw["throttle"], f"{key}.throttle")
+            needs.append((kw["throttle"], f"{key}.throttle"))
             fl = _pairs(kw.pop("full_load"), "speed", "torque", f"{key}.full_load", fail)
             kw["speeds"], kw["torques"] = fl
         elif t["type"] == "torque":
-            _need_input(scenario, kw["input"], f"{key}.input")
+            needs.append((kw["input"], f"{key}.input"))
         elif t["type"] == "torque_pulsation" and "amplitude_table" in kw:
             kw["amplitude_table"] = _pairs(kw["amplitude_table"], "speed", "amplitude",
                                            f"{key}.amplitude_table", fail)
@@ -326,15 +349,25 @@ def build_network(scenario, model: str | None = None):
         elif t["type"] == "gearbox":
             kw["shifts"] = tuple((s.get("time"), s.get("gear")) for s in kw.get("shifts", []))
         elif t["type"] == "one_way_clutch":
-            _need_input(scenario, kw["command"], f"{key}.command")
+            needs.append((kw["command"], f"{key}.command"))
             kw["mu_temperature"] = _pairs(kw.get("mu_temperature"), "theta", "factor",
                                           f"{key}.mu_temperature", fail)
             kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
+        elif t["type"] == "release_system":
+            from ..network.components.release_system import monotone_spring
+            for k, x in (("cushion", "compression"), ("spring", "deflection")):
+                if k in kw:
+                    kw[k] = _pairs(kw[k], x, "force", f"{key}.{k}", fail)
+                    try:
+                        monotone_spring(f"release system {t['name']!r}", k, *kw[k], x)
+                    except ValueError as exc:
+                        fail(str(exc), f"{key}.{k}")
         try:
             comps.append(cls(t["name"], **kw))
         except (TypeError, ValueError) as exc:
             fail(str(exc), key)
         where[t["name"]] = key
+    _check_signals(scenario, comps, needs, where)
     try:
         net = Network(comps, data["network"]["connect"], name=scenario.name)
         net.compile()

@@ -71,6 +71,9 @@ class Scenario:
     data: dict = field(repr=False)
     file: str = "<scenario>"
     text: str = field(default="", repr=False)
+    #: another scenario file this launch is compared with on the quality metrics
+    #: (``[scenario] compare``, resolved against this file's folder), or ""
+    compare: str = ""
     #: built chains per effective model (chains are immutable; a sweep builds each
     #: variant's chain once for validation and would build it again to run it)
     _chains: dict = field(default_factory=dict, repr=False, compare=False)
@@ -368,6 +371,8 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
                              f"{suggest(str(ctype), types)} (types: {', '.join(types)})",
                              f"{path}.type")
                     check_table(tab, types[ctype], path, fail)
+                    if ctype == "clutch":
+                        check_lining(tab, path, fail)
                 elif name == "coupling":
                     ctype = tab.get("type")
                     if ctype not in COUPLING_TYPES:
@@ -423,9 +428,19 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
         fail(f"friction element {clutch!r} does not exist{suggest(clutch, fe_names)} "
              f"(friction elements: {', '.join(fe_names) or 'none'})", "scenario.clutch")
     models = tuple(sc.get("models", ()))
+    compare = ""
+    if "compare" in sc:
+        path = Path(sc["compare"]) if base_dir is None else Path(base_dir) / sc["compare"]
+        if not path.is_file():
+            fail(f"= {sc['compare']!r}: no such scenario file ({path}); the launch to compare "
+                 "with is a path relative to this file", "scenario.compare")
+        if file and Path(file).exists() and path.resolve() == Path(file).resolve():
+            fail(f"= {sc['compare']!r} is this scenario itself; compare with another launch",
+                 "scenario.compare")
+        compare = str(path)
     scen = Scenario(name=sc["name"], description=sc.get("description", ""),
                     t_end=float(sc["t_end"]), models=models, clutch=clutch, inputs=inputs,
                     solver=method, options=options, data=data, file=file, text=text,
-                    set_by=set_by)
+                    set_by=set_by, compare=compare)
     scen.chain()   # build once: component-level validation errors surface here
     return scen

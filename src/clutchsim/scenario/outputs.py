@@ -65,4 +65,52 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
         if len(runs) > 1:
             fig, _ = plot_comparison(runs, clutch=scenario.clutch)
             save_png(fig, directory / "comparison.png")
+        _actuation_figures(scenario, runs, directory)
+    if scenario.compare:
+        _compare_launch(scenario, runs, summary, directory, plots)
     return summary
+
+
+def _actuation_figures(scenario, runs, directory) -> None:
+    """The static characteristics of the actuation chain (``characteristic.png``) and its
+    signals in each run (``actuation_MODEL.png``), for a network with one."""
+    from ..analysis.actuation import ACTUATION_KINDS, actuation_signals, static_characteristics
+    from ..plot._style import save_png
+    from ..plot.actuation import plot_actuation, plot_characteristics
+    if not any(c.get("type") in ACTUATION_KINDS for c in scenario.data.get("component", [])):
+        return
+    chars = static_characteristics(scenario.chain(None).components)
+    if chars:
+        save_png(plot_characteristics(chars)[0], directory / "characteristic.png")
+    for name, res in runs.items():
+        panels = actuation_signals(res)
+        if panels:
+            save_png(plot_actuation(res, panels)[0], directory / f"actuation_{name}.png")
+
+
+def _compare_launch(scenario, runs, summary, directory, plots) -> None:
+    """Run the launch of ``[scenario] compare`` too (the same friction model where it has
+    it) and write the quality metrics of both, one row per launch
+    (``quality_comparison.json``), and their speeds and clutch torques
+    (``comparison_launch.png``)."""
+    from ..analysis.actuation import compare_quality
+    from .loader import load_scenario
+    from .run import run_scenario
+    other = load_scenario(scenario.compare)
+    metrics, results = {}, {}
+    for model, res in runs.items():
+        own = f"{scenario.name} [{model}]"
+        metrics[own], results[own] = summary["models"][model], res
+    model = next(iter(runs))
+    lr = run_scenario(other, model if model in other.models else None)
+    base = f"{other.name} [{lr.model}]"
+    metrics[base], results[base] = lr.metrics, lr.result
+    doc = {"compared_with": other.file, "launches": compare_quality(metrics)}
+    atomic_write(directory / "quality_comparison.json",
+                 lambda p: Path(p).write_text(json.dumps(doc, indent=2, allow_nan=False,
+                                                         default=float)))
+    if plots:
+        from ..plot._style import save_png
+        from ..plot.launch import plot_comparison
+        fig, _ = plot_comparison(results, clutch=scenario.clutch)
+        save_png(fig, directory / "comparison_launch.png")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..analysis.actuation import controller_warnings
 from ..core import Result, SolverOptions, simulate
 from ..driveline.metrics import launch_metrics, launch_warnings, with_weighted_acceleration
 from .loader import resolve_scenario
@@ -57,7 +58,8 @@ def run_system(scenario, system, model: str | None = None, *, solver: str | None
     name = system.metadata["models"].get(scenario.clutch, model or "")
     res = res.with_warnings(*launch_warnings(res, scenario.clutch,
                                              expect_lockup=expects_lockup(scenario),
-                                             friction=_is_friction_clutch(scenario)))
+                                             friction=_is_friction_clutch(scenario)),
+                            *controller_warnings(scenario, system, res))
     res = with_weighted_acceleration(res)
     return LaunchResult(name, res, launch_metrics(res, clutch=scenario.clutch,
                                                   lining=lining_geometry(scenario)))
@@ -69,10 +71,10 @@ def _is_friction_clutch(scenario) -> bool:
 
 
 def lining_geometry(scenario) -> tuple | None:
-    """``(r_inner [m], r_outer [m], faces [-])`` of the scenario's clutch coupling (its
-    keys ``r_inner``, ``r_outer``, ``faces``, checked by the scenario loader), or None
-    when the element has no lining radii."""
-    for t in scenario.data.get("coupling", []):
+    """``(r_inner [m], r_outer [m], faces [-])`` of the scenario's clutch, a coupling or a
+    network component (its keys ``r_inner``, ``r_outer``, ``faces``, checked by the
+    scenario loader), or None when the element has no lining radii."""
+    for t in (*scenario.data.get("coupling", []), *scenario.data.get("component", [])):
         if isinstance(t, dict) and t.get("name") == scenario.clutch and "r_outer" in t:
             return float(t["r_inner"]), float(t["r_outer"]), int(t.get("faces", 2))
     return None

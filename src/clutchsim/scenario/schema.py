@@ -47,6 +47,10 @@ SCENARIO = (
     Key("expect_lockup", "bool", "Whether that element should lock up during the run: if it "
         "never does, the run gets a warning (default: true when it is a `clutch`, as in a "
         "launch; false for the other kinds)."),
+    Key("compare", "str", "Another scenario file (relative to this one) to compare this "
+        "launch with: `clutchsim run` runs it too and writes `quality_comparison.json` (the "
+        "launch-quality metrics, one row per launch, in the report) and "
+        "`comparison_launch.png`."),
 )
 SOLVER = (
     Key("method", "str", f"{DEFAULT_METHOD} (default), "
@@ -83,7 +87,9 @@ CLUTCH = (
     Key("type", "str", "clutch | one_way_clutch | spring_damper | gear | lossy_gear | gearbox.",
         required=True),
     Key("command", "str", "Actuation input: COM in [0, 1] (seed eqs. 1-2), or the pedal / "
-        "actuator position read through `clamp_table`.", required=True),
+        "actuator position read through `clamp_table`; in a network also another "
+        "component's signal (`<component>.<signal>`), e.g. a release system's clamp force "
+        "[N] with `clamp_reference`.", required=True),
     Key("friction", "table", "Friction model of the element (see [friction]).", required=True),
     Key("clamp_table", "table", "Diaphragm-spring characteristic `{position = [...], force = "
         "[...]}`: clamp force normalised by the force at which the model's capacity is given "
@@ -233,7 +239,8 @@ def _component_keys(cls) -> tuple:
                         required=p.default is None and not optional,
                         low=p.low, high=p.high, strict=p.strict))
     extra = {
-        "clutch": (*CLUTCH[2:9], RUNOUT), "brake": (*CLUTCH[2:9], RUNOUT),
+        "clutch": (*CLUTCH[2:9], RUNOUT, *(k for k in CLUTCH if k.name in LINING_KEYS)),
+        "brake": (*CLUTCH[2:9], RUNOUT),
         "dual_mass_flywheel": (CLUTCH[3], *CLUTCH[5:8]),
         "torque_converter": (
             Key("speed_ratio", "numbers", "Speed ratios turbine/pump of the tables, strictly "
@@ -250,6 +257,27 @@ def _component_keys(cls) -> tuple:
                        required=True),
                    Key("throttle", "str", "Throttle input signal [-].", required=True)),
         "thermal_node": (Key("link", "str", "Another thermal node this one conducts to."),),
+        "release_system": (
+            Key("travel", "str", "Signal of the engagement travel [m] (e.g. an actuator's "
+                "`<name>.position`).", required=True),
+            Key("cushion", "table", "Cushion (lining) spring `{compression = [m ...], force = "
+                "[N ...]}` from (0, 0), both strictly increasing.", required=True),
+            Key("spring", "table", "Diaphragm (lever) spring in series, at the bearing: "
+                "`{deflection = [m ...], force = [N ...]}` from (0, 0), both strictly "
+                "increasing (default: rigid).")),
+        "hydraulic_actuator": (Key("command", "str", "Signal of the pressure command [Pa].",
+                                   required=True),),
+        "electromechanical_actuator": (Key("command", "str", "Signal of the position command "
+                                           "[m].", required=True),),
+        "launch_controller": (
+            Key("target", "str", "Signal of the target speed ω_a − ω_b [rad/s].",
+                required=True),
+            Key("feedforward", "str", "Signal of the engine torque [N·m] (e.g. "
+                "`engine.torque`), times `k_ff`."),
+            Key("command_unit", "str", "Unit of the command it produces: -, N, Pa or m.")),
+        "driver": (
+            Key("target", "str", "Signal of the target speed [m/s].", required=True),
+            Key("feedforward", "str", "Signal of a throttle feed-forward [-].")),
         "lossy_gear": (LOSSY_GEAR[3],),
         "gearbox": (GEARBOX[2], GEARBOX[5]),
         "one_way_clutch": (ONE_WAY_CLUTCH[2], ONE_WAY_CLUTCH[5], ONE_WAY_CLUTCH[6]),

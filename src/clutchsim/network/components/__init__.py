@@ -9,13 +9,18 @@ from __future__ import annotations
 from .backlash import ElastoBacklash
 from .converter import TorqueConverter
 from .dmf import DualMassFlywheel
+from .driver import Driver
 from .engine import Engine
 from .friction import Brake, Clutch
+from .hydraulic_actuator import HydraulicActuator
 from .ideal_gear import IdealGear
 from .inertia import Inertia
+from .launch_controller import LaunchController
 from .lossy_gear import Gearbox, LossyGear
 from .one_way_clutch import OneWayClutch
 from .planetary import Planetary
+from .release_system import ReleaseSystem
+from .servo_actuator import ServoActuator
 from .speed_torque import QuadraticSpeedTorque
 from .spring_damper import SpringDamper
 from .thermal import ThermalNode
@@ -23,14 +28,16 @@ from .torque_pulsation import TorquePulsation
 from .torque_source import TorqueSource
 from .vehicle import Vehicle
 
-__all__ = ["COMPONENTS", "Brake", "Clutch", "DualMassFlywheel", "ElastoBacklash", "Engine",
-           "Gearbox", "IdealGear", "Inertia", "LossyGear", "OneWayClutch", "Planetary",
-           "QuadraticSpeedTorque", "SpringDamper", "ThermalNode", "TorqueConverter",
-           "TorquePulsation", "TorqueSource", "Vehicle"]
+__all__ = ["COMPONENTS", "Brake", "Clutch", "Driver", "DualMassFlywheel", "ElastoBacklash",
+           "Engine", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia",
+           "LaunchController", "LossyGear", "OneWayClutch", "Planetary",
+           "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator", "SpringDamper",
+           "ThermalNode", "TorqueConverter", "TorquePulsation", "TorqueSource", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
                                   Planetary, Clutch, OneWayClutch, Brake, TorqueSource,
                                   TorquePulsation, QuadraticSpeedTorque, Engine, Vehicle,
                                   ThermalNode, ElastoBacklash, DualMassFlywheel,
-                                  TorqueConverter)}
+                                  TorqueConverter, ReleaseSystem, HydraulicActuator,
+                                  ServoActuator, LaunchController, Driver)}

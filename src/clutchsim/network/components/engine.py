@@ -16,7 +16,9 @@ class Engine(Component):
     idle_speed − ω``, ``dI/dt = e + (gov − raw)/(ki·0.1 s)`` (back-calculation anti-windup:
     the right-hand side stays continuous).  Below ``stall_speed`` the run fails (event
     ``engine stalled``).  ``T_max`` is the full-load table (speeds [rad/s], torques [N·m]),
-    held constant outside, clipped at 0.
+    held constant outside, clipped at 0.  It produces the signal ``<name>.torque`` [N·m]
+    (``T``: a launch controller's feed-forward); the throttle may be another component's
+    signal (a driver model).
     """
 
     kind = "engine"
@@ -48,6 +50,9 @@ class Engine(Component):
     def inputs(self):
         return (self.throttle,)
 
+    def signals(self):
+        return {"torque": "N·m"}
+
     def options(self):
         return (self.governed, len(self.speeds), self.throttle)
 
@@ -68,6 +73,7 @@ class Engine(Component):
         w = e.let("wr", f"{e.w('flange')} - {e.w('support')}")
         thr = e.u(self.throttle)
         gov, dgw, dgi = e.tmp("gov"), e.tmp("dgw"), e.tmp("dgi")
+        dgt = e.tmp("dgt")
         if self.governed:
             gi = e.x("gi")
             err = e.let("err", f"{P('idle_speed')} - {w}")
@@ -76,7 +82,12 @@ class Engine(Component):
             e.line(f"{gov} = 0.0 if {raw} <= 0.0 else ({room} if {raw} >= {room} else {raw})")
             e.line(f"{dgw} = -{P('kp')} if 0.0 < {raw} < {room} else 0.0")
             e.line(f"{dgi} = {P('ki')} if 0.0 < {raw} < {room} else 0.0")
+            # d(gov)/d(throttle): -1 while the governor is held at the room left
+            e.line(f"{dgt} = -1.0 if ({raw} > 0.0 and {raw} >= {room} and {thr} < 1.0) "
+                   "else 0.0")
             e.deriv("gi", f"{err} + ({gov} - {raw}) / {P('t_aw')}")
+            for key, d in e.chain(self.throttle, f"{dgt} / {P('t_aw')}"):
+                e.dderiv("gi", key, d)
             # d(dI)/dω = -1 + (dgov/dω + kp)/t_aw ; d(dI)/dI = (dgov/dI - ki)/t_aw
             e.dderiv("gi", e.kw("flange"), f"-1.0 + ({dgw} + {P('kp')}) / {P('t_aw')}")
             e.dderiv("gi", e.kw("support"), f"1.0 - ({dgw} + {P('kp')}) / {P('t_aw')}")
@@ -85,6 +96,7 @@ class Engine(Component):
             e.line(f"{gov} = 0.0")
             e.line(f"{dgw} = 0.0")
             e.line(f"{dgi} = 0.0")
+            e.line(f"{dgt} = 0.0")
         xr = e.let("xr", f"{thr} + {gov}")
         x = e.let("x", f"min(max({xr}, 0.0), 1.0)")
         dx = e.let("dx", f"1.0 if 0.0 < {xr} < 1.0 else 0.0")
@@ -114,7 +126,20 @@ class Engine(Component):
             e.dpower("damp", e.kw(fl), f"{s}({ddrag} * {w} + {drag})")
         if self.governed:
             e.dpower("in", e.kx("gi"), f"{dx} * {dgi} * {tf} * {w}")
+        # partials through a throttle another component produces (a driver model)
+        thr_parts = e.chain(self.throttle, f"{dx} * (1.0 + {dgt}) * {tf}")
+        for key, d in thr_parts:
+            e.dtorque("flange", key, d)
+            e.dtorque("support", key, f"-{d}")
+            e.dpower("in", key, f"{d} * {w}")
         e.output("T_engine", "N·m", tq)
+        e.signal("torque", tq)
+        for fl, s in (("flange", ""), ("support", "-")):
+            e.dsignal("torque", e.kw(fl), f"{s}{dtw}")
+        if self.governed:
+            e.dsignal("torque", e.kx("gi"), f"{dx} * {dgi} * {tf}")
+        for key, d in thr_parts:
+            e.dsignal("torque", key, d)
         e.event("engine stalled (speed fell below {stall_speed:g} rad/s = {stall_rpm:.0f} rpm)",
                 -1, f"{w} - {P('stall_speed')}", "fail")
 

@@ -4,7 +4,8 @@ The element's slip is ``w = ω_b − ω_a`` (clutch) or ``w = ω_flange − ω_s
 its torque ``τ`` is the friction model's force in the direction of ``w`` (the sliding side
 ``b`` sees ``−τ``, side ``a`` ``+τ``).  The model's force parameters are the capacity at
 full actuation; the capacity multiplier is ``scale = act(u)·μ(θ)/μ_ref·μ(|w|)/μ_ref``
-(>= 0), where ``act`` is the command input (COM in [0, 1]) or, with ``clamp_table``, the
+(>= 0), where ``act`` is the command (COM in [0, 1]; with ``clamp_reference`` > 0 a clamp
+force [N] divided by it, e.g. a release system's signal) or, with ``clamp_table``, the
 normalised clamp force of a diaphragm-spring characteristic at the position the input
 gives, scaled by ``1 + installed_shift`` (lining wear moves the spring's engaged,
 installed position from 1 to ``1 + installed_shift``; the open clutch stays at 0); ``μ(θ)`` is read at the first heat node's temperature.  With a ``wear`` law
@@ -43,7 +44,11 @@ class _FrictionElement(Component):
                     "installed position: clamp_table is read at command·(1 + installed_shift)",
                     default=0.0, low=-1.0, strict=True),
               Param("wear0", "m", "axial lining wear at the start (with a wear law)",
-                    default=0.0, low=0.0))
+                    default=0.0, low=0.0),
+              Param("clamp_reference", "N", "clamp load at which the friction model's force "
+                    "parameters hold; > 0: the command is a clamp force [N] (a release "
+                    "system's or an actuator's signal) read as command/clamp_reference; 0: "
+                    "the command is the normalised actuation [-]", default=0.0, low=0.0))
     side_a = "a"
     side_b = "b"
     #: the element reads its actuation from an input signal (False: always fully applied)
@@ -96,6 +101,11 @@ class _FrictionElement(Component):
         self.has_drag = self.drag != 0.0
 
     @property
+    def reads_force(self) -> bool:
+        """Is its command a clamp force [N] (``clamp_reference`` > 0)?"""
+        return self.commanded and self.values.get("clamp_reference", 0.0) > 0.0
+
+    @property
     def lockable(self) -> bool:
         return self.model.name == "coulomb-robust"
 
@@ -105,7 +115,7 @@ class _FrictionElement(Component):
         return (self.model.name, self.model.code, self.model.n_states,
                 len(self.model.pack()), self.command, tabs,
                 tuple(n for n, _ in self.heat), self.has_drag, self.runout is not None,
-                self.wear is not None)
+                self.wear is not None, self.reads_force)
 
     def slip(self):
         return {self.side_b: 1.0, self.side_a: -1.0}
@@ -183,15 +193,25 @@ class _FrictionElement(Component):
         i = e.g.plan.fe_index[self.name]
         s, sc = f"s{i}", f"sc{i}"
         x = e.u(self.command) if self.commanded else "1.0"
+        # dx: d(scale)/d(command) so far (the command may be another component's signal,
+        # whose partials are chained in below)
+        dx = e.tmp("dscx")
+        if self.reads_force:
+            x = e.let("xn", f"{x} / {e.par('clamp_reference')}")
+            e.line(f"{dx} = 1.0 / {e.par('clamp_reference')}")
+        else:
+            e.line(f"{dx} = 1.0")
         self._partials = []
         if self.clamp_table is not None:
             o, n = e.table("clamp_table")
             act = e.tmp("act")
             e.line(f"{act}, {e.tmp('dact')} = table(p, {o}, {n}, {x} * (1.0 + "
                    f"{e.par('installed_shift')}))")
+            e.line(f"{dx} = {dx} * {e.tmp('dact')} * (1.0 + {e.par('installed_shift')})")
         else:
             act = x
         e.line(f"{sc} = {act} if {act} > 0.0 else 0.0")
+        e.line(f"{dx} = {dx} if {act} > 0.0 else 0.0")
         dth = None
         if self.mu_temperature is not None:
             o, n = e.table("mu_temperature")
@@ -200,6 +220,7 @@ class _FrictionElement(Component):
             e.line(f"{mt}, {dmt} = table(p, {o}, {n}, {th})")
             dth = e.let("dsc_th", f"{sc} * {dmt}")
             e.line(f"{sc} = {sc} * {mt}")
+            e.line(f"{dx} = {dx} * {mt}")
         dsl = None
         if self.mu_slip is not None:
             o, n = e.table("mu_slip")
@@ -209,6 +230,8 @@ class _FrictionElement(Component):
             if dth is not None:
                 e.line(f"{dth} = {dth} * {ms}")
             e.line(f"{sc} = {sc} * {ms}")
+            e.line(f"{dx} = {dx} * {ms}")
+        e.line(f"{dx} = {dx} if {sc} > 0.0 else 0.0")
         e.line(f"{sc} = max({sc}, 0.0)")
         if self.runout is not None:
             # pressure-plate runout: the clamp load oscillates at `order` per turn of side b
@@ -216,13 +239,15 @@ class _FrictionElement(Component):
             fac = e.let("ro_fac", f"1.0 + {e.par('runout_amplitude')} * math.sin({arg})")
             dro = e.let("dsc_ro", f"{sc} * {e.par('runout_amplitude')} * "
                                   f"{e.par('runout_order')} * math.cos({arg})")
-            for d in (dth, dsl):
+            for d in (dth, dsl, dx):
                 if d is not None:
                     e.line(f"{d} = {d} * {fac}")
             e.line(f"{sc} = {sc} * {fac}")
             self._partials.append((e.kx("runout"), dro))
             e.deriv("runout", e.w(self.side_b))
             e.dderiv("runout", e.kw(self.side_b), "1.0")
+        if self.commanded:
+            self._partials += e.chain(self.command, dx)
         if dth is not None:
             self._partials.append((e.ktheta(self.heat[0][0]), dth))
         if dsl is not None:

@@ -36,4 +36,8 @@ class TorqueSource(Component):
         e.power("in", f"{u} * ({e.w('flange')} - {e.w('support')})")
         e.dpower("in", e.kw("flange"), u)
         e.dpower("in", e.kw("support"), f"-{u}")
+        for key, d in e.du(self.input):      # a torque another component produces
+            e.dtorque("flange", key, d)
+            e.dtorque("support", key, f"-{d}")
+            e.dpower("in", key, f"({d}) * ({e.w('flange')} - {e.w('support')})")
         e.output(f"T_{self.name}", "N·m", u)
