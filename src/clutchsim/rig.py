@@ -30,6 +30,7 @@ from .friction import (
     friction_force,
     friction_jacobian,
     friction_reset,
+    smooth_at_events,
 )
 from .friction.base import RESET_NONE, RESET_STUCK, FrictionModel
 
@@ -40,6 +41,7 @@ _DRIVE, _MASS, _K, _V_PULL, _Y0, _CODE, _NZ, _NEV = range(8)
 RIG_HEADER = 8
 _FORCE, _VELOCITY = 0.0, 1.0
 _CONTINUE, _STATE_CHANGED = int(Action.CONTINUE), int(Action.STATE_CHANGED)
+_PASS = int(Action.PASS)
 
 
 class FrictionRig(NamedTuple):
@@ -139,7 +141,9 @@ def _rig_reset(t, y, u, p, k, code):
             y[1] = 0.0   # stuck: the body's slip velocity is exactly zero
     else:
         action = friction_reset(code, pf, y[1:1 + nz], u[0], 0.0, u[1], k)
-    return _STATE_CHANGED if action != RESET_NONE else _CONTINUE
+    if action != RESET_NONE:
+        return _STATE_CHANGED
+    return _PASS if smooth_at_events(code) else _CONTINUE
 
 
 @jit

@@ -196,6 +196,35 @@ def test_public_api_exports():
 
 
 @pytest.mark.parametrize("name", EXPECTED_NAMES)
+def test_smooth_at_events_flag_matches_the_kernel_and_the_force(name):
+    # a model that lets integrators step through its event crossings must have a force
+    # that is continuous across them: at its velocity zero crossing, F(0-) = F(0+)
+    from clutchsim.friction import friction_force, smooth_at_events
+    cls = get_model_class(name)
+    assert smooth_at_events(cls.code) == cls.smooth_at_events
+    if not cls.smooth_at_events:
+        return
+    m = make_model(name)
+    assert "velocity_zero_crossing" in m.event_names()
+    p = m.pack()
+    rng = np.random.default_rng(cls.code)
+    dz = np.zeros(m.n_states)
+    for _ in range(5):
+        z = rng.normal(scale=1e-4, size=m.n_states)
+        jump = [abs(friction_force(cls.code, p, z, eps, 0.0, 1.0, dz)
+                    - friction_force(cls.code, p, z, -eps, 0.0, 1.0, dz))
+                for eps in (1e-6, 1e-9, 1e-12)]
+        assert jump[0] > jump[1] > jump[2] >= 0.0     # shrinks with the velocity
+        assert jump[2] < 1e-9 * static_scale(m)
+
+
+def static_scale(model) -> float:
+    """The model's largest force parameter (T_stat, F_s, ...), a scale for its forces."""
+    return max(abs(float(getattr(model, a))) for a in ("T_stat", "F_s", "F_c", "T_din")
+               if hasattr(model, a))
+
+
+@pytest.mark.parametrize("name", EXPECTED_NAMES)
 def test_stick_force_flag_matches_the_kernel(name):
     # plants skip computing the stick force for models that declare they do not read it;
     # the compiled predicate must agree with the class variable, and a model that says

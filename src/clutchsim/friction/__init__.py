@@ -20,6 +20,7 @@ from .kernels import (
     friction_force,
     friction_jacobian,
     friction_reset,
+    smooth_at_events,
     uses_stick_force,
 )
 from .lugre import LuGre
@@ -68,5 +69,6 @@ __all__ = [
     "load_parameter_set",
     "make_model",
     "parameter_source",
+    "smooth_at_events",
     "uses_stick_force",
 ]

@@ -43,6 +43,7 @@ __all__ = [
     "friction_force",
     "friction_jacobian",
     "friction_reset",
+    "smooth_at_events",
     "uses_stick_force",
 ]
 
@@ -53,6 +54,14 @@ def uses_stick_force(code):
     models do (the class variable ``uses_stick_force``); for the others a plant can pass
     ``F_e = 0`` and skip computing it."""
     return code == 1 or code == 2 or code == 3
+
+
+@jit(inline="always")
+def smooth_at_events(code):
+    """Is model ``code``'s force continuous across its event crossings when its reset
+    changes nothing (the class variable ``smooth_at_events``)?  Plants then answer
+    ``Action.PASS`` instead of ``Action.CONTINUE``."""
+    return code == 11
 
 
 @jit(inline="always")

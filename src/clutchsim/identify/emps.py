@@ -28,10 +28,11 @@ import numpy as np
 from .._jit import jit
 from ..core import System, register_system
 from ..core.status import Action
-from ..friction import friction_events, friction_force, friction_reset
+from ..friction import friction_events, friction_force, friction_reset, smooth_at_events
 from ..friction.base import RESET_NONE, RESET_STUCK, FrictionModel
 
 _CONTINUE, _STATE_CHANGED = int(Action.CONTINUE), int(Action.STATE_CHANGED)
+_PASS = int(Action.PASS)
 
 __all__ = ["EMPS_HEADER", "EMPS_PARAMS", "EMPSPlant", "make_emps"]
 
@@ -81,12 +82,15 @@ def _emps_events(t, y, u, p, g):
 def _emps_reset(t, y, u, p, k):
     nz = int(p[_NZ])
     f_e = p[_GTAU] * _voltage(y, u, p) + u[2] - p[_OFFSET]
-    action = friction_reset(int(p[_CODE]), p[EMPS_HEADER:], y[_NS:_NS + nz], y[1], f_e, 1.0, k)
+    code = int(p[_CODE])
+    action = friction_reset(code, p[EMPS_HEADER:], y[_NS:_NS + nz], y[1], f_e, 1.0, k)
     if action == RESET_STUCK:
         y[1] = 0.0
         if p[_TAUV] <= 0.0:
             y[2] = 0.0
-    return _STATE_CHANGED if action != RESET_NONE else _CONTINUE
+    if action != RESET_NONE:
+        return _STATE_CHANGED
+    return _PASS if smooth_at_events(code) else _CONTINUE
 
 
 @jit
