@@ -603,7 +603,9 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                         ta = tb
                         continue
                     if _crossed(ga, gb, ev_dir[k]):
-                        if tb > t_first and k_first >= 0:
+                        # a bracket that starts after the earliest crossing found so far
+                        # cannot hold an earlier one (one that ends after it still can)
+                        if ta >= t_first and k_first >= 0:
                             break
                         if not dense_ready:
                             dense_coefficients(dkind, tab, K, y, y_new, f0, f1, h, dense)
