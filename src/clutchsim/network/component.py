@@ -44,6 +44,9 @@ class Component:
     grounded: ClassVar[tuple[str, ...]] = ()
     params: ClassVar[tuple[Param, ...]] = ()
     states: ClassVar[tuple[StateSpec, ...]] = ()
+    #: mechanical domain (:data:`~clutchsim.network.spec.DOMAINS`): ``"rotational"``,
+    #: ``"translational"``, or None for a component of either (a thermal node)
+    domain: ClassVar[str | None] = "rotational"
 
     def __init__(self, name: str, **values):
         if not isinstance(name, str) or not name or not name.replace("_", "a").isalnum():

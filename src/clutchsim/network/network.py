@@ -23,6 +23,7 @@ import numpy as np
 
 from ..core.system import closest
 from .component import Component
+from .spec import DOMAINS, Domain
 
 __all__ = ["GROUND", "Assembly", "Network", "NetworkError"]
 
@@ -54,12 +55,20 @@ class Network:
     name : str
     metadata : dict
         Kept with results.
+    angles : bool
+        Add an exact angle (position) state per inertia node, ``phi_<node>`` [rad]
+        (``s_<node>`` [m] in the translational domain): ``dphi/dt`` = the node's speed.
+        Off by default: the states grow the implicit system.
+
+    The network's domain (:attr:`domain`) follows from its components: all rotational
+    (inertias, gears, clutches) or all translational (masses, forces, sliding friction).
     """
 
     components: tuple
     connections: tuple
     name: str = "driveline"
     metadata: dict = field(default_factory=dict)
+    angles: bool = False
 
     def __post_init__(self):
         comps = tuple(self.components)
@@ -76,6 +85,22 @@ class Network:
         if GROUND in names:
             raise NetworkError(f"network: {GROUND!r} is reserved for the housing; rename "
                                "that component", GROUND)
+        first: dict = {}
+        for c in comps:
+            if c.domain is not None:
+                first.setdefault(c.domain, c)
+        if len(first) > 1:
+            (d1, c1), (d2, c2) = list(first.items())[:2]
+            raise NetworkError(f"network: {c2.label} is {d2} but {c1.label} is {d1}: the "
+                               "components of one network share one domain (rotational: "
+                               "N·m, rad/s; translational: N, m/s)", c2.name)
+        object.__setattr__(self, "_domain", next(iter(first), "rotational"))
+
+    @property
+    def domain(self) -> Domain:
+        """The network's mechanical :class:`~clutchsim.network.spec.Domain` (names and
+        units of its speeds, positions and torques or forces)."""
+        return DOMAINS[self._domain]
 
     def component(self, name: str) -> Component:
         for c in self.components:

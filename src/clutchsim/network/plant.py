@@ -72,14 +72,25 @@ class Plan:
         # ---- states
         sn, su = [], []
         self.state_index: dict = {}
+        dom = self.domain = net.domain
         for k, node in enumerate(asm.free):
-            sn.append(f"omega_{asm.node_names[node]}")
-            su.append("rad/s")
+            sn.append(f"{dom.speed}_{asm.node_names[node]}")
+            su.append(dom.speed_unit)
         for c in self.mech_order:
             for s_name, s_label, unit in c.state_layout():
                 self.state_index[(c.name, s_name)] = len(sn)
                 sn.append(s_label)
                 su.append(unit)
+        # angle (position) states of the inertia nodes (Network.angles): dphi/dt = w_node
+        self.angle_states: list[tuple[int, int]] = []
+        if net.angles:
+            own = {c.name for c in comps if getattr(c, "own_position", False)}
+            for n in range(asm.n_nodes):
+                if n == asm.ground or not asm.J_owner[n] or own & set(asm.J_owner[n]):
+                    continue
+                self.angle_states.append((n, len(sn)))
+                sn.append(f"{dom.position}_{asm.node_names[n]}")
+                su.append(dom.position_unit)
         for c in self.thermal:
             self.state_index[(c.name, "theta")] = len(sn)
             sn.append(f"theta_{c.name}")
@@ -352,6 +363,9 @@ class Plan:
             vals = by_name[c.name].initial_state(ctx)
             for (s_name, _lbl, _u), v in zip(c.state_layout(), vals):
                 y0[self.state_index[(c.name, s_name)]] = v
+        for n, idx in self.angle_states:
+            first = by_name[asm.J_owner[n][0]]
+            y0[idx] = first.initial_position() if hasattr(first, "initial_position") else 0.0
         for c in self.thermal:
             y0[self.state_index[(c.name, "theta")]] = by_name[c.name].theta0
         for c in self.wearing:
@@ -401,8 +415,9 @@ _PLANS: dict = {}
 
 
 def structure_key(net: Network) -> tuple:
-    """What shapes the generated plant of ``net`` (components' structures, connections)."""
-    return (tuple(c.structure() for c in net.components), net.connections)
+    """What shapes the generated plant of ``net`` (components' structures, connections,
+    the angle states)."""
+    return (tuple(c.structure() for c in net.components), net.connections, net.angles)
 
 
 def compile_network(net: Network) -> Plan:

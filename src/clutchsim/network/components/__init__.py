@@ -12,8 +12,9 @@ from .dmf import DualMassFlywheel
 from .engine import Engine
 from .friction import Brake, Clutch
 from .ideal_gear import IdealGear
-from .inertia import Inertia
+from .inertia import Inertia, Mass
 from .lossy_gear import Gearbox, LossyGear
+from .mass_stop import MassWithStopAndFriction
 from .one_way_clutch import OneWayClutch
 from .planetary import Planetary
 from .speed_torque import QuadraticSpeedTorque
@@ -21,16 +22,27 @@ from .spring_damper import SpringDamper
 from .thermal import ThermalNode
 from .torque_pulsation import TorquePulsation
 from .torque_source import TorqueSource
+from .translational import (
+    Force,
+    SupportFriction,
+    TranslationalBrake,
+    TranslationalSpringDamper,
+)
 from .vehicle import Vehicle
 
 __all__ = ["COMPONENTS", "Brake", "Clutch", "DualMassFlywheel", "ElastoBacklash", "Engine",
-           "Gearbox", "IdealGear", "Inertia", "LossyGear", "OneWayClutch", "Planetary",
-           "QuadraticSpeedTorque", "SpringDamper", "ThermalNode", "TorqueConverter",
-           "TorquePulsation", "TorqueSource", "Vehicle"]
+           "Force", "Gearbox", "IdealGear", "Inertia", "LossyGear", "Mass",
+           "MassWithStopAndFriction", "OneWayClutch", "Planetary", "QuadraticSpeedTorque",
+           "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
+           "TorquePulsation", "TorqueSource", "TranslationalBrake",
+           "TranslationalSpringDamper", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
                                   Planetary, Clutch, OneWayClutch, Brake, TorqueSource,
                                   TorquePulsation, QuadraticSpeedTorque, Engine, Vehicle,
                                   ThermalNode, ElastoBacklash, DualMassFlywheel,
-                                  TorqueConverter)}
+                                  TorqueConverter,
+                                  # translational (Modelica Mechanics.Translational)
+                                  Mass, TranslationalSpringDamper, Force, SupportFriction,
+                                  TranslationalBrake, MassWithStopAndFriction)}

@@ -36,4 +36,4 @@ class TorqueSource(Component):
         e.power("in", f"{u} * ({e.w('flange')} - {e.w('support')})")
         e.dpower("in", e.kw("flange"), u)
         e.dpower("in", e.kw("support"), f"-{u}")
-        e.output(f"T_{self.name}", "N·m", u)
+        e.output(f"{e.domain.effort}_{self.name}", e.domain.effort_unit, u)
