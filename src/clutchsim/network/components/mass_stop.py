@@ -15,7 +15,7 @@ locks a stuck clutch: the kinetic energy it loses is booked in ``W_sync``); ther
 any force that pushes it into the stop, and it leaves the stop only when the force pulls
 it away by more than the break-away limit.  The element is one friction element with its
 own law (:class:`StopLaw`, not a registry model): its states are the mode (−1, 0, +1), the
-stop it rests at (−1 lower, 0 none, +1 upper) and the position; its events (located) are
+stop it rests at (−1 lower, 0 none, +1 upper) and the position (frozen while stuck); its events (located) are
 the velocity zero, the break-away and the two stops.
 
 References
@@ -105,7 +105,7 @@ class StopLaw(FrictionModel):
 def mass_stop_force(p, z, v, F_e, scale, dz):
     dz[0] = 0.0
     dz[1] = 0.0
-    dz[2] = v
+    dz[2] = 0.0 if z[0] == 0.0 else v      # stuck: at rest (v is 0 up to round-off)
     lim = scale * p[6]
     if z[0] == 0.0:
         if z[1] > 0.0:              # at the upper stop: it holds any push into it
@@ -119,12 +119,13 @@ def mass_stop_force(p, z, v, F_e, scale, dz):
 @jit
 def mass_stop_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     """Force and partials (see :mod:`clutchsim.friction.base`); mode and stop are
-    discrete, ``d(ds/dt)/dv = 1``; at exactly ``v = 0`` the ``v -> 0+`` slope."""
+    discrete, ``d(ds/dt)/dv = 1`` while sliding (0 stuck: the position is frozen); at
+    exactly ``v = 0`` the ``v -> 0+`` slope."""
     F = mass_stop_force(p, z, v, F_e, scale, dz)
     for i in range(3):
         for j in range(4):
             Jz[i, j] = 0.0
-    Jz[2, 3] = 1.0
+    Jz[2, 3] = 0.0 if z[0] == 0.0 else 1.0
     for j in range(6):
         dF[j] = 0.0
     if z[0] == 0.0:
