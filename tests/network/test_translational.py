@@ -24,6 +24,7 @@ from clutchsim.network.components import (
     MassWithStopAndFriction,
     SupportFriction,
     TorqueSource,
+    TranslationalBrake,
 )
 from clutchsim.scenario import ScenarioError, load_scenario, run_scenario
 from clutchsim.signal_expr import parse_signal
@@ -107,16 +108,19 @@ def test_impact_time_and_energy_against_a_stop(m, smax, F_c, push):
 
 
 def test_two_break_aways_in_one_step_are_each_located():
-    """Two masses, each held by support friction, pushed by F = 25·sin(πt/2) N: each
-    breaks away where F reaches its capacity, t = (2/π)·asin(F_s/25).  The one listed first
-    breaks away 0.47 ms later: both crossings fall inside one step, and each is located."""
+    """Two masses pushed by F = 25·sin(πt/2) N, one held by a brake (30.03 N at full
+    normal force, commanded at 0.5), one by support friction (15 N): each breaks away where
+    F reaches its capacity, t = (2/π)·asin(F_s/25).  The one listed first breaks away
+    0.47 ms later: both crossings fall inside one step, and each is located."""
     comps, conns = [], []
-    for name, cap in (("late", 15.015), ("early", 15.0)):
-        comps += [Force(f"f_{name}", input="F"), Mass(name, m=1.0),
-                  SupportFriction(f"fr_{name}", CoulombRobust(F_c=cap, F_s=cap))]
+    for name, fr in (("late", TranslationalBrake("fr_late", CoulombRobust(F_c=30.03, F_s=30.03),
+                                                 command="fn")),
+                     ("early", SupportFriction("fr_early", CoulombRobust(F_c=15.0, F_s=15.0)))):
+        comps += [Force(f"f_{name}", input="F"), Mass(name, m=1.0), fr]
         conns += [[f"f_{name}.flange", f"{name}.a", f"fr_{name}.flange"]]
     sys_ = Network(comps, conns, name="two_breakaways").build()
-    res = simulate(sys_, (0.0, 0.5), {"F": parse_signal("sine(25, 0.25)")}, solver="rodas4")
+    res = simulate(sys_, (0.0, 0.5), {"F": parse_signal("sine(25, 0.25)"),
+                                      "fn": parse_signal("const(0.5)")}, solver="rodas4")
     ev = {e.name: e.t for e in res.events}
     for name, cap in (("late", 15.015), ("early", 15.0)):
         t = 2.0 / math.pi * math.asin(cap / 25.0)

@@ -242,10 +242,10 @@ class MassWithStopAndFriction(Brake):
         return type(self)(self.name, locked0=self.locked0, **vals)
 
     def pack(self):
-        d = dict(self.values)
-        d["model"] = self.model.pack()
-        d["capacity"] = self.model.pack()[6]
-        return d
+        # the equations read the law's packed values only (its friction, the stops'
+        # centre positions, the break-away limit); the mass is an inertia, s0 and v0
+        # initial values
+        return {"model": self.model.pack(), "capacity": self.model.pack()[6]}
 
     def inertias(self):
         return {"a": self.m}
