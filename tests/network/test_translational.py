@@ -80,6 +80,21 @@ def test_translational_friction_matches_modelica():
     assert res.unit("s_mass") == "m"
 
 
+def test_a_translational_run_draws_its_motion(tmp_path):
+    from clutchsim.plot.translational import motion_panels
+    from clutchsim.scenario.outputs import write_runs
+    summary = write_runs(load_scenario(EXAMPLE), [], tmp_path)
+    assert summary["models"][""]["completed"]
+    assert (tmp_path / "motion_.png").stat().st_size > 10_000
+    assert not list(tmp_path.glob("launch_*.png"))
+    res = run_scenario(EXAMPLE).result
+    assert res.metadata["domain"] == "translational"
+    assert motion_panels(res) == [
+        ("positions", "position [m]", ["s_stop1", "s_stop2", "s_mass"]),
+        ("velocities", "velocity [m/s]", ["v_stop1", "v_stop2", "v_mass"]),
+        ("friction forces", "force [N]", ["F_stop1", "F_stop2", "F_friction"])]
+
+
 def _stop_network(m=2.0, smax=1.0, F_Coulomb=2.0):
     stop = MassWithStopAndFriction("m", m=m, smin=-1.0, smax=smax, F_prop=0.0,
                                    F_Coulomb=F_Coulomb, F_Stribeck=0.0, fexp=0.0)

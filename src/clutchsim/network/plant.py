@@ -390,7 +390,8 @@ class Plan:
         meta = dict(self.net.metadata if metadata is None else metadata)
         meta.update({"models": {c.name: c.model.name for c in self.fes},
                      "nodes": [self.asm.node_names[n] for n in self.asm.free],
-                     "network": self.topology.key, "kinds": self.kinds})
+                     "network": self.topology.key, "kinds": self.kinds,
+                     "domain": self.domain.name})
         return System(self.module.TAG(0), p, y0, self.state_names, self.state_units,
                       input_names=self.input_names, input_units=self.input_units,
                       output_names=self.output_names, output_units=self.output_units,
