@@ -25,6 +25,7 @@ from clutchsim.network.components import (
     SupportFriction,
     TorqueSource,
     TranslationalBrake,
+    TranslationalSpringDamper,
 )
 from clutchsim.scenario import ScenarioError, load_scenario, run_scenario
 from clutchsim.signal_expr import parse_signal
@@ -231,6 +232,10 @@ def test_bad_translational_input_is_named(tmp_path):
     with pytest.raises(NetworkError, match="mass 'm' is translational but inertia 'j' is "
                                            "rotational"):
         Network([Inertia("j", J=1.0), Mass("m", m=1.0)], [["j.a", "m.a"]])
+    floating = Network([Mass("m", m=1.0), TranslationalSpringDamper("k", c=1.0),
+                        Force("f", input="F")], [["m.a", "k.a"], ["k.b", "f.flange"]])
+    with pytest.raises(NetworkError, match="k.b, f.flange can move without moving any mass"):
+        floating.assemble()
     with pytest.raises(ValueError, match=r"s0 = 2 m must be between the stops.*\[-1, 1\] m"):
         MassWithStopAndFriction("m", m=1.0, smin=-1.0, smax=1.0, s0=2.0)
     text = EXAMPLE.read_text(encoding="utf-8")
@@ -247,3 +252,18 @@ def test_bad_translational_input_is_named(tmp_path):
     assert "translational units (N, m, m/s)" in msg and "mykhailevych2020_clutch" in msg
     line = next(i for i, s in enumerate(bad.splitlines(), 1) if "mykhailevych2020" in s)
     assert f":{line}" in msg
+
+
+@pytest.mark.parametrize("key, value", [("component[1].F_Coulomb", 6.0),
+                                        ("component[3].smin", -0.8),
+                                        ("component[2].stretch0", 0.3)])
+def test_sweep_values_of_translational_parts_equal_a_rebuild(key, value):
+    """A sweep sets a value on the compiled network (the stop law rebuilt from it): the
+    parameters and initial state equal those of the scenario built again with it."""
+    from clutchsim.scenario.variants import VariantPlan
+    vp = VariantPlan(load_scenario(EXAMPLE))
+    direct = vp.system(((key, value),))
+    _, again = vp.rebuilt(((key, value),))
+    assert direct is not None
+    assert np.array_equal(direct.params, again.params) and np.array_equal(direct.y0, again.y0)
+    assert not np.array_equal(direct.params, vp.params) or key.endswith("stretch0")

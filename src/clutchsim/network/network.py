@@ -343,13 +343,15 @@ class Assembly:
             return M
         w, vecs = np.linalg.eigh(M)
         scale = max(float(np.max(np.abs(J))), 1e-300)
+        body, article = (("mass", "a") if self.net.domain.name == "translational"
+                         else ("inertia", "an"))
         for k in range(self.n_v):
             if w[k] <= 1e-12 * scale:
                 motion = N @ vecs[:, k]
                 big = np.abs(motion) > 1e-9 * np.max(np.abs(motion))
                 fl = [f for n in np.flatnonzero(big) for f in self.flanges_at[n]]
                 raise NetworkError(
-                    f"network: {', '.join(fl)} can move without moving any inertia (a support "
-                    "or flange left floating): put an inertia there, or connect it to ground "
-                    "or to a part with inertia", fl[0].split(".")[0] if fl else "")
+                    f"network: {', '.join(fl)} can move without moving any {body} (a "
+                    f"support or flange left floating): put {article} {body} there, or connect "
+                    f"it to ground or to a part with {body}", fl[0].split(".")[0] if fl else "")
         return M

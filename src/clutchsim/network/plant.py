@@ -341,21 +341,22 @@ class Plan:
         y0 = np.zeros(self.n)
         w = np.zeros(asm.n_nodes)
         given: dict[int, tuple[str, float]] = {}
+        su = self.domain.speed_unit
         for c in comps:
             for f, val in c.initial_speeds().items():
                 n = asm.node_of[(c.name, f)]
                 if n in given and abs(given[n][1] - val) > 1e-12 * (1 + abs(val)):
-                    raise NetworkError(f"{c.label}: initial speed {val:g} rad/s at "
+                    raise NetworkError(f"{c.label}: initial speed {val:g} {su} at "
                                        f"{c.name}.{f} disagrees with {given[n][0]}'s "
-                                       f"{given[n][1]:g} rad/s at the same node", c.name)
+                                       f"{given[n][1]:g} {su} at the same node", c.name)
                 given.setdefault(n, (c.label, float(val)))
         for k, n in enumerate(asm.free):
             y0[k] = given.get(n, ("", 0.0))[1]
         w = asm.N @ y0[:asm.n_v]
         for n, (label, val) in given.items():
             if abs(w[n] - val) > 1e-9 * (1.0 + abs(val)):
-                raise NetworkError(f"{label}: initial speed {val:g} rad/s violates the rigid "
-                                   f"parts: they give {w[n]:g} rad/s at "
+                raise NetworkError(f"{label}: initial speed {val:g} {su} violates the rigid "
+                                   f"parts: they give {w[n]:g} {su} at "
                                    f"{', '.join(asm.flanges_at[n])}", label.split("'")[1]
                                    if "'" in label else label)
         ctx = _InitCtx(self, w, inputs0)
