@@ -73,8 +73,9 @@ INERTIA = (
 FRICTION = (
     Key("model", "str", "Friction model name (`clutchsim models`).", required=True),
     Key("parameter_set", "str", "Parameter set (default: the model's own)."),
-    Key("overrides", "table", "Model parameters replacing those of the set (SI; rotational "
-        "units N·m, rad, rad/s)."),
+    Key("overrides", "table", "Model parameters replacing those of the set (SI, in the "
+        "element's domain: N·m, rad, rad/s on a clutch or brake; N, m, m/s on a translational "
+        "friction element)."),
     Key("alternatives", "table", "Parameters per model name, used when `--model` selects "
         "another model for this element: `{coulomb-robust = {F_c = .., F_s = ..}}`."),
 )
