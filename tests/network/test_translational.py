@@ -196,9 +196,11 @@ def test_angles_are_the_integral_of_the_speed_and_follow_the_gear():
     at J1): ω1 = A/(J·Ω)·(1 − cos Ωt), φ1 = φ1(0) + A/(J·Ω)·(t − sin(Ωt)/Ω), φ2 = φ1/2.5."""
     sys_ = _geared(True).build()
     # one angle per inertia node (the gear's two sides are two nodes): the speed state of
-    # j1 (j2's speed follows the gear), the energy accounts and the two angles
+    # j1 (j2's speed follows the gear), the energy accounts and the two angles, which are
+    # quadratures (trailing, outside the implicit solve) like the accounts
     assert [n for n in sys_.state_names if not n.startswith(("W_", "E_"))] == [
         "omega_j1", "phi_j1", "phi_j2"]
+    assert sys_.state_names[-2:] == ("phi_j1", "phi_j2") and sys_.quadratures == 6 + 2
     res = simulate(sys_, (0.0, 3.0), {"tau": parse_signal("sine(3, 0.5)")}, solver="rodas4",
                    options=OPTS)
     assert res.status == "completed", res.message

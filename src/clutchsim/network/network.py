@@ -58,7 +58,8 @@ class Network:
     angles : bool
         Add an exact angle (position) state per inertia node, ``phi_<node>`` [rad]
         (``s_<node>`` [m] in the translational domain): ``dphi/dt`` = the node's speed.
-        Off by default: the states grow the implicit system.
+        They are quadratures (nothing reads them): the implicit solve does not grow.  Off
+        by default, so that default results keep their states.
 
     The network's domain (:attr:`domain`) follows from its components: all rotational
     (inertias, gears, clutches) or all translational (masses, forces, sliding friction).

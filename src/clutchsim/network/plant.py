@@ -81,16 +81,6 @@ class Plan:
                 self.state_index[(c.name, s_name)] = len(sn)
                 sn.append(s_label)
                 su.append(unit)
-        # angle (position) states of the inertia nodes (Network.angles): dphi/dt = w_node
-        self.angle_states: list[tuple[int, int]] = []
-        if net.angles:
-            own = {c.name for c in comps if getattr(c, "own_position", False)}
-            for n in range(asm.n_nodes):
-                if n == asm.ground or not asm.J_owner[n] or own & set(asm.J_owner[n]):
-                    continue
-                self.angle_states.append((n, len(sn)))
-                sn.append(f"{dom.position}_{asm.node_names[n]}")
-                su.append(dom.position_unit)
         for c in self.thermal:
             self.state_index[(c.name, "theta")] = len(sn)
             sn.append(f"theta_{c.name}")
@@ -105,7 +95,19 @@ class Plan:
             self.state_index[(c.name, "wear")] = len(sn)
             sn.append(f"wear_{c.name}")
             su.append("m")
-        self.n_quadratures = len(ENERGY) + len(self.wearing)
+        # angle (position) states of the inertia nodes (Network.angles): dphi/dt = w_node.
+        # Nothing reads them, so they are quadratures: the implicit solve (the LU) does not
+        # grow, and their rows of the Jacobian are exact
+        self.angle_states: list[tuple[int, int]] = []
+        if net.angles:
+            own = {c.name for c in comps if getattr(c, "own_position", False)}
+            for n in range(asm.n_nodes):
+                if n == asm.ground or not asm.J_owner[n] or own & set(asm.J_owner[n]):
+                    continue
+                self.angle_states.append((n, len(sn)))
+                sn.append(f"{dom.position}_{asm.node_names[n]}")
+                su.append(dom.position_unit)
+        self.n_quadratures = len(ENERGY) + len(self.wearing) + len(self.angle_states)
         self.state_names, self.state_units = tuple(sn), tuple(su)
         self.n = len(sn)
         # ---- parameter layout

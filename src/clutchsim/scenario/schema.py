@@ -297,9 +297,9 @@ NETWORK = (
 OUTPUTS = (
     Key("angles", "bool", "Add an exact angle state per inertia node, `phi_<inertia>` [rad] "
         "(`s_<mass>` [m] in a translational network; from the inertia's `phi0`, the mass's "
-        "`s0`): its derivative is the node's speed, with exact Jacobian entries (default "
-        "false: the states grow the implicit system; a spring's twist and a torque "
-        "pulsation's crank angle are states anyway)."),
+        "`s0`): its derivative is the node's speed, with exact Jacobian entries; a "
+        "quadrature, outside the implicit solve (default false: the default runs keep their "
+        "states; a spring's twist and a torque pulsation's crank angle are states anyway)."),
 )
 
 COUPLING_TYPES = {"clutch": CLUTCH, "one_way_clutch": ONE_WAY_CLUTCH,
