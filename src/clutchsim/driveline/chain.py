@@ -49,6 +49,8 @@ class Chain:
         Attached to the last inertia.
     thermal : tuple of ThermalNode
     name : str
+    angles : bool
+        Angle states ``phi_<inertia>`` [rad] in the plant (``Network.angles``).
     """
 
     inertias: tuple
@@ -59,6 +61,7 @@ class Chain:
     thermal: tuple = ()
     name: str = "driveline"
     metadata: dict = field(default_factory=dict)
+    angles: bool = False
 
     def __post_init__(self):
         object.__setattr__(self, "inertias", tuple(self.inertias))
@@ -223,7 +226,8 @@ class Chain:
             comps.append(nc.ThermalNode(t.name, capacity=t.capacity, conductance=t.conductance,
                                         ambient=t.ambient, theta0=t.theta0, link=t.link,
                                         link_conductance=t.link_conductance))
-        return nw.Network(comps, conns, name=self.name, metadata=dict(self.metadata))
+        return nw.Network(comps, conns, name=self.name, metadata=dict(self.metadata),
+                          angles=self.angles)
 
     def build(self, inputs0: dict | None = None) -> System:
         """The compiled :class:`~clutchsim.core.System` of this chain: the generated plant

@@ -88,6 +88,12 @@ class Emitter:
         self.c = comp
         self.prefix = f"c{gen.comp_index[comp.name]}_"
 
+    @property
+    def domain(self):
+        """The network's :class:`~clutchsim.network.spec.Domain` (names and units of
+        outputs)."""
+        return self.g.plan.domain
+
     # --------------------------------------------------------------- reading values
     def w(self, flange: str) -> str:
         """Speed of ``flange`` [rad/s]."""

@@ -55,6 +55,9 @@ class Component:
     #: do its signals read its inputs at the same instant (False: they follow from its
     #: states and flange speeds alone, written by :meth:`emit_signals`)
     feedthrough: ClassVar[bool] = True
+    #: mechanical domain (:data:`~clutchsim.network.spec.DOMAINS`): ``"rotational"``,
+    #: ``"translational"``, or None for a component of either (a thermal node)
+    domain: ClassVar[str | None] = "rotational"
 
     def __init__(self, name: str, **values):
         if not isinstance(name, str) or not name or not name.replace("_", "a").isalnum():

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..core.system import closest
 from .component import Component
+from .spec import DOMAINS, Domain
 
 __all__ = ["GROUND", "Assembly", "Network", "NetworkError"]
 
@@ -54,12 +55,21 @@ class Network:
     name : str
     metadata : dict
         Kept with results.
+    angles : bool
+        Add an exact angle (position) state per inertia node, ``phi_<node>`` [rad]
+        (``s_<node>`` [m] in the translational domain): ``dphi/dt`` = the node's speed.
+        They are quadratures (nothing reads them): the implicit solve does not grow.  Off
+        by default, so that default results keep their states.
+
+    The network's domain (:attr:`domain`) follows from its components: all rotational
+    (inertias, gears, clutches) or all translational (masses, forces, sliding friction).
     """
 
     components: tuple
     connections: tuple
     name: str = "driveline"
     metadata: dict = field(default_factory=dict)
+    angles: bool = False
 
     def __post_init__(self):
         comps = tuple(self.components)
@@ -76,6 +86,22 @@ class Network:
         if GROUND in names:
             raise NetworkError(f"network: {GROUND!r} is reserved for the housing; rename "
                                "that component", GROUND)
+        first: dict = {}
+        for c in comps:
+            if c.domain is not None:
+                first.setdefault(c.domain, c)
+        if len(first) > 1:
+            (d1, c1), (d2, c2) = list(first.items())[:2]
+            raise NetworkError(f"network: {c2.label} is {d2} but {c1.label} is {d1}: the "
+                               "components of one network share one domain (rotational: "
+                               "N·m, rad/s; translational: N, m/s)", c2.name)
+        object.__setattr__(self, "_domain", next(iter(first), "rotational"))
+
+    @property
+    def domain(self) -> Domain:
+        """The network's mechanical :class:`~clutchsim.network.spec.Domain` (names and
+        units of its speeds, positions and torques or forces)."""
+        return DOMAINS[self._domain]
 
     def component(self, name: str) -> Component:
         for c in self.components:
@@ -318,13 +344,15 @@ class Assembly:
             return M
         w, vecs = np.linalg.eigh(M)
         scale = max(float(np.max(np.abs(J))), 1e-300)
+        body, article = (("mass", "a") if self.net.domain.name == "translational"
+                         else ("inertia", "an"))
         for k in range(self.n_v):
             if w[k] <= 1e-12 * scale:
                 motion = N @ vecs[:, k]
                 big = np.abs(motion) > 1e-9 * np.max(np.abs(motion))
                 fl = [f for n in np.flatnonzero(big) for f in self.flanges_at[n]]
                 raise NetworkError(
-                    f"network: {', '.join(fl)} can move without moving any inertia (a support "
-                    "or flange left floating): put an inertia there, or connect it to ground "
-                    "or to a part with inertia", fl[0].split(".")[0] if fl else "")
+                    f"network: {', '.join(fl)} can move without moving any {body} (a "
+                    f"support or flange left floating): put {article} {body} there, or connect "
+                    f"it to ground or to a part with {body}", fl[0].split(".")[0] if fl else "")
         return M

@@ -74,9 +74,10 @@ class Plan:
         # ---- states
         sn, su = [], []
         self.state_index: dict = {}
+        dom = self.domain = net.domain
         for k, node in enumerate(asm.free):
-            sn.append(f"omega_{asm.node_names[node]}")
-            su.append("rad/s")
+            sn.append(f"{dom.speed}_{asm.node_names[node]}")
+            su.append(dom.speed_unit)
         for c in self.mech_order:
             for s_name, s_label, unit in c.state_layout():
                 self.state_index[(c.name, s_name)] = len(sn)
@@ -96,7 +97,19 @@ class Plan:
             self.state_index[(c.name, "wear")] = len(sn)
             sn.append(f"wear_{c.name}")
             su.append("m")
-        self.n_quadratures = len(ENERGY) + len(self.wearing)
+        # angle (position) states of the inertia nodes (Network.angles): dphi/dt = w_node.
+        # Nothing reads them, so they are quadratures: the implicit solve (the LU) does not
+        # grow, and their rows of the Jacobian are exact
+        self.angle_states: list[tuple[int, int]] = []
+        if net.angles:
+            own = {c.name for c in comps if getattr(c, "own_position", False)}
+            for n in range(asm.n_nodes):
+                if n == asm.ground or not asm.J_owner[n] or own & set(asm.J_owner[n]):
+                    continue
+                self.angle_states.append((n, len(sn)))
+                sn.append(f"{dom.position}_{asm.node_names[n]}")
+                su.append(dom.position_unit)
+        self.n_quadratures = len(ENERGY) + len(self.wearing) + len(self.angle_states)
         self.state_names, self.state_units = tuple(sn), tuple(su)
         self.n = len(sn)
         # ---- parameter layout
@@ -332,21 +345,22 @@ class Plan:
         y0 = np.zeros(self.n)
         w = np.zeros(asm.n_nodes)
         given: dict[int, tuple[str, float]] = {}
+        su = self.domain.speed_unit
         for c in comps:
             for f, val in c.initial_speeds().items():
                 n = asm.node_of[(c.name, f)]
                 if n in given and abs(given[n][1] - val) > 1e-12 * (1 + abs(val)):
-                    raise NetworkError(f"{c.label}: initial speed {val:g} rad/s at "
+                    raise NetworkError(f"{c.label}: initial speed {val:g} {su} at "
                                        f"{c.name}.{f} disagrees with {given[n][0]}'s "
-                                       f"{given[n][1]:g} rad/s at the same node", c.name)
+                                       f"{given[n][1]:g} {su} at the same node", c.name)
                 given.setdefault(n, (c.label, float(val)))
         for k, n in enumerate(asm.free):
             y0[k] = given.get(n, ("", 0.0))[1]
         w = asm.N @ y0[:asm.n_v]
         for n, (label, val) in given.items():
             if abs(w[n] - val) > 1e-9 * (1.0 + abs(val)):
-                raise NetworkError(f"{label}: initial speed {val:g} rad/s violates the rigid "
-                                   f"parts: they give {w[n]:g} rad/s at "
+                raise NetworkError(f"{label}: initial speed {val:g} {su} violates the rigid "
+                                   f"parts: they give {w[n]:g} {su} at "
                                    f"{', '.join(asm.flanges_at[n])}", label.split("'")[1]
                                    if "'" in label else label)
         ctx = _InitCtx(self, w, inputs0)
@@ -354,6 +368,9 @@ class Plan:
             vals = by_name[c.name].initial_state(ctx)
             for (s_name, _lbl, _u), v in zip(c.state_layout(), vals):
                 y0[self.state_index[(c.name, s_name)]] = v
+        for n, idx in self.angle_states:
+            first = by_name[asm.J_owner[n][0]]
+            y0[idx] = first.initial_position() if hasattr(first, "initial_position") else 0.0
         for c in self.thermal:
             y0[self.state_index[(c.name, "theta")]] = by_name[c.name].theta0
         for c in self.wearing:
@@ -397,7 +414,8 @@ class Plan:
         meta = dict(self.net.metadata if metadata is None else metadata)
         meta.update({"models": {c.name: c.model.name for c in self.fes},
                      "nodes": [self.asm.node_names[n] for n in self.asm.free],
-                     "network": self.topology.key, "kinds": self.kinds})
+                     "network": self.topology.key, "kinds": self.kinds,
+                     "domain": self.domain.name})
         return System(self.module.TAG(0), p, y0, self.state_names, self.state_units,
                       input_names=self.input_names, input_units=self.input_units,
                       output_names=self.output_names, output_units=self.output_units,
@@ -469,8 +487,9 @@ _PLANS: dict = {}
 
 
 def structure_key(net: Network) -> tuple:
-    """What shapes the generated plant of ``net`` (components' structures, connections)."""
-    return (tuple(c.structure() for c in net.components), net.connections)
+    """What shapes the generated plant of ``net`` (components' structures, connections,
+    the angle states)."""
+    return (tuple(c.structure() for c in net.components), net.connections, net.angles)
 
 
 def compile_network(net: Network) -> Plan:

@@ -196,6 +196,8 @@ class _R:
             L.append(f"dy[{k}] = a{k}")
         for idx, expr in g.derivs:
             L.append(f"dy[{idx}] = {expr}")
+        for n, idx in P.angle_states:        # angle states: the node's speed
+            L.append(f"dy[{idx}] = w{n}")
         # heat into thermal nodes
         q = {}
         for node, expr in g.heats:
@@ -696,8 +698,8 @@ class _R:
             if n == asm.ground or n in asm.free or not asm.J_owner[n]:
                 continue
             b.append(f"out[{len(names)}] = w{n}")
-            names.append(f"omega_{asm.node_names[n]}")
-            units.append("rad/s")
+            names.append(f"{P.domain.speed}_{asm.node_names[n]}")
+            units.append(P.domain.speed_unit)
         b.append(f"out[{len(names)}] = 0.5 * (" + " + ".join(
             f"{self.Jn(n)} * w{n} * w{n}" for n in range(asm.n_nodes)) + ")")
         names.append("E_kinetic")
@@ -719,6 +721,8 @@ class _R:
             b += self.expand("dT", node, key, expr)
         for idx, key, expr in g.dderivs:
             b += self.expand("J", idx, key, expr)
+        for nd, idx in P.angle_states:
+            b += self.expand("J", idx, ("w", nd), "1.0")
         heat_rows = {}
         for node, key, expr in g.dheats:
             heat_rows.setdefault(node, []).append((key, expr))

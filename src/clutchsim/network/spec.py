@@ -14,7 +14,32 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Param", "StateSpec", "check_table", "check_value"]
+__all__ = ["DOMAINS", "Domain", "Param", "StateSpec", "check_table", "check_value"]
+
+
+@dataclass(frozen=True)
+class Domain:
+    """How a mechanical domain names and measures its quantities (results, messages).
+
+    The network's mathematics is the same in both domains: a mass is an inertia, a force
+    a torque, a position an angle; only the names and units differ."""
+
+    name: str
+    speed: str          # prefix of a speed column (``omega_<node>``, ``v_<node>``)
+    speed_unit: str
+    position: str       # prefix of a position/angle column
+    position_unit: str
+    effort: str         # prefix of a torque/force column
+    effort_unit: str
+    inertia_unit: str
+    slip: str           # prefix of a friction element's slip column
+
+
+#: the mechanical domains of a network (every component of one network shares one)
+DOMAINS = {
+    "rotational": Domain("rotational", "omega", "rad/s", "phi", "rad", "T", "N·m", "kg·m²", "w_slip"),
+    "translational": Domain("translational", "v", "m/s", "s", "m", "F", "N", "kg", "v_slip"),
+}
 
 
 @dataclass(frozen=True)

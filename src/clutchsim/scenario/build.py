@@ -23,12 +23,13 @@ from ..driveline.components import (
 )
 from ..friction import domain_problem, get_model_class, make_model
 from ..friction.base import SelfExcitedWarning
-from .schema import LINING_KEYS, suggest
+from .schema import FRICTION_TYPES, LINING_KEYS, suggest
 
 __all__ = ["build_chain", "build_network", "effective_model", "friction_model"]
 
 
-def friction_model(spec: dict, model: str | None, key: str, fail, element: str = ""):
+def friction_model(spec: dict, model: str | None, key: str, fail, element: str = "",
+                   domain: str = "rotational"):
     """The friction model of an element table ``spec`` (optionally another ``model``).
 
     The model's own entry (``model``, ``parameter_set``, ``overrides``) and an entry of
@@ -64,7 +65,7 @@ def friction_model(spec: dict, model: str | None, key: str, fail, element: str =
     except (TypeError, ValueError, SelfExcitedWarning) as exc:
         fail(str(exc), where)
     label = f"friction element {element!r}" if element else "this friction element"
-    problem = domain_problem(built, "rotational", label, choose_set=how[0], give_params=how[1])
+    problem = domain_problem(built, domain, label, choose_set=how[0], give_params=how[1])
     if problem:
         fail(problem, where)
     return built
@@ -84,7 +85,7 @@ def effective_model(scenario, model: str | None) -> str | None:
         return None
     for t in (*scenario.data.get("coupling", []), *scenario.data.get("brake", []),
               *(c for c in scenario.data.get("component", [])
-                if c.get("type") in ("clutch", "brake"))):
+                if c.get("type") in FRICTION_TYPES)):
         if "friction" not in t:
             if t.get("name") == scenario.clutch:
                 return model        # a fixed switching law: building says it cannot
@@ -160,6 +161,11 @@ def loss_table(tab, key: str, fail) -> tuple:
                 fail(f"= {v:g} N·m is out of range: a bearing friction torque must be >= 0 "
                      "N·m", f"{key}.{c}[{i}]")
     return tuple(zip(*(cols[c] for c in LOSS_COLUMNS)))
+
+
+def angle_states(scenario) -> bool:
+    """``[outputs] angles``: angle (position) states of every inertia (mass)."""
+    return bool(scenario.data.get("outputs", {}).get("angles", False))
 
 
 def _need_input(scenario, name: str, key: str) -> None:
@@ -295,7 +301,7 @@ def build_chain(scenario, model: str | None = None) -> Chain:
             fail(f"= {t.link!r} is not a thermal node{suggest(t.link, th_names)} (nodes: "
                  f"{', '.join(th_names)})", f"thermal[{i}].link")
     return guard(lambda: Chain(inertias, couplings, brakes, engine, vehicle, thermal,
-                               name=scenario.name), "coupling")
+                               name=scenario.name, angles=angle_states(scenario)), "coupling")
 
 
 def build_network(scenario, model: str | None = None):
@@ -318,12 +324,13 @@ def build_network(scenario, model: str | None = None):
                   if isinstance(kw.get(k), str)]
         # friction elements with a friction model (a lossy gear's `friction` is a
         # property; a one-way clutch has its own law, below)
-        if getattr(cls, "friction", False) is True and t["type"] != "one_way_clutch":
+        if getattr(cls, "friction", False) is True and t["type"] not in (
+                "one_way_clutch", "mass_with_stop_and_friction"):
             if cls.commanded:
                 needs.append((kw["command"], f"{key}.command"))
             m = model if _replaced(t, model, scenario) else None
             kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
-                                         t["name"])
+                                         t["name"], cls.domain)
             for k, (a, b) in (("clamp_table", ("position", "force")),
                               ("mu_temperature", ("theta", "factor")),
                               ("mu_slip", ("slip", "factor"))):
@@ -339,7 +346,7 @@ def build_network(scenario, model: str | None = None):
             needs.append((kw["throttle"], f"{key}.throttle"))
             fl = _pairs(kw.pop("full_load"), "speed", "torque", f"{key}.full_load", fail)
             kw["speeds"], kw["torques"] = fl
-        elif t["type"] == "torque":
+        elif t["type"] in ("torque", "force"):
             needs.append((kw["input"], f"{key}.input"))
         elif t["type"] == "torque_pulsation" and "amplitude_table" in kw:
             kw["amplitude_table"] = _pairs(kw["amplitude_table"], "speed", "amplitude",
@@ -369,7 +376,8 @@ def build_network(scenario, model: str | None = None):
         where[t["name"]] = key
     _check_signals(scenario, comps, needs, where)
     try:
-        net = Network(comps, data["network"]["connect"], name=scenario.name)
+        net = Network(comps, data["network"]["connect"], name=scenario.name,
+                      angles=angle_states(scenario))
         net.compile()
     except NetworkError as exc:
         comp = exc.where.split(".")[0]

@@ -16,7 +16,15 @@ import numpy as np
 from .._util import quote
 from ..core import Constant, Ramp, Signal, Sine, SolverOptions, Step, Table
 from .errors import ScenarioError, find_line
-from .schema import COUPLING_TYPES, FRICTION, SECTIONS, check_lining, check_table, suggest
+from .schema import (
+    COUPLING_TYPES,
+    FRICTION,
+    FRICTION_TYPES,
+    SECTIONS,
+    check_lining,
+    check_table,
+    suggest,
+)
 
 __all__ = [
     "Scenario",
@@ -423,7 +431,7 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
                 if c.get("type") in ("clutch", "one_way_clutch", "lossy_gear")]
     fe_names += [b["name"] for b in data.get("brake", [])]
     fe_names += [c["name"] for c in data.get("component", [])
-                 if c.get("type") in ("clutch", "brake")]
+                 if c.get("type") in FRICTION_TYPES]
     if ("models" in sc or "clutch" in sc) and clutch not in fe_names:
         fail(f"friction element {clutch!r} does not exist{suggest(clutch, fe_names)} "
              f"(friction elements: {', '.join(fe_names) or 'none'})", "scenario.clutch")

@@ -20,6 +20,7 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
     Writes ``timeseries[_MODEL].csv`` / ``.parquet`` (units in the column names),
     ``summary.json`` (``{"scenario", "file", "models": {MODEL: metrics}}``), a copy of the
     scenario text as ``scenario.toml``, and with ``plots`` one ``launch_MODEL.png`` per model
+    (``motion_MODEL.png`` for a translational network: positions, velocities, friction)
     and, for several models, ``comparison.png``; a run with gear lash, a dual-mass flywheel
     or a torque converter also gets ``components_MODEL.png``.  Returns the summary.
     ``progress``, if given, is called as ``progress(done, total)`` after each model.  The caller makes
@@ -54,7 +55,12 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
         from ..plot._style import save_png
         from ..plot.components import plot_components
         from ..plot.launch import plot_comparison, plot_launch
+        from ..plot.translational import plot_motion
         for name, res in runs.items():
+            if res.metadata.get("domain") == "translational":   # masses: their motion
+                fig, _ = plot_motion(res)
+                save_png(fig, directory / f"motion_{name}.png")
+                continue
             fig, _ = plot_launch(res, clutch=scenario.clutch)
             save_png(fig, directory / f"launch_{name}.png")
             # lash, dual-mass flywheels, torque converters: their own figure

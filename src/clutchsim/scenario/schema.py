@@ -77,8 +77,9 @@ INERTIA = (
 FRICTION = (
     Key("model", "str", "Friction model name (`clutchsim models`).", required=True),
     Key("parameter_set", "str", "Parameter set (default: the model's own)."),
-    Key("overrides", "table", "Model parameters replacing those of the set (SI; rotational "
-        "units N·m, rad, rad/s)."),
+    Key("overrides", "table", "Model parameters replacing those of the set (SI, in the "
+        "element's domain: N·m, rad, rad/s on a clutch or brake; N, m, m/s on a translational "
+        "friction element)."),
     Key("alternatives", "table", "Parameters per model name, used when `--model` selects "
         "another model for this element: `{coulomb-robust = {F_c = .., F_s = ..}}`."),
 )
@@ -228,6 +229,21 @@ THERMAL = (
        high=1e7),
 )
 
+#: network component types with a `friction` table (a friction model; `--model` acts on them)
+FRICTION_TYPES = ("clutch", "brake", "support_friction", "translational_brake")
+
+#: the keys of a translational friction element besides its parameters
+TRANSLATIONAL_FRICTION = (
+    Key("friction", "table", "Friction model of the element (see [friction]); its numbers are "
+        "read in translational units (N, m, m/s): a rotational parameter set is refused.",
+        required=True),
+    Key("mu_slip", "table", "`{slip = [m/s ...], factor = [...]}`: mu(|v|)/mu_ref (a "
+        "tabulated friction characteristic, as Modelica's f_pos table)."),
+    Key("heat", "tables", "`[{node = \"housing\", share = 1.0}, ...]`: where the friction "
+        "power |F·v| goes."),
+)
+
+
 def _component_keys(cls) -> tuple:
     """The scenario keys of a network component, generated from its declaration."""
     keys = [Key("name", "str", "Unique name.", required=True),
@@ -250,6 +266,12 @@ def _component_keys(cls) -> tuple:
             Key("torque_ratio", "numbers", "Turbine/pump torque at each speed ratio, > 0, "
                 "with speed_ratio·torque_ratio <= 1.", required=True)),
         "torque": (Key("input", "str", "Input signal: the torque [N·m].", required=True),),
+        "force": (Key("input", "str", "Input signal: the force [N].", required=True),),
+        "support_friction": TRANSLATIONAL_FRICTION,
+        "translational_brake": (
+            Key("command", "str", "Normal force input, normalised by the force at which the "
+                "model's capacity is given [-] (Modelica f_normalized).", required=True),
+            *TRANSLATIONAL_FRICTION),
         "torque_pulsation": (Key("amplitude_table", "table", "`{speed = [rad/s ...], "
                                  "amplitude = [N·m ...]}`: amplitude against |speed| "
                                  "(instead of `amplitude`)."),),
@@ -300,6 +322,14 @@ NETWORK = (
         required=True),
 )
 
+OUTPUTS = (
+    Key("angles", "bool", "Add an exact angle state per inertia node, `phi_<inertia>` [rad] "
+        "(`s_<mass>` [m] in a translational network; from the inertia's `phi0`, the mass's "
+        "`s0`): its derivative is the node's speed, with exact Jacobian entries; a "
+        "quadrature, outside the implicit solve (default false: the default runs keep their "
+        "states; a spring's twist and a torque pulsation's crank angle are states anyway)."),
+)
+
 COUPLING_TYPES = {"clutch": CLUTCH, "one_way_clutch": ONE_WAY_CLUTCH,
                   "spring_damper": SPRING, "gear": GEAR, "lossy_gear": LOSSY_GEAR,
                   "gearbox": GEARBOX}
@@ -317,6 +347,7 @@ SECTIONS = {
     "thermal": (THERMAL, "tables"),
     "network": (NETWORK, "table"),
     "component": (None, "tables"),
+    "outputs": (OUTPUTS, "table"),
 }
 
 

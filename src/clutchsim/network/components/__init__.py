@@ -14,9 +14,10 @@ from .engine import Engine
 from .friction import Brake, Clutch
 from .hydraulic_actuator import HydraulicActuator
 from .ideal_gear import IdealGear
-from .inertia import Inertia
+from .inertia import Inertia, Mass
 from .launch_controller import LaunchController
 from .lossy_gear import Gearbox, LossyGear
+from .mass_stop import MassWithStopAndFriction
 from .one_way_clutch import OneWayClutch
 from .planetary import Planetary
 from .release_system import ReleaseSystem
@@ -26,13 +27,21 @@ from .spring_damper import SpringDamper
 from .thermal import ThermalNode
 from .torque_pulsation import TorquePulsation
 from .torque_source import TorqueSource
+from .translational import (
+    Force,
+    SupportFriction,
+    TranslationalBrake,
+    TranslationalSpringDamper,
+)
 from .vehicle import Vehicle
 
 __all__ = ["COMPONENTS", "Brake", "Clutch", "Driver", "DualMassFlywheel", "ElastoBacklash",
-           "Engine", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia",
-           "LaunchController", "LossyGear", "OneWayClutch", "Planetary",
-           "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator", "SpringDamper",
-           "ThermalNode", "TorqueConverter", "TorquePulsation", "TorqueSource", "Vehicle"]
+           "Engine", "Force", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia",
+           "LaunchController", "LossyGear", "Mass", "MassWithStopAndFriction", "OneWayClutch",
+           "Planetary", "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator",
+           "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
+           "TorquePulsation", "TorqueSource", "TranslationalBrake",
+           "TranslationalSpringDamper", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
@@ -40,4 +49,7 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   TorquePulsation, QuadraticSpeedTorque, Engine, Vehicle,
                                   ThermalNode, ElastoBacklash, DualMassFlywheel,
                                   TorqueConverter, ReleaseSystem, HydraulicActuator,
-                                  ServoActuator, LaunchController, Driver)}
+                                  ServoActuator, LaunchController, Driver,
+                                  # translational (Modelica Mechanics.Translational)
+                                  Mass, TranslationalSpringDamper, Force, SupportFriction,
+                                  TranslationalBrake, MassWithStopAndFriction)}

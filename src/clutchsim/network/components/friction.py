@@ -98,7 +98,7 @@ class _FrictionElement(Component):
         self.wear = wear
         self.locked0 = locked0
         self.z0 = None if z0 is None else tuple(float(v) for v in z0)
-        self.has_drag = self.drag != 0.0
+        self.has_drag = self.values.get("drag", 0.0) != 0.0
 
     @property
     def reads_force(self) -> bool:
@@ -156,7 +156,7 @@ class _FrictionElement(Component):
 
     def state_layout(self):
         names = self.model.state_names()
-        units = self.model.state_units("rotational")
+        units = self.model.state_units(self.domain)
         out = [(f"z{i}", f"{self.name}.{n}", u) for i, (n, u) in enumerate(zip(names, units))]
         if self.lockable:
             out.append(("locked", f"{self.name}.locked", "-"))
@@ -254,13 +254,14 @@ class _FrictionElement(Component):
             for fl, coef in self.slip().items():
                 self._partials.append((e.kw(fl), f"{coef!r} * {dsl}"))
         T, Fe = f"fT{i}", f"Fe{i}"
-        names = ([f"T_{self.name}"] if self.side_a == "support" else
-                 [f"T_{self.name}", f"T_friction_{self.name}"])
+        d = e.domain
+        names = ([f"{d.effort}_{self.name}"] if self.side_a == "support" else
+                 [f"{d.effort}_{self.name}", f"{d.effort}_friction_{self.name}"])
         for nm in names:
-            e.output(nm, "N·m", T)
-        e.output(f"w_slip_{self.name}", "rad/s", s)
-        e.output(f"capacity_{self.name}", "N·m", f"{sc} * {e.par('capacity')}")
-        e.output(f"T_stick_{self.name}", "N·m", Fe)
+            e.output(nm, d.effort_unit, T)
+        e.output(f"{d.slip}_{self.name}", d.speed_unit, s)
+        e.output(f"capacity_{self.name}", d.effort_unit, f"{sc} * {e.par('capacity')}")
+        e.output(f"{d.effort}_stick_{self.name}", d.effort_unit, Fe)
         e.output(f"P_{self.name}", "W", f"{T} * {s}")
 
     def scale_partials_of(self, e_index):

@@ -87,4 +87,4 @@ class SpringDamper(TwistCoupling):
         ex = f"(abs({phi}) - {knee})"
         e.spring_energy(f"(0.5 * {c} * {phi} * {phi} if {inner} else 0.5 * {c} * {knee} * "
                         f"{knee} + {c} * {knee} * {ex} + 0.5 * {c2} * {ex} * {ex})")
-        e.output(f"T_{self.name}", "N·m", tau)
+        e.output(f"{e.domain.effort}_{self.name}", e.domain.effort_unit, tau)

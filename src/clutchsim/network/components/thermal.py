@@ -14,6 +14,7 @@ class ThermalNode(Component):
     kind = "thermal_node"
     title = "lumped thermal node"
     thermal = True
+    domain = None
     params = (
         Param("capacity", "J/K", "heat capacity m·c_p", low=0.0, strict=True),
         Param("conductance", "W/K", "convection hA to ambient (0: adiabatic)", default=0.0,

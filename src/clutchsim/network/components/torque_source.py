@@ -40,4 +40,4 @@ class TorqueSource(Component):
             e.dtorque("flange", key, d)
             e.dtorque("support", key, f"-{d}")
             e.dpower("in", key, f"({d}) * ({e.w('flange')} - {e.w('support')})")
-        e.output(f"T_{self.name}", "N·m", u)
+        e.output(f"{e.domain.effort}_{self.name}", e.domain.effort_unit, u)
