@@ -201,15 +201,43 @@ def uniform_grid(t, x, dt_s, max_samples):
     return tu, interp(tu, t, x)
 
 
+@jit(inline="always")
+def _section(b0, b1, b2, a1, a2, x, z0, z1):
+    """One second-order section in transposed direct form II: ``(y, z0', z1')``."""
+    y = b0 * x + z0
+    return y, b1 * x - a1 * y + z1, b2 * x - a2 * y
+
+
 @jit
 def sosfilt(sos, zi, x0, x):
-    """``scipy.signal.sosfilt(sos, x, zi=zi * x0)[0]``."""
+    """``scipy.signal.sosfilt(sos, x, zi=zi * x0)[0]``.  One and three sections (the jerk
+    low-pass, W_d) keep their state in registers: the recursion is latency-bound, and a
+    state kept in memory adds a store and a load to every step's chain; the operations,
+    and so the bits, are the same."""
     ns = sos.shape[0]
+    y = np.empty(x.size)
+    if ns == 1:
+        b0, b1, b2, a1, a2 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
+        z0, z1 = zi[0, 0] * x0, zi[0, 1] * x0
+        for i in range(x.size):
+            y[i], z0, z1 = _section(b0, b1, b2, a1, a2, x[i], z0, z1)
+        return y
+    if ns == 3:
+        p0, p1, p2, pa1, pa2 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
+        q0, q1, q2, qa1, qa2 = sos[1, 0], sos[1, 1], sos[1, 2], sos[1, 4], sos[1, 5]
+        r0, r1, r2, ra1, ra2 = sos[2, 0], sos[2, 1], sos[2, 2], sos[2, 4], sos[2, 5]
+        u0, u1 = zi[0, 0] * x0, zi[0, 1] * x0
+        v0, v1 = zi[1, 0] * x0, zi[1, 1] * x0
+        w0, w1 = zi[2, 0] * x0, zi[2, 1] * x0
+        for i in range(x.size):
+            xc, u0, u1 = _section(p0, p1, p2, pa1, pa2, x[i], u0, u1)
+            xc, v0, v1 = _section(q0, q1, q2, qa1, qa2, xc, v0, v1)
+            y[i], w0, w1 = _section(r0, r1, r2, ra1, ra2, xc, w0, w1)
+        return y
     z = np.empty((ns, 2))
     for s in range(ns):
         z[s, 0] = zi[s, 0] * x0
         z[s, 1] = zi[s, 1] * x0
-    y = np.empty(x.size)
     for i in range(x.size):
         xc = x[i]
         for s in range(ns):
@@ -241,8 +269,20 @@ def filtfilt(sos, zi, x):
         ext[edge + n + i] = 2 * x[n - 1] - x[n - 2 - i]
     ext[edge:edge + n] = x
     y = sosfilt(sos, zi, ext[0], ext)
-    y = sosfilt(sos, zi, y[-1], y[::-1].copy())
-    return y[::-1][edge:edge + n].copy()
+    y = sosfilt(sos, zi, y[-1], y[::-1])
+    return y[::-1][edge:edge + n]
+
+
+@jit
+def _filter_grid(t, a, dt_s, max_samples):
+    """``a`` on the uniform filter grid: ``(tu, au)`` (repeated times: the last sample)."""
+    idx = grid_index(t, True)
+    return uniform_grid(take(t, idx), take(a, idx), dt_s, max_samples)
+
+
+@jit
+def _weighted_on(t, tu, au, sos, zi):
+    return interp(t, tu, sosfilt(sos, zi, au[0], au))
 
 
 @jit
@@ -251,29 +291,31 @@ def weighted(t, a, dt_s, max_samples, sos, zi):
     step ``tu[1] - tu[0]``)."""
     if t.size < 2 or t[-1] <= t[0]:
         return np.zeros(t.size)
-    idx = grid_index(t, True)
-    tu, au = uniform_grid(take(t, idx), take(a, idx), dt_s, max_samples)
-    return interp(t, tu, sosfilt(sos, zi, au[0], au))
+    tu, au = _filter_grid(t, a, dt_s, max_samples)
+    return _weighted_on(t, tu, au, sos, zi)
+
+
+@jit
+def _jerk_on(tu, au, sos, zi):
+    n = tu.size
+    if n < 3:
+        return np.zeros(n)
+    dt = tu[1] - tu[0]
+    af = filtfilt(sos, zi, au) if n > 3 * (2 * sos.shape[0] + 1) else au
+    g = np.empty(n)
+    g[0] = (af[1] - af[0]) / dt
+    g[n - 1] = (af[n - 1] - af[n - 2]) / dt
+    for i in range(1, n - 1):
+        g[i] = (af[i + 1] - af[i - 1]) / (2.0 * dt)
+    return g
 
 
 @jit
 def jerk(t, a, dt_s, max_samples, sos, zi):
     """``launch_quality.jerk_mps3``: ``(tu, jerk)`` (``sos``, ``zi``: the low-pass for the
     grid's step)."""
-    idx = grid_index(t, True)
-    tu, au = uniform_grid(take(t, idx), take(a, idx), dt_s, max_samples)
-    n = tu.size
-    if n < 3:
-        return tu, np.zeros(n)
-    dt = tu[1] - tu[0]
-    if n > 3 * (2 * sos.shape[0] + 1):
-        au = filtfilt(sos, zi, au)
-    g = np.empty(n)
-    g[0] = (au[1] - au[0]) / dt
-    g[n - 1] = (au[n - 1] - au[n - 2]) / dt
-    for i in range(1, n - 1):
-        g[i] = (au[i + 1] - au[i - 1]) / (2.0 * dt)
-    return tu, g
+    tu, au = _filter_grid(t, a, dt_s, max_samples)
+    return tu, _jerk_on(tu, au, sos, zi)
 
 
 @jit
@@ -577,10 +619,11 @@ def launch_kernel(t, a, tf, w, cap, locked, p, omega, tj, theta, ev, wd_sos, wd_
     if tf.size:
         k[K_ENGAGE] = engagement_start(t, tf, np.nan, engage_rel)
     if a.size:
-        aw = weighted(t, a, dt_s, max_samples, wd_sos, wd_zi)
+        tu, au = _filter_grid(t, a, dt_s, max_samples)     # one grid for both filters
+        aw = _weighted_on(t, tu, au, wd_sos, wd_zi) if t[-1] > t[0] else np.zeros(n)
         k[K_VDV] = vdv(t, aw)
         k[K_AW_RMS] = rms(t, aw)
-        tu, jk = jerk(t, a, dt_s, max_samples, lp_sos, lp_zi)
+        jk = _jerk_on(tu, au, lp_sos, lp_zi)
         k[K_JERK_PEAK] = np.max(np.abs(jk))
         k[K_JERK_RMS] = rms(tu, jk)
         k[K_SHOCK] = lockup_shock(t, a, t_lock, window)
