@@ -41,7 +41,8 @@ _EMPTY.flags.writeable = False
 def _kernel_entry():
     """The compiled :func:`~clutchsim.analysis._kernels.launch_kernel` for arrays of any
     layout (a result's columns are strided views of the integrator's output blocks),
-    called directly: one specialisation, and no typing of its 24 arguments per call."""
+    called directly: one specialisation, and no typing of its 25 arguments per call (so
+    :class:`_Run` checks the arrays' dtype and shape itself)."""
     global _ENTRY
     if _ENTRY is None:
         a1 = numba.types.Array(numba.float64, 1, "A")
@@ -63,9 +64,7 @@ class _Run:
     __slots__ = ("aw", "ev", "k")
 
     def __init__(self, res: Result, clutch: str, lining: tuple | None):
-        data = res.data
-
-        t = res.t
+        data, t = res.data, res.t
         if t.dtype != np.float64 or t.ndim != 1:
             raise ValueError(f"result times of dtype {t.dtype} and shape {t.shape}: need "
                              "a 1-D float64 array")
