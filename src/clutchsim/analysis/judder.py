@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _kernels as _k
 from .linear import LinearModel, Mode, OperatingPoint, linearise, modes, operating_point
 
 __all__ = ["JUDDER_BAND_HZ", "JudderMap", "JudderResult", "judder_amplitude", "judder_analysis",
@@ -81,19 +82,6 @@ def judder_analysis(scenario=None, model: str | None = None, at: float = 0.0, *,
     return JudderResult(str(name), point, lin, modes(lin))
 
 
-def _slip_window(res, clutch: str):
-    names = (f"T_{clutch}", f"w_slip_{clutch}", f"capacity_{clutch}")
-    if not all(n in res.signals for n in names) or res.t.size < 3:
-        return None
-    cap, w = res[names[2]], np.abs(res[names[1]])
-    if np.max(cap) <= 0:
-        return None
-    slipping = np.flatnonzero((cap > 0.05 * np.max(cap)) & (w >= _SLIP))
-    if slipping.size < 2:
-        return None
-    return slipping[0], slipping[-1]
-
-
 def judder_amplitude(res, clutch: str = "clutch", band=JUDDER_BAND_HZ) -> float | None:
     """Amplitude [N·m] of the clutch torque ``T_<clutch>``'s oscillation in ``band`` [Hz]
     while the clutch slips.
@@ -101,31 +89,22 @@ def judder_amplitude(res, clutch: str = "clutch", band=JUDDER_BAND_HZ) -> float 
     The window runs from the first to the last sample where the engaged clutch (capacity
     above 5 % of its largest) slips faster than 1 rad/s.  The torque is resampled
     uniformly (20 samples per period of the band's upper edge), its linear trend removed,
-    band-passed (FFT, ``band``) and its amplitude given as ``√2·RMS`` (the amplitude of a
-    sine of the same power).  0 for a torque without oscillation in the band; None when the
-    run has no such clutch outputs, never slips while engaged, or slips for less than one
-    period of the band's lower edge.
+    band-passed (the DFT bins in ``band``) and its amplitude given as ``√2·RMS`` (the
+    amplitude of a sine of the same power; the RMS from the bins by Parseval).  0 for a
+    torque without oscillation in the band; None when the run has no such clutch outputs,
+    never slips while engaged, or slips for less than one period of the band's lower edge.
+    Compiled: :func:`clutchsim.analysis._kernels.judder`.
     """
     lo, hi = (float(b) for b in band)
     if not 0.0 < lo < hi:
         raise ValueError(f"band = {band!r} Hz must satisfy 0 < low < high")
-    win = _slip_window(res, clutch)
-    if win is None:
+    names = (f"T_{clutch}", f"w_slip_{clutch}", f"capacity_{clutch}")
+    if not all(n in res.signals for n in names) or res.t.size < 3:
         return None
-    t0, t1 = float(res.t[win[0]]), float(res.t[win[1]])
-    span = t1 - t0
-    if span < 1.0 / lo:
-        return None
-    n = max(math.ceil(span * 20.0 * hi), 8)
-    t = np.linspace(t0, t1, n)
-    x = np.interp(t, res.t, res[f"T_{clutch}"])
-    tc = t - t.mean()           # the least-squares line, in closed form
-    x = x - x.mean() - tc * (float(tc @ x) / float(tc @ tc))
-    spec = np.fft.rfft(x)
-    f = np.fft.rfftfreq(n, d=(t[1] - t[0]))
-    spec[(f < lo) | (f > hi)] = 0.0
-    xb = np.fft.irfft(spec, n)
-    return float(math.sqrt(2.0) * np.sqrt(np.mean(xb * xb)))
+    t = np.ascontiguousarray(res.t, dtype=float)
+    torque, w, cap = (np.ascontiguousarray(res[n], dtype=float) for n in names)
+    v = _k.judder(t, torque, cap, w, lo, hi, _SLIP)
+    return None if math.isnan(v) else float(v)
 
 
 @dataclass(frozen=True)

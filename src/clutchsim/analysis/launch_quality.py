@@ -9,6 +9,11 @@ formulas and their sources are in ``docs/launch-quality.md``;
 Filters run on a uniform grid: the signal is interpolated linearly onto
 ``t0, t0 + dt, ...`` with :data:`FILTER_DT_S` (a 2 kHz rate, 20 times the W_d band limit
 of 100 Hz) and the filtered signal is interpolated back onto the original times.
+
+The formulas run as compiled code (:mod:`clutchsim.analysis._kernels`); the same code
+computes all the metrics of a driveline run in one call
+(:func:`clutchsim.analysis._kernels.launch_kernel`).  scipy designs the filters
+(:func:`_wd_sos`, :func:`_lowpass_sos`), once per grid step.
 """
 
 from __future__ import annotations
@@ -18,6 +23,8 @@ import math
 
 import numpy as np
 from scipy import signal
+
+from . import _kernels as _k
 
 __all__ = ["ENGAGE_THRESHOLD_REL", "FILTER_DT_S", "JERK_CUTOFF_HZ", "SHOCK_WINDOW_S",
            "WD_F1_HZ", "WD_F2_HZ", "WD_F3_HZ", "WD_F4_HZ", "WD_Q4", "engagement_start_s",
@@ -51,10 +58,10 @@ SHOCK_WINDOW_S = 0.02
 
 
 def _arrays(t_s, *signals):
-    """``t_s`` and ``signals`` as float arrays, checked: 1-D, same shape, time not
-    decreasing (repeated times allowed: integrals give them zero width)."""
-    t = np.asarray(t_s, dtype=float)
-    arrays = [np.asarray(x, dtype=float) for x in signals]
+    """``t_s`` and ``signals`` as contiguous float arrays, checked: 1-D, same shape, time
+    not decreasing (repeated times allowed: integrals give them zero width)."""
+    t = np.ascontiguousarray(t_s, dtype=float)
+    arrays = [np.ascontiguousarray(x, dtype=float) for x in signals]
     if t.ndim != 1:
         raise ValueError(f"time must be a 1-D array, got shape {t.shape}")
     for x in arrays:
@@ -66,30 +73,27 @@ def _arrays(t_s, *signals):
     return (t, *arrays)
 
 
-def _grid(t_s, *signals, keep: str = "last"):
-    """:func:`_arrays` with repeated times collapsed onto the ``keep`` = last sample at
-    each time (the value after a reset) or the first (the value before it), for
-    interpolation."""
-    t, *arrays = _arrays(t_s, *signals)
-    mask = np.ones(t.size, dtype=bool)
-    if keep == "last":
-        mask[:-1] = t[1:] > t[:-1]
-    else:
-        mask[1:] = t[1:] > t[:-1]
-    return (t[mask], *(x[mask] for x in arrays))
+def _none(v: float) -> float | None:
+    return None if math.isnan(v) else float(v)
+
+
+def filter_step_s(t_s, dt_s: float = FILTER_DT_S) -> float:
+    """The step of the uniform grid :func:`uniform_grid` puts under ``t_s`` [s]
+    (``tu[1] - tu[0]``, the step the filters are designed for)."""
+    t0, t1 = float(t_s[0]), float(t_s[-1])
+    dt = max(float(dt_s), (t1 - t0) / FILTER_MAX_SAMPLES)
+    return (t0 + dt) - t0
 
 
 def uniform_grid(t_s, x, dt_s: float = FILTER_DT_S):
     """``(tu_s, xu)``: ``x`` interpolated linearly onto a uniform grid from ``t_s[0]``
     to ``t_s[-1]`` with step ``dt_s`` (coarser if that would exceed
     ``FILTER_MAX_SAMPLES``; the last point is ``t_s[-1]`` itself only when the span is
-    a whole number of steps)."""
-    t, x = _grid(t_s, x)
-    span = float(t[-1] - t[0]) if t.size else 0.0
-    dt = max(float(dt_s), span / FILTER_MAX_SAMPLES)
-    n = math.floor(span / dt + 1e-9) + 1
-    tu = t[0] + dt * np.arange(n)
-    return tu, np.interp(tu, t, x)
+    a whole number of steps); at a repeated time the last sample (the value after a
+    reset) counts."""
+    t, x = _arrays(t_s, x)
+    idx = _k.grid_index(t, True)
+    return _k.uniform_grid(t[idx], x[idx], float(dt_s), FILTER_MAX_SAMPLES)
 
 
 def wd_analog_zpk():
@@ -124,51 +128,41 @@ def _wd_sos(dt_s: float) -> tuple:
     """``(sos, zi)``: W_d discretised for step ``dt_s`` by the bilinear transform (Tustin,
     without pre-warping: at 2 kHz the frequency warp is below 0.1 % up to 30 Hz) and its
     steady state for a unit constant input (cached per step: designing it costs more
-    than filtering a launch)."""
+    than filtering a launch).  The compiled filter (``_kernels.sosfilt``) runs these
+    second-order sections as difference equations."""
     z, p, k = wd_analog_zpk()
     zd, pd, kd = signal.bilinear_zpk(z, p, k, 1.0 / dt_s)
-    sos = signal.zpk2sos(zd, pd, kd)
-    zi = signal.sosfilt_zi(sos)
+    sos = np.ascontiguousarray(signal.zpk2sos(zd, pd, kd))
+    zi = np.ascontiguousarray(signal.sosfilt_zi(sos))
     return sos, zi
 
 
 @functools.lru_cache(maxsize=16)
 def _lowpass_sos(cutoff_Hz: float, dt_s: float):
     """``(sos, zi)``: 2nd-order Butterworth low-pass of corner ``cutoff_Hz`` for step
-    ``dt_s`` and its steady state for a unit input (cached)."""
-    sos = signal.butter(2, cutoff_Hz, btype="low", fs=1.0 / dt_s, output="sos")
-    return sos, signal.sosfilt_zi(sos)
-
-
-def _filtfilt(sos, zi, x):
-    """``scipy.signal.sosfiltfilt(sos, x)`` (odd extension of its default length, each
-    pass started from the steady state ``zi`` of its first sample) with the filter's
-    ``zi`` computed once instead of on every call."""
-    ntaps = 2 * len(sos) + 1 - min(int((sos[:, 2] == 0).sum()), int((sos[:, 5] == 0).sum()))
-    edge = 3 * ntaps
-    ext = np.concatenate((2 * x[0] - x[edge:0:-1], x, 2 * x[-1] - x[-2:-(edge + 2):-1]))
-    y, _ = signal.sosfilt(sos, ext, zi=zi * ext[0])
-    y, _ = signal.sosfilt(sos, y[::-1], zi=zi * y[-1])
-    return y[::-1][edge:-edge]
+    ``dt_s`` and its steady state for a unit input (cached; run by ``_kernels.filtfilt``)."""
+    sos = np.ascontiguousarray(signal.butter(2, cutoff_Hz, btype="low", fs=1.0 / dt_s,
+                                             output="sos"))
+    return sos, np.ascontiguousarray(signal.sosfilt_zi(sos))
 
 
 def weighted_acceleration_mps2(t_s, a_mps2, dt_s: float = FILTER_DT_S):
     """The acceleration ``a_mps2`` weighted with W_d (ISO 2631-1, x-axis seated) on the
     times ``t_s`` [m/s²].
 
-    The signal is interpolated onto a uniform grid of step ``dt_s``, filtered with
-    ``scipy.signal.sosfilt`` (W_d by :func:`wd_analog_zpk` and the bilinear transform),
-    starting from the filter's steady state for the constant acceleration ``a[0]``
-    (the acceleration is taken as constant before ``t_s[0]``: a vehicle cruising at
-    constant acceleration has zero weighted acceleration), and interpolated back.
+    The signal is interpolated onto a uniform grid of step ``dt_s``, filtered (the
+    second-order sections of W_d by :func:`wd_analog_zpk` and the bilinear transform, as
+    ``scipy.signal.sosfilt`` runs them), starting from the filter's steady state for the
+    constant acceleration ``a[0]`` (the acceleration is taken as constant before
+    ``t_s[0]``: a vehicle cruising at constant acceleration has zero weighted
+    acceleration), and interpolated back.
     """
     t_all = np.asarray(t_s, dtype=float)
     if t_all.size < 2 or t_all[-1] <= t_all[0]:
         return np.zeros(t_all.shape)
-    tu, au = uniform_grid(t_all, a_mps2, dt_s)
-    sos, zi = _wd_sos(float(tu[1] - tu[0]))
-    aw, _ = signal.sosfilt(sos, au, zi=zi * au[0])
-    return np.interp(t_all, tu, aw)
+    t, a = _arrays(t_all, a_mps2)
+    sos, zi = _wd_sos(filter_step_s(t, dt_s))
+    return _k.weighted(t, a, float(dt_s), FILTER_MAX_SAMPLES, sos, zi)
 
 
 def rms(t_s, x) -> float:
@@ -176,20 +170,14 @@ def rms(t_s, x) -> float:
     (of the weighted acceleration: ``aw_rms_mps2``, the basic evaluation method of ISO
     2631-1:1997 clause 6)."""
     t, x = _arrays(t_s, x)
-    span = float(t[-1] - t[0]) if t.size > 1 else 0.0
-    if span <= 0:
-        return 0.0
-    return math.sqrt(float(np.trapezoid(x ** 2, t)) / span)
+    return float(_k.rms(t, x))
 
 
 def vdv_mps175(t_s, aw_mps2) -> float:
     """Vibration dose value ``(∫ a_w⁴ dt)^(1/4)`` over the run [m/s^1.75] (the fourth
     power vibration dose method of ISO 2631-1:1997 clause 6)."""
     t, aw = _arrays(t_s, aw_mps2)
-    if t.size < 2:
-        return 0.0
-    a2 = aw * aw
-    return float(np.trapezoid(a2 * a2, t)) ** 0.25
+    return float(_k.vdv(t, aw))
 
 
 def jerk_mps3(t_s, a_mps2, cutoff_Hz: float = JERK_CUTOFF_HZ, dt_s: float = FILTER_DT_S):
@@ -197,19 +185,14 @@ def jerk_mps3(t_s, a_mps2, cutoff_Hz: float = JERK_CUTOFF_HZ, dt_s: float = FILT
     uniform grid ``tu_s`` [m/s³].
 
     The acceleration is interpolated onto the uniform grid, filtered forward and
-    backward (``scipy.signal.sosfiltfilt``: zero phase, so the jerk peak is not delayed)
-    with a 2nd-order Butterworth low-pass of corner ``cutoff_Hz`` (the forward-backward
-    pass squares its magnitude: -6 dB at the corner, 4th-order roll-off), and
-    differentiated by central differences (``numpy.gradient``).
+    backward (as ``scipy.signal.sosfiltfilt``: zero phase, so the jerk peak is not
+    delayed) with a 2nd-order Butterworth low-pass of corner ``cutoff_Hz`` (the
+    forward-backward pass squares its magnitude: -6 dB at the corner, 4th-order
+    roll-off), and differentiated by central differences (as ``numpy.gradient``).
     """
-    tu, au = uniform_grid(t_s, a_mps2, dt_s)
-    if tu.size < 3:
-        return tu, np.zeros(tu.shape)
-    dt = float(tu[1] - tu[0])
-    sos, zi = _lowpass_sos(float(cutoff_Hz), dt)
-    if tu.size > 3 * (2 * len(sos) + 1):
-        au = _filtfilt(sos, zi, au)
-    return tu, np.gradient(au, dt)
+    t, a = _arrays(t_s, a_mps2)
+    sos, zi = _lowpass_sos(float(cutoff_Hz), filter_step_s(t, dt_s))
+    return _k.jerk(t, a, float(dt_s), FILTER_MAX_SAMPLES, sos, zi)
 
 
 def engagement_start_s(t_s, torque_Nm, threshold_Nm: float | None = None) -> float | None:
@@ -222,38 +205,9 @@ def engagement_start_s(t_s, torque_Nm, threshold_Nm: float | None = None) -> flo
     a car clutch's torque).  A clutch already above it at the first sample engaged at
     ``t_s[0]``.
     """
-    t, tq = _grid(t_s, np.abs(np.asarray(torque_Nm, dtype=float)))
-    if not t.size or np.max(tq) <= 0:
-        return None
-    thr = ENGAGE_THRESHOLD_REL * float(np.max(tq)) if threshold_Nm is None \
-        else float(threshold_Nm)
-    above = np.flatnonzero(tq > thr)
-    if not above.size:
-        return None
-    i = int(above[0])
-    if i == 0:
-        return float(t[0])
-    return float(t[i - 1] + (t[i] - t[i - 1]) * (thr - tq[i - 1]) / (tq[i] - tq[i - 1]))
-
-
-def _event_in(event_times_s, lo: float, hi: float) -> float | None:
-    """The last of ``event_times_s`` in ``(lo, hi]``, else None."""
-    ev = np.asarray(event_times_s if event_times_s is not None else (), dtype=float)
-    ev = ev[(ev > lo) & (ev <= hi)]
-    return float(ev[-1]) if ev.size else None
-
-
-def _zero_crossing(t, w, start: int) -> float | None:
-    """First time at or after sample ``start`` where ``w`` reaches or crosses zero,
-    interpolated linearly."""
-    if w[start] == 0:
-        return float(t[start])
-    s = np.sign(w[start:])
-    k = np.flatnonzero(s[1:] != s[0])
-    if not k.size:
-        return None
-    j = start + int(k[0])
-    return float(t[j] + (t[j + 1] - t[j]) * w[j] / (w[j] - w[j + 1]))
+    t, tq = _arrays(t_s, torque_Nm)
+    thr = math.nan if threshold_Nm is None else float(threshold_Nm)
+    return _none(_k.engagement_start(t, tq, thr, ENGAGE_THRESHOLD_REL))
 
 
 def lockup_time_s(t_s, slip_radps, engaged, locked=None, event_times_s=None,
@@ -274,42 +228,10 @@ def lockup_time_s(t_s, slip_radps, engaged, locked=None, event_times_s=None,
 
     Never snapped to the output grid.
     """
-    t, w, eng = _grid(t_s, slip_radps, np.asarray(engaged, dtype=float))
-    if t.size < 2:
-        return None
-    if locked is not None:
-        lk = _grid(t_s, locked)[1] > 0.5
-        rise = np.flatnonzero(lk[1:] & ~lk[:-1]) + 1
-        if rise.size:
-            i = int(rise[0])
-            ev = _event_in(event_times_s, t[i - 1], t[i])
-            return ev if ev is not None else float(t[i])
-        if lk[0] and lk[-1]:
-            return float(t[0])
-    eng = eng > 0.5
-    a = np.abs(w)
-    if not eng[-1] or a[-1] >= lock_slip_radps:
-        return None
-    slipping = np.flatnonzero(eng & (a >= lock_slip_radps))
-    start = int(slipping[-1]) if slipping.size else int(np.argmax(eng))
-    tz = _zero_crossing(t, w, start)
-    if tz is not None:
-        j = int(np.searchsorted(t, tz, side="left"))
-        ev = _event_in(event_times_s, t[max(j - 1, 0)], t[min(j, t.size - 1)])
-        return ev if ev is not None else tz
-    if not slipping.size:
-        return float(t[start])
-    j = start + 1
-    return float(t[start] + (t[j] - t[start]) * (a[start] - lock_slip_radps)
-                 / (a[start] - a[j]))
-
-
-def _window_mean(t, x, lo: float, hi: float) -> float:
-    """Time average of the linear interpolant of ``x`` over ``[lo, hi]``."""
-    inside = (t > lo) & (t < hi)
-    tw = np.concatenate([[lo], t[inside], [hi]])
-    xw = np.interp(tw, t, x)
-    return float(np.trapezoid(xw, tw)) / (hi - lo)
+    t, w, eng = _arrays(t_s, slip_radps, np.asarray(engaged, dtype=float))
+    lk = _arrays(t, locked)[1] if locked is not None else np.empty(0)
+    ev = np.ascontiguousarray(event_times_s if event_times_s is not None else (), dtype=float)
+    return _none(_k.lockup_time(t, w, eng, lk, ev.ravel(), float(lock_slip_radps)))
 
 
 def lockup_shock_mps2(t_s, a_mps2, t_lock_s: float | None,
@@ -326,12 +248,8 @@ def lockup_shock_mps2(t_s, a_mps2, t_lock_s: float | None,
     """
     if t_lock_s is None:
         return None
-    t, a = _grid(t_s, a_mps2)
-    tb, ab = _grid(t_s, a_mps2, keep="first")
-    lo, hi = max(t_lock_s - window_s, float(t[0])), min(t_lock_s + window_s, float(t[-1]))
-    if not (lo < t_lock_s < hi):
-        return None
-    return _window_mean(t, a, t_lock_s, hi) - _window_mean(tb, ab, lo, t_lock_s)
+    t, a = _arrays(t_s, a_mps2)
+    return _none(_k.lockup_shock(t, a, float(t_lock_s), float(window_s)))
 
 
 def lining_area_mm2(r_inner_m: float, r_outer_m: float, faces: int) -> float:
@@ -353,7 +271,7 @@ def friction_densities(t_s, power_W, area_mm2: float | None) -> tuple:
     t, p = _arrays(t_s, np.abs(np.asarray(power_W, dtype=float)))
     if t.size < 2:
         return None, None
-    return float(np.trapezoid(p, t)) / area_mm2, float(np.max(p)) / area_mm2
+    return float(_k.trapezoid(p, t)) / area_mm2, float(np.max(p)) / area_mm2
 
 
 def engine_dip_flare_rpm(t_s, omega_radps, t_start_s: float | None,
@@ -369,9 +287,7 @@ def engine_dip_flare_rpm(t_s, omega_radps, t_start_s: float | None,
     """
     if t_start_s is None:
         return None, None
-    t, n = _grid(t_s, np.asarray(omega_radps, dtype=float) * 30.0 / math.pi)
-    hi = float(t[-1]) if t_end_s is None else min(float(t_end_s), float(t[-1]))
-    inside = (t > t_start_s) & (t < hi)
-    tw = np.concatenate([[t_start_s], t[inside], [hi]])
-    nw = np.interp(tw, t, n)
-    return float(n[0] - np.min(nw)), float(np.max(nw) - nw[0])
+    t, w = _arrays(t_s, omega_radps)
+    dip, flare = _k.dip_flare(t, w, float(t_start_s),
+                              math.nan if t_end_s is None else float(t_end_s))
+    return float(dip), float(flare)

@@ -1,7 +1,7 @@
 """The simulation core: signals, systems, integrators and results.  Knows nothing of friction."""
 
 from .options import SOLVERS, SolverOptions
-from .result import Event, Result, Stats, atomic_write
+from .result import Event, Events, Result, Stats, atomic_write
 from .signals import Constant, Pulse, Ramp, Signal, Sine, Step, Sum, Table, as_signal
 from .simulate import simulate
 from .status import Action, Outcome
@@ -17,6 +17,7 @@ __all__ = [
     "Action",
     "Constant",
     "Event",
+    "Events",
     "Outcome",
     "Pulse",
     "Ramp",

@@ -7,6 +7,7 @@ import json
 import os
 import shutil
 import tempfile
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
@@ -15,7 +16,7 @@ import numpy as np
 
 from .status import Outcome
 
-__all__ = ["Event", "Result", "Stats", "atomic_write"]
+__all__ = ["Event", "Events", "Result", "Stats", "atomic_write"]
 
 
 def _current_umask() -> int:
@@ -139,8 +140,98 @@ class Event:
     source: str = ""
 
 
+class Events(Sequence):
+    """The located events of a run, in order: a read-only sequence of :class:`Event`.
+
+    Kept as the integrator's arrays (times, event numbers, reset actions) with the
+    plant's event names and sources; an :class:`Event` object is made only when one is
+    read.  ``t`` is the times [s] as a read-only array; ``times(source)`` those of the
+    events of one part of the plant.  Equal to a tuple or list of the same events.
+    """
+
+    __slots__ = ("_a", "_actions", "_items", "_k", "_names", "_sources", "_t")
+
+    def __init__(self, t=(), k=(), action=(), names=(), sources=(), actions=()):
+        self._t = np.array(t, dtype=float)
+        self._t.flags.writeable = False
+        self._k = np.asarray(k, dtype=np.int64)
+        self._a = np.asarray(action, dtype=np.int64)
+        if not (self._t.shape == self._k.shape == self._a.shape) or self._t.ndim != 1:
+            raise ValueError("event times, numbers and actions must be 1-D arrays of one "
+                             "length")
+        self._names, self._sources, self._actions = tuple(names), tuple(sources), actions
+        self._items = None
+
+    @classmethod
+    def of(cls, events) -> Events:
+        """``events`` (a sequence of :class:`Event`) as an :class:`Events`."""
+        if isinstance(events, Events):
+            return events
+        items = tuple(events)
+        for e in items:
+            if not isinstance(e, Event):
+                raise TypeError(f"events must be Event objects, got {type(e).__name__}")
+        kinds = {key: j for j, key in enumerate(dict.fromkeys((e.name, e.source)
+                                                              for e in items))}
+        actions = tuple(dict.fromkeys(e.action for e in items))
+        out = cls([e.t for e in items], [kinds[e.name, e.source] for e in items],
+                  [actions.index(e.action) for e in items], [n for n, _ in kinds],
+                  [s for _, s in kinds], actions)
+        out._items = items
+        return out
+
+    def _built(self) -> tuple:
+        if self._items is None:
+            names, sources, words = self._names, self._sources, self._actions
+            self._items = tuple(Event(te, names[ke], words[a], sources[ke]) for te, ke, a
+                                in zip(self._t.tolist(), self._k.tolist(), self._a.tolist()))
+        return self._items
+
+    @property
+    def t(self) -> np.ndarray:
+        """The event times [s] (read-only)."""
+        return self._t
+
+    def times(self, source: str) -> np.ndarray:
+        """Times [s] of the events that belong to ``source`` (a component's name)."""
+        if not self._t.size:
+            return self._t
+        mine = np.array([s == source for s in self._sources], dtype=bool)
+        return self._t[mine[self._k]]
+
+    def __len__(self) -> int:
+        return self._t.size
+
+    def __getitem__(self, i):
+        return self._built()[i]
+
+    def __iter__(self):
+        return iter(self._built())
+
+    def __eq__(self, other) -> bool:
+        if isinstance(other, (Events, tuple, list)):
+            return self._built() == tuple(other)
+        return NotImplemented
+
+    __hash__ = None
+
+    def __repr__(self) -> str:
+        return f"Events({list(self._built())!r})"
+
+
 def _key(name: str, unit: str) -> str:
     return f"{name} [{unit}]"
+
+
+def _frozen(values) -> np.ndarray:
+    """``values`` as a read-only float64 array: itself when it already is one, else a
+    read-only copy."""
+    if isinstance(values, np.ndarray) and values.dtype == np.float64 \
+            and not values.flags.writeable:
+        return values
+    arr = np.array(values, dtype=float)
+    arr.flags.writeable = False
+    return arr
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,8 +264,9 @@ class Result:
         Reasons not to trust a run that completed (each says the cause and the remedy).
     stats : Stats
         Solver statistics.
-    events : tuple of Event
-        Every located event in order.
+    events : Events
+        Every located event in order (a sequence of :class:`Event`; any sequence of
+        them given is kept as one).
     solver : str
         The solver that produced the result.
     """
@@ -185,7 +277,7 @@ class Result:
     outcome: str
     message: str
     stats: Stats
-    events: tuple[Event, ...] = ()
+    events: Events = ()
     solver: str = ""
     system: str = ""
     metadata: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
@@ -200,6 +292,8 @@ class Result:
             raise ValueError(f"outcome = {self.outcome!r} is not one of "
                              f"{', '.join(o.value for o in Outcome)}") from None
         object.__setattr__(self, "outcome", outcome)
+        if not isinstance(self.events, Events):
+            object.__setattr__(self, "events", Events.of(self.events))
         object.__setattr__(self, "warnings", tuple(str(w) for w in self.warnings))
 
     @property
@@ -214,15 +308,16 @@ class Result:
 
     @classmethod
     def build(cls, t, columns: list[tuple[str, str, np.ndarray]], **kw) -> Result:
-        t = np.array(t, dtype=float)
-        t.flags.writeable = False
+        """A result from its times and ``(name, unit, values)`` columns.  Read-only
+        float64 arrays (views of the integrator's output blocks, which
+        :func:`~clutchsim.core.simulate.assemble` makes read-only) are kept as they are;
+        anything else is copied into a new read-only array."""
+        t = _frozen(t)
         data, units = {}, {}
         for name, unit, values in columns:
             if name in data:
                 raise ValueError(f"duplicate signal name {name!r}")
-            arr = np.array(values, dtype=float)
-            arr.flags.writeable = False
-            data[name] = arr
+            data[name] = _frozen(values)
             units[name] = unit
         meta = MappingProxyType(dict(kw.pop("metadata", {}) or {}))
         return cls(t, MappingProxyType(data), MappingProxyType(units), metadata=meta, **kw)

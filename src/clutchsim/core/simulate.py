@@ -13,7 +13,7 @@ from .compile_notice import compile_notice
 from .controllers import StepController
 from .methods import EXPLICIT, get_method
 from .options import DEFAULT_METHOD, SolverOptions, check_solver
-from .result import Event, Result, Stats
+from .result import Events, Result, Stats
 from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
 from .system import System, call_jac, closest, has_jacobian, kernels
@@ -296,18 +296,19 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
                   lu_decompositions=int(st[drv.S_LU]), events=int(st[drv.S_EVENTS]),
                   min_step_s=float(h_small) if math.isfinite(h_small) else 0.0, wall_s=wall,
                   event_evals=int(st[drv.S_EV_CALLS]))
-    names, sources = system.event_names, system.event_sources
-    events = tuple(Event(float(te), names[int(ke)], ACTION_WORDS[int(a)], sources[int(ke)])
-                   for te, ke, a in zip(ev_t, ev_k, ev_a))
+    events = Events(ev_t, ev_k, ev_a, system.event_names, system.event_sources, ACTION_WORDS)
     return assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver,
                     event=ended_by, warnings=tuple(warnings),
-                    event_source=sources[int(k)] if ended_by else "")
+                    event_source=system.event_sources[int(k)] if ended_by else "")
 
 
 def assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver, *,
              event: str = "", warnings: tuple[str, ...] = (), event_source: str = ""
              ) -> Result:
-    """Build a :class:`Result` from raw output arrays (shared by all backends)."""
+    """Build a :class:`Result` from raw output arrays (shared by all backends).  The
+    arrays are made read-only and the result's columns are views of them (no copies)."""
+    for a in (ts, ys, us, outs):
+        a.flags.writeable = False
     cols = [(n, u, ys[:, j]) for j, (n, u) in enumerate(zip(system.state_names,
                                                              system.state_units))]
     cols += [(n, u, us[:, j]) for j, (n, u) in enumerate(zip(system.input_names,

@@ -9,13 +9,18 @@ import math
 from dataclasses import replace
 from types import MappingProxyType
 
+import numba
 import numpy as np
 
+from ..analysis import _kernels as _k
 from ..analysis import launch_quality as lq
+from ..analysis.judder import _SLIP as _JUDDER_SLIP
+from ..analysis.judder import JUDDER_BAND_HZ
 from ..core import Outcome, Result
 from .chain import ENERGY_STATES
 
-__all__ = ["LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "energy_balance", "launch_metrics",
+__all__ = ["LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "analyse_run", "energy_balance",
+           "launch_metrics",
            "launch_warnings", "with_weighted_acceleration"]
 
 #: steps per simulated second above which a run is warned about [1/s].  The shipped
@@ -27,6 +32,69 @@ STEP_COUNT_FLOOR = 10_000
 #: slip below which an engaged clutch counts as held [rad/s], and for how long [s] at least
 LOCK_SLIP = 1.0
 LOCK_HOLD = 0.05
+
+
+_EMPTY = np.empty(0)
+_EMPTY.flags.writeable = False
+
+
+def _kernel_entry():
+    """The compiled :func:`~clutchsim.analysis._kernels.launch_kernel` for arrays of any
+    layout (a result's columns are strided views of the integrator's output blocks),
+    called directly: one specialisation, and no typing of its 25 arguments per call (so
+    :class:`_Run` checks the arrays' dtype and shape itself)."""
+    global _ENTRY
+    if _ENTRY is None:
+        a1 = numba.types.Array(numba.float64, 1, "A")
+        c2 = numba.types.Array(numba.float64, 2, "C")
+        f, i = numba.float64, numba.int64
+        sig = (a1,) * 11 + (c2,) * 4 + (f, i, f, f, f, f, f, f, f, f)
+        _k.launch_kernel.compile(sig)
+        _ENTRY = _k.launch_kernel.overloads[sig].entry_point
+    return _ENTRY
+
+
+_ENTRY = None
+
+
+class _Run:
+    """What the launch kernel found in one run: the values ``k`` at the ``_k.K_*`` slots,
+    the weighted acceleration ``aw``, the clutch's event times ``ev``."""
+
+    __slots__ = ("aw", "ev", "k")
+
+    def __init__(self, res: Result, clutch: str, lining: tuple | None):
+        data, t = res.data, res.t
+        if t.dtype != np.float64 or t.ndim != 1:
+            raise ValueError(f"result times of dtype {t.dtype} and shape {t.shape}: need "
+                             "a 1-D float64 array")
+
+        def col(name):
+            x = data.get(name)
+            if x is None:
+                return _EMPTY
+            if x.dtype != np.float64 or x.shape != t.shape:
+                raise ValueError(f"signal {name!r} of dtype {x.dtype} and shape {x.shape} "
+                                 f"does not match the result's times {t.shape}")
+            return x
+
+        temps = [s for s in data if s.startswith("theta_")]
+        self.ev = ev = np.ascontiguousarray(_event_times(res, clutch), dtype=np.float64)
+        dt = lq.filter_step_s(t) if t.size > 1 else lq.FILTER_DT_S
+        wd_sos, wd_zi = lq._wd_sos(dt)
+        lp_sos, lp_zi = lq._lowpass_sos(lq.JERK_CUTOFF_HZ, dt)
+        area = lq.lining_area_mm2(*lining) if lining is not None else math.nan
+        lo, hi = JUDDER_BAND_HZ
+        self.k, self.aw = _kernel_entry()(
+            t, col("a_vehicle"), col(f"T_friction_{clutch}"), col(f"w_slip_{clutch}"),
+            col(f"capacity_{clutch}"), col(f"{clutch}.locked"), col(f"P_{clutch}"),
+            col("omega_engine"), col(f"T_{clutch}"), col(temps[0]) if temps else _EMPTY, ev,
+            wd_sos, wd_zi, lp_sos, lp_zi, lq.FILTER_DT_S, lq.FILTER_MAX_SAMPLES, LOCK_SLIP,
+            LOCK_HOLD, lq.SHOCK_WINDOW_S, lq.ENGAGE_THRESHOLD_REL, area, lo, hi, _JUDDER_SLIP)
+
+    def value(self, slot: int) -> float | None:
+        v = float(self.k[slot])
+        return v if math.isfinite(v) else None
 
 
 def with_weighted_acceleration(res: Result) -> Result:
@@ -57,46 +125,15 @@ def energy_balance(res: Result) -> dict:
     return out
 
 
-def _held(res: Result, clutch: str) -> bool:
-    """Did the engaged clutch hold (lock) at some time: a switching model's locked flag, or
-    a slip below LOCK_SLIP for LOCK_HOLD seconds on end while engaged."""
-    lk = f"{clutch}.locked"
-    if lk in res.signals and np.any((res[lk] > 0.5) & (res.t > res.t[0])):
-        return True
-    w_name, c_name = f"w_slip_{clutch}", f"capacity_{clutch}"
-    if w_name not in res.signals or c_name not in res.signals or res.t.size < 2:
-        return False
-    cap = res[c_name]
-    ok = (cap > 0.5 * np.max(cap)) & (np.abs(res[w_name]) < LOCK_SLIP) if np.max(cap) > 0 \
-        else np.zeros(res.t.size, dtype=bool)
-    if not np.any(ok):
-        return False
-    # the start of the run of held samples each sample belongs to
-    starts = ok & np.concatenate(([True], ~ok[:-1]))
-    first = np.maximum.accumulate(np.where(starts, np.arange(ok.size), 0))
-    return bool(np.any(ok & (res.t - res.t[first] >= LOCK_HOLD)))
-
-
-def _ringing(res: Result, clutch: str) -> str | None:
+def _ringing(res: Result, clutch: str, run: _Run) -> str | None:
     """The warning for a contact whose torque swings, after it first held, further both
     ways than its capacity (half its peak-to-peak above the capacity), else None."""
-    t_name, w_name, c_name = f"T_friction_{clutch}", f"w_slip_{clutch}", f"capacity_{clutch}"
-    if not all(n in res.signals for n in (t_name, w_name, c_name)):
+    k = run.k
+    if k[_k.K_RING] != 1.0:
         return None
-    cap, torque, w = res[c_name], res[t_name], np.abs(res[w_name])
-    if np.max(cap) <= 0:
-        return None
-    engaged = cap > 0.5 * np.max(cap)
-    touch = np.flatnonzero(engaged & (w < LOCK_SLIP))
-    if not touch.size:
-        return None
-    win = engaged & (np.arange(res.t.size) >= touch[0])
-    amplitude = 0.5 * (np.max(torque[win]) - np.min(torque[win]))
-    capacity = float(np.max(cap[win]))
-    if amplitude <= capacity:
-        return None
-    t0 = float(res.t[touch[0]])
-    crossings = [t for t in _event_times(res, clutch) if t >= t0]
+    t0, amplitude, capacity = (float(k[s]) for s in (_k.K_RING_T0, _k.K_RING_AMP,
+                                                     _k.K_RING_CAP))
+    crossings = run.ev[run.ev >= t0]
     rate = ""
     if len(crossings) > 2 and crossings[-1] > crossings[0]:
         hz = 0.5 * (len(crossings) - 1) / (crossings[-1] - crossings[0])
@@ -105,7 +142,7 @@ def _ringing(res: Result, clutch: str) -> str | None:
     return (f"contact {clutch!r} rings after lock-up: from t = {t0:.3g} s its torque swings "
             f"±{amplitude:.0f} N·m{rate}, above its capacity {capacity:.0f} N·m, so it keeps "
             f"slipping back and forth instead of holding (largest slip afterwards "
-            f"{float(np.max(w[win])):.3g} rad/s). Cause: a locked contact with too little "
+            f"{float(k[_k.K_RING_WMAX]):.3g} rad/s). Cause: a locked contact with too little "
             "damping (model (6): its only damping is k_v) or a friction torque that falls "
             "with slip speed (judder: k_din < 1 with a small omega0). Remedy: raise the "
             "contact damping (k_v), use a friction curve that does not fall steeply "
@@ -129,31 +166,37 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
     """
     if res.status == "failed" or res.t.size < 2:
         return []
+    return _warnings(res, clutch, _Run(res, clutch, None), expect_lockup, friction)
+
+
+def _warnings(res: Result, clutch: str, run: _Run, expect_lockup: bool, friction: bool
+              ) -> list[str]:
+    if res.status == "failed" or res.t.size < 2:
+        return []
     out = []
+    k = run.k
     span = float(res.t[-1] - res.t[0])
-    if expect_lockup and f"w_slip_{clutch}" in res.signals and not _held(res, clutch):
-        w = np.abs(res[f"w_slip_{clutch}"])
-        cap = res[f"capacity_{clutch}"]
-        engaged = cap > 0.5 * np.max(cap) if np.max(cap) > 0 else np.zeros(w.size, bool)
-        if not np.any(engaged):
+    if expect_lockup and f"w_slip_{clutch}" in res.signals and k[_k.K_HELD] != 1.0:
+        cap_max = float(k[_k.K_CAP_MAX])
+        if not k[_k.K_ENGAGED] > 0:
             cause = ("it never engaged (its capacity stayed below half its largest value "
-                     f"{float(np.max(cap)):.0f} N·m)")
-        elif np.min(w[engaged]) >= LOCK_SLIP:
+                     f"{cap_max:.0f} N·m)")
+        elif k[_k.K_W_MIN_ENG] >= LOCK_SLIP:
             cause = (f"its slip never fell below {LOCK_SLIP:g} rad/s while engaged (smallest "
-                     f"{float(np.min(w[engaged])):.3g} rad/s): the capacity "
-                     f"{float(np.max(cap)):.0f} N·m is too low for the torque it must carry, "
+                     f"{float(k[_k.K_W_MIN_ENG]):.3g} rad/s): the capacity "
+                     f"{cap_max:.0f} N·m is too low for the torque it must carry, "
                      "or the run is too short")
         else:
             cause = (f"its slip came near zero but never stayed below {LOCK_SLIP:g} rad/s for "
                      f"{LOCK_HOLD:g} s (largest slip after engagement "
-                     f"{float(np.max(w[engaged])):.3g} rad/s): stick-slip or judder")
+                     f"{float(k[_k.K_W_MAX_ENG]):.3g} rad/s): stick-slip or judder")
         out.append(f"clutch {clutch!r} never locked up although the scenario expects it: "
                    f"{cause}. Remedy: raise the clamp load or capacity, lengthen t_end, use "
                    "a friction model or parameters that can hold (see the ringing warning if "
                    "there is one), or, if the clutch is meant to slip, set [scenario] "
                    "expect_lockup = false")
     if friction:
-        ring = _ringing(res, clutch)
+        ring = _ringing(res, clutch, run)
         if ring:
             out.append(ring)
     steps = res.stats.steps
@@ -170,12 +213,6 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
     return out
 
 
-def _source(res: Result, event) -> str:
-    """The component ``event`` belongs to (the network plant declares each event's source,
-    with the components' kinds in ``metadata["kinds"]``)."""
-    return event.source
-
-
 def _ended_by(res: Result) -> str:
     """The component whose event ended the run ("" when none did)."""
     return res.event_source if res.event else ""
@@ -185,59 +222,34 @@ def _kind(res: Result, component: str) -> str:
     return res.metadata.get("kinds", {}).get(component, "")
 
 
-def _event_times(res: Result, component: str) -> list[float]:
-    """Times [s] of the located events of ``component``."""
-    return [e.t for e in res.events if _source(res, e) == component]
+def _event_times(res: Result, component: str) -> np.ndarray:
+    """Times [s] of the located events of ``component`` (the network plant declares each
+    event's source, with the components' kinds in ``metadata["kinds"]``)."""
+    return res.events.times(component)
 
 
 def _lockup_time(res: Result, clutch: str) -> float | None:
     """:func:`clutchsim.analysis.launch_quality.lockup_time_s` of ``clutch`` in ``res``:
     engaged = capacity above half its largest value; the clutch's located events."""
-    name, c_name = f"w_slip_{clutch}", f"capacity_{clutch}"
-    if name not in res.signals or c_name not in res.signals:
-        return None
-    cap = res[c_name]
-    if res.t.size < 2 or np.max(cap) <= 0:
-        return None
-    lk = f"{clutch}.locked"
-    events = _event_times(res, clutch)
-    return lq.lockup_time_s(res.t, res[name], cap > 0.5 * np.max(cap),
-                            locked=res[lk] if lk in res.signals else None,
-                            event_times_s=events, lock_slip_radps=LOCK_SLIP)
+    return _Run(res, clutch, None).value(_k.K_LOCKUP)
 
 
-def _quality(res: Result, clutch: str, lining: tuple | None) -> dict:
+#: the launch-quality metrics of docs/launch-quality.md and their slots in the kernel's
+#: values
+_QUALITY = (("engagement_start_s", _k.K_ENGAGE), ("lockup_time_s", _k.K_LOCKUP),
+            ("vdv_mps175", _k.K_VDV), ("aw_rms_mps2", _k.K_AW_RMS),
+            ("jerk_peak_mps3", _k.K_JERK_PEAK), ("jerk_rms_mps3", _k.K_JERK_RMS),
+            ("lockup_shock_mps2", _k.K_SHOCK),
+            ("friction_energy_density_J_mm2", _k.K_E_DENS),
+            ("friction_power_density_peak_W_mm2", _k.K_P_DENS),
+            ("engine_dip_rpm", _k.K_DIP), ("engine_flare_rpm", _k.K_FLARE))
+
+
+def _quality(run_or_res, clutch: str = "clutch", lining: tuple | None = None) -> dict:
     """The launch-quality metrics of docs/launch-quality.md (None where a signal is
-    missing or a value is not finite)."""
-    keys = ("engagement_start_s", "lockup_time_s", "vdv_mps175", "aw_rms_mps2",
-            "jerk_peak_mps3", "jerk_rms_mps3", "lockup_shock_mps2",
-            "friction_energy_density_J_mm2", "friction_power_density_peak_W_mm2",
-            "engine_dip_rpm", "engine_flare_rpm")
-    m: dict = dict.fromkeys(keys)
-    if res.t.size < 2:
-        return m
-    t, sig = res.t, res.signals
-    t_lock = m["lockup_time_s"] = _lockup_time(res, clutch)
-    t_eng = None
-    if f"T_friction_{clutch}" in sig:
-        t_eng = m["engagement_start_s"] = lq.engagement_start_s(t, res[f"T_friction_{clutch}"])
-    if "a_vehicle" in sig:
-        a = res["a_vehicle"]
-        aw = res["a_weighted"] if "a_weighted" in sig else lq.weighted_acceleration_mps2(t, a)
-        m["vdv_mps175"] = lq.vdv_mps175(t, aw)
-        m["aw_rms_mps2"] = lq.rms(t, aw)
-        tu, jerk = lq.jerk_mps3(t, a)
-        m["jerk_peak_mps3"] = float(np.max(np.abs(jerk)))
-        m["jerk_rms_mps3"] = lq.rms(tu, jerk)
-        m["lockup_shock_mps2"] = lq.lockup_shock_mps2(t, a, t_lock)
-    if lining is not None and f"P_{clutch}" in sig:
-        e, p = lq.friction_densities(t, res[f"P_{clutch}"], lq.lining_area_mm2(*lining))
-        m["friction_energy_density_J_mm2"], m["friction_power_density_peak_W_mm2"] = e, p
-    if "omega_engine" in sig:
-        m["engine_dip_rpm"], m["engine_flare_rpm"] = lq.engine_dip_flare_rpm(
-            t, res["omega_engine"], t_eng, t_lock)
-    # a run that failed on a non-finite state has no value to report (JSON has no NaN)
-    return {k: v if v is None or math.isfinite(v) else None for k, v in m.items()}
+    missing or a value is not finite) of a :class:`_Run` or of a result."""
+    run = run_or_res if isinstance(run_or_res, _Run) else _Run(run_or_res, clutch, lining)
+    return {key: run.value(slot) for key, slot in _QUALITY}
 
 
 def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None = None
@@ -250,29 +262,53 @@ def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None 
     need ``lining`` = ``(r_inner [m], r_outer [m], faces [-])``), slip_energy_J,
     peak_lining_temp_C, engine_speed_min_rpm, engine_stalled, energy_balance_rel,
     judder_amplitude_Nm (:func:`clutchsim.analysis.judder_amplitude`), steps, rhs_evals,
-    events, min_step_s, wall_s."""
+    events, min_step_s, wall_s.
+
+    All of them but the energy balance come from one compiled call over the run's arrays
+    (:func:`clutchsim.analysis._kernels.launch_kernel`: the formulas of
+    :mod:`clutchsim.analysis.launch_quality`); None where a signal is missing or a value
+    is not finite."""
+    return _metrics(res, clutch, _Run(res, clutch, lining))
+
+
+def _metrics(res: Result, clutch: str, run: _Run) -> dict:
     m: dict = {"completed": res.status == "completed", "outcome": str(res.outcome),
                "message": res.message, "warnings": list(res.warnings)}
     if res.outcome == Outcome.CHATTER and _ended_by(res) == clutch:
         m["message"] = ("stopped by chatter detection at clutch lock-up (the slip speed of "
                         f"{clutch!r} reached zero and the switching law re-fired): "
                         + res.message)
-    m.update(_quality(res, clutch, lining))
-    p_name = f"P_{clutch}"
-    m["slip_energy_J"] = float(np.trapezoid(np.abs(res[p_name]), res.t)) \
-        if p_name in res.signals and len(res.t) > 1 else None
-    temps = [s for s in res.signals if s.startswith("theta_")]
-    m["peak_lining_temp_C"] = float(np.max(res[temps[0]])) if temps else None
-    eng = [s for s in res.signals if s == "omega_engine"]
-    m["engine_speed_min_rpm"] = float(np.min(res[eng[0]]) * 30 / math.pi) if eng else None
+    m.update(_quality(run))
+    value = run.value
+    m["slip_energy_J"] = value(_k.K_SLIP_ENERGY)
+    m["peak_lining_temp_C"] = value(_k.K_THETA_MAX)
+    m["engine_speed_min_rpm"] = value(_k.K_OMEGA_MIN)
     m["engine_stalled"] = (res.outcome == Outcome.EVENT_FAILED
                            and _kind(res, _ended_by(res)) == "engine")
     if m["engine_stalled"]:
         m["outcome"] = "stalled"
     m["energy_balance_rel"] = energy_balance(res)["energy_balance_rel"]
-    from ..analysis.judder import judder_amplitude
-    m["judder_amplitude_Nm"] = judder_amplitude(res, clutch)
+    m["judder_amplitude_Nm"] = value(_k.K_JUDDER)
     st = res.stats
     m.update(steps=st.steps, rhs_evals=st.rhs_evals, events=st.events,
              min_step_s=st.min_step_s, wall_s=st.wall_s)
     return m
+
+
+def analyse_run(res: Result, clutch: str = "clutch", *, expect_lockup: bool = True,
+                friction: bool = True, lining: tuple | None = None) -> tuple[Result, dict]:
+    """``(result, metrics)``: ``res`` with its :func:`launch_warnings` appended and the
+    signal ``a_weighted`` (:func:`with_weighted_acceleration`), and its
+    :func:`launch_metrics`, from one call of the compiled launch kernel (what
+    :func:`clutchsim.scenario.run.run_system` does with every run)."""
+    run = _Run(res, clutch, lining)
+    warnings = tuple(_warnings(res, clutch, run, expect_lockup, friction))
+    data, units = res.data, res.units
+    if "a_vehicle" in res.signals and "a_weighted" not in res.signals:
+        aw = run.aw
+        aw.flags.writeable = False
+        data = MappingProxyType({**data, "a_weighted": aw})
+        units = MappingProxyType({**units, "a_weighted": "m/s²"})
+    if warnings or data is not res.data:
+        res = replace(res, data=data, units=units, warnings=res.warnings + warnings)
+    return res, _metrics(res, clutch, run)

@@ -1,5 +1,6 @@
 """Run a scenario: resolve it, pick the friction model, build the plant and its inputs,
-simulate, and compute the launch metrics (:mod:`clutchsim.driveline.metrics`)."""
+simulate, and compute the warnings and launch metrics
+(:func:`clutchsim.driveline.metrics.analyse_run`: one compiled call per run)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from dataclasses import dataclass
 
 from ..analysis.actuation import controller_warnings
 from ..core import Result, SolverOptions, simulate
-from ..driveline.metrics import launch_metrics, launch_warnings, with_weighted_acceleration
+from ..driveline.metrics import analyse_run
 from .loader import resolve_scenario
 
 __all__ = ["LaunchResult", "expects_lockup", "lining_geometry", "run_scenario"]
@@ -56,13 +57,13 @@ def run_system(scenario, system, model: str | None = None, *, solver: str | None
     res = simulate(system, (0.0, scenario.t_end), inputs, solver=solver or scenario.solver,
                    options=opts)
     name = system.metadata["models"].get(scenario.clutch, model or "")
-    res = res.with_warnings(*launch_warnings(res, scenario.clutch,
-                                             expect_lockup=expects_lockup(scenario),
-                                             friction=_is_friction_clutch(scenario)),
-                            *controller_warnings(scenario, system, res))
-    res = with_weighted_acceleration(res)
-    return LaunchResult(name, res, launch_metrics(res, clutch=scenario.clutch,
-                                                  lining=lining_geometry(scenario)))
+    res, metrics = analyse_run(res, scenario.clutch, expect_lockup=expects_lockup(scenario),
+                               friction=_is_friction_clutch(scenario),
+                               lining=lining_geometry(scenario))
+    extra = controller_warnings(scenario, system, res)
+    if extra:
+        res = res.with_warnings(*extra)
+    return LaunchResult(name, res, metrics)
 
 
 def _is_friction_clutch(scenario) -> bool:
