@@ -29,6 +29,23 @@ def fresh_process_seconds(code: str) -> float:
     return float(done.stdout.strip().splitlines()[-1])
 
 
+def cpu_model() -> str:
+    """The processor's model name as ``lscpu`` gives it (ratios against Python move with
+    the CPU, so every result names it)."""
+    try:
+        text = subprocess.run(["lscpu"], capture_output=True, text=True, check=False).stdout
+    except OSError:
+        return "unknown (no lscpu)"
+    for line in text.splitlines():
+        if line.startswith("Model name:"):
+            return line.split(":", 1)[1].strip()
+    return "unknown"
+
+
 def emit(result: dict) -> None:
-    """The machine-readable result: one JSON object on the last line of stdout."""
+    """The machine-readable result: one JSON object on the last line of stdout, with the
+    CPU model (``cpu``) and the load averages at the end (``load_end``)."""
+    import os
+    result = {**result, "cpu": result.get("cpu") or cpu_model(),
+              "load_end": list(os.getloadavg())}
     print(json.dumps(result))

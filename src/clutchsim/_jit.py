@@ -5,7 +5,10 @@ cached function, not of the functions it calls.  Our integrators are cached
 specialisations that inline model kernels living in other files, so a stale
 cache could silently run old model code.  We therefore key the cache directory
 on a hash of clutchsim's own sources: any edit to any module gets a fresh cache.
-A user-provided ``NUMBA_CACHE_DIR`` is respected as is.
+A user-provided ``NUMBA_CACHE_DIR`` is the base directory instead of ``~/.cache``, keyed the
+same way (``$NUMBA_CACHE_DIR/clutchsim-<hash>``): used as is, it kept compiled plants whose
+inlined friction kernels had since been edited (numba checks only the timestamp of the
+file that holds the cached function, and a generated plant's file does not change).
 """
 
 from __future__ import annotations
@@ -33,10 +36,12 @@ def _source_digest() -> str:
 
 
 def _configure_cache() -> str:
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return os.environ["NUMBA_CACHE_DIR"]
-    base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
-    path = base / "clutchsim" / "numba" / _source_digest()
+    user = os.environ.get("NUMBA_CACHE_DIR")
+    if user:
+        path = Path(user) / f"clutchsim-{_source_digest()}"
+    else:
+        base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
+        path = base / "clutchsim" / "numba" / _source_digest()
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError:  # read-only home: let numba fall back to __pycache__

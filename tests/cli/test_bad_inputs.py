@@ -112,6 +112,12 @@ CASES = [
     (FIT + ["--option", "rtol=-1"], ["rtol = -1.0 must be > 0"]),
     (FIT + ["--option", "rtoll=1e-8"], ["'rtoll'", "did you mean 'rtol'", "options: rtol, atol"]),
     (FIT + ["--option", "rtol"], ["--option 'rtol'", "KEY=VALUE"]),
+    # the same --option on every command that simulates
+    (["run", "--out", "o", "--option", "rtoll=1e-8"], ["--option", "did you mean 'rtol'"]),
+    (["run", "--out", "o", "--option", "rtol=-1"], ["--option", "rtol = -1.0 must be > 0"]),
+    (["run", "--out", "o", "--option", "wall_time=soon"], ["'soon' is not a number"]),
+    (["judder", "--at", "1", "--option", "max_stepz=10"], ["did you mean 'max_steps'"]),
+    (SWEEP + ["--vary", "vehicle.mass=1300", "--option", "atl=1e-9"], ["did you mean 'atol'"]),
     # sweep flags
     (SWEEP + ["--vary", "vehicle.mass=1500:1100:3"], ["LO > HI"]),
     (SWEEP + ["--vary", "vehicle.mass=uniform(1100,1500)"], ["--samples"]),

@@ -37,3 +37,16 @@ def test_run_bad_input_exit_2_one_line(tmp_path):
     lines = [ln for ln in p.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "scenario.t_ned" in lines[0] and "did you mean 't_end'" in lines[0]
     assert f"{bad}:" in lines[0]
+
+
+def test_run_option_overrides_the_solver_table(tmp_path):
+    """``--option`` sets the scenario's [solver] keys for the run: a step budget far below
+    what the launch needs ends it with outcome ``budget`` (exit 1), where the same run
+    without the option completes."""
+    out = tmp_path / "budget"
+    p = _run("examples/coupled_clutches.toml", "--option", "max_steps=20", "--out", str(out),
+             "--json", "--no-plots")
+    assert p.returncode == 1, p.stderr
+    m = json.loads(p.stdout)["models"]["coulomb-robust"]
+    assert not m["completed"] and m["outcome"] == "budget", m
+    assert "20" in m["message"]

@@ -54,6 +54,28 @@ def write_command(directory: Path, argv: list[str]) -> None:
     atomic_write(Path(directory, "command.txt"), lambda p: Path(p).write_text(text))
 
 
+def add_option_flag(p, *, what: str = "the run") -> None:
+    """``--option KEY=VALUE`` (repeatable): a solver option of ``what``, the keys of a
+    scenario's ``[solver]`` table (one help text for every command that simulates)."""
+    p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
+                   help=f"a solver option of {what}, the same keys as a scenario's [solver] "
+                        "table (rtol, atol, h_max, dt_out, max_steps, wall_time, "
+                        "chatter_events, chatter_window, controller, ...); repeatable")
+
+
+def scenario_with_options(sc, items: list[str]):
+    """``sc`` with the ``--option`` items over its ``[solver]`` table (UserError names a bad
+    key or value)."""
+    if not items:
+        return sc
+    from ..cli import UserError
+    from ..scenario.loader import with_solver_options
+    try:
+        return with_solver_options(sc, solver_option_items(items))
+    except (TypeError, ValueError) as exc:
+        raise UserError(f"--option: {exc}") from None
+
+
 def solver_option_items(items: list[str]) -> dict:
     """``--option KEY=VALUE`` items as a mapping for ``SolverOptions.from_mapping`` (values
     are numbers except ``controller``; from_mapping names unknown keys and bad values)."""

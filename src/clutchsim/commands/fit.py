@@ -8,7 +8,7 @@ import math
 from pathlib import Path
 
 from ..cli import SimulationFailed, UserError, emit_json
-from ._common import solver_option_items, write_command
+from ._common import add_option_flag, solver_option_items, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -74,10 +74,7 @@ def register(sub, common):
     p.add_argument("--solver", default=None,
                    help="integrator (default: the spec's [solver] method, else the core's, "
                         "rodas4)")
-    p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
-                   help="a solver option of every simulation, the same keys as a scenario's "
-                        "[solver] table (rtol, atol, h_max, max_steps, wall_time, "
-                        "controller, ...); repeatable")
+    add_option_flag(p, what="every simulation")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
     p.add_argument("--json", action="store_true", help="print one JSON document")

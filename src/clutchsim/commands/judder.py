@@ -6,6 +6,7 @@ import argparse
 import logging
 
 from ..cli import SimulationFailed, UserError, emit_json
+from ._common import add_option_flag, scenario_with_options
 
 log = logging.getLogger("clutchsim")
 
@@ -62,6 +63,7 @@ def register(sub, common):
                    help="operating time [s], 0 <= T <= t_end (default 0)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="override a scenario key, e.g. vehicle.grade=12")
+    add_option_flag(p, what="the run to the operating time")
     p.add_argument("--element", action="append", default=None, metavar="NAME",
                    help="report only this switching element (repeatable)")
     p.add_argument("--out", default=None, metavar="DIR",
@@ -123,7 +125,7 @@ def run(args) -> int:
         return _run_map(args)
     if args.classic is not None:
         raise UserError("--classic needs --map")
-    sc = load_scenario(args.scenario, overrides=args.set)
+    sc = scenario_with_options(load_scenario(args.scenario, overrides=args.set), args.option)
     try:
         result = judder_analysis(sc, args.model, args.at, elements=args.element)
     except OperatingPointError as exc:
@@ -189,7 +191,9 @@ def _run_map(args) -> int:
     if x[0] == y[0]:
         raise UserError(f"--map: both axes are {x[0]!r}")
     try:
-        jm = judder_map(args.scenario, args.model, x=x, y=y, at=args.at, overrides=args.set,
+        # an --option is the [solver] key of the same name, set on every point's scenario
+        jm = judder_map(args.scenario, args.model, x=x, y=y, at=args.at,
+                        overrides=[*args.set, *(f"solver.{o.strip()}" for o in args.option)],
                         classic=args.classic)
     except OperatingPointError as exc:
         raise SimulationFailed(str(exc)) from None
@@ -228,7 +232,7 @@ def _run_frf(args) -> int:
     except ValueError as exc:
         raise UserError(f"--f-min {f_min:g} --f-max {f_max:g} --points {points}: {exc}") \
             from None
-    sc = load_scenario(args.scenario, overrides=args.set)
+    sc = scenario_with_options(load_scenario(args.scenario, overrides=args.set), args.option)
     try:
         fr = frf_analysis(sc, args.model, args.at, input=inp, output=outp, freqs_hz=freqs)
     except OperatingPointError as exc:

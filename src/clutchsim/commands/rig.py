@@ -8,7 +8,7 @@ import logging
 import math
 
 from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_limit_flags, solver_option_items
+from ._common import add_limit_flags, add_option_flag, solver_option_items
 
 log = logging.getLogger("clutchsim")
 
@@ -73,10 +73,7 @@ def register(sub, common):
     p.add_argument("--solver", default=None,
                    help="integrator (default: the core's, rodas4; 'clutchsim models' and "
                         "docs/core.md list them)")
-    p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
-                   help="a solver option, the same keys as a scenario's [solver] table "
-                        "(rtol, atol, h_max, dt_out, max_steps, wall_time, chatter_events, "
-                        "chatter_window, controller, ...); repeatable")
+    add_option_flag(p, what="the run")
     p.add_argument("--out", metavar="FILE.csv", help="write the traces as CSV")
     p.add_argument("--json", action="store_true", help="print one JSON document")
     add_limit_flags(p)

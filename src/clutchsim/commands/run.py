@@ -6,7 +6,13 @@ import argparse
 import logging
 
 from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_limit_flags, checked_scenario, write_command
+from ._common import (
+    add_limit_flags,
+    add_option_flag,
+    checked_scenario,
+    scenario_with_options,
+    write_command,
+)
 
 log = logging.getLogger("clutchsim")
 
@@ -16,6 +22,7 @@ examples:
   clutchsim run examples/hill_start.toml --out hill/ --json
   clutchsim run examples/launch.toml --model coulomb-robust --model coulomb-naive --out cmp/
   clutchsim run examples/launch.toml --set vehicle.grade=12 --out steep/
+  clutchsim run examples/launch.toml --option rtol=1e-8 --option wall_time=30 --out tight/
 
 outputs in DIR: timeseries.csv and timeseries.parquet (first model; one file per model with
 several), summary.json {"models": {NAME: {"outcome", "warnings", metric: value}}, "failed":
@@ -40,6 +47,7 @@ def register(sub, common):
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="override a scenario key, e.g. vehicle.grade=12")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_option_flag(p, what="every model's run")
     p.add_argument("--no-plots", action="store_true", help="skip the figures")
     p.add_argument("--json", action="store_true", help="print summary.json on stdout")
     add_limit_flags(p)
@@ -55,7 +63,7 @@ def run(args) -> int:
     from ..scenario import load_scenario
     from ..scenario.outputs import write_runs
     check_output_dir(args.out)
-    sc = load_scenario(args.scenario, overrides=args.set)
+    sc = scenario_with_options(load_scenario(args.scenario, overrides=args.set), args.option)
     models = args.model or list(sc.models) or [None]
     if len(set(models)) != len(models):
         raise UserError(f"--model: listed twice: {', '.join(str(m) for m in models)}")

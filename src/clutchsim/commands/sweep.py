@@ -6,7 +6,7 @@ import argparse
 import logging
 
 from ..cli import UserError, emit_json
-from ._common import add_limit_flags, solver_option_items, write_command
+from ._common import add_limit_flags, add_option_flag, solver_option_items, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -59,10 +59,7 @@ def register(sub, common):
                    "first)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="override a key of the base scenario")
-    p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
-                   help="a solver option of every run, the same keys as a scenario's "
-                        "[solver] table (rtol, atol, h_max, dt_out, max_steps, wall_time, "
-                        "chatter_events, chatter_window, controller, ...); repeatable")
+    add_option_flag(p, what="every run")
     p.add_argument("--keep-traces", action="store_true", help="also write every run's time "
                    "series (traces/)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
