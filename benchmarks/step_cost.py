@@ -148,8 +148,8 @@ def accounts(st, stages, system, jacobian_kind):
     difference (and, differenced, one right-hand side per implicit state); every accepted
     step evaluates f at its end (the next step's first stage and the Hermite slope).  The
     rest are the f at the start, the initial-step probe and the restarts after breakpoints
-    and state-changing events.  Events: every accepted step ends with one evaluation and
-    every located event with one at its root; the rest are samples inside steps (3 per
+    and state-changing events.  Events (if the plant has any): every accepted step ends with
+    one evaluation and every located event with one at its root; the rest are samples inside steps (3 per
     sampled step) and the regula-falsi probes of event location."""
     nd = system.n_states - system.quadratures
     per_jac = 1 + (nd if jacobian_kind != "exact" else 0)
@@ -157,7 +157,7 @@ def accounts(st, stages, system, jacobian_kind):
            "time_derivative_and_jacobian": st.jacobians * per_jac,
            "step_ends": st.steps}
     rhs["start_and_restarts"] = st.rhs_evals - sum(rhs.values())
-    ev = {"step_ends": st.steps, "at_located_events": st.events}
+    ev = {"step_ends": st.steps if system.n_events else 0, "at_located_events": st.events}
     ev["samples_and_location"] = st.event_evals - sum(ev.values())
     return {"rhs_by_source": rhs, "event_evals_by_source": ev}
 
