@@ -224,8 +224,9 @@ def test_stop_kernel_is_the_stop_operator_and_lands_on_the_clamp_value(m6):
 
 def test_stop_capacity_sliding_force_and_presliding_equilibrium(m6, simulate_mass):
     """The normalised spring T_stat·tanh(phi/phi0)/tanh(c): the force held at the bound is
-    T_stat exactly (clamp's capacity), steady sliding is clamp's T_ss(v), and a constant
-    load T is held at phi* = phi0·atanh(T·tanh(c)/T_stat) (M1: 0.5 N on 1 kg)."""
+    T_stat exactly (clamp's capacity), steady sliding is clamp's T_ss(v) — the pre-sliding
+    damper c_ps·v·(1 - th²) vanishes at the bound, as sech² does in clamp's sliding — and
+    a constant load T is held at phi* = phi0·atanh(T·tanh(c)/T_stat) (M1: 0.5 N on 1 kg)."""
     from clutchsim.friction import friction_force
 
     stop = m6.with_(reset="stop")
@@ -233,8 +234,9 @@ def test_stop_capacity_sliding_force_and_presliding_equilibrium(m6, simulate_mas
     dz = np.zeros(1)
     assert friction_force(stop.code, p, np.array([cap]), 0.0, 0.0, 1.0, dz) == \
         pytest.approx(stop.T_stat, rel=1e-15)
+    damped = stop.with_(c_ps=100.0)
     for v in (-0.3, -1e-3, 2e-3, 0.05):
-        F = friction_force(stop.code, p, stop.sliding_state(v), v, 0.0, 1.0, dz)
+        F = friction_force(stop.code, damped.pack(), stop.sliding_state(v), v, 0.0, 1.0, dz)
         assert F == pytest.approx(float(m6.steady_state_force(v)), rel=1e-14)
         assert dz[0] == 0.0                   # the stop holds phi in sliding
     T = 0.5

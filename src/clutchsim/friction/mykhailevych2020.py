@@ -64,13 +64,17 @@ class Mykhailevych2020(FrictionModel):
     none): the stop operator of hysteresis theory, with c = ``reset_c``::
 
         dphi/dt = 0   while |phi| >= c·phi0 and v·phi > 0,   else dphi/dt = v
-        T_stat·tanh(phi/phi0)  ->  T_stat·tanh(phi/phi0)/tanh(c)
+        tanh(phi/phi0)  ->  th = tanh(phi/phi0)/tanh(c)   (spring T_stat·th)
+        sech²(phi/phi0) ->  1 - th²                        (damper c_ps·v·(1 - th²))
 
     Between zero crossings of ``v`` phi is monotone, so at each crossing it is
     exactly clamp's value sign(phi)·min(|phi|, c·phi0).  The normalised spring keeps
     the capacity (the force at |phi| = c·phi0) and the steady sliding force exactly
     clamp's; the pre-sliding stiffness is 1/tanh(c) times higher (1.037 for c = 2)
-    and a load T is held at ``phi* = phi0·atanh(T·tanh(c)/T_stat)``.
+    and a load T is held at ``phi* = phi0·atanh(T·tanh(c)/T_stat)``.  The pre-sliding
+    damper vanishes at the bound, where the stop holds phi in sliding (sech²(c) = 0.07
+    would leave 7 % of c_ps acting there), and is ``c_ps·(1 - (T/T_stat)²)`` at a load T,
+    as with clamp.
 
     Properties (between resets): the largest force held in stick is
     ``T_stat``; the pre-sliding stiffness at ``phi = 0`` is ``T_stat/phi0``; a
@@ -244,15 +248,14 @@ def mykhailevych2020_force(p, z, v, F_e, scale, dz):
     xp = x * x if p[5] == 2.0 else x        # p is 1 or 2 (checked): no call to pow
     drop = (T_stat - p[1] * T_stat) * (1.0 - math.exp(-xp))
     th = math.tanh(z[0] / p[2])
-    damp = p[8] * v * (1.0 - th * th)       # c_ps·v·sech²(phi/phi0): 0 in sliding
-    spring = T_stat * th
     if p[6] == RESET_STOP:
         # the stop operator: phi stands still at |phi| >= reset_c·phi0 while v drives it
         # outwards; the spring is normalised by tanh(reset_c) (capacity T_stat)
         if abs(z[0]) >= p[7] * p[2] and v * z[0] > 0.0:
             dz[0] = 0.0
-        spring /= math.tanh(p[7])
-    return scale * (spring + p[4] * v + damp - sgn(v) * drop)
+        th /= math.tanh(p[7])
+    # c_ps·v·(1 - th²): sech²(phi/phi0), or 0 at the stop's bound: 0 in sliding
+    return scale * (T_stat * th + p[4] * v + p[8] * v * (1.0 - th * th) - sgn(v) * drop)
 
 
 @jit
@@ -264,16 +267,17 @@ def mykhailevych2020_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     T_stat = p[0]
     x = abs(v / p[3])
     xp, slope = (x * x, 2.0 * x) if p[5] == 2.0 else (x, 1.0)
-    th = math.tanh(z[0] / p[2])
-    sech2 = 1.0 - th * th
-    Jz[0, 0], Jz[0, 1] = 0.0, (1.0 if dz[0] == v else 0.0)   # 0 where the stop holds phi
     k = math.tanh(p[7]) if p[6] == RESET_STOP else 1.0      # the stop's normalisation
-    # c_ps·v·sech²(u), u = phi/phi0: d/dphi = -2·c_ps·v·sech²·tanh/phi0
-    dF[0] = scale * (T_stat * sech2 / k - 2.0 * p[8] * v * sech2 * th) / p[2]
-    dF[1] = scale * (p[4] + p[8] * sech2
+    th = math.tanh(z[0] / p[2])
+    sech2 = (1.0 - th * th) / k                              # phi0·d(th/k)/dphi
+    th /= k
+    Jz[0, 0], Jz[0, 1] = 0.0, (1.0 if dz[0] == v else 0.0)   # 0 where the stop holds phi
+    # c_ps·v·(1 - th²), th = tanh(u)/k, u = phi/phi0: d/dphi = -2·c_ps·v·th·sech2/phi0
+    dF[0] = scale * (T_stat * sech2 - 2.0 * p[8] * v * sech2 * th) / p[2]
+    dF[1] = scale * (p[4] + p[8] * (1.0 - th * th)
                      - (T_stat - p[1] * T_stat) * slope * math.exp(-xp) / p[3])
     dF[2] = 0.0
-    dF[3] = (T_stat * th / k + p[4] * v + p[8] * v * sech2
+    dF[3] = (T_stat * th + p[4] * v + p[8] * v * (1.0 - th * th)
              - sgn(v) * (T_stat - p[1] * T_stat) * (1.0 - math.exp(-xp)))
     return F
 
