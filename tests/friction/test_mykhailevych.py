@@ -270,3 +270,20 @@ def test_stop_does_not_drift_after_gross_sliding(m6, simulate_mass):
     assert n_clamp > 0 and abs(x3 - clamp[0, 0]) < m6.phi0
     free, _ = simulate_mass(m6.with_(reset="none"), _d2, [3.5])
     assert free[0, 0] < 2.0 * m6.phi0 and x3 > 10.0 * m6.phi0
+
+
+def test_plants_read_the_events_from_the_policy(m6):
+    """The rig and the network plant take the model's events: none with stop, the zero
+    crossing with clamp; the two are different structures, so a network compiled for one
+    policy is never reused for the other (a sweep over ``reset`` builds both)."""
+    from clutchsim.network.plant import structure_key
+    from clutchsim.rig import make_rig
+    from clutchsim.scenario import load_scenario
+
+    stop = m6.with_(reset="stop")
+    assert make_rig(stop).event_names == ()
+    assert make_rig(m6).event_names == ("mykhailevych2020: velocity_zero_crossing",)
+    nets = [load_scenario(None, overrides=over).chain("mykhailevych2020")
+            for over in ([], ["coupling[0].friction.overrides.reset='stop'"])]
+    nets = [n if hasattr(n, "components") else n.network() for n in nets]
+    assert structure_key(nets[0]) != structure_key(nets[1])
