@@ -88,6 +88,55 @@ def test_default_launch_fmu_reproduces_clutchsim(tmp_path, fmi):
     assert abs(f["w_slip_clutch"][-1]) < 1e-2
 
 
+#: model (6) with the event-free reset policy (the stop operator)
+STOP = ["coupling[0].friction.overrides.reset='stop'"]
+
+
+@pytest.mark.slow
+def test_launch_fmu_of_model_6_with_the_stop_operator_has_no_clutch_indicator(tmp_path):
+    """Issue 22: with the reset policy ``stop`` model (6) needs no event, so the FMU's only
+    event indicator is the engine's stall.  It completes under FMPy's CVode (Model
+    Exchange) and as co-simulation, with an energy balance below 1e-6, locks up, and stays
+    in the 2e-3 tube of clutchsim's own run of the same scenario (sampled every 0.25 ms:
+    the locked contact rings at ~330 Hz).  Without an event at lock-up CVode meets the
+    tube from rtol 2e-8 (T_clutch: 4.9e-4; at 1e-7 3.2e-3 of its range, clamp 3.7e-4).
+    In co-simulation the held inputs shift the lock-up, and the clutch torque's ringing
+    in the 0.1 s after it differs by 2.7e-3 of its range (clamp: 2.6e-4); the speeds,
+    energies and the torque elsewhere lie in the tube.  The policy is an option, not a
+    tunable: it decides the indicators."""
+    scenario = EXAMPLES / "launch.toml"
+    path = tmp_path / "stop.fmu"
+    info = export_fmu(scenario, path, "mykhailevych2020", kind="both", overrides=STOP)
+    assert validate_fmu(str(path)) == []
+    md = fmpy.read_model_description(str(path))
+    assert md.numberOfEventIndicators == 1
+    assert [e for e in info.event_indicators if e.startswith("clutch")] == []
+    assert info.event_indicators[0].startswith("engine stalled")
+    by = {v.name: v for v in md.modelVariables}
+    assert by["clutch.friction.reset"].variability == "constant"
+    assert float(by["clutch.friction.reset"].start) == 5.0        # RESET_POLICIES["stop"]
+    assert by["clutch.friction.T_stat"].variability == "tunable"
+    run = run_scenario(scenario, "mykhailevych2020", overrides=[*STOP, "solver.dt_out=2.5e-4"])
+    res, t_lock = run.result, run.metrics["lockup_time_s"]
+    assert res.status == "completed" and res.stats.events == 0
+    smooth = ["omega_engine", "omega_disc", "omega_wheels", "w_slip_clutch", "E_kinetic",
+              "E_spring", "theta_pressure_plate", *ENERGY]
+    me = simulate(path, scenario, [*smooth, "T_clutch"], 2e-8, 2e-3)
+    cs = simulate_cs(path, scenario, [*smooth, "T_clutch"], 1e-8, 2.5e-4)
+    for f in (me, cs):
+        assert f["time"][-1] == pytest.approx(4.0)
+        for name in smooth:
+            assert tube(f, res, name) <= TUBE, name
+        assert energy_balance(f) < 1e-6
+        assert abs(f["w_slip_clutch"][-1]) < 1e-2
+    assert tube_tv(me, res, "T_clutch", 2e-3) <= TUBE
+    ringing = (cs["time"] > t_lock) & (cs["time"] < t_lock + 0.1)
+    assert tube_tv({k: cs[k][~ringing] for k in ("time", "T_clutch")}, res, "T_clutch",
+                   1e-3) <= TUBE
+    assert tube_tv({k: cs[k][ringing] for k in ("time", "T_clutch")}, res, "T_clutch",
+                   1e-3) <= 1.5 * TUBE
+
+
 def run_cli(capsys, *argv):
     code = main(list(argv))
     cap = capsys.readouterr()

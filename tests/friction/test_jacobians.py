@@ -68,9 +68,15 @@ def _variants():
                            "sigma2": 0.4, "z_ba": 5e-6, "delta": 1.0}),
         ("mykhailevych2020", {"T_stat": 1.5, "k_din": 0.5, "phi0": 1.5e-5, "omega0": 1e-2,
                               "k_v": 316.0, "p": 1.0}),
+        # the stop operator: phi held at |phi| >= reset_c·phi0 while v drives it outwards
+        ("mykhailevych2020", {"T_stat": 1.5, "k_din": 0.5, "phi0": 1.5e-5, "omega0": 1e-2,
+                              "k_v": 316.0, "reset": "stop", "c_ps": 100.0}),
+        ("mykhailevych2020", {"T_stat": 240.0, "k_din": 0.95, "phi0": 1e-3, "omega0": 5.0,
+                              "k_v": 3.0, "p": 1.0, "reset": "stop", "reset_c": 1.5}),
     ]
     for name, params in extra:
-        label = ",".join(f"{k}={v:g}" for k, v in params.items() if k not in ("F_c", "F_s"))
+        label = ",".join(f"{k}={v}" if isinstance(v, str) else f"{k}={v:g}"
+                         for k, v in params.items() if k not in ("F_c", "F_s"))
         cases.append((f"{name}[{label}]", name, params))
     return cases
 
@@ -148,7 +154,14 @@ def _piece(m, z, v, F_e, scale):
             r = k * abs(zi) / (a * s)
             zones.append((r > 1.0 - m.stick_band, r >= 1.0) if zi * v > 0.0 else "sticks")
         return (sv, tuple(zones))
+    if name == "mykhailevych2020" and m.reset == "stop":
+        return (sv, _stopped(m, z, v))
     return (sv,)   # smooth models, and the kink of |v| at 0
+
+
+def _stopped(m, z, v):
+    """Does model (6)'s stop operator hold phi (|phi| >= reset_c·phi0, v driving it out)?"""
+    return bool(abs(z[0]) >= m.reset_c * m.phi0 and v * z[0] > 0.0)
 
 
 # --------------------------------------------------------------------- kernels
@@ -320,7 +333,8 @@ def _at_zero(m, z):
     derivatives are continuous in v there, a kink at most: the derivative v -> 0+),
     ``central`` (karnopp: v = 0 is inside its window), ``flat`` (the clipped stick force of
     coulomb-naive and of coulomb-robust stuck: flat in v), ``stick`` (GMS: every element
-    sticks, dz_i = v) or ``stand-in`` (the slope is unbounded; see the test below)."""
+    sticks, dz_i = v), ``stop`` (model (6)'s stop operator on its bound: dphi/dt = v
+    inwards, 0 outwards, a kink of dphi/dt in v; the force is smooth in v) or ``stand-in`` (the slope is unbounded; see the test below)."""
     if m.name == "karnopp":
         return "central"
     if m.name == "coulomb-naive" or (m.name == "coulomb-robust" and z[0] == 0.0):
@@ -329,6 +343,8 @@ def _at_zero(m, z):
         return "stand-in"
     if m.name == "gms":
         return "stick"
+    if m.name == "mykhailevych2020" and m.reset == "stop" and abs(z[0]) >= m.reset_c * m.phi0:
+        return "stop"
     return "right"
 
 
@@ -351,6 +367,19 @@ def test_model_jacobian_at_zero_velocity(label, name, params):
             return
         if mode == "central":
             assume(_model_check(m, x))
+            return
+        if mode == "stop":      # the force's v column one-sided, dphi/dt's by hand
+            assume(_model_check(m, x, one_sided=(nz,), skip=(nz,)))
+            _, _, Jz, dF = _call_jac(jac, m.pack(), z, v, F_e, scale)
+            assert Jz[0, nz] == 1.0     # v·phi = 0 does not drive phi outwards: not held
+            force, _ = _kernels(m)
+            h = STEP * m.omega0
+            right = [_call_force(force, m.pack(), z, s * h, F_e, scale)[0] for s in (1, 2)]
+            left = [_call_force(force, m.pack(), z, -s * h, F_e, scale)[0] for s in (1, 2)]
+            F0 = _call_force(force, m.pack(), z, 0.0, F_e, scale)[0]
+            for side, (f1, f2) in ((1.0, right), (-1.0, left)):
+                fd = side * (-3.0 * F0 + 4.0 * f1 - f2) / (2.0 * h)
+                assert abs(dF[nz] - fd) <= REL * (abs(fd) + m.T_stat / m.omega0)
             return
         assume(_model_check(m, x, skip=(nz,)))
         _, _, Jz, dF = _call_jac(jac, m.pack(), z, v, F_e, scale)

@@ -162,3 +162,128 @@ def test_event_declaration(m6):
     assert m6.event_names() == ("velocity_zero_crossing",)
     assert m6.event_directions().tolist() == [0]
     assert m6.event_directions().dtype == np.int64
+
+
+# ------------------------------------------------------------ the stop operator (no event)
+def test_stop_declares_no_event_and_its_kernel_writes_none(m6):
+    """Policy ``stop`` needs no event: the model declares none, and the events kernel
+    leaves the (empty) indicator vector alone; every other policy keeps the zero crossing."""
+    from clutchsim.friction import friction_events
+
+    stop = m6.with_(reset="stop")
+    assert stop.n_events == 0 and stop.event_names() == ()
+    assert stop.event_directions().shape == (0,)
+    g = np.full(1, np.nan)
+    friction_events(stop.code, stop.pack(), np.array([3e-5]), 0.2, 0.0, 1.0, g)
+    assert np.isnan(g[0])
+    for policy in RESET_POLICIES:
+        if policy != "stop":
+            assert m6.with_(reset=policy).event_names() == ("velocity_zero_crossing",)
+
+
+def _stop_closed_form(x, cap):
+    """The stop operator of hysteresis theory on the sampled input x(t) (phi(0) = 0):
+    phi follows every increment of x and is clipped to [-cap, cap]; exact for any x
+    sampled finely enough that each sample's increment is one-signed."""
+    phi = np.zeros_like(x)
+    for i in range(1, x.size):
+        phi[i] = min(max(phi[i - 1] + x[i] - x[i - 1], -cap), cap)
+    return phi
+
+
+def test_stop_kernel_is_the_stop_operator_and_lands_on_the_clamp_value(m6):
+    """Driven by v = A·cos(ωt) (travel ±3·phi0 between reversals, past the bound
+    c·phi0 = 2·phi0), dphi/dt of the compiled kernel integrates to the stop operator's
+    closed form, and at every zero crossing of v phi equals clamp's reset value
+    sign(phi)·min(|phi|, c·phi0) = ±2·phi0 — without an event."""
+    from scipy.integrate import solve_ivp
+
+    from clutchsim.friction import friction_force
+
+    stop = m6.with_(reset="stop")
+    p, phi0, cap = stop.pack(), stop.phi0, stop.reset_c * stop.phi0
+    w = 2.0 * math.pi
+    A = 3.0 * phi0 * w
+    dz = np.zeros(1)
+
+    def rhs(t, y):
+        friction_force(stop.code, p, y, A * math.cos(w * t), 0.0, 1.0, dz)
+        return dz.copy()
+
+    t = np.linspace(0.0, 3.0, 30001)
+    sol = solve_ivp(rhs, (0.0, 3.0), [0.0], t_eval=t, method="DOP853", rtol=1e-12,
+                    atol=1e-12 * phi0, max_step=1e-3)
+    assert sol.status == 0
+    exact = _stop_closed_form(3.0 * phi0 * np.sin(w * t), cap)
+    assert np.max(np.abs(sol.y[0] - exact)) < 1e-6 * phi0
+    reversals = np.arange(0.25, 3.0, 0.5)        # zeros of cos(ωt)
+    at = np.interp(reversals, t, sol.y[0])
+    np.testing.assert_allclose(at, cap * np.sign(np.sin(w * reversals)), rtol=1e-6)
+    assert np.max(np.abs(sol.y[0])) <= cap * (1.0 + 1e-6)
+
+
+def test_stop_capacity_sliding_force_and_presliding_equilibrium(m6, simulate_mass):
+    """The normalised spring T_stat·tanh(phi/phi0)/tanh(c): the force held at the bound is
+    T_stat exactly (clamp's capacity), steady sliding is clamp's T_ss(v) — the pre-sliding
+    damper c_ps·v·(1 - th²) vanishes at the bound, as sech² does in clamp's sliding — and
+    a constant load T is held at phi* = phi0·atanh(T·tanh(c)/T_stat) (M1: 0.5 N on 1 kg)."""
+    from clutchsim.friction import friction_force
+
+    stop = m6.with_(reset="stop")
+    p, cap = stop.pack(), stop.reset_c * stop.phi0
+    dz = np.zeros(1)
+    assert friction_force(stop.code, p, np.array([cap]), 0.0, 0.0, 1.0, dz) == \
+        pytest.approx(stop.T_stat, rel=1e-15)
+    damped = stop.with_(c_ps=100.0)
+    for v in (-0.3, -1e-3, 2e-3, 0.05):
+        F = friction_force(stop.code, damped.pack(), stop.sliding_state(v), v, 0.0, 1.0, dz)
+        assert F == pytest.approx(float(m6.steady_state_force(v)), rel=1e-14)
+        assert dz[0] == 0.0                   # the stop holds phi in sliding
+    T = 0.5
+    states, n_events = simulate_mass(stop, lambda t: T, [1.0])
+    x, v, phi = states[0]
+    expected = stop.phi0 * math.atanh(T * math.tanh(stop.reset_c) / stop.T_stat)
+    assert n_events == 0
+    assert x == pytest.approx(expected, rel=1e-3) and phi == pytest.approx(expected, rel=1e-3)
+    assert abs(v) < 1e-9
+
+
+def _d2(t):
+    """D2 (docs/benchmarks.md): 1.6 N > T_stat for 0.5 s (gross sliding), then D1's
+    biased sine."""
+    return 1.6 if t < 0.5 else 0.5 + 0.4 * math.sin(2 * math.pi * (t - 0.5))
+
+
+def test_stop_does_not_drift_after_gross_sliding(m6, simulate_mass):
+    """D2 with the stop operator: after 0.5 s of gross sliding phi stands at the bound
+    c·phi0 (clamp's value at the next reversal), and the biased sine that follows makes
+    no drift per cycle (< 1e-9 m) — with no event located.  The slip of the sliding phase
+    stays, as with clamp (x within phi0 of clamp's: 156.9 against 162.1 µm); with
+    ``none`` phi is left at 12.5·phi0 and the body slides back to 5.1 µm."""
+    stop = m6.with_(reset="stop")
+    states, n_events = simulate_mass(stop, _d2, [0.5, 3.5, 4.5, 5.5])
+    assert n_events == 0
+    assert states[0, 2] == pytest.approx(stop.reset_c * stop.phi0, rel=1e-6)
+    x3, x4, x5 = states[1:, 0]
+    assert abs(x5 - x4) < 1e-9 and abs(x4 - x3) < 1e-9
+    clamp, n_clamp = simulate_mass(m6, _d2, [3.5])
+    assert n_clamp > 0 and abs(x3 - clamp[0, 0]) < m6.phi0
+    free, _ = simulate_mass(m6.with_(reset="none"), _d2, [3.5])
+    assert free[0, 0] < 2.0 * m6.phi0 and x3 > 10.0 * m6.phi0
+
+
+def test_plants_read_the_events_from_the_policy(m6):
+    """The rig and the network plant take the model's events: none with stop, the zero
+    crossing with clamp; the two are different structures, so a network compiled for one
+    policy is never reused for the other (a sweep over ``reset`` builds both)."""
+    from clutchsim.network.plant import structure_key
+    from clutchsim.rig import make_rig
+    from clutchsim.scenario import load_scenario
+
+    stop = m6.with_(reset="stop")
+    assert make_rig(stop).event_names == ()
+    assert make_rig(m6).event_names == ("mykhailevych2020: velocity_zero_crossing",)
+    nets = [load_scenario(None, overrides=over).chain("mykhailevych2020")
+            for over in ([], ["coupling[0].friction.overrides.reset='stop'"])]
+    nets = [n if hasattr(n, "components") else n.network() for n in nets]
+    assert structure_key(nets[0]) != structure_key(nets[1])

@@ -19,8 +19,9 @@ Python nor clutchsim to run.  Variables carry clutchsim's own names:
 * parameters: the values the equations read, ``<component>.<key>`` (a friction model's
   ``<element>.friction.<parameter>``, a table's ``<component>.<key>.x[i]``/``.y[i]``),
   tunable; the values that fix inertias and ratios (they enter the reduced mass matrix
-  clutchsim computes when it builds the plant) are constants: change them in the scenario
-  and export again.
+  clutchsim computes when it builds the plant) and a friction model's options (model
+  (6)'s reset policy decides whether the clutch has an event indicator) are constants:
+  change them in the scenario and export again.
 
 The event indicators are the plant's event functions (a friction model's own events,
 the engine's stall): see ``docs/fmu.md``.
@@ -156,8 +157,18 @@ def _structural_keys(c) -> set[str]:
     return out
 
 
-def _param(slot: int, name: str, unit: str, doc: str, tunable: bool) -> dict:
-    return {"slot": slot, "name": name, "unit": unit, "doc": doc, "tunable": tunable}
+#: why a constant is not tunable: a value fixing an inertia or a ratio (the default), or a
+#: friction model's option (a code, such as model (6)'s reset policy, that decides the
+#: plant's equations and event indicators)
+_STRUCTURAL = "structural (an inertia or a ratio): change it in the scenario and export again"
+_OPTION = "an option of the model (it decides the equations and the event indicators): " \
+    "change it in the scenario and export again"
+
+
+def _param(slot: int, name: str, unit: str, doc: str, tunable: bool,
+           why: str = _STRUCTURAL) -> dict:
+    return {"slot": slot, "name": name, "unit": unit, "doc": doc, "tunable": tunable,
+            "why": why}
 
 
 def _parameters(plan, comps) -> list[dict]:
@@ -189,6 +200,7 @@ def _parameters(plan, comps) -> list[dict]:
         if key == "model":
             model = c.model
             fields = [f.name for f in dataclasses.fields(model)]
+            options = {f.name for f in dataclasses.fields(model) if f.type in ("str", str)}
             info = getattr(model, "parameter_info", {})
             if len(fields) != n_val:
                 fields = [f"model[{i}]" for i in range(n_val)]
@@ -196,7 +208,9 @@ def _parameters(plan, comps) -> list[dict]:
                 kind, doc = info.get(f, ("", ""))
                 out.append(_param(off + i, f"{c_name}.friction.{f}",
                                   _FRICTION_UNITS.get(kind, ""),
-                                  f"{model.name}: {doc}" if doc else model.name, not structural))
+                                  f"{model.name}: {doc}" if doc else model.name,
+                                  not structural and f not in options,
+                                  _OPTION if f in options else _STRUCTURAL))
             continue
         for i in range(n):
             out.append(_param(off + i, f"{c_name}.{key}.x[{i}]", "", f"{key}: breakpoint {i}",
@@ -254,9 +268,7 @@ def _variables(*, states, state_units, y0, inputs, input_units, u0, outputs, out
                 p[q["slot"]], desc=q["doc"])
         else:
             var(q["name"], vr_p + q["slot"], "local", "constant", "exact", q["unit"],
-                p[q["slot"]], desc=(q["doc"] + "; " if q["doc"] else "")
-                + "structural (an inertia or a ratio): change it in the scenario and export "
-                "again")
+                p[q["slot"]], desc=(q["doc"] + "; " if q["doc"] else "") + q["why"])
     for k, e in enumerate(events):
         var(f"event_indicator[{k}]", vr_z + k, "local", "continuous", "calculated",
             role="indicator", desc=e)

@@ -124,7 +124,8 @@ class FrictionModel(abc.ABC):
     dispatchers), ``citation``, ``parameter_info`` (``{parameter: (unit kind,
     description)}``), ``phenomena`` (the expected entries of the phenomena
     matrix), ``default_parameter_set`` and ``event_spec`` (``((name,
-    direction), ...)``). They implement five small hooks: ``_check`` (model
+    direction), ...)``; a property where the events follow an option, as model (6)'s
+    reset policy ``stop`` has none). They implement five small hooks: ``_check`` (model
     specific validation), ``_pack`` (private parameter layout read by the
     kernels), ``_state_spec`` (state names and unit kinds) and ``_steady``
     (steady sliding force at ``scale = 1``) and ``_sliding_state`` (states in

@@ -29,7 +29,10 @@ RESET_POLICIES: dict[str, int] = {
     "plus_phi0": 2,
     "minus_phi0": 3,
     "none": 4,
+    "stop": 5,
 }
+#: the code of the event-free policy ``stop`` (the stop operator; no event, no reset)
+RESET_STOP = 5
 
 
 @dataclass(frozen=True)
@@ -56,6 +59,22 @@ class Mykhailevych2020(FrictionModel):
     ``none``             no change
 
     The reset returns 1 when ``phi`` changed, else 0.
+
+    ``stop`` realises the clamp continuously, with no event (the model then declares
+    none): the stop operator of hysteresis theory, with c = ``reset_c``::
+
+        dphi/dt = 0   while |phi| >= c·phi0 and v·phi > 0,   else dphi/dt = v
+        tanh(phi/phi0)  ->  th = tanh(phi/phi0)/tanh(c)   (spring T_stat·th)
+        sech²(phi/phi0) ->  1 - th²                        (damper c_ps·v·(1 - th²))
+
+    Between zero crossings of ``v`` phi is monotone, so at each crossing it is
+    exactly clamp's value sign(phi)·min(|phi|, c·phi0).  The normalised spring keeps
+    the capacity (the force at |phi| = c·phi0) and the steady sliding force exactly
+    clamp's; the pre-sliding stiffness is 1/tanh(c) times higher (1.037 for c = 2)
+    and a load T is held at ``phi* = phi0·atanh(T·tanh(c)/T_stat)``.  The pre-sliding
+    damper vanishes at the bound, where the stop holds phi in sliding (sech²(c) = 0.07
+    would leave 7 % of c_ps acting there), and is ``c_ps·(1 - (T/T_stat)²)`` at a load T,
+    as with clamp.
 
     Properties (between resets): the largest force held in stick is
     ``T_stat``; the pre-sliding stiffness at ``phi = 0`` is ``T_stat/phi0``; a
@@ -106,7 +125,7 @@ class Mykhailevych2020(FrictionModel):
     reset : str, optional
         Reset policy, one of ``RESET_POLICIES`` (default ``"clamp"``).
     reset_c : float, optional
-        Clamp factor c of the ``clamp`` policy [-], > 0, default 2.
+        Clamp factor c of the ``clamp`` and ``stop`` policies [-], > 0, default 2.
     c_ps : float, optional
         Pre-sliding damping [N·s/m or N·m·s/rad], >= 0, default 0 (off: the seed's
         equations).
@@ -115,7 +134,7 @@ class Mykhailevych2020(FrictionModel):
     ----------
     Mykhailevych M.G., "Model of friction for dry friction clutch working
     process simulation", Avtomobil i elektronika. Suchasni tekhnolohii 18
-    (2020), system (6). Reset policy ``clamp`` is clutchsim's addition.
+    (2020), system (6). Reset policies ``clamp`` and ``stop`` are clutchsim's addition.
     """
 
     T_stat: float
@@ -143,8 +162,9 @@ class Mykhailevych2020(FrictionModel):
         "omega0": ("velocity", "slip velocity separating static and dynamic regimes"),
         "k_v": ("force/velocity", "internal (viscous) friction coefficient"),
         "p": ("1", "exponent of the Stribeck term (1 or 2)"),
-        "reset": ("1", "reset policy of phi at v = 0: " + ", ".join(RESET_POLICIES)),
-        "reset_c": ("1", "clamp factor c of the clamp policy (|phi| <= c·phi0)"),
+        "reset": ("1", "reset policy of phi at v = 0: " + ", ".join(RESET_POLICIES)
+                  + " (stop: the clamp as the stop operator, continuous: no event)"),
+        "reset_c": ("1", "clamp factor c of the clamp and stop policies (|phi| <= c·phi0)"),
         "c_ps": ("force/velocity",
                  "pre-sliding damping c_ps·v·sech²(phi/phi0), 0 in sliding (0 = off)"),
     }
@@ -157,7 +177,6 @@ class Mykhailevych2020(FrictionModel):
         "no_drift": "only with a clamp-type reset",
     }
     default_parameter_set: ClassVar[str] = "mykhailevych2020_translational"
-    event_spec: ClassVar[tuple[tuple[str, int], ...]] = (("velocity_zero_crossing", 0),)
     #: at v = 0 the sliding term sign(v)·(1 − exp(−|v/ω0|^p)) is zero from both sides
     smooth_at_events: ClassVar[bool] = True
 
@@ -193,6 +212,12 @@ class Mykhailevych2020(FrictionModel):
                 stacklevel=4,
             )
 
+    @property
+    def event_spec(self) -> tuple[tuple[str, int], ...]:  # type: ignore[override]
+        """The zero crossing of ``v`` (both directions), where the reset acts; none for
+        ``stop``, whose integrator never needs a reset."""
+        return () if self.reset == "stop" else (("velocity_zero_crossing", 0),)
+
     def _pack(self) -> list[float]:
         return [
             self.T_stat, self.k_din, self.phi0, self.omega0, self.k_v, self.p,
@@ -208,7 +233,10 @@ class Mykhailevych2020(FrictionModel):
 
     def _sliding_state(self, v: float) -> list[float]:
         # In steady sliding phi grows without bound; 50·phi0 already gives
-        # tanh(phi/phi0) == sign(v) exactly in double precision.
+        # tanh(phi/phi0) == sign(v) exactly in double precision.  The stop operator
+        # holds it at reset_c·phi0, where the normalised spring term is T_stat.
+        if self.reset == "stop":
+            return [math.copysign(self.reset_c * self.phi0, v)]
         return [math.copysign(50.0 * self.phi0, v)]
 
 
@@ -220,8 +248,14 @@ def mykhailevych2020_force(p, z, v, F_e, scale, dz):
     xp = x * x if p[5] == 2.0 else x        # p is 1 or 2 (checked): no call to pow
     drop = (T_stat - p[1] * T_stat) * (1.0 - math.exp(-xp))
     th = math.tanh(z[0] / p[2])
-    damp = p[8] * v * (1.0 - th * th)       # c_ps·v·sech²(phi/phi0): 0 in sliding
-    return scale * (T_stat * th + p[4] * v + damp - sgn(v) * drop)
+    if p[6] == RESET_STOP:
+        # the stop operator: phi stands still at |phi| >= reset_c·phi0 while v drives it
+        # outwards; the spring is normalised by tanh(reset_c) (capacity T_stat)
+        if abs(z[0]) >= p[7] * p[2] and v * z[0] > 0.0:
+            dz[0] = 0.0
+        th /= math.tanh(p[7])
+    # c_ps·v·(1 - th²): sech²(phi/phi0), or 0 at the stop's bound: 0 in sliding
+    return scale * (T_stat * th + p[4] * v + p[8] * v * (1.0 - th * th) - sgn(v) * drop)
 
 
 @jit
@@ -233,22 +267,25 @@ def mykhailevych2020_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     T_stat = p[0]
     x = abs(v / p[3])
     xp, slope = (x * x, 2.0 * x) if p[5] == 2.0 else (x, 1.0)
+    k = math.tanh(p[7]) if p[6] == RESET_STOP else 1.0      # the stop's normalisation
     th = math.tanh(z[0] / p[2])
-    sech2 = 1.0 - th * th
-    Jz[0, 0], Jz[0, 1] = 0.0, 1.0
-    # c_ps·v·sech²(u), u = phi/phi0: d/dphi = -2·c_ps·v·sech²·tanh/phi0
+    sech2 = (1.0 - th * th) / k                              # phi0·d(th/k)/dphi
+    th /= k
+    Jz[0, 0], Jz[0, 1] = 0.0, (1.0 if dz[0] == v else 0.0)   # 0 where the stop holds phi
+    # c_ps·v·(1 - th²), th = tanh(u)/k, u = phi/phi0: d/dphi = -2·c_ps·v·th·sech2/phi0
     dF[0] = scale * (T_stat * sech2 - 2.0 * p[8] * v * sech2 * th) / p[2]
-    dF[1] = scale * (p[4] + p[8] * sech2
+    dF[1] = scale * (p[4] + p[8] * (1.0 - th * th)
                      - (T_stat - p[1] * T_stat) * slope * math.exp(-xp) / p[3])
     dF[2] = 0.0
-    dF[3] = (T_stat * th + p[4] * v + p[8] * v * sech2
+    dF[3] = (T_stat * th + p[4] * v + p[8] * v * (1.0 - th * th)
              - sgn(v) * (T_stat - p[1] * T_stat) * (1.0 - math.exp(-xp)))
     return F
 
 
 @jit
 def mykhailevych2020_events(p, z, v, F_e, scale, g):
-    g[0] = v
+    if p[6] != RESET_STOP:      # the stop declares no event (g is empty)
+        g[0] = v
 
 
 @jit

@@ -112,8 +112,9 @@ class _FrictionElement(Component):
     def options(self):
         tabs = tuple(None if getattr(self, k) is None else len(getattr(self, k)[0])
                      for k in ("clamp_table", "mu_temperature", "mu_slip"))
+        # the model's events follow its options (model (6)'s reset policy stop has none)
         return (self.model.name, self.model.code, self.model.n_states,
-                len(self.model.pack()), self.command, tabs,
+                self.model.event_names(), len(self.model.pack()), self.command, tabs,
                 tuple(n for n, _ in self.heat), self.has_drag, self.runout is not None,
                 self.wear is not None, self.reads_force)
 
