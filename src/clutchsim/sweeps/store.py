@@ -108,9 +108,7 @@ class SweepStore:
         for run_id, frame in out["traces"].items():
             atomic_write(self.path / "traces" / f"run-{run_id:07d}.parquet",
                          lambda t, f=frame: f.to_parquet(t, index=False))
-        names = self.schema.names
-        cols = {n: [r.get(n) for r in out["rows"]] for n in names}
-        table = pa.Table.from_pydict(cols, schema=self.schema)
+        table = pa.Table.from_pydict(out["columns"], schema=self.schema)
         atomic_write(self.chunk_path(index, cid), lambda t: pq.write_table(table, t))
 
     # ------------------------------------------------------------------ results
