@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import threading
 from collections.abc import Mapping
 
 import numba
@@ -244,6 +245,7 @@ class _Prepared:
 #: (plant type, its layout, solver, span, ids of the options and signals) -> _Prepared
 _PREPARED: dict = {}
 _PREPARED_MAX = 32
+_PREPARED_LOCK = threading.Lock()
 
 
 def _prepare(system: System, signals, t0: float, t1: float, solver: str,
@@ -258,9 +260,10 @@ def _prepare(system: System, signals, t0: float, t1: float, solver: str,
     if hit is not None:
         return hit
     prep = _Prepared(system, signals, t0, t1, solver, opts, (opts, *signals))
-    if len(_PREPARED) >= _PREPARED_MAX:
-        _PREPARED.pop(next(iter(_PREPARED)), None)
-    _PREPARED[key] = prep
+    with _PREPARED_LOCK:    # a sweep's threads share the cache
+        while len(_PREPARED) >= _PREPARED_MAX:
+            _PREPARED.pop(next(iter(_PREPARED)))
+        _PREPARED[key] = prep
     return prep
 
 
