@@ -22,7 +22,14 @@ one warm-up call), in milliseconds:
 * ``sweep_python_ms_per_run`` (unless ``--no-sweep``): ``sweep(None, {mass, grade},
   samples=--sweep-runs, workers=1, load=False)``, the process CPU time minus the compiled
   loops' thread CPU time, per run (the variant's parameter vector, ``run_system``, the
-  row, the chunk files); ``sweep_runs_per_s_1_thread`` its runs per wall second.
+  row, the chunk files, and the sweep's fixed cost spread over the runs);
+  ``sweep_runs_per_s_1_thread`` its runs per wall second.  Its split, means over the
+  runs of that sweep (thread CPU): ``sweep_variant_system_ms_per_run`` (the variant's
+  system, ``VariantPlan.system``: parameter vector, initial state, ``System``),
+  ``sweep_run_system_python_ms_per_run`` (``run_system`` minus its compiled loop),
+  ``sweep_kernel_ms_per_run`` (the compiled metrics kernel, part of the previous one; it
+  releases the GIL), and ``sweep_fixed_ms`` (a whole 2-run sweep minus its loops: the
+  checks of the varied keys, the plan, the manifest, the files).
 
 Runs in the tree it is started from (``PYTHONPATH=src``), so the same script measures a
 checkout of an older commit.  Prints one JSON object on the last stdout line.
@@ -76,9 +83,9 @@ def main():
     inner: list[int] = []
     raw = sim_mod._integrate
 
-    def timed(args):
+    def timed(args, fixed_key=None):
         t0 = time.thread_time_ns()
-        out = raw(args)
+        out = raw(args, fixed_key)
         inner.append(time.thread_time_ns() - t0)
         return out
 
@@ -133,22 +140,58 @@ def main():
 
     if not a.no_sweep:
         from clutchsim.sweeps import sweep
+        parts = _sweep_parts(run_mod, dm)
         with tempfile.TemporaryDirectory(prefix="clutchsim-overhead-") as d:
             sweep(None, VARY, samples=2, seed=1, out=os.path.join(d, "warm"), load=False,
                   workers=1)
             inner.clear()
+            c0 = time.process_time_ns()
+            sweep(None, VARY, samples=2, seed=2, out=os.path.join(d, "two"), load=False,
+                  workers=1)
+            fixed = time.process_time_ns() - c0 - sum(inner)
+            inner.clear()
+            for v in parts.values():
+                v.clear()
             c0, w0 = time.process_time_ns(), time.perf_counter()
             sweep(None, VARY, samples=a.sweep_runs, seed=1, out=os.path.join(d, "s"),
                   load=False, workers=1)
             cpu, wall = time.process_time_ns() - c0, time.perf_counter() - w0
-            out["sweep_runs"] = a.sweep_runs
-            out["sweep_python_ms_per_run"] = (cpu - sum(inner)) * 1e-6 / a.sweep_runs
-            out["sweep_integrator_ms_per_run"] = sum(inner) * 1e-6 / a.sweep_runs
-            out["sweep_runs_per_s_1_thread"] = a.sweep_runs / wall
+            n = a.sweep_runs
+            out["sweep_runs"] = n
+            out["sweep_python_ms_per_run"] = (cpu - sum(inner)) * 1e-6 / n
+            out["sweep_integrator_ms_per_run"] = sum(inner) * 1e-6 / n
+            out["sweep_runs_per_s_1_thread"] = n / wall
+            # the split of sweep_python_ms_per_run (means over the runs, thread CPU)
+            out["sweep_fixed_ms"] = fixed * 1e-6
+            out["sweep_variant_system_ms_per_run"] = sum(parts["system"]) * 1e-6 / n
+            out["sweep_run_system_python_ms_per_run"] = \
+                (sum(parts["run_system"]) - sum(inner)) * 1e-6 / n
+            out["sweep_kernel_ms_per_run"] = sum(parts["kernel"]) * 1e-6 / n
     out["load_avg_1min_end"] = os.getloadavg()[0]
     print(f"Python per run_system: {out['run_system_python_ms']:.3f} ms "
           f"(integrator {out['integrator_ms']:.3f} ms)", file=sys.stderr)
     emit(out)
+
+
+def _sweep_parts(run_mod, dm) -> dict:
+    """Wrap the variant's system (``VariantPlan.system``), ``run_system`` and the
+    compiled metrics kernel with thread CPU timers; returns their lists of times [ns]."""
+    from clutchsim.scenario import variants
+    parts: dict = {"system": [], "run_system": [], "kernel": []}
+
+    def timer(fn, into):
+        def timed(*args, **kw):
+            t0 = time.thread_time_ns()
+            res = fn(*args, **kw)
+            into.append(time.thread_time_ns() - t0)
+            return res
+        return timed
+
+    variants.VariantPlan.system = timer(variants.VariantPlan.system, parts["system"])
+    run_mod.run_system = timer(run_mod.run_system, parts["run_system"])
+    entry = dm._kernel_entry
+    dm._kernel_entry = lambda: timer(entry(), parts["kernel"])
+    return parts
 
 
 def _min_of_inner(fn, calls: int, inner: list) -> float:

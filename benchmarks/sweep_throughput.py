@@ -14,6 +14,13 @@ grade (uniform 0–8 %).  Measured:
   process loads the compiled plant from the numba cache once, ~1 s, which would otherwise
   land inside the timed runs of whichever worker meets its first chunk there).
 
+The split of the ``runs`` sweep: ``cpu_ms_per_run`` (this process's CPU time, all threads:
+the integrator, the metrics kernel and the Python around them, per run),
+``loop_wall_ms_per_run`` (the compiled loops' own wall time, summed over the threads, per
+run: the ``wall_s`` metric), ``idle_core_fraction`` (1 − CPU time / (cores × wall time):
+core time this process left unused, to the other processes of a shared machine, to the
+GIL, or to the tail of the last chunks) and ``load_avg_1min`` at the end.
+
 Also ``setup_ms_per_run``: the Python time per run outside the integrator (the variant's
 parameter vector and system, the call into the compiled loop, the result, the metrics, and
 the sweep's own start-up and chunk files spread over the runs) = wall per run on 1 thread
@@ -61,10 +68,20 @@ def main():
     tmp = tempfile.TemporaryDirectory(prefix="clutchsim-bench-")
     d = tmp.name
     run(os.path.join(d, "warm"), 2, workers=1)          # compile / load the numba cache
-    wall, res = run(os.path.join(d, "main"), a.runs)
+    from clutchsim.sweeps import DEFAULT_METRICS
+    cpu0 = time.process_time()
+    wall, res = run(os.path.join(d, "main"), a.runs, metrics=[*DEFAULT_METRICS, "wall_s"])
+    cpu = time.process_time() - cpu0
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    loops = pq.read_table(res.path / "results.parquet", columns=["wall_s"])["wall_s"]
+    loop_s = sum(v for v in loops.to_pylist() if v is not None)
+    workers = os.cpu_count()
     out = {"runs": a.runs, "wall_s": wall, "runs_per_s": a.runs / wall, "peak_rss_mb": rss,
-           "status_counts": res.status_counts, "workers": os.cpu_count()}
+           "status_counts": res.status_counts, "workers": workers,
+           "cpu_ms_per_run": cpu / a.runs * 1e3,
+           "loop_wall_ms_per_run": loop_s / a.runs * 1e3,
+           "idle_core_fraction": 1.0 - cpu / (workers * wall),
+           "load_avg_1min": os.getloadavg()[0]}
     w1, r1 = run(os.path.join(d, "w1"), a.scaling_runs, workers=1, metrics=["wall_s"])
     integ = pq.read_table(r1.path / "results.parquet", columns=["wall_s"])["wall_s"]
     integ_s = sum(v for v in integ.to_pylist() if v is not None)

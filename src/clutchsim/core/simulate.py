@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import threading
 from collections.abc import Mapping
 
 import numba
@@ -183,12 +184,16 @@ def _fingerprint(a):
     return type(a)
 
 
-def _integrate(args):
+def _integrate(args, fixed_key=None):
     """``drv.integrate(*args)``, calling the compiled specialisation directly once numba
     has chosen it for arguments of these types: numba's own choice types every argument
     again on each call, ~0.3-0.6 ms for the tuple of function values, as much as a tenth
-    of a launch."""
-    key = tuple(_fingerprint(a) for a in args)
+    of a launch.  ``fixed_key``: the fingerprint of every argument but the initial state
+    and the parameter vector (``args[6]``, ``args[7]``), computed once by
+    :func:`_prepare`."""
+    if fixed_key is None:
+        fixed_key = tuple(_fingerprint(a) for i, a in enumerate(args) if i not in (6, 7))
+    key = (fixed_key, _fingerprint(args[6]), _fingerprint(args[7]))
     entry = _ENTRIES.get(key)
     if entry is not None:
         return entry(*args)
@@ -198,6 +203,68 @@ def _integrate(args):
     if cres is not None and len(_ENTRIES) < 64:
         _ENTRIES[key] = cres.entry_point
     return out
+
+
+class _Prepared:
+    """The arguments of the integration loop that depend only on the plant type, the
+    input signals, the span, the solver and the options, built once for runs that share
+    them (a sweep's variants: one plant type, the scenario's own signal and option
+    objects): the signal bank and breakpoints, the method's tableau and controller, the
+    option vectors, and their fingerprint for :func:`_integrate`.  The loop only reads
+    them."""
+
+    __slots__ = ("args", "chatter_window", "fixed_key", "refs")
+
+    def __init__(self, system: System, signals, t0: float, t1: float, solver: str,
+                 opts: SolverOptions, refs: tuple):
+        tab, mopt, ctrl = _method_data(solver, opts)
+        fopt = np.zeros(drv.N_FOPT)
+        fopt[drv.O_RTOL], fopt[drv.O_ATOL] = opts.rtol, opts.atol
+        fopt[drv.O_H0], fopt[drv.O_HMAX], fopt[drv.O_HMIN] = opts.h0, opts.h_max, opts.h_min
+        fopt[drv.O_WALL] = opts.wall_time
+        fopt[drv.O_CHATTER_WINDOW] = opts.chatter_window_for(t1 - t0)
+        fopt[drv.O_DT_OUT] = opts.dt_out
+        fopt[drv.O_EVENT_TOL] = opts.event_tol
+        fopt[drv.O_LU_REUSE] = opts.jacobian.lu_reuse
+        iopt = np.zeros(drv.N_IOPT, dtype=np.int64)
+        iopt[drv.I_MAX_STEPS], iopt[drv.I_CHATTER_N] = opts.max_steps, opts.chatter_events
+        iopt[drv.I_MAX_OUTPUT], iopt[drv.I_QUADRATURES] = opts.max_output, system.quadratures
+        iopt[drv.I_EXACT_JAC] = has_jacobian(system.tag)
+        iopt[drv.I_JAC_MAX_AGE] = opts.jacobian.max_age
+        ev_dir = np.array(system.event_directions, dtype=np.int64)
+        #: the loop's arguments with None for the initial state and the parameters
+        self.args = (kernels(system.tag), tab, mopt, ctrl, t0, t1, None, None,
+                     build_bank(signals), _breakpoints(signals, t0, t1), ev_dir,
+                     len(system.output_names), fopt, iopt)
+        self.fixed_key = tuple(_fingerprint(a) for i, a in enumerate(self.args)
+                               if i not in (6, 7))
+        self.chatter_window = float(fopt[drv.O_CHATTER_WINDOW])
+        self.refs = refs        # what the key names by identity, kept alive with it
+
+
+#: (plant type, its layout, solver, span, ids of the options and signals) -> _Prepared
+_PREPARED: dict = {}
+_PREPARED_MAX = 32
+_PREPARED_LOCK = threading.Lock()
+
+
+def _prepare(system: System, signals, t0: float, t1: float, solver: str,
+             opts: SolverOptions) -> _Prepared:
+    """The :class:`_Prepared` arguments for this run, from the cache when the options and
+    the signals are the very objects of an earlier run (identity, so nothing is
+    compared or hashed by value; the entry keeps them alive, so an id is never reused
+    while it is cached)."""
+    key = (type(system.tag), system.quadratures, system.event_directions,
+           len(system.output_names), solver, t0, t1, id(opts), *map(id, signals))
+    hit = _PREPARED.get(key)
+    if hit is not None:
+        return hit
+    prep = _Prepared(system, signals, t0, t1, solver, opts, (opts, *signals))
+    with _PREPARED_LOCK:    # a sweep's threads share the cache
+        while len(_PREPARED) >= _PREPARED_MAX:
+            _PREPARED.pop(next(iter(_PREPARED)))
+        _PREPARED[key] = prep
+    return prep
 
 
 def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
@@ -250,41 +317,26 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
         raise ValueError(f"{system.name}: parameter vector entry {bad[0]} = "
                          f"{float(system.params[bad[0]])} must be finite")
     signals = resolve_inputs(system, inputs)
-    bps = _breakpoints(signals, t0, t1)
-    bank = build_bank(signals)
     if solver.startswith("scipy-"):
+        bps = _breakpoints(signals, t0, t1)
+        bank = build_bank(signals)
         from .scipy_backend import simulate_scipy
         return simulate_scipy(system, t0, t1, y_init, signals, bank, bps, solver, opts)
 
-    tab, mopt, ctrl = _method_data(solver, opts)
-    fopt = np.zeros(drv.N_FOPT)
-    fopt[drv.O_RTOL], fopt[drv.O_ATOL] = opts.rtol, opts.atol
-    fopt[drv.O_H0], fopt[drv.O_HMAX], fopt[drv.O_HMIN] = opts.h0, opts.h_max, opts.h_min
-    fopt[drv.O_WALL] = opts.wall_time
-    fopt[drv.O_CHATTER_WINDOW] = opts.chatter_window_for(t1 - t0)
-    fopt[drv.O_DT_OUT] = opts.dt_out
-    fopt[drv.O_EVENT_TOL] = opts.event_tol
-    fopt[drv.O_LU_REUSE] = opts.jacobian.lu_reuse
-    iopt = np.zeros(drv.N_IOPT, dtype=np.int64)
-    iopt[drv.I_MAX_STEPS], iopt[drv.I_CHATTER_N] = opts.max_steps, opts.chatter_events
-    iopt[drv.I_MAX_OUTPUT], iopt[drv.I_QUADRATURES] = opts.max_output, system.quadratures
-    iopt[drv.I_EXACT_JAC] = has_jacobian(system.tag)
-    iopt[drv.I_JAC_MAX_AGE] = opts.jacobian.max_age
-    ev_dir = np.array(system.event_directions, dtype=np.int64)
+    prep = _prepare(system, signals, t0, t1, solver, opts)
     # the wall time is measured inside the compiled loop: it excludes JIT compilation
-    if iopt[drv.I_EXACT_JAC] and system.tag not in _CHECKED_JACOBIANS:
+    if prep.args[13][drv.I_EXACT_JAC] and system.tag not in _CHECKED_JACOBIANS:
         check_jacobian(system, y_init, signals, t0)
     # a copy: a plant may switch its values at scheduled events (a gear shift)
-    args = (kernels(system.tag), tab, mopt, ctrl, t0, t1, y_init, system.params.copy(), bank, bps,
-            ev_dir, len(system.output_names), fopt, iopt)
+    args = prep.args[:6] + (y_init, system.params.copy()) + prep.args[8:]
     with compile_notice(type(system.tag), system.name) as first:
         if first:
             _load_or_compile(args)
     (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
-     wall) = _integrate(args)
+     wall) = _integrate(args, prep.fixed_key)
     outcome, message, ended_by = _failure_message(int(code), float(t_end), int(k), int(i),
                                                   system, opts, solver,
-                                                  fopt[drv.O_CHATTER_WINDOW])
+                                                  prep.chatter_window)
     warnings = []
     if ts.shape[0] >= opts.max_output and ts[-1] < t_end:
         warnings.append(f"output stopped after {opts.max_output} rows at t = {ts[-1]:.9g} s "

@@ -40,8 +40,10 @@ class SweepResult:
 
 def _default_chunk_size(n: int) -> int:
     # depends on the number of runs only (never on the backend), so every backend and
-    # every resume cuts the same chunks; ~100 chunks, 8..1000 runs each
-    return int(min(1000, max(8, math.ceil(n / 100))))
+    # every resume cuts the same chunks; ~100 chunks, 32..1000 runs each: a chunk file
+    # costs ~3-5 ms to build, write and read back, ~0.1 ms per run at 32 runs (0.5 ms at
+    # the former floor of 8), and 32 launches are ~0.2 s of integration
+    return int(min(1000, max(32, math.ceil(n / 100))))
 
 
 def _probe_values(spec) -> list[float]:
@@ -272,11 +274,13 @@ def _execute(store, scenario, design, manifest, backend, workers, address,
 
     def done(index, out):
         store.write_chunk(index, ids[index][1], out)
-        for row in out["rows"]:
-            counts[row["status"]] = counts.get(row["status"], 0) + 1
-            outcomes[row["outcome"]] = outcomes.get(row["outcome"], 0) + 1
-            state["warned"] += bool(row["warnings"])
-        state["done"] += len(out["rows"])
+        cols = out["columns"]
+        for status, outcome, warnings in zip(cols["status"], cols["outcome"],
+                                             cols["warnings"]):
+            counts[status] = counts.get(status, 0) + 1
+            outcomes[outcome] = outcomes.get(outcome, 0) + 1
+            state["warned"] += bool(warnings)
+        state["done"] += out["n"]
         if progress is not None:
             progress(state["done"], design.n)
 

@@ -6,7 +6,8 @@ import math
 import threading
 from dataclasses import replace
 
-__all__ = ["DEFAULT_METRICS", "METRICS", "run_chunk", "run_variant", "variant_plan"]
+__all__ = ["DEFAULT_METRICS", "METRICS", "chunk_columns", "run_chunk", "run_variant",
+           "variant_plan"]
 
 #: the ``warnings`` column joins a run's warnings with this
 
@@ -39,7 +40,7 @@ METRICS = {
 DEFAULT_METRICS = tuple(m for m in METRICS if m != "wall_s")
 
 
-def run_variant(job: dict, values: tuple) -> tuple[dict, object]:
+def run_variant(job: dict, values: tuple, plan=None, options=None) -> tuple[dict, object]:
     """One run: ``(row, frame)``; ``frame`` is the time series (only with keep_traces).
 
     The variant is a set of values on the scenario's network, built once per sweep and
@@ -49,40 +50,53 @@ def run_variant(job: dict, values: tuple) -> tuple[dict, object]:
     and message; this function does not raise for those.  ``outcome`` is the
     machine-readable reason (the launch metrics' ``outcome``: ``completed``, ``stalled``,
     ``chatter``, ``budget``, ...; ``error`` for invalid parameters) and ``warnings`` the
-    run's warnings (a list of str).
+    run's warnings (a list of str).  ``plan`` and ``options``: the plan of ``job`` and
+    its solver options with the output cap applied (:func:`_capped`), when the caller
+    (:func:`run_chunk`, once per chunk) already has them.
     """
     from ..scenario.loader import with_solver_options
     from ..scenario.run import run_system
     row: dict = {"status": "error", "outcome": "error", "message": "", "warnings": []}
     frame = None
     try:
-        plan = variant_plan(job)
+        if plan is None:
+            plan = variant_plan(job)
+            options = _capped(plan.scenario.options, job)
         changes = tuple(zip(job["keys"], values))
         system = plan.system(changes)
         sc = plan.scenario
         if system is None:
             sc, system = plan.rebuilt(changes)
             sc = with_solver_options(sc, job.get("options"))
-        options = sc.options
-        cap = job.get("max_output")
-        if cap is not None and options.dt_out == 0 and options.max_output > cap:
-            options = replace(options, max_output=int(cap))
-        lr = run_system(sc, system, job["model"], options=options)
+            opts = _capped(sc.options, job)
+        else:
+            opts = options
+        lr = run_system(sc, system, job["model"], options=opts)
     except (ValueError, ArithmeticError, KeyError, TypeError) as exc:
         row["message"] = f"{type(exc).__name__}: {exc}"
         return row, frame
+    m = lr.metrics
     row["status"] = lr.result.status
-    row["outcome"] = lr.metrics["outcome"]
-    row["message"] = lr.metrics["message"]
-    row["warnings"] = list(lr.metrics["warnings"])
-    for m in job["metrics"]:
-        v = lr.metrics.get(m)
+    row["outcome"] = m["outcome"]
+    row["message"] = m["message"]
+    row["warnings"] = list(m["warnings"])
+    for name in job["metrics"]:
+        v = m.get(name)
         if isinstance(v, float) and not math.isfinite(v):
             v = None
-        row[m] = v
+        row[name] = v
     if job["keep_traces"]:
         frame = lr.result.to_frame()
     return row, frame
+
+
+def _capped(options, job: dict):
+    """``options`` with the sweep's output cap (``job["max_output"]``) on a run that
+    stores every step (``dt_out == 0``)."""
+    cap = job.get("max_output")
+    if cap is not None and options.dt_out == 0 and options.max_output > cap:
+        return replace(options, max_output=int(cap))
+    return options
 
 
 #: sweep id -> its VariantPlan in this process (threads share it; a few sweeps are kept)
@@ -109,17 +123,37 @@ def variant_plan(job: dict):
     return plan
 
 
+def chunk_columns(job: dict) -> tuple:
+    """The columns of a chunk's table, in the order of the results
+    (:func:`clutchsim.sweeps.store.table_schema`)."""
+    return ("run", *job["keys"], "status", "outcome", "message", "warnings",
+            *job["metrics"])
+
+
 def run_chunk(job: dict, runs: list) -> dict:
     """Run ``runs`` = ``[(run_id, values), ...]`` one after the other.
 
-    Returns ``{"rows": [...], "traces": {run_id: DataFrame}}``.
+    Returns ``{"columns": {name: [value per run]}, "n": len(runs), "traces": {run_id:
+    DataFrame}}``: the chunk's table as one list per column (:func:`chunk_columns`), so
+    that the writer builds it in one step.  The plan and the capped solver options are
+    looked up once per chunk, not per run.
     """
-    rows, traces = [], {}
+    names = chunk_columns(job)
+    cols: dict = {n: [] for n in names}
+    traces = {}
+    plan = options = None
+    try:
+        plan = variant_plan(job)
+        options = _capped(plan.scenario.options, job)
+    except (ValueError, ArithmeticError, KeyError, TypeError):
+        plan = None         # each run reports the error in its own row
+    keys = job["keys"]
     for run_id, values in runs:
-        row, frame = run_variant(job, values)
+        row, frame = run_variant(job, values, plan, options)
         row["run"] = run_id
-        row.update(zip(job["keys"], values))
-        rows.append(row)
+        row.update(zip(keys, values))
+        for n in names:
+            cols[n].append(row.get(n))
         if frame is not None:
             traces[run_id] = frame
-    return {"rows": rows, "traces": traces}
+    return {"columns": cols, "n": len(runs), "traces": traces}

@@ -108,10 +108,11 @@ class SweepStore:
         for run_id, frame in out["traces"].items():
             atomic_write(self.path / "traces" / f"run-{run_id:07d}.parquet",
                          lambda t, f=frame: f.to_parquet(t, index=False))
-        names = self.schema.names
-        cols = {n: [r.get(n) for r in out["rows"]] for n in names}
-        table = pa.Table.from_pydict(cols, schema=self.schema)
-        atomic_write(self.chunk_path(index, cid), lambda t: pq.write_table(table, t))
+        table = pa.Table.from_pydict(out["columns"], schema=self.schema)
+        # a resume point read back once: uncompressed, without dictionaries and statistics
+        # (~1.4 ms instead of ~2.1 ms for 20 rows; results.parquet is written as usual)
+        atomic_write(self.chunk_path(index, cid), lambda t: pq.write_table(
+            table, t, compression="none", use_dictionary=False, write_statistics=False))
 
     # ------------------------------------------------------------------ results
     def assemble(self, chunks) -> Path:
