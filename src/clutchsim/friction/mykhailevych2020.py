@@ -32,7 +32,7 @@ RESET_POLICIES: dict[str, int] = {
     "stop": 5,
 }
 #: the code of the event-free policy ``stop`` (the stop operator; no event, no reset)
-RESET_STOP = 5
+RESET_STOP = RESET_POLICIES["stop"]
 
 
 @dataclass(frozen=True)

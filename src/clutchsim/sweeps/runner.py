@@ -6,7 +6,7 @@ import math
 import threading
 from dataclasses import replace
 
-__all__ = ["DEFAULT_METRICS", "METRICS", "chunk_columns", "run_chunk", "run_variant",
+__all__ = ["DEFAULT_METRICS", "METRICS", "result_columns", "run_chunk", "run_variant",
            "variant_plan"]
 
 #: the ``warnings`` column joins a run's warnings with this
@@ -68,10 +68,8 @@ def run_variant(job: dict, values: tuple, plan=None, options=None) -> tuple[dict
         if system is None:
             sc, system = plan.rebuilt(changes)
             sc = with_solver_options(sc, job.get("options"))
-            opts = _capped(sc.options, job)
-        else:
-            opts = options
-        lr = run_system(sc, system, job["model"], options=opts)
+            options = _capped(sc.options, job)
+        lr = run_system(sc, system, job["model"], options=options)
     except (ValueError, ArithmeticError, KeyError, TypeError) as exc:
         row["message"] = f"{type(exc).__name__}: {exc}"
         return row, frame
@@ -123,22 +121,22 @@ def variant_plan(job: dict):
     return plan
 
 
-def chunk_columns(job: dict) -> tuple:
-    """The columns of a chunk's table, in the order of the results
-    (:func:`clutchsim.sweeps.store.table_schema`)."""
-    return ("run", *job["keys"], "status", "outcome", "message", "warnings",
-            *job["metrics"])
+def result_columns(keys, metrics) -> tuple:
+    """The columns of the results, in their order: the run, the varied keys, the run's
+    status, outcome, message and warnings, the metrics (the one place that lays them out:
+    :func:`clutchsim.sweeps.store.table_schema` types them, :func:`run_chunk` fills them)."""
+    return ("run", *keys, "status", "outcome", "message", "warnings", *metrics)
 
 
 def run_chunk(job: dict, runs: list) -> dict:
     """Run ``runs`` = ``[(run_id, values), ...]`` one after the other.
 
     Returns ``{"columns": {name: [value per run]}, "n": len(runs), "traces": {run_id:
-    DataFrame}}``: the chunk's table as one list per column (:func:`chunk_columns`), so
+    DataFrame}}``: the chunk's table as one list per column (:func:`result_columns`), so
     that the writer builds it in one step.  The plan and the capped solver options are
     looked up once per chunk, not per run.
     """
-    names = chunk_columns(job)
+    names = result_columns(job["keys"], job["metrics"])
     cols: dict = {n: [] for n in names}
     traces = {}
     plan = options = None

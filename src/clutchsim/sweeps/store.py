@@ -21,7 +21,7 @@ import numpy as np
 
 from ..core.result import atomic_write
 from .design import SweepError
-from .runner import METRICS
+from .runner import METRICS, result_columns
 
 __all__ = ["SweepStore", "read_results", "table_schema"]
 
@@ -43,17 +43,22 @@ def chunk_id(sweep_id: str, runs: list) -> str:
 
 
 def table_schema(keys, units: dict, metrics):
-    """The Arrow schema of the results: units in each field's metadata (``unit``)."""
+    """The Arrow schema of the results (columns as :func:`result_columns` lays them out):
+    units in each field's metadata (``unit``)."""
     import pyarrow as pa
     kinds = {"float": pa.float64(), "int": pa.int64(), "bool": pa.bool_()}
-    fields = [pa.field("run", pa.int64(), metadata={"unit": "-"})]
-    fields += [pa.field(k, pa.float64(), metadata={"unit": units.get(k, "")}) for k in keys]
-    fields += [pa.field("status", pa.string(), metadata={"unit": "-"}),
-               pa.field("outcome", pa.string(), metadata={"unit": "-"}),
-               pa.field("message", pa.string(), metadata={"unit": "-"}),
-               pa.field("warnings", pa.list_(pa.string()), metadata={"unit": "-"})]
-    fields += [pa.field(m, kinds[METRICS[m][1]], metadata={"unit": METRICS[m][0]})
-               for m in metrics]
+    fixed = {"run": pa.int64(), "status": pa.string(), "outcome": pa.string(),
+             "message": pa.string(), "warnings": pa.list_(pa.string())}
+    varied = set(keys)
+    fields = []
+    for name in result_columns(keys, metrics):
+        if name in varied:
+            fields.append(pa.field(name, pa.float64(), metadata={"unit": units.get(name, "")}))
+        elif name in fixed:
+            fields.append(pa.field(name, fixed[name], metadata={"unit": "-"}))
+        else:
+            unit, kind = METRICS[name][0], METRICS[name][1]
+            fields.append(pa.field(name, kinds[kind], metadata={"unit": unit}))
     return pa.schema(fields)
 
 
