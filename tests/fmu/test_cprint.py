@@ -1,4 +1,4 @@
-"""The generated plant printed as C (clutchsim.fmu.cprint) computes what the compiled plant
+"""The generated plant printed as C (clutchsim.cgen.cprint) computes what the compiled plant
 computes: right-hand side, outputs, Jacobian, event functions and resets on random states
 of the default launch, for model (6) and for coulomb-robust (lock solve, event iteration),
 and of Modelica's SimpleGearShift (a planetary set, a clutch and a brake switching) and

@@ -5,7 +5,16 @@ from .result import Event, Events, Result, Stats, atomic_write
 from .signals import Constant, Pulse, Ramp, Signal, Sine, Step, Sum, Table, as_signal
 from .simulate import simulate
 from .status import Action, Outcome
-from .system import CONTINUE, FAIL, PASS, STATE_CHANGED, STOP, System, register_system
+from .system import (
+    CONTINUE,
+    FAIL,
+    PASS,
+    STATE_CHANGED,
+    STOP,
+    NativeFunction,
+    System,
+    register_system,
+)
 
 __all__ = [
     "CONTINUE",
@@ -18,6 +27,7 @@ __all__ = [
     "Constant",
     "Event",
     "Events",
+    "NativeFunction",
     "Outcome",
     "Pulse",
     "Ramp",

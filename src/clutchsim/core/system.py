@@ -58,6 +58,7 @@ __all__ = [
     "PASS",
     "STATE_CHANGED",
     "STOP",
+    "NativeFunction",
     "System",
     "closest",
     "register_system",
@@ -129,6 +130,37 @@ class _Kernel(WrapperAddressProtocol):
         return self.sig
 
 
+class NativeFunction(WrapperAddressProtocol):
+    """A plant function compiled outside numba (a C shared library, :mod:`clutchsim.cgen`),
+    as a function value the integrators call directly.
+
+    ``address`` is a function with numba's calling convention for a first-class function
+    of signature ``sig``: scalars as themselves, each array argument as the members of
+    numba's array structure in order (meminfo, parent, item count, item size, data
+    pointer, then the shape and the strides, one per dimension).  ``call`` runs the same
+    function from Python (``ctypes``), so a native plant function is called like a compiled
+    one: ``f(t, y, u, p, out)``.  ``keep`` holds what must outlive the address (the loaded
+    library).
+    """
+
+    def __init__(self, address: int, sig, call, keep=None):
+        if not address:
+            raise ValueError(f"native function of {sig}: null address")
+        self.address = int(address)
+        self.sig = sig
+        self._call = call
+        self._keep = keep
+
+    def __wrapper_address__(self):
+        return self.address
+
+    def signature(self):
+        return self.sig
+
+    def __call__(self, *args):
+        return self._call(*args)
+
+
 _kernel_lock = threading.Lock()
 _KERNELS: dict[type, tuple] = {}
 
@@ -140,9 +172,10 @@ def kernels(tag):
     with _kernel_lock:
         out = _KERNELS.get(type(tag))
         if out is None:
-            out = (_Kernel(fns.rhs, KERNEL_SIG), _Kernel(fns.events, KERNEL_SIG),
-                   _Kernel(fns.reset, RESET_SIG), _Kernel(fns.outputs, KERNEL_SIG),
-                   _Kernel(fns.jac, JAC_SIG))
+            out = tuple(f if isinstance(f, NativeFunction) else _Kernel(f, sig)
+                        for f, sig in ((fns.rhs, KERNEL_SIG), (fns.events, KERNEL_SIG),
+                                       (fns.reset, RESET_SIG), (fns.outputs, KERNEL_SIG),
+                                       (fns.jac, JAC_SIG)))
             _KERNELS[type(tag)] = out
     return out
 
@@ -188,7 +221,9 @@ def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None,
     """Register the compiled functions of a plant under the ``NamedTuple`` type ``tag``.
 
     The functions reach the integrators as function values (see the module docstring),
-    so they must accept float64 C-contiguous arrays.
+    so they must accept float64 C-contiguous arrays.  Each is a numba-compiled function or
+    a :class:`NativeFunction` (compiled elsewhere: the network plants' C,
+    :mod:`clutchsim.cgen`).
 
     ``jac``: the exact Jacobian ``jac(t, y, u, p, J)`` (see the module docstring); the
     implicit integrators use it instead of finite differences.
@@ -200,141 +235,96 @@ def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None,
     return tag
 
 
-def _functions(tag_type):
-    if isinstance(tag_type, types.BaseNamedTuple):
-        return _REGISTRY.get(tag_type.instance_class)
-    return None
-
-
-def system_rhs(tag, t, y, u, p, dy):
-    """Compiled-only: the plant's right-hand side."""
+def system_rhs(fns, t, y, u, p, dy):
+    """Compiled-only: the plant's right-hand side (``fns``: the tuple of :func:`kernels`)."""
     raise NotImplementedError("system_rhs is only callable from compiled code")
 
 
-def system_events(tag, t, y, u, p, g):
+def system_events(fns, t, y, u, p, g):
     """Compiled-only: the plant's event functions."""
     raise NotImplementedError("system_events is only callable from compiled code")
 
 
-def system_reset(tag, t, y, u, p, k):
+def system_reset(fns, t, y, u, p, k):
     """Compiled-only: the plant's reset map."""
     raise NotImplementedError("system_reset is only callable from compiled code")
 
 
-def system_outputs(tag, t, y, u, p, out):
+def system_outputs(fns, t, y, u, p, out):
     """Compiled-only: the plant's algebraic outputs."""
     raise NotImplementedError("system_outputs is only callable from compiled code")
 
 
-def system_jac(tag, t, y, u, p, J):
+def system_jac(fns, t, y, u, p, J):
     """Compiled-only: the plant's exact Jacobian (a no-op for plants without one)."""
     raise NotImplementedError("system_jac is only callable from compiled code")
 
 
 @overload(system_rhs, jit_options={"cache": True})
-def _ol_rhs(tag, t, y, u, p, dy):
-    if _is_kernel_tuple(tag):
-        def kimpl(tag, t, y, u, p, dy):
-            tag[0](t, y, u, p, dy)
-        return kimpl
-    fns = _functions(tag)
-    if fns is None:
-        return None
-    f = fns.rhs
-
-    def impl(tag, t, y, u, p, dy):
-        f(t, y, u, p, dy)
-    return impl
+def _ol_rhs(fns, t, y, u, p, dy):
+    if _is_kernel_tuple(fns):
+        def impl(fns, t, y, u, p, dy):
+            fns[0](t, y, u, p, dy)
+        return impl
+    return None
 
 
 @overload(system_events, jit_options={"cache": True})
-def _ol_events(tag, t, y, u, p, g):
-    if _is_kernel_tuple(tag):
-        def kimpl(tag, t, y, u, p, g):
-            tag[1](t, y, u, p, g)
-        return kimpl
-    fns = _functions(tag)
-    if fns is None:
-        return None
-    f = fns.events
-
-    def impl(tag, t, y, u, p, g):
-        f(t, y, u, p, g)
-    return impl
+def _ol_events(fns, t, y, u, p, g):
+    if _is_kernel_tuple(fns):
+        def impl(fns, t, y, u, p, g):
+            fns[1](t, y, u, p, g)
+        return impl
+    return None
 
 
 @overload(system_reset, jit_options={"cache": True})
-def _ol_reset(tag, t, y, u, p, k):
-    if _is_kernel_tuple(tag):
-        def kimpl(tag, t, y, u, p, k):
-            return tag[2](t, y, u, p, k)
-        return kimpl
-    fns = _functions(tag)
-    if fns is None:
-        return None
-    f = fns.reset
-
-    def impl(tag, t, y, u, p, k):
-        return f(t, y, u, p, k)
-    return impl
+def _ol_reset(fns, t, y, u, p, k):
+    if _is_kernel_tuple(fns):
+        def impl(fns, t, y, u, p, k):
+            return fns[2](t, y, u, p, k)
+        return impl
+    return None
 
 
 @overload(system_outputs, jit_options={"cache": True})
-def _ol_outputs(tag, t, y, u, p, out):
-    if _is_kernel_tuple(tag):
-        def kimpl(tag, t, y, u, p, out):
-            tag[3](t, y, u, p, out)
-        return kimpl
-    fns = _functions(tag)
-    if fns is None:
-        return None
-    f = fns.outputs
-
-    def impl(tag, t, y, u, p, out):
-        f(t, y, u, p, out)
-    return impl
+def _ol_outputs(fns, t, y, u, p, out):
+    if _is_kernel_tuple(fns):
+        def impl(fns, t, y, u, p, out):
+            fns[3](t, y, u, p, out)
+        return impl
+    return None
 
 
 @overload(system_jac, jit_options={"cache": True})
-def _ol_jac(tag, t, y, u, p, J):
-    if _is_kernel_tuple(tag):
-        def kimpl(tag, t, y, u, p, J):
-            tag[4](t, y, u, p, J)
-        return kimpl
-    fns = _functions(tag)
-    if fns is None:
-        return None
-    f = fns.jac
-
-    def impl(tag, t, y, u, p, J):
-        f(t, y, u, p, J)
-    return impl
+def _ol_jac(fns, t, y, u, p, J):
+    if _is_kernel_tuple(fns):
+        def impl(fns, t, y, u, p, J):
+            fns[4](t, y, u, p, J)
+        return impl
+    return None
 
 
-# Python-callable entry points (used by the scipy reference backend and by tests).
-@jit
+# Python-callable entry points (the scipy reference backend, linearisation, checks, tests):
+# the registered functions called from Python, compiled functions and native ones alike.
 def call_rhs(tag, t, y, u, p, dy):
-    system_rhs(tag, t, y, u, p, dy)
+    _REGISTRY[type(tag)].rhs(t, y, u, p, dy)
 
 
-@jit
 def call_events(tag, t, y, u, p, g):
-    system_events(tag, t, y, u, p, g)
+    _REGISTRY[type(tag)].events(t, y, u, p, g)
 
 
-@jit
 def call_reset(tag, t, y, u, p, k):
-    return system_reset(tag, t, y, u, p, k)
+    return _REGISTRY[type(tag)].reset(t, y, u, p, k)
 
 
-@jit
 def call_outputs(tag, t, y, u, p, out):
-    system_outputs(tag, t, y, u, p, out)
+    _REGISTRY[type(tag)].outputs(t, y, u, p, out)
 
 
-@jit
 def call_jac(tag, t, y, u, p, J):
-    system_jac(tag, t, y, u, p, J)
+    _REGISTRY[type(tag)].jac(t, y, u, p, J)
 
 
 def closest(name: str, valid) -> str:

@@ -2,7 +2,7 @@
 (:func:`export_fmu`).
 
 The FMU holds ``modelDescription.xml``, ``binaries/<platform>/<id>.so`` (the printed plant,
-:mod:`clutchsim.fmu.cprint`, compiled by the system C compiler with the FMI glue
+:mod:`clutchsim.cgen.cprint`, compiled by the system C compiler with the FMI glue
 ``fmi2_me.c`` or ``fmi3_me.c`` over the FMI-independent core ``plant_core.c``, the
 functions both versions share ``fmi_common.c`` and the co-simulation solver
 ``rosenbrock.c``) and
@@ -47,8 +47,8 @@ from pathlib import Path
 import numpy as np
 
 from .._version import __version__
-from .compiler import compile_shared, find_compiler
-from .cprint import print_c
+from ..cgen.compiler import compile_shared, find_compiler
+from ..cgen.cprint import print_c
 
 __all__ = ["FMI_VERSIONS", "KINDS", "FmuError", "FmuExport", "export_fmu", "input_table"]
 
@@ -446,7 +446,7 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         ``key.path=value`` assignments (with a path or None).
 
     Raises :class:`FmuError` for an option, a scenario or a model that cannot be exported
-    (and :class:`~clutchsim.fmu.compiler.CompilerError` without a C compiler).
+    (and :class:`~clutchsim.cgen.compiler.CompilerError` without a C compiler).
     """
     from ..scenario import resolve_scenario
     fmi, kind = str(fmi), str(kind)
@@ -467,7 +467,7 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
     if model is None and sc.models:
         model = sc.models[0]
     plan, comps, system, u0 = _plant_of(sc, model)
-    from .cprint import CPrintError
+    from ..cgen.cprint import CPrintError
     try:
         program = print_c(plan.module, _ENTRIES)
     except CPrintError as exc:

@@ -31,6 +31,7 @@ from __future__ import annotations
 import ast
 import hashlib
 import importlib.util
+import logging
 import os
 import sys
 import tempfile
@@ -42,6 +43,8 @@ from .._jit import cache_dir
 from ..core import register_system
 
 __all__ = ["Emitter", "generate", "load_module"]
+
+log = logging.getLogger("clutchsim")
 
 #: energy accounts (quadrature states, in this order) and the key components book into
 ENERGY = (("W_in", "in"), ("W_friction", "fric"), ("W_damping", "damp"), ("W_road", "road"),
@@ -312,9 +315,40 @@ def _module_dir() -> Path:
     return d
 
 
+def _native(mod, name: str, exact_jacobian: bool) -> dict | None:
+    """The plant functions of module ``mod`` printed as C and compiled by the system C
+    compiler (a library beside the module, built once): ``register_system`` keywords, or
+    None when that is impossible here (no C compiler, or a construct the printer does not
+    know: logged once, and numba compiles the module instead)."""
+    from ..cgen import CompilerError, CPlant, CPrintError, build_plant_library
+    lib = _module_dir() / f"{name}.so"
+    try:
+        if not lib.exists():
+            build_plant_library(mod, lib)
+        c = CPlant.load(lib)
+    except (CPrintError, CompilerError, OSError) as exc:
+        key = type(exc).__name__
+        if key not in _FALLBACK_LOGGED:
+            _FALLBACK_LOGGED.add(key)
+            log.warning("network plants are compiled by numba, not C (10–40 s per new "
+                        "topology instead of about 1 s): %s", exc)
+        return None
+    fns = {n: c.native(n) for n in ("rhs", "events", "reset", "outputs")}
+    fns["jac"] = c.native("jac") if exact_jacobian else None
+    return fns
+
+
+_FALLBACK_LOGGED: set[str] = set()
+
+
 def load_module(topo: Topology, *, exact_jacobian: bool = True):
     """Write (atomically, once) and import the module of ``topo``; register its tag (with
-    its exact Jacobian unless ``exact_jacobian`` is False)."""
+    its exact Jacobian unless ``exact_jacobian`` is False).
+
+    The functions registered are the module printed as C and compiled by the system C
+    compiler (:mod:`clutchsim.cgen`; about a second for a new topology, a library loaded in
+    milliseconds after that); where that is impossible, the module's own functions,
+    compiled by numba (10–40 s for a new topology, then cached on disk)."""
     with _lock:
         mod = _LOADED.get(topo.key)
         if mod is not None:
@@ -334,8 +368,12 @@ def load_module(topo: Topology, *, exact_jacobian: bool = True):
         tag = NamedTuple(f"Net_{topo.key}", [("k", int)])  # noqa: UP014
         tag.__module__ = name
         setattr(mod, tag.__name__, tag)
-        register_system(tag, rhs=mod.rhs, events=mod.events, reset=mod.reset,
-                        outputs=mod.outputs, jac=mod.jac if exact_jacobian else None)
+        fns = _native(mod, name, exact_jacobian)
+        if fns is None:
+            fns = {"rhs": mod.rhs, "events": mod.events, "reset": mod.reset,
+                   "outputs": mod.outputs, "jac": mod.jac if exact_jacobian else None}
+        register_system(tag, **fns)
         mod.TAG = tag
+        mod.FUNCTIONS = fns
         _LOADED[topo.key] = mod
         return mod

@@ -385,7 +385,8 @@ class Plan:
         u = np.array([inputs0.get(n, 0.0) for n in self.input_names], dtype=float)
         out = np.zeros(len(self.output_names))
         for _ in range(len(self.produced) + 1):
-            self.module.outputs(0.0, y0, u, p[:self.n_params].copy(), out)
+            self.module.FUNCTIONS["outputs"](0.0, np.ascontiguousarray(y0, dtype=float), u,
+                                             p[:self.n_params].copy(), out)
             given = {**inputs0, **{n: float(out[self.output_names.index(n)])
                                    for n in self.produced}}
             y1 = self.initial_state(comps, given)

@@ -752,6 +752,6 @@ def print_c(module, entries: dict[str, tuple]) -> CProgram:
         protos.append(("" if entry else "static ") + head + ";")
         bodies.append(("" if entry else "static ") + text)
     tup = [f"typedef struct {{ double v[{n}]; }} cs_tup{n};" for n in sorted(pr.tuples)]
-    head = f"/* Printed by clutchsim.fmu.cprint from {module.__name__}. Do not edit. */"
+    head = f"/* Printed by clutchsim.cgen.cprint from {module.__name__}. Do not edit. */"
     source = "\n".join([head, PRELUDE, *tup, "", *protos, "", *bodies])
     return CProgram(source, out)

@@ -1,0 +1,226 @@
+"""The system C compiler, and a generated plant compiled to a shared library.
+
+:func:`find_compiler` looks for the compiler (``$CC``, then ``cc``, ``gcc``, ``clang``);
+:func:`compile_shared` builds a shared library from C sources.
+:func:`build_plant_library` prints a generated plant module as C (:mod:`clutchsim.cgen.cprint`)
+with two faces per entry point: ``cs_<f>`` with C pointers (for Python through
+:mod:`ctypes`, and for the FMU glue) and ``nb_<f>`` with numba's calling convention, which the
+integrators call as a first-class function value (:class:`~clutchsim.core.system.NativeFunction`):
+no numba compilation at all for a new topology.  :class:`CPlant` loads such a library.
+
+numba's calling convention for a function value is not documented as a C interface, so
+:func:`numba_entries` writes it out from numba's own data model (an array argument is its
+structure's members, in order: meminfo, parent, item count, item size, data, shape,
+strides) and ``tests/cgen/test_native.py`` checks it by calling a printed function from a
+compiled loop on every run of the suite.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from ..core.system import JAC_SIG, KERNEL_SIG, RESET_SIG, NativeFunction
+from .cprint import A1, A2, D, I, print_c
+
+__all__ = ["PLANT_ENTRIES", "CPlant", "CompilerError", "NoCompilerError", "build_plant_library",
+           "compile_shared", "find_compiler", "numba_entries"]
+
+#: names looked for, in this order, after $CC
+COMPILERS = ("cc", "gcc", "clang")
+#: flags: ISO C99, no fused multiply-add (numba does not contract either), position
+#: independent, optimised
+CFLAGS = ("-std=c99", "-O2", "-fPIC", "-ffp-contract=off", "-fno-fast-math", "-Wall",
+          "-Wno-unused-variable", "-Wno-unused-but-set-variable", "-Wno-unused-function")
+
+#: the plant's entry points and their argument types (clutchsim.core.system protocol)
+PLANT_ENTRIES = {
+    "rhs": (D, A1, A1, A1, A1),
+    "outputs": (D, A1, A1, A1, A1),
+    "events": (D, A1, A1, A1, A1),
+    "reset": (D, A1, A1, A1, I),
+    "jac": (D, A1, A1, A1, A2),
+}
+
+
+class CompilerError(RuntimeError):
+    """The compiler rejected the printed program."""
+
+
+class NoCompilerError(CompilerError, LookupError):
+    """No C compiler on this machine (the message says what was looked for)."""
+
+
+def find_compiler() -> str:
+    """Path of the system C compiler (``$CC``, else the first of :data:`COMPILERS` on the
+    ``PATH``); :class:`NoCompilerError` saying what was looked for when there is none."""
+    cc = os.environ.get("CC")
+    tried = []
+    if cc:
+        found = shutil.which(cc)
+        if found:
+            return found
+        tried.append(f"$CC={cc}")
+    for name in COMPILERS:
+        found = shutil.which(name)
+        if found:
+            return found
+        tried.append(name)
+    raise NoCompilerError(
+        f"no C compiler found (looked for {', '.join(tried)} on the PATH); install one, "
+        "e.g. `apt-get install gcc` (Debian/Ubuntu), `dnf install gcc` (Fedora) or "
+        "`xcode-select --install` (macOS), or set CC to its path")
+
+
+def compile_shared(sources: list[Path], out: Path, include: list[Path] = ()) -> Path:
+    """Compile C ``sources`` into the shared library ``out`` with the system compiler."""
+    cc = find_compiler()
+    cmd = [cc, *CFLAGS, "-shared", "-o", str(out), *[f"-I{d}" for d in include],
+           *map(str, sources), "-lm"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    if proc.returncode != 0:
+        raise CompilerError(f"{Path(cc).name} failed on the printed plant (exit "
+                            f"{proc.returncode}): {proc.stderr.strip()[:1500]}")
+    return out
+
+
+#: numba's data model of each argument kind, flattened: (C parameters, the expression the
+#: ``cs_`` entry receives)
+_NB_ARG = {
+    D: ("double {n}", "{n}"),
+    I: ("int64_t {n}", "(int){n}"),
+    A1: (("void *{n}_mi, void *{n}_pa, int64_t {n}_ni, int64_t {n}_is, double *{n}, "
+         "int64_t {n}_s0, int64_t {n}_t0"), "{n}"),
+    A2: (("void *{n}_mi, void *{n}_pa, int64_t {n}_ni, int64_t {n}_is, double *{n}, "
+         "int64_t {n}_s0, int64_t {n}_s1, int64_t {n}_t0, int64_t {n}_t1"), "{n}, (int){n}_s1"),
+}
+
+
+def numba_entries(entries: dict[str, tuple]) -> str:
+    """C source of ``nb_<f>`` for each entry ``f`` (argument kinds as :data:`PLANT_ENTRIES`):
+    numba's calling convention for a first-class function value, calling ``cs_<f>``.  An
+    entry that returns (``reset``) returns ``int64_t``; the others ``void``."""
+    out = ["#include <stdint.h>", ""]
+    for name, kinds in entries.items():
+        names = [f"a{i}" for i in range(len(kinds))]
+        params = ", ".join(_NB_ARG[k][0].format(n=n) for k, n in zip(kinds, names))
+        args = ", ".join(_NB_ARG[k][1].format(n=n) for k, n in zip(kinds, names))
+        if name == "reset":
+            out += [f"int64_t nb_{name}({params}) {{", f"    return (int64_t)cs_{name}({args});",
+                    "}"]
+        else:
+            out += [f"void nb_{name}({params}) {{", f"    cs_{name}({args});", "}"]
+    return "\n".join(out) + "\n"
+
+
+def build_plant_library(module, out: Path, entries: dict[str, tuple] | None = None):
+    """Print the generated plant ``module`` as C (``entries``: name -> argument kinds,
+    default :data:`PLANT_ENTRIES`) with its numba entry points and compile it into the
+    shared library ``out``, atomically (a reader never sees a half-written library; two
+    processes building the same one both succeed); returns the printed
+    :class:`~clutchsim.cgen.cprint.CProgram` (without the numba entry points).  Raises
+    :class:`~clutchsim.cgen.cprint.CPrintError`, :class:`NoCompilerError`,
+    :class:`CompilerError`."""
+    entries = dict(entries or PLANT_ENTRIES)
+    program = print_c(module, entries)
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    d = Path(tempfile.mkdtemp(prefix=".build-", dir=out.parent))
+    try:
+        (d / "plant.c").write_text(program.source + "\n" + numba_entries(entries))
+        compile_shared([d / "plant.c"], d / out.name)
+        os.replace(d / out.name, out)
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+    return program
+
+
+class CPlant:
+    """A plant library of :func:`build_plant_library`, loaded.
+
+    ``rhs(t, y, u, p, dy)``, ``events``, ``outputs``, ``reset(t, y, u, p, k) -> action`` and
+    ``jac(t, y, u, p, J)`` are callable from Python (arrays float64, C-contiguous);
+    :meth:`native` gives the same function as a
+    :class:`~clutchsim.core.system.NativeFunction` for the integrators.
+
+    ``CPlant(plan)`` prints and compiles ``plan``'s module into a temporary library (for
+    checking the printed C against the plant clutchsim runs); ``CPlant.load(path)`` loads a
+    library already built.  ``program``: the printed
+    :class:`~clutchsim.cgen.cprint.CProgram` (None for a library loaded from disk)."""
+
+    def __init__(self, plan=None, entries=None, *, path: Path | None = None):
+        names = tuple(entries or PLANT_ENTRIES)
+        self.program = None
+        if path is None:
+            d = Path(tempfile.mkdtemp(prefix="clutchsim-cplant-"))
+            try:
+                self.program = build_plant_library(plan.module, d / "plant.so",
+                                                   {n: PLANT_ENTRIES[n] for n in names})
+                self.lib = ctypes.CDLL(str(d / "plant.so"))
+            finally:        # a loaded library stays mapped when its file is gone
+                shutil.rmtree(d, ignore_errors=True)
+        else:
+            self.lib = ctypes.CDLL(str(path))
+        dbl = ctypes.c_double
+        ptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
+        kinds = {D: dbl, I: ctypes.c_int, A1: ptr}
+        for n in names:
+            f = getattr(self.lib, f"cs_{n}")
+            args = []
+            for t in PLANT_ENTRIES[n]:
+                args += [ptr, ctypes.c_int] if t == A2 else [kinds[t]]
+            f.argtypes = args
+            f.restype = ctypes.c_int if n == "reset" else None
+        self.names = names
+
+    @classmethod
+    def load(cls, path: Path, entries=None) -> CPlant:
+        """The library at ``path`` (built by :func:`build_plant_library`)."""
+        return cls(entries=entries, path=path)
+
+    def _call(self, name, t, y, u, p, last):
+        """``cs_<name>`` on float64 arrays of any layout: the C functions take contiguous
+        arrays, so others are copied in (and, for what the function writes: ``y`` of a
+        reset, the last argument of the others, copied back)."""
+        f = getattr(self.lib, f"cs_{name}")
+        yc, uc, pc = (np.ascontiguousarray(a, dtype=np.float64) for a in (y, u, p))
+        if name == "reset":
+            r = f(t, yc, uc, pc, int(last))
+            if yc is not y:
+                y[...] = yc
+            return int(r)
+        oc = np.ascontiguousarray(last, dtype=np.float64)
+        if oc.ndim == 2:
+            f(t, yc, uc, pc, oc, oc.shape[1])
+        else:
+            f(t, yc, uc, pc, oc)
+        if oc is not last:
+            last[...] = oc
+        return None
+
+    def rhs(self, t, y, u, p, dy):
+        self._call("rhs", t, y, u, p, dy)
+
+    def outputs(self, t, y, u, p, out):
+        self._call("outputs", t, y, u, p, out)
+
+    def events(self, t, y, u, p, g):
+        self._call("events", t, y, u, p, g)
+
+    def reset(self, t, y, u, p, k) -> int:
+        return self._call("reset", t, y, u, p, k)
+
+    def jac(self, t, y, u, p, J):
+        self._call("jac", t, y, u, p, J)
+
+    def native(self, name: str):
+        """Entry ``name`` as a function value for the integrators (its ``nb_`` face)."""
+        sig = {"reset": RESET_SIG, "jac": JAC_SIG}.get(name, KERNEL_SIG)
+        address = ctypes.cast(getattr(self.lib, f"nb_{name}"), ctypes.c_void_p).value
+        return NativeFunction(address, sig, getattr(self, name), keep=self)
