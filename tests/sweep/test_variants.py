@@ -28,11 +28,14 @@ def plan():
     (("coupling[1].c", 720.0), ("engine.kp", 0.03)),
     (("coupling[0].friction.overrides.phi0", 1.1e-3), ("vehicle.mass", 1350.0)),
     (("coupling[2].final_drive", 4.3),),                  # a gearbox value: a new ratio
+    (("engine.stall_speed", 50.0),),                      # named in an event: its name again
 ])
 def test_a_direct_variant_is_the_rebuilt_one_bit_for_bit(plan, changes):
     fast = plan.system(changes)
     assert fast is not None and all(plan.direct(k, v) is not None for k, v in changes)
     sc, slow = plan.rebuilt(changes)
+    if changes[0][0] == "engine.stall_speed":
+        assert any("50 rad/s = 477 rpm" in n for n in fast.event_names)
     np.testing.assert_array_equal(fast.params, slow.params)
     np.testing.assert_array_equal(fast.y0, slow.y0)
     assert fast.event_names == slow.event_names and fast.metadata == slow.metadata
@@ -128,3 +131,16 @@ def test_a_shifting_lossy_gearbox_variant_equals_its_rebuild():
     fast = plan.system(((key, 1.9),))
     assert plan.direct(key, 1.9) is not None
     np.testing.assert_array_equal(fast.params, plan.rebuilt(((key, 1.9),))[1].params)
+
+
+def test_a_variant_system_checks_what_it_replaces(plan):
+    """System.with_values (a variant: the base system with its own values) refuses
+    vectors of another layout, naming the sizes, and keeps the base's metadata apart."""
+    base = plan.system((("vehicle.mass", 1300.0),))
+    with pytest.raises(ValueError, match=r"needs \d+ parameters and \d+ initial states"):
+        base.with_values(base.params[:-1], base.y0)
+    with pytest.raises(ValueError, match="event names for"):
+        base.with_values(base.params, base.y0, event_names=("x",))
+    other = base.with_values(base.params * 1.0, base.y0)
+    other.metadata["extra"] = 1
+    assert "extra" not in base.metadata

@@ -72,11 +72,12 @@ class Component:
                              f"{closest(unknown[0], known)}; parameters: "
                              f"{', '.join(sorted(known)) or 'none'}")
         v = {}
+        label = self.label
         for p in self.params:
             if p.name in values:
-                v[p.name] = check_value(self.label, p, values[p.name])
+                v[p.name] = check_value(label, p, values[p.name])
             elif p.default is None:
-                raise ValueError(f"{self.label}: parameter {p.name!r} [{p.unit}] is required "
+                raise ValueError(f"{label}: parameter {p.name!r} [{p.unit}] is required "
                                  f"({p.doc})")
             else:
                 v[p.name] = float(p.default)

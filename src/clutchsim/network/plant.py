@@ -10,6 +10,8 @@ the compiled module: only the parameter vector is rebuilt.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ..core import System
@@ -300,8 +302,18 @@ class Plan:
                 J[asm.node_of[(c.name, f)]] += v
         M = N.T @ (J[:, None] * N)
         if asm.n_v:
-            asm.check_inertia(J, N)
-            Minv = np.linalg.inv(M)
+            # λ_min(M) ≥ 1/‖M⁻¹‖_F: the inverse, needed anyway, clears M of the check's
+            # eigen-decomposition; only a (near-)singular M is looked at (and named) there
+            try:
+                Minv = np.linalg.inv(M)
+                clear = 1.0 / np.linalg.norm(Minv) > 1e-12 * max(float(np.max(np.abs(J))),
+                                                                  1e-300)
+            except np.linalg.LinAlgError:
+                Minv, clear = None, False
+            if not clear:
+                asm.check_inertia(J, N)
+                if Minv is None:
+                    Minv = np.linalg.inv(M)
         else:
             Minv = np.zeros((0, 0))
         B = np.array([self.slips[c.name] @ N for c in self.sw]).reshape(len(self.sw),
@@ -377,23 +389,59 @@ class Plan:
             y0[self.state_index[(c.name, "wear")]] = by_name[c.name].wear0
         return y0
 
-    def _with_signals0(self, comps, inputs0, y0, p) -> np.ndarray:
-        """The initial state again, with the produced signals' values at ``y0`` among the
-        initial inputs (a clutch commanded by a signal, a release system's play), until
-        they stop changing (a chain of signals takes one pass per link)."""
+    def state0(self, comps, inputs0, p, produced0: dict | None = None) -> np.ndarray:
+        """The initial state of ``comps`` with parameter vector ``p``: with the produced
+        signals' values at that state among the initial inputs (a clutch commanded by a
+        signal, a release system's play), passed again until they stop changing (a chain
+        of signals takes one pass per link).  ``produced0``: a guess of those values (a
+        variant's base run): when the state built with it gives them back, that state is
+        the answer without a second pass; the passes are a finite chain, so the answer is
+        the one a start without a guess reaches."""
         inputs0 = dict(inputs0 or {})
+        y0 = self.initial_state(comps, {**inputs0, **(produced0 or {})})
+        if not self.produced:
+            return y0
         u = np.array([inputs0.get(n, 0.0) for n in self.input_names], dtype=float)
         out = np.zeros(len(self.output_names))
+        pp = p[:self.n_params].copy()
+        used = produced0
         for _ in range(len(self.produced) + 1):
-            self.module.FUNCTIONS["outputs"](0.0, np.ascontiguousarray(y0, dtype=float), u,
-                                             p[:self.n_params].copy(), out)
-            given = {**inputs0, **{n: float(out[self.output_names.index(n)])
-                                   for n in self.produced}}
-            y1 = self.initial_state(comps, given)
+            self.module.FUNCTIONS["outputs"](0.0, y0, u, pp, out)
+            vals = {n: float(out[i]) for n, i in self._produced_at.items()}
+            if vals == used:
+                break
+            y1 = self.initial_state(comps, {**inputs0, **vals})
+            used = vals
             if np.array_equal(y1, y0):
                 break
             y0 = y1
         return y0
+
+    @functools.cached_property
+    def _produced_at(self) -> dict:
+        """Produced signal -> its index among the outputs."""
+        return {n: self.output_names.index(n) for n in self.produced}
+
+    def produced0(self, system: System, inputs0=None) -> dict:
+        """The produced signals' values at the initial state of ``system`` with the initial
+        inputs ``inputs0``: the guess :meth:`state0` takes for a variant."""
+        if not self.produced:
+            return {}
+        inputs0 = dict(inputs0 or {})
+        u = np.array([inputs0.get(n, 0.0) for n in self.input_names], dtype=float)
+        out = np.zeros(len(self.output_names))
+        self.module.FUNCTIONS["outputs"](0.0, system.y0, u, system.params[:self.n_params].copy(),
+                                         out)
+        return {n: float(out[i]) for n, i in self._produced_at.items()}
+
+    def _event_names(self, comps) -> tuple[str, ...]:
+        by_name = {c.name: c for c in comps}
+        ev_names = list(self.event_names)
+        for k, tmpl in self.event_templates.items():
+            comp = by_name[tmpl[1]]
+            vals = comp.format_values() if hasattr(comp, "format_values") else comp.values
+            ev_names[k] = tmpl[0].format(**vals)
+        return tuple(ev_names)
 
     # ------------------------------------------------------------------ system
     def system(self, comps=None, inputs0=None, *, name=None, metadata=None,
@@ -403,15 +451,7 @@ class Plan:
         the caller already has it (:meth:`values_vector`)."""
         comps = self.net.components if comps is None else tuple(comps)
         p = self.values_vector(comps) if params is None else params
-        y0 = self.initial_state(comps, inputs0)
-        if self.produced:
-            y0 = self._with_signals0(comps, inputs0, y0, p)
-        by_name = {c.name: c for c in comps}
-        ev_names = list(self.event_names)
-        for k, tmpl in self.event_templates.items():
-            comp = by_name[tmpl[1]]
-            vals = comp.format_values() if hasattr(comp, "format_values") else comp.values
-            ev_names[k] = tmpl[0].format(**vals)
+        y0 = self.state0(comps, inputs0, p)
         meta = dict(self.net.metadata if metadata is None else metadata)
         meta.update({"models": {c.name: c.model.name for c in self.fes},
                      "nodes": [self.asm.node_names[n] for n in self.asm.free],
@@ -420,11 +460,25 @@ class Plan:
         return System(self.module.TAG(0), p, y0, self.state_names, self.state_units,
                       input_names=self.input_names, input_units=self.input_units,
                       output_names=self.output_names, output_units=self.output_units,
-                      event_names=tuple(ev_names),
+                      event_names=self._event_names(comps),
                       event_directions=self.event_directions,
                       event_sources=self.event_sources,
                       name=name or self.net.name, metadata=meta,
                       quadratures=self.n_quadratures)
+
+    def variant_system(self, base: System, comps, params, inputs0=None, changed=(),
+                       produced0: dict | None = None) -> System:
+        """``base`` (a :meth:`system` of this plan) for the components ``comps`` with
+        parameter vector ``params``: a sweep's variant.  Its initial state is computed
+        for ``comps`` (``produced0``: the produced signals' guess, :meth:`produced0` of
+        ``base``); its event names again only where a component named in ``changed``
+        formats one from its values; everything else is ``base``'s."""
+        comps = tuple(comps)
+        y0 = self.state0(comps, inputs0, params, produced0)
+        changed = set(changed)
+        names = (self._event_names(comps) if any(t[1] in changed for t in
+                                                 self.event_templates.values()) else None)
+        return base.with_values(params, y0, names)
 
     # ------------------------------------------------------------------ rendering
     def render(self, g) -> str:

@@ -88,6 +88,7 @@ class VariantPlan:
         self._direct: dict = {}
         self._inputs0 = scenario.inputs0()
         self._lock = threading.Lock()
+        self._base = None
         self.plan = compile_network(net)
         self.params = self.plan.values_vector(net.components)
         self.base = _observed(scenario, net)
@@ -230,12 +231,25 @@ class VariantPlan:
             comps[i] = new
             touched.append(i)
         p = self.plan.updated_vector(self.params, self.net.components, comps, touched)
-        chain = self._chain
+        base, produced0 = self._base_system()
         try:
-            return self.plan.system(comps, inputs0=self._inputs0, name=chain.name,
-                                    metadata=dict(chain.metadata), params=p)
+            return self.plan.variant_system(base, comps, p, self._inputs0,
+                                            {comps[i].name for i in touched}, produced0)
         except ValueError:
             return None     # e.g. initial speeds that violate a gear: the rebuild says so
+
+    def _base_system(self):
+        """(the base scenario's system, its produced signals at the start), built once:
+        a variant is this system with its own values (:meth:`Plan.variant_system`)."""
+        if self._base is None:
+            with self._lock:
+                if self._base is None:
+                    chain = self._chain
+                    base = self.plan.system(self.net.components, inputs0=self._inputs0,
+                                            name=chain.name, metadata=dict(chain.metadata),
+                                            params=self.params)
+                    self._base = (base, self.plan.produced0(base, self._inputs0))
+        return self._base
 
     def rebuilt(self, changes):
         """``(scenario, system)`` of the variant built from the scenario text (the
