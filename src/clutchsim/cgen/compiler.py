@@ -35,8 +35,12 @@ __all__ = ["PLANT_ENTRIES", "CPlant", "CompilerError", "NoCompilerError", "build
 #: names looked for, in this order, after $CC
 COMPILERS = ("cc", "gcc", "clang")
 #: flags: ISO C99, no fused multiply-add (numba does not contract either), position
-#: independent, optimised
-CFLAGS = ("-std=c99", "-O2", "-fPIC", "-ffp-contract=off", "-fno-fast-math", "-Wall",
+#: independent, optimised; calls between the library's own functions bound at link time
+#: (``-fno-semantic-interposition``: the numba entries inline the plant's) and math
+#: functions that do not set ``errno`` (the results are the same; numba does not set it
+#: either): the default launch's loop 4.20 -> 3.94 ms against ``-O2`` (minima of 300)
+CFLAGS = ("-std=c99", "-O3", "-fno-semantic-interposition", "-fno-math-errno", "-fPIC",
+          "-ffp-contract=off", "-fno-fast-math", "-Wall",
           "-Wno-unused-variable", "-Wno-unused-but-set-variable", "-Wno-unused-function")
 
 #: the plant's entry points and their argument types (clutchsim.core.system protocol)
