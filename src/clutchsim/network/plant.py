@@ -261,13 +261,15 @@ class Plan:
         if self.banks:      # the banks hold every value after each scheduled change
             return self.values_vector(comps)
         p = params.copy()
-        derive = False
+        inertias = relations = False
         for i in set(changed):
             self._pack_into(p, comps[i])
-            derive = derive or comps[i].inertias() != base[i].inertias() or \
-                comps[i].constraints() != base[i].constraints()
-        if derive:
+            inertias = inertias or comps[i].inertias() != base[i].inertias()
+            relations = relations or comps[i].constraints() != base[i].constraints()
+        if relations:
             self._derive(p, comps)
+        elif inertias:      # N, G, its pseudo-inverse and B stay those already in p
+            self._derive_inertia(p, comps)
         return p
 
     def _pack_into(self, p, c) -> None:
@@ -295,8 +297,23 @@ class Plan:
             for f, coef in by_name[c_name].constraints()[i].items():
                 r[asm.node_of[(c_name, f)]] += coef
             G[row] = r
-        N, Gp = self._reduced(G)
-        J = np.zeros(asm.n_nodes)
+        nn, nv = asm.n_nodes, asm.n_v
+        N, Gp, B = self._reduced(G)
+        p[self.off_N:self.off_N + nn * nv] = N.ravel()
+        p[self.off_B:self.off_B + len(self.sw) * nv] = B.ravel()
+        p[self.off_Gp:self.off_Gp + self.n_rel * nn] = Gp.ravel()
+        p[self.off_G:self.off_G + self.n_rel * nn] = G.ravel()
+        self._derive_inertia(p, comps, G)
+
+    def _derive_inertia(self, p, comps, G=None) -> None:
+        """The inertia part of the derived block (``J``, ``M⁻¹``, ``M⁻¹·Bᵀ``, ``S``) for the
+        rigid relations ``G`` (default: those already in ``p``)."""
+        asm = self.asm
+        nn, nv, m = asm.n_nodes, asm.n_v, len(self.sw)
+        if G is None:
+            G = p[self.off_G:self.off_G + self.n_rel * nn].reshape(self.n_rel, nn)
+        N, _Gp, B = self._reduced(G)
+        J = np.zeros(nn)
         for c in comps:
             for f, v in c.inertias().items():
                 J[asm.node_of[(c.name, f)]] += v
@@ -316,23 +333,17 @@ class Plan:
                     Minv = np.linalg.inv(M)
         else:
             Minv = np.zeros((0, 0))
-        B = np.array([self.slips[c.name] @ N for c in self.sw]).reshape(len(self.sw),
-                                                                         asm.n_v)
         MB = Minv @ B.T
         S = B @ MB
-        nn, nv, m = asm.n_nodes, asm.n_v, len(self.sw)
-        p[self.off_N:self.off_N + nn * nv] = N.ravel()
         p[self.off_Minv:self.off_Minv + nv * nv] = Minv.ravel()
-        p[self.off_B:self.off_B + m * nv] = B.ravel()
         p[self.off_MB:self.off_MB + nv * m] = MB.ravel()
         p[self.off_S:self.off_S + m * m] = S.ravel()
         p[self.off_J:self.off_J + nn] = J
-        p[self.off_Gp:self.off_Gp + self.n_rel * nn] = Gp.ravel()
-        p[self.off_G:self.off_G + self.n_rel * nn] = G.ravel()
 
     def _reduced(self, G) -> tuple:
-        """``(N, pinv(Gᵀ))`` of the rigid relations ``G`` (the last few are kept: a sweep
-        over anything but ratios meets the same ``G`` in every variant)."""
+        """``(N, pinv(Gᵀ), B)`` of the rigid relations ``G`` (``B``: the switching elements'
+        slips in the independent speeds; the last few are kept: a sweep over anything but
+        ratios meets the same ``G`` in every variant)."""
         key = G.tobytes()
         hit = self._reductions.get(key)
         if hit is not None:
@@ -344,7 +355,9 @@ class Plan:
             raise NetworkError(f"network {self.net.name!r}: these values change which speeds "
                                "are independent (a ratio at 0 or a special value); build the "
                                "network again with them")
-        hit = (N, np.linalg.pinv(G.T))
+        B = np.array([self.slips[c.name] @ N for c in self.sw]).reshape(len(self.sw),
+                                                                         asm.n_v)
+        hit = (N, np.linalg.pinv(G.T), B)
         if len(self._reductions) >= 8:
             self._reductions.pop(next(iter(self._reductions)))
         self._reductions[key] = hit
