@@ -4,8 +4,10 @@ A sweep runs one scenario many times with a few keys changed.  :class:`VariantPl
 builds the scenario, its network and the compiled :class:`~clutchsim.network.Plan` once,
 and maps each varied key onto the component parameter it sets.  A variant then costs a
 new parameter vector (the changed components re-packed, the derived block recomputed only
-when an inertia or a ratio changed) and the run itself: no TOML re-parse, no copy of the
-scenario, no chain rebuild.
+when an inertia or a ratio changed: for an inertia only its inertia part), its initial
+state, and the run itself: no TOML re-parse, no copy of the scenario, no chain rebuild, no
+new :class:`~clutchsim.core.System` (the base scenario's, with the variant's values:
+:meth:`clutchsim.network.plant.Plan.variant_system`).
 
 How a key is mapped: the first time a variant changes it, the scenario is built once with
 that value the ordinary way (overrides, validation, chain, network) and compared with the
