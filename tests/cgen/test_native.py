@@ -126,3 +126,17 @@ def test_the_library_is_built_once_and_reloaded(monkeypatch, tmp_path):
     sys_ = two_mass(c=2e3).build()
     assert isinstance(plant_functions(sys_.tag).rhs, NativeFunction)
     assert libs[0].stat().st_mtime_ns == stamp
+
+
+def test_a_numba_that_passes_arrays_otherwise_is_refused(monkeypatch):
+    """The numba entry points are written for numba's array data model; a numba whose model
+    differs is refused with what it passes, so the plant falls back instead of being
+    called wrongly."""
+    from clutchsim.cgen import CompilerError, compiler
+    compiler.check_numba_abi()          # this numba: as written
+    compiler.check_numba_abi.cache_clear()
+    monkeypatch.setitem(compiler._NB_VALUE_TYPES, compiler.A1,
+                        "{ptr, i64, ptr, [1 x i64], [1 x i64]}")
+    with pytest.raises(CompilerError, match=r"passes array\(float64, 1d, C\) as \{ptr, ptr, "):
+        compiler.check_numba_abi()
+    compiler.check_numba_abi.cache_clear()

@@ -18,6 +18,7 @@ compiled loop on every run of the suite.
 from __future__ import annotations
 
 import ctypes
+import functools
 import os
 import shutil
 import subprocess
@@ -30,7 +31,7 @@ from ..core.system import JAC_SIG, KERNEL_SIG, RESET_SIG, NativeFunction
 from .cprint import A1, A2, D, I, print_c
 
 __all__ = ["PLANT_ENTRIES", "CPlant", "CompilerError", "NoCompilerError", "build_plant_library",
-           "compile_shared", "find_compiler", "numba_entries"]
+           "check_numba_abi", "compile_shared", "find_compiler", "numba_entries"]
 
 #: names looked for, in this order, after $CC
 COMPILERS = ("cc", "gcc", "clang")
@@ -104,6 +105,37 @@ _NB_ARG = {
     A2: (("void *{n}_mi, void *{n}_pa, int64_t {n}_ni, int64_t {n}_is, double *{n}, "
          "int64_t {n}_s0, int64_t {n}_s1, int64_t {n}_t0, int64_t {n}_t1"), "{n}, (int){n}_s1"),
 }
+
+
+#: numba's LLVM value types of the argument kinds, pointers written ``ptr``: what
+#: :data:`_NB_ARG` spells out member by member
+_NB_VALUE_TYPES = {
+    D: "double",
+    I: "i64",
+    A1: "{ptr, ptr, i64, i64, ptr, [1 x i64], [1 x i64]}",
+    A2: "{ptr, ptr, i64, i64, ptr, [2 x i64], [2 x i64]}",
+}
+
+
+@functools.cache
+def check_numba_abi() -> None:
+    """Raise :class:`CompilerError` unless this numba passes each argument kind as
+    :func:`numba_entries` receives it (its array data model could change with a release):
+    the plant is then compiled by numba instead of called wrongly.  Checked once per
+    process."""
+    import re
+
+    import numba
+    from numba import types
+    from numba.core.datamodel import default_manager
+    kinds = {D: types.float64, I: types.int64, A1: types.float64[::1],
+             A2: types.float64[:, ::1]}
+    for kind, t in kinds.items():
+        got = re.sub(r"[\w.]+\*", "ptr", str(default_manager.lookup(t).get_value_type()))
+        if got != _NB_VALUE_TYPES[kind]:
+            raise CompilerError(f"numba {numba.__version__} passes {t} as {got}, not as "
+                                f"{_NB_VALUE_TYPES[kind]}, which the printed plant's numba "
+                                "entry points are written for")
 
 
 def numba_entries(entries: dict[str, tuple]) -> str:
@@ -224,7 +256,10 @@ class CPlant:
         self._call("jac", t, y, u, p, J)
 
     def native(self, name: str):
-        """Entry ``name`` as a function value for the integrators (its ``nb_`` face)."""
+        """Entry ``name`` as a function value for the integrators (its ``nb_`` face);
+        :class:`CompilerError` when this numba passes arguments otherwise
+        (:func:`check_numba_abi`)."""
+        check_numba_abi()
         sig = {"reset": RESET_SIG, "jac": JAC_SIG}.get(name, KERNEL_SIG)
         address = ctypes.cast(getattr(self.lib, f"nb_{name}"), ctypes.c_void_p).value
         return NativeFunction(address, sig, getattr(self, name), keep=self)

@@ -318,14 +318,16 @@ def _module_dir() -> Path:
 def _native(mod, name: str, exact_jacobian: bool) -> dict | None:
     """The plant functions of module ``mod`` printed as C and compiled by the system C
     compiler (a library beside the module, built once): ``register_system`` keywords, or
-    None when that is impossible here (no C compiler, or a construct the printer does not
-    know: logged once, and numba compiles the module instead)."""
+    None when that is impossible here (no C compiler, a construct the printer does not
+    know, a numba that passes arrays otherwise: logged once, and numba compiles the module
+    instead)."""
     from ..cgen import CompilerError, CPlant, CPrintError, build_plant_library
     lib = _module_dir() / f"{name}.so"
     try:
         if not lib.exists():
             build_plant_library(mod, lib)
         c = CPlant.load(lib)
+        fns = {n: c.native(n) for n in ("rhs", "events", "reset", "outputs")}
     except (CPrintError, CompilerError, OSError) as exc:
         key = type(exc).__name__
         if key not in _FALLBACK_LOGGED:
@@ -333,7 +335,6 @@ def _native(mod, name: str, exact_jacobian: bool) -> dict | None:
             log.warning("network plants are compiled by numba, not C (10–40 s per new "
                         "topology instead of about 1 s): %s", exc)
         return None
-    fns = {n: c.native(n) for n in ("rhs", "events", "reset", "outputs")}
     fns["jac"] = c.native("jac") if exact_jacobian else None
     return fns
 
