@@ -24,27 +24,24 @@ from _common import emit
 
 from clutchsim.core._linalg import factor_iteration_matrix, lu_solve
 from clutchsim.core.methods import get_method
-from clutchsim.core.system import call_events, call_jac, call_rhs, has_jacobian
+from clutchsim.core.system import call_jac, has_jacobian, plant_functions
 
 
 @numba.njit
-def _loop_rhs(tag, n, t, y, u, p, out, events):
+def _loop_rhs(f, n, t, y, u, p, out):
     s = 0.0
     for _ in range(n):
         y[0] += 1e-14
-        if events:
-            call_events(tag, t, y, u, p, out)
-        else:
-            call_rhs(tag, t, y, u, p, out)
+        f(t, y, u, p, out)
         s += out[0] if out.size else 0.0
     return s
 
 
 @numba.njit
-def _loop_jac(tag, n, t, y, u, p, J):
+def _loop_jac(f, n, t, y, u, p, J):
     for _ in range(n):
         y[0] += 1e-14
-        call_jac(tag, t, y, u, p, J)
+        f(t, y, u, p, J)
     return J[0, 0]
 
 
@@ -77,22 +74,23 @@ def _best_ns(fn, args, n):
 
 def _costs(system, y, u, n=100_000):
     tag, p = system.tag, system.params
+    fns = plant_functions(tag)     # the compiled functions, as the integrators call them
     ns = system.n_states
     nd = ns - system.quadratures
     out = {}
     dy = np.empty(ns)
-    _loop_rhs(tag, 10, 0.5, y.copy(), u, p, dy, False)
-    out["rhs_ns"] = _best_ns(_loop_rhs, (tag, n, 0.5, y.copy(), u, p, dy, False), n)
+    _loop_rhs(fns.rhs, 10, 0.5, y.copy(), u, p, dy)
+    out["rhs_ns"] = _best_ns(_loop_rhs, (fns.rhs, n, 0.5, y.copy(), u, p, dy), n)
     g = np.empty(system.n_events)
     if system.n_events:
-        _loop_rhs(tag, 10, 0.5, y.copy(), u, p, g, True)
-        out["events_ns"] = _best_ns(_loop_rhs, (tag, n, 0.5, y.copy(), u, p, g, True), n)
+        _loop_rhs(fns.events, 10, 0.5, y.copy(), u, p, g)
+        out["events_ns"] = _best_ns(_loop_rhs, (fns.events, n, 0.5, y.copy(), u, p, g), n)
     else:
         out["events_ns"] = 0.0
     J = np.zeros((ns, ns))
     if has_jacobian(tag):
-        _loop_jac(tag, 10, 0.5, y.copy(), u, p, J)
-        out["jacobian_ns"] = _best_ns(_loop_jac, (tag, n, 0.5, y.copy(), u, p, J), n)
+        _loop_jac(fns.jac, 10, 0.5, y.copy(), u, p, J)
+        out["jacobian_ns"] = _best_ns(_loop_jac, (fns.jac, n, 0.5, y.copy(), u, p, J), n)
     else:   # forward differences: nd right-hand sides
         out["jacobian_ns"] = nd * out["rhs_ns"]
     out["jacobian_kind"] = "exact" if has_jacobian(tag) else "finite differences"
