@@ -3,9 +3,10 @@
 For each plant the integrator runs the problem (medians of ``--repeats`` runs after a
 warm-up); then each piece of work a step does is timed alone in a compiled loop at a state
 of the run: a right-hand side, the event functions, the plant's exact Jacobian (or the
-finite-difference one it replaces), one LU factorisation of ``I/(γh) − J`` (at the
-plant's Jacobian at that state, γh = 1 ms) and one LU solve.  The counts of the run
-(right-hand sides, event evaluations, Jacobians, LUs, stage solves) times these costs
+finite-difference one it replaces), one inversion of ``I/(γh) − J`` (its leading block, at
+the plant's Jacobian at that state, γh = 1 ms; counted as ``lu_decompositions``) and one
+stage solve (a matrix–vector product with that inverse).  The counts of the run
+(right-hand sides, event evaluations, Jacobians, inversions, stage solves) times these costs
 give the real work; the rest of the integrator's time is the step loop's own bookkeeping
 (controller, error norm, stage combinations, dense output, output rows, event brackets).
 
@@ -22,7 +23,7 @@ import numba
 import numpy as np
 from _common import emit
 
-from clutchsim.core._linalg import factor_iteration_matrix, lu_solve
+from clutchsim.core._linalg import invert_iteration_matrix, solve_into_row
 from clutchsim.core.methods import get_method
 from clutchsim.core.system import call_jac, has_jacobian, plant_functions
 
@@ -46,21 +47,21 @@ def _loop_jac(f, n, t, y, u, p, J):
 
 
 @numba.njit
-def _loop_lu(J, n, M, piv, nd):
+def _loop_inverse(J, n, M, piv, nd):
     s = 0.0
     for _ in range(n):
         J[0, 0] += 1e-14
-        factor_iteration_matrix(J, 1.0e3, M, piv, nd)
+        invert_iteration_matrix(J, 1.0e3, M, piv, nd)
         s += M[0, 0]
     return s
 
 
 @numba.njit
-def _loop_solve(M, piv, b, n, nd):
+def _loop_solve(M, b, X, n, nd):
     for _ in range(n):
         b[0] += 1e-14
-        lu_solve(M, piv, b, nd)
-    return b[0]
+        solve_into_row(M, b, X, 0, nd)
+    return X[0, 0]
 
 
 def _best_ns(fn, args, n):
@@ -94,8 +95,8 @@ def _costs(system, y, u, n=100_000):
     else:   # forward differences: nd right-hand sides
         out["jacobian_ns"] = nd * out["rhs_ns"]
     out["jacobian_kind"] = "exact" if has_jacobian(tag) else "finite differences"
-    # the LU at the plant's own Jacobian (the factorisation skips zero multipliers, so a
-    # random dense matrix would overstate it), for a step with gamma*h = 1 ms
+    # the inverse at the plant's own Jacobian (the elimination skips zero multipliers, so
+    # a random dense matrix would overstate it), for a step with gamma*h = 1 ms
     if has_jacobian(tag):
         call_jac(tag, 0.5, y, u, p, J)
     else:
@@ -104,10 +105,11 @@ def _costs(system, y, u, n=100_000):
     M = np.empty((ns, ns))
     piv = np.empty(ns, dtype=np.int64)
     b = np.ones(ns)
-    _loop_lu(J, 10, M, piv, nd)
-    out["lu_ns"] = _best_ns(_loop_lu, (J, n, M, piv, nd), n)
-    _loop_solve(M, piv, b, 10, nd)
-    out["solve_ns"] = _best_ns(_loop_solve, (M, piv, b, n, nd), n)
+    X = np.empty((1, ns))
+    _loop_inverse(J, 10, M, piv, nd)
+    out["inverse_ns"] = _best_ns(_loop_inverse, (J, n, M, piv, nd), n)
+    _loop_solve(M, b, X, 10, nd)
+    out["solve_ns"] = _best_ns(_loop_solve, (M, b, X, n, nd), n)
     return out
 
 
@@ -125,7 +127,7 @@ def _breakdown(name, run, system, y, u, method, repeats):
             # a finite-difference Jacobian's right-hand sides are counted in rhs_evals
             "jacobian": st.jacobians * c["jacobian_ns"] if c["jacobian_kind"] == "exact"
             else 0.0,
-            "lu": st.lu_decompositions * c["lu_ns"],
+            "inverse": st.lu_decompositions * c["inverse_ns"],
             "solves": attempts * stages * c["solve_ns"]}
     total_ns = statistics.median(walls) * 1e9
     per_step = {k: v / st.steps for k, v in work.items()}

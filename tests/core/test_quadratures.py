@@ -4,13 +4,27 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from clutchsim.core import simulate
-from clutchsim.core._linalg import factor_iteration_matrix, lu_solve
+from clutchsim.core._linalg import invert_iteration_matrix, solve_into_row
+
+
+def _stage_solve(J, inv_gh, nd, b, rows=3, r=1):
+    """Invert, then solve into row ``r`` of a stage array; returns (ok, that array)."""
+    n = J.shape[0]
+    M = np.empty((n, n))
+    piv = np.empty(n, dtype=np.int64)
+    ok = invert_iteration_matrix(J, inv_gh, M, piv, nd)
+    K = np.full((rows, n), 7.0)
+    if ok:
+        solve_into_row(M, b, K, r, nd)
+    return ok, K
 
 
 @pytest.mark.parametrize("nd", [5, 3, 1])
-def test_block_factorisation_solves_the_full_iteration_matrix(nd):
+def test_block_inverse_solves_the_full_iteration_matrix(nd):
     # J with zero columns for the quadrature states: M = I/(gamma h) - J is block lower
     # triangular, and the block solve must equal a dense solve of the whole matrix
     rng = np.random.default_rng(nd)
@@ -18,14 +32,54 @@ def test_block_factorisation_solves_the_full_iteration_matrix(nd):
     J = rng.normal(size=(n, n))
     J[:, nd:] = 0.0
     inv_gh = 7.3
-    M = np.empty((n, n))
-    piv = np.empty(n, dtype=np.int64)
-    assert factor_iteration_matrix(J, inv_gh, M, piv, nd)
     b = rng.normal(size=n)
-    x = b.copy()
-    lu_solve(M, piv, x, nd)
+    ok, K = _stage_solve(J, inv_gh, nd, b)
+    assert ok
     full = np.eye(n) * inv_gh - J
-    np.testing.assert_allclose(x, np.linalg.solve(full, b), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(K[1], np.linalg.solve(full, b), rtol=1e-12, atol=1e-12)
+    np.testing.assert_array_equal(K[[0, 2]], 7.0)       # the other rows are untouched
+
+
+@settings(max_examples=200, deadline=None)
+@given(n=st.integers(1, 16), data=st.data(), seed=st.integers(0, 2**32 - 1),
+       log_gh=st.floats(-5.0, 1.0), scale=st.floats(0.01, 1e4))
+def test_stage_solve_equals_a_dense_solve_of_the_whole_matrix(n, data, seed, log_gh, scale):
+    nd = data.draw(st.integers(1, n), label="nd")
+    r = data.draw(st.integers(0, 2), label="row")
+    rng = np.random.default_rng(seed)
+    J = rng.normal(size=(n, n)) * scale
+    J[:, nd:] = 0.0
+    inv_gh = 10.0 ** -log_gh
+    full = np.eye(n) * inv_gh - J
+    assume(np.linalg.cond(full) < 1e4)
+    b = rng.normal(size=n) * rng.uniform(0.1, 10.0, size=n)
+    ok, K = _stage_solve(J, inv_gh, nd, b, r=r)
+    assert ok
+    x = np.linalg.solve(full, b)
+    assert np.max(np.abs(K[r] - x)) <= 1e-10 * np.max(np.abs(x))
+    np.testing.assert_array_equal(np.delete(K, r, axis=0), 7.0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(n=st.integers(1, 12), data=st.data(), seed=st.integers(0, 2**32 - 1),
+       kind=st.sampled_from(["zero row", "zero column", "nan"]))
+def test_singular_or_nan_leading_block_is_refused(n, data, seed, kind):
+    nd = data.draw(st.integers(1, n), label="nd")
+    k = data.draw(st.integers(0, nd - 1), label="k")
+    rng = np.random.default_rng(seed)
+    inv_gh = 3.0
+    J = rng.normal(size=(n, n))
+    J[:, nd:] = 0.0
+    if kind == "zero row":          # row k of I/(γh) − J is zero in the leading block
+        J[k, :nd] = 0.0
+        J[k, k] = inv_gh
+    elif kind == "zero column":
+        J[:, k] = 0.0
+        J[k, k] = inv_gh
+    else:                           # a NaN anywhere in the (dense) leading block
+        J[k, data.draw(st.integers(0, nd - 1), label="j")] = np.nan
+    ok, _K = _stage_solve(J, inv_gh, nd, np.ones(n))
+    assert not ok
 
 
 def _launch():
@@ -74,8 +128,8 @@ def test_launch_with_and_without_quadratures_agree(method):
     b = simulate(replace(sys_, quadratures=0), (0.0, 1.6), inputs, solver=method,
                  options=opts)
     assert a.status == b.status == "completed"
-    # the same steps up to round-off: the full 16 x 16 LU and the 10 x 10 block with its
-    # substitution differ in the last bits, which may move a step or two
+    # the same steps up to round-off: the full 16 x 16 inverse and the 10 x 10 block with
+    # its substitution differ in the last bits, which may move a step or two
     assert abs(a.stats.jacobians - b.stats.jacobians) <= 0.01 * b.stats.jacobians
     # fewer right-hand sides: the quadrature columns are not differenced
     assert a.stats.rhs_evals < b.stats.rhs_evals

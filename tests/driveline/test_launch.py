@@ -43,11 +43,14 @@ def test_default_launch_robust_completes_and_naive_chatters_at_lockup(launch):
     assert not naive["completed"] and run.result.outcome == "chatter"
     assert "chatter" in naive["message"] and "lock-up" in naive["message"]
     # it chatters from where the robust model locks (the first zero-slip crossing), and
-    # chatter detection (100 events within 0.4 ms) stops it soon after
+    # chatter detection (100 events within 0.4 ms) stops it soon after.  How soon is
+    # chaotic: rtol 2.9999e-6, 3e-6, 3.0001e-6 and 3.01e-6 stop it 35, 6, 34 and 29 ms
+    # after the robust lock-up with the LU stage solves, 13, 28, 4 and 10 ms with the
+    # explicit inverse (round-off alone), hence 50 ms, not the 20 ms this test had
     t_first = min(e.t for e in run.result.events if e.name.startswith("clutch:"))
     assert t_first == pytest.approx(robust["lockup_time_s"], abs=1e-3)
     t_stop = float(naive["message"].split("at t = ")[-1].split(" s")[0])
-    assert robust["lockup_time_s"] < t_stop < robust["lockup_time_s"] + 0.02
+    assert robust["lockup_time_s"] < t_stop < robust["lockup_time_s"] + 0.05
 
 
 def _example_models(name):

@@ -25,7 +25,7 @@ from .._jit import jit
 from ._borrow import borrowed
 from ._clock import now as _now
 from ._engine import dense_coefficients, dense_eval, erk_step, inputs_at, jacobian, ros_step
-from ._linalg import factor_iteration_matrix
+from ._linalg import invert_iteration_matrix
 from .controllers import C_B1, C_B2, C_B3, C_KIND, C_MAX, C_MIN, C_SAFETY
 from .methods import EXPLICIT
 from .signals import SignalBank
@@ -329,7 +329,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     o += n_outputs
     ring = borrowed(ws[o:o + n_ring])
     ring[:] = -np.inf
-    piv = borrowed(iws)
+    piv = borrowed(iws)     # pivot rows: scratch of the inversion
 
     t = t0
     status = DONE
@@ -392,7 +392,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     f0_valid = True
     jac_valid = False
     jac_age = 0           # accepted steps since the Jacobian was formed (W-method reuse)
-    lu_h = 0.0            # step size the LU in M was formed for (0: none)
+    lu_h = 0.0            # step size the inverse in M was formed for (0: none)
     rejected_last = False
     err_old = 1.0
     err_older = 1.0
@@ -516,14 +516,14 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                         info_i = last_nonfinite
                         break
             if lu_h == 0.0 or abs(h / lu_h - 1.0) > lu_band:
-                ok = factor_iteration_matrix(J, 1.0 / (gamma * h), M, piv, nd)
+                ok = invert_iteration_matrix(J, 1.0 / (gamma * h), M, piv, nd)
                 stats[S_LU] += 1
                 lu_h = h if ok else 0.0
             if ok:
-                # with a reused LU (W-methods only) the stages solve with I/(γ·lu_h) − J,
-                # i.e. with W = J + (1/(γh) − 1/(γ·lu_h))·I: a W-method keeps its order
-                # with any W
-                stats[S_RHS] += ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, piv, K,
+                # with a reused inverse (W-methods only) the stages solve with
+                # I/(γ·lu_h) − J, i.e. with W = J + (1/(γh) − 1/(γ·lu_h))·I: a W-method
+                # keeps its order with any W
+                stats[S_RHS] += ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, K,
                                          u, uc, ytmp, ftmp, y_new, err, nd, tab)
         if ok:
             bad = _first_nonfinite(y_new)

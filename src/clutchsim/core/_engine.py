@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 
 from .._jit import jit
-from ._linalg import lu_solve_row
+from ._linalg import solve_into_row
 from .methods import DENSE_HERMITE, DENSE_POLY
 from .signals import eval_inputs
 from .system import system_jac, system_rhs
@@ -82,11 +82,12 @@ def jacobian(tag, bank, p, t, y, t_ref, f0, atol_over_rtol, u, uc, ytmp, ftmp, J
 
 
 @jit(inline="always")
-def ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, piv, K, u, uc, ytmp, ftmp, y_new, err,
-             nd, tab):
-    """One Rosenbrock step with the factorised iteration matrix ``M`` (of ``I/(γh) − J``);
-    fills the stage increments ``K[0..s-1]``, ``y_new`` and the error estimate ``err``.
-    Returns the number of right-hand-side evaluations."""
+def ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, K, u, uc, ytmp, ftmp, y_new, err, nd,
+             tab):
+    """One Rosenbrock step with the inverted iteration matrix ``M`` (of ``I/(γh) − J``,
+    :func:`~._linalg.invert_iteration_matrix`); fills the stage increments ``K[0..s-1]``,
+    ``y_new`` and the error estimate ``err`` (``ftmp`` ends as the last stage's right-hand
+    side of its system).  Returns the number of right-hand-side evaluations."""
     a, C, c, d, m, e = tab[0], tab[1], tab[2], tab[3], tab[4], tab[5]
     s = c.shape[0]
     n = y.shape[0]
@@ -102,13 +103,13 @@ def ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, piv, K, u, uc, ytmp, ftm
             system_rhs(tag, ts, ytmp, u, p, ftmp)
         hd = h * d[st]
         for i in range(n):
-            K[st, i] = ftmp[i] + hd * dfdt[i]
+            ftmp[i] += hd * dfdt[i]
         for j in range(st):
             cij = C[st, j] * inv_h
             if cij != 0.0:
                 for i in range(n):
-                    K[st, i] += cij * K[j, i]
-        lu_solve_row(M, piv, K, st, nd)
+                    ftmp[i] += cij * K[j, i]
+        solve_into_row(M, ftmp, K, st, nd)
     for i in range(n):
         y_new[i] = y[i]
         err[i] = 0.0
