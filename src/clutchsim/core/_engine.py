@@ -51,6 +51,34 @@ def _stage_argument(ytmp, y, A, st, K, scale):
 
 
 @jit(inline="always")
+def _extends_previous_stage(A, st):
+    """Whether row ``st`` of ``A`` is row ``st - 1`` with a 1 added at column ``st - 1``
+    (RODAS' stiffly accurate last stages): then the argument of stage ``st`` is that of
+    stage ``st - 1`` plus ``K[st - 1]``, bit for bit (:func:`_stage_argument` adds the same
+    terms in the same order, then ``1·K[st - 1]``)."""
+    if st < 2 or A[st, st - 1] != 1.0:
+        return False
+    for j in range(st - 1):
+        if A[st, j] != A[st - 1, j]:
+            return False
+    return True
+
+
+@jit(inline="always")
+def _extends_last_stage(A, m):
+    """Whether the solution weights ``m`` are the last row of ``A`` with a 1 added at the
+    last stage (a stiffly accurate method): then ``y_new`` is the last stage's argument
+    plus ``K[s - 1]``, as in :func:`_extends_previous_stage`."""
+    s = m.shape[0]
+    if s < 2 or m[s - 1] != 1.0:
+        return False
+    for j in range(s - 1):
+        if m[j] != A[s - 1, j]:
+            return False
+    return True
+
+
+@jit(inline="always")
 def jacobian(tag, bank, p, t, y, t_ref, f0, atol_over_rtol, u, uc, ytmp, ftmp, J, dfdt, nd,
              exact):
     """``J = ∂f/∂y`` (the plant's exact Jacobian when ``exact``, else forward differences
@@ -97,28 +125,42 @@ def ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, K, u, uc, ytmp, ftmp, y_
             for i in range(n):
                 ftmp[i] = f0[i]
         else:
-            _stage_argument(ytmp, y, a, st, K, 1.0)
+            if _extends_previous_stage(a, st):    # ytmp holds stage st-1's argument
+                for i in range(n):
+                    ytmp[i] += K[st - 1, i]
+            else:
+                _stage_argument(ytmp, y, a, st, K, 1.0)
             ts = t + c[st] * h
             inputs_at(bank, ts, t_ref, u, uc)
             system_rhs(tag, ts, ytmp, u, p, ftmp)
         hd = h * d[st]
-        for i in range(n):
-            ftmp[i] += hd * dfdt[i]
+        if hd != 0.0:
+            for i in range(n):
+                ftmp[i] += hd * dfdt[i]
         for j in range(st):
             cij = C[st, j] * inv_h
             if cij != 0.0:
                 for i in range(n):
                     ftmp[i] += cij * K[j, i]
         solve_into_row(M, ftmp, K, st, nd)
+    if _extends_last_stage(a, m):    # ytmp holds the last stage's argument
+        for i in range(n):
+            y_new[i] = ytmp[i] + K[s - 1, i]
+    else:
+        for i in range(n):
+            y_new[i] = y[i]
+        for j in range(s):
+            mj = m[j]
+            if mj != 0.0:
+                for i in range(n):
+                    y_new[i] += mj * K[j, i]
     for i in range(n):
-        y_new[i] = y[i]
         err[i] = 0.0
     for j in range(s):
-        mj = m[j]
         ej = e[j]
-        for i in range(n):
-            y_new[i] += mj * K[j, i]
-            err[i] += ej * K[j, i]
+        if ej != 0.0:
+            for i in range(n):
+                err[i] += ej * K[j, i]
     return s - 1
 
 
