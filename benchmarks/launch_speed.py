@@ -43,7 +43,10 @@ whose speed error is no larger than that baseline's error (all rungs are printed
 ``casadi_idas_ms`` or their ``_bdf2`` variants; ``ratio_vs_casadi_solver`` names its key)
 over clutchsim's at matched accuracy by the same rule (``ratio_vs_<key>_matched``).
 
-Timing: clutchsim in this process, median of ``--repeats`` runs after a warm-up; each scipy
+Timing: clutchsim in this process, median of ``--repeats`` runs after a warm-up (the ladder's
+rungs: interleaved, one run of each per round, and the minimum of ``--repeats`` rounds, so
+that the matched rung is chosen by the rungs' own speed, not by the load while each ran; see
+``ladder_rows``); each scipy
 and CasADi baseline in a child process, median of ``--scipy-repeats`` runs after a warm-up
 run.  Every baseline run has a time limit of ``--scipy-timeout`` seconds; a baseline whose
 first run does not finish is reported as ``null`` with ``scipy_<method>_lower_bound_ms``
@@ -319,6 +322,25 @@ def casadi_rows(a, out: dict, ctx: dict) -> None:
                                   f"({out[f'{key}_err_rpm']:.3g} rpm)")
 
 
+def ladder_rows(rungs, t_end: float, repeats: int, err) -> list[dict]:
+    """Time the ladder's rungs (``(method or None, rtol)``) interleaved: a warm-up run of
+    each, then ``repeats`` rounds of one run of each rung.  A rung's ``ms`` is its
+    minimum: rungs a few per cent apart, timed one after another, were ordered by the load
+    of the moment, which picked the matched rung by chance."""
+    from clutchsim.scenario import run_scenario
+    scs = [_scenario(t_end, rtol, method) for method, rtol in rungs]
+    last = [run_scenario(sc_r, MODEL) for sc_r in scs]
+    times = [[] for _ in rungs]
+    for _ in range(repeats):
+        for k, sc_r in enumerate(scs):
+            t0 = time.perf_counter()
+            last[k] = run_scenario(sc_r, MODEL)
+            times[k].append((time.perf_counter() - t0) * 1e3)
+    return [{"method": sc_r.solver, "rtol": rtol, "ms": min(ms_r),
+             "err_rpm": err(lr_r.result.t, lr_r.result), "steps": lr_r.result.stats.steps}
+            for (_, rtol), sc_r, ms_r, lr_r in zip(rungs, scs, times, last, strict=True)]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=5, help="clutchsim runs (after a warm-up)")
@@ -371,16 +393,8 @@ def main(argv=None):
         return max(d[n] for n in SPEEDS)
     if tight is not None:
         out["clutchsim_err_rpm"] = err(ref.t, ref)
-        ladder = []
         rungs = [(None, r) for r in LADDER] + [(m, r) for m, rs in LADDER_METHODS for r in rs]
-        for method, rtol in rungs:
-            sc_r = _scenario(a.t_end, rtol, method)
-            ms_r, lr_r = median_ms(lambda sc_r=sc_r: run_scenario(sc_r, MODEL),
-                                   repeats=a.repeats)
-            ladder.append({"method": sc_r.solver, "rtol": rtol, "ms": ms_r,
-                           "err_rpm": err(lr_r.result.t, lr_r.result),
-                           "steps": lr_r.result.stats.steps})
-        out["ladder"] = ladder
+        out["ladder"] = ladder_rows(rungs, a.t_end, a.repeats, err)
     ctx = {"ms": ms, "ref": ref, "dt": dt, "err": err if tight is not None else None}
     diffs = [baseline_row(a, out, name, f"scipy_{key}", key, ctx) for name, key, _ in BASELINES]
     diffs = [d for d in diffs if d is not None]
