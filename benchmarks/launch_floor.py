@@ -174,7 +174,7 @@ def main(argv=None) -> dict:
           f"; event evaluations by source {base['accounts']['event_evals_by_source']}")
     print(f"a {TARGET_MS:g} ms launch leaves {budget_ns:.0f} ns per step at the scenario's "
           f"tolerance = {result['budget_in_rhs_calls_per_step']:.1f} right-hand sides; a step "
-          f"takes {result['rhs_calls_per_step']:.1f} (plus its Jacobian, LU, solves, event "
+          f"takes {result['rhs_calls_per_step']:.1f} (plus its Jacobian, matrix inverse, solves, event "
           "checks and output rows)")
     emit(result)
     return result
