@@ -34,9 +34,10 @@ clutchsim run of the validation, so the ratios can be read at known accuracy.
 
 Matched accuracy: clutchsim also runs on a fixed tolerance ladder (``LADDER``: rtol, with
 atol = rtol/100 as in the scenario), with the scenario's method and with the methods of
-``LADDER_METHODS``.  For each baseline ``ratio_vs_<method>_matched`` uses the fastest rung
+``LADDER_METHODS`` (method, step-size controller or None for the method's own, rtols).  For
+each baseline ``ratio_vs_<method>_matched`` uses the fastest rung
 whose speed error is no larger than that baseline's error (all rungs are printed under
-``ladder``; ``clutchsim_matched_<key>_method``/``_rtol`` name it), which is how the targets
+``ladder``; ``clutchsim_matched_<key>_method``/``_controller``/``_rtol`` name it), which is how the targets
 "at matching results" are read.
 
 ``ratio_vs_casadi`` is the fastest CasADi run's time (``casadi_cvodes_ms``,
@@ -44,9 +45,8 @@ whose speed error is no larger than that baseline's error (all rungs are printed
 over clutchsim's at matched accuracy by the same rule (``ratio_vs_<key>_matched``).
 
 Timing: clutchsim in this process, median of ``--repeats`` runs after a warm-up (the ladder's
-rungs: interleaved, one run of each per round, and the minimum of ``--repeats`` rounds, so
-that the matched rung is chosen by the rungs' own speed, not by the load while each ran; see
-``ladder_rows``); each scipy
+rungs: interleaved rounds, each rung timed warm once per round, median and minimum of
+``--repeats`` rounds, so that every rung meets the same load; see ``ladder_rows``); each scipy
 and CasADi baseline in a child process, median of ``--scipy-repeats`` runs after a warm-up
 run.  Every baseline run has a time limit of ``--scipy-timeout`` seconds; a baseline whose
 first run does not finish is reported as ``null`` with ``scipy_<method>_lower_bound_ms``
@@ -88,19 +88,25 @@ CASADI_MIN = (3, 6)
 LADDER = (1e-5, 5e-6, 3e-6, 1e-6, 5e-7, 3e-7, 1e-7)
 #: further rungs on another method (the scenario's own is RODAS5P, which with the network
 #: plant's exact Jacobian needs the fewest steps at a given accuracy)
-LADDER_METHODS = (("ros34pw2", (1e-5, 3e-6, 1e-6, 3e-7)),)
+LADDER_METHODS = (("ros34pw2", None, (1e-5, 3e-6, 1e-6, 3e-7)),
+                  ("rodas5p", "I", (1e-5, 5e-6, 4e-6, 3e-6, 1e-6)))
 MODEL = "mykhailevych2020"
+#: runs of a rung per interleaved round of the ladder, the last one timed
+BLOCK = 3
 
 
 class _TimeLimit(Exception):
     """Raised in a child process when one baseline run exceeds its time limit."""
 
 
-def _scenario(t_end: float, rtol: float | None = None, method: str | None = None):
+def _scenario(t_end: float, rtol: float | None = None, method: str | None = None,
+              controller: str | None = None):
     from clutchsim.scenario import load_scenario
     tol = [] if rtol is None else [f"solver.rtol={rtol!r}", f"solver.atol={rtol * 1e-2!r}"]
     if method is not None:
         tol.append(f"solver.method={method!r}")
+    if controller is not None:
+        tol.append(f"solver.controller={controller!r}")
     return load_scenario(None, overrides=[f"scenario.t_end={t_end!r}",
                                           "solver.wall_time=100000", *tol])
 
@@ -271,6 +277,7 @@ def baseline_row(a, out: dict, name: str, prefix: str, key: str, ctx: dict) -> f
             out[f"ratio_vs_{key}_matched"] = out[f"{prefix}_ms"] / best["ms"]
             out[f"clutchsim_matched_{key}_rtol"] = best["rtol"]
             out[f"clutchsim_matched_{key}_method"] = best["method"]
+            out[f"clutchsim_matched_{key}_controller"] = best["controller"]
         else:
             out[f"ratio_vs_{key}_matched"] = None
     return out[f"max_abs_speed_diff_rpm_{key}"]
@@ -323,22 +330,28 @@ def casadi_rows(a, out: dict, ctx: dict) -> None:
 
 
 def ladder_rows(rungs, t_end: float, repeats: int, err) -> list[dict]:
-    """Time the ladder's rungs (``(method or None, rtol)``) interleaved: a warm-up run of
-    each, then ``repeats`` rounds of one run of each rung.  A rung's ``ms`` is its
-    minimum: rungs a few per cent apart, timed one after another, were ordered by the load
-    of the moment, which picked the matched rung by chance."""
+    """Time the ladder's rungs (``(method or None, controller or None, rtol)``) interleaved:
+    a warm-up run of each, then ``repeats`` rounds; in a round each rung runs ``BLOCK``
+    times back to back and the last run is timed (the first ones after another rung's run
+    were measured 25-50 % slower: caches).  A rung's ``ms`` is its median over the rounds
+    (what the baselines report), ``ms_min`` its minimum.  Rungs a few per cent apart, timed
+    one after another, were ordered by the load of the moment, which picked the matched rung
+    by chance; interleaved, every rung meets the same load."""
     from clutchsim.scenario import run_scenario
-    scs = [_scenario(t_end, rtol, method) for method, rtol in rungs]
+    scs = [_scenario(t_end, rtol, method, ctrl) for method, ctrl, rtol in rungs]
     last = [run_scenario(sc_r, MODEL) for sc_r in scs]
     times = [[] for _ in rungs]
     for _ in range(repeats):
         for k, sc_r in enumerate(scs):
+            for _ in range(BLOCK - 1):
+                run_scenario(sc_r, MODEL)
             t0 = time.perf_counter()
             last[k] = run_scenario(sc_r, MODEL)
             times[k].append((time.perf_counter() - t0) * 1e3)
-    return [{"method": sc_r.solver, "rtol": rtol, "ms": min(ms_r),
+    return [{"method": sc_r.solver, "controller": ctrl or "default", "rtol": rtol,
+             "ms": statistics.median(ms_r), "ms_min": min(ms_r),
              "err_rpm": err(lr_r.result.t, lr_r.result), "steps": lr_r.result.stats.steps}
-            for (_, rtol), sc_r, ms_r, lr_r in zip(rungs, scs, times, last, strict=True)]
+            for (_, ctrl, rtol), sc_r, ms_r, lr_r in zip(rungs, scs, times, last, strict=True)]
 
 
 def main(argv=None):
@@ -393,7 +406,8 @@ def main(argv=None):
         return max(d[n] for n in SPEEDS)
     if tight is not None:
         out["clutchsim_err_rpm"] = err(ref.t, ref)
-        rungs = [(None, r) for r in LADDER] + [(m, r) for m, rs in LADDER_METHODS for r in rs]
+        rungs = ([(None, None, r) for r in LADDER]
+                 + [(m, c, r) for m, c, rs in LADDER_METHODS for r in rs])
         out["ladder"] = ladder_rows(rungs, a.t_end, a.repeats, err)
     ctx = {"ms": ms, "ref": ref, "dt": dt, "err": err if tight is not None else None}
     diffs = [baseline_row(a, out, name, f"scipy_{key}", key, ctx) for name, key, _ in BASELINES]
