@@ -8,8 +8,12 @@ grade (uniform 0–8 %).  Measured:
   GIL): ``wall_s``, ``runs_per_s``, ``peak_rss_mb`` (this process, ru_maxrss);
 * ``--scaling-runs`` variants on 1 and on 2 threads: ``runs_per_s_1_worker``,
   ``runs_per_s_2_workers`` and their ratio;
-* the same variants on a Dask LocalCluster (2 worker processes, 1 thread each), cluster
-  start-up excluded (``dask_local_runs_per_s``) and included (``dask_local_incl_startup_runs_per_s``).
+* ``--dask-runs`` variants on a Dask LocalCluster (2 worker processes, 1 thread each) and
+  in this process on 2 threads, alternated ``--dask-rounds`` times (medians), cluster
+  start-up excluded (``dask_local_runs_per_s``, ``dask_in_process_runs_per_s``, their time
+  ratio ``dask_vs_in_process``) and included (``dask_local_incl_startup_runs_per_s``).
+  1,000 runs by default: the ``--scaling-runs`` sweep's 7 chunks of 32 on 2 workers are
+  4 against 3 by construction and its ratio moved between 1.08 and 1.67 from run to run.
   Start-up is the cluster plus one launch on every worker (``_warm_worker``: each worker
   process loads the compiled plant from the numba cache once, ~1 s, which would otherwise
   land inside the timed runs of whichever worker meets its first chunk there).
@@ -36,6 +40,7 @@ from __future__ import annotations
 import argparse
 import os
 import resource
+import statistics
 import sys
 import tempfile
 import time
@@ -63,6 +68,10 @@ def main():
     ap.add_argument("--runs", type=int, default=10_000)
     ap.add_argument("--scaling-runs", type=int, default=200)
     ap.add_argument("--no-dask", action="store_true")
+    ap.add_argument("--dask-runs", type=int, default=1000,
+                    help="variants of each Dask and in-process comparison sweep")
+    ap.add_argument("--dask-rounds", type=int, default=3,
+                    help="alternations of the comparison (medians)")
     a = ap.parse_args()
     import pyarrow.parquet as pq
     tmp = tempfile.TemporaryDirectory(prefix="clutchsim-bench-")
@@ -102,13 +111,18 @@ def main():
             print(f"warm-up launch failed on a worker: {warm}", file=sys.stderr)
         run(os.path.join(d, "dwarm"), 2, backend=client)    # and the sweep path once
         startup = time.perf_counter() - t0
-        wd, _ = run(os.path.join(d, "dask"), a.scaling_runs, backend=client)
+        n = a.dask_runs
+        wd, wt = [], []
+        for k in range(a.dask_rounds):                      # alternated: the same load
+            wt.append(run(os.path.join(d, f"tround{k}"), n)[0])
+            wd.append(run(os.path.join(d, f"dask{k}"), n, backend=client)[0])
         client.close()
         cluster.close()
-        out.update(dask_local_runs_per_s=a.scaling_runs / wd,
-                   dask_local_incl_startup_runs_per_s=a.scaling_runs / (wd + startup),
-                   dask_startup_s=startup,
-                   dask_vs_in_process=(a.scaling_runs / w2) / (a.scaling_runs / wd))
+        wd, wt = statistics.median(wd), statistics.median(wt)
+        out.update(dask_runs=n, dask_local_runs_per_s=n / wd,
+                   dask_local_incl_startup_runs_per_s=n / (wd + startup),
+                   dask_startup_s=startup, dask_in_process_runs_per_s=n / wt,
+                   dask_vs_in_process=wd / wt)
     else:
         out["dask_local_runs_per_s"] = None
     tmp.cleanup()
