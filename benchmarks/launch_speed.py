@@ -44,6 +44,9 @@ whose speed error is no larger than that baseline's error (all rungs are printed
 ``casadi_idas_ms`` or their ``_bdf2`` variants; ``ratio_vs_casadi_solver`` names its key)
 over clutchsim's at matched accuracy by the same rule (``ratio_vs_<key>_matched``).
 
+``clutchsim_best_ms``: the rung matched to RK45 timed alone as the scenario's setting is,
+and ``ratio_vs_rk45_best``.
+
 Timing: clutchsim in this process, median of ``--repeats`` runs after a warm-up (the ladder's
 rungs: interleaved rounds, each rung timed warm once per round, median and minimum of
 ``--repeats`` rounds, so that every rung meets the same load; see ``ladder_rows``); each scipy
@@ -354,6 +357,22 @@ def ladder_rows(rungs, t_end: float, repeats: int, err) -> list[dict]:
             for (_, ctrl, rtol), sc_r, ms_r, lr_r in zip(rungs, scs, times, last, strict=True)]
 
 
+def best_row(a, out: dict) -> None:
+    """The rung matched to RK45, timed as the scenario's own setting is (alone in this
+    process, median of ``--repeats`` runs after a warm-up): ``clutchsim_best_ms`` and
+    ``ratio_vs_rk45_best`` (RK45's median over it).  The ladder's interleaved rounds are
+    fair between rungs but not how a user runs one setting."""
+    from clutchsim.scenario import run_scenario
+    if out.get("clutchsim_matched_rk45_rtol") is None or not out.get("scipy_rk45_ms"):
+        return
+    ctrl = out["clutchsim_matched_rk45_controller"]
+    sc = _scenario(a.t_end, out["clutchsim_matched_rk45_rtol"],
+                   out["clutchsim_matched_rk45_method"], None if ctrl == "default" else ctrl)
+    ms, _ = median_ms(lambda: run_scenario(sc, MODEL), repeats=a.repeats)
+    out["clutchsim_best_ms"] = ms
+    out["ratio_vs_rk45_best"] = out["scipy_rk45_ms"] / ms
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=5, help="clutchsim runs (after a warm-up)")
@@ -414,6 +433,7 @@ def main(argv=None):
     diffs = [d for d in diffs if d is not None]
     out["max_abs_speed_diff_rpm"] = max(diffs) if diffs else None
     casadi_rows(a, out, ctx)
+    best_row(a, out)
     emit(out)
 
 
