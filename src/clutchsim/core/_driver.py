@@ -1,7 +1,7 @@
 """The compiled integration loop shared by every method.
 
 Owns step-size control (a :class:`~clutchsim.core.controllers.StepController`, packed),
-the Jacobian/LU reuse policy, declared input breakpoints (hit exactly), event detection and
+the Jacobian/iteration-matrix reuse policy, declared input breakpoints (hit exactly), event detection and
 location on the dense output, reset maps, output recording, and the guards that make sure
 no run spins forever: ``max_steps``, a wall-time budget, a step-size floor, and chatter
 detection (too many events inside a short window).  The method is data (a tableau of

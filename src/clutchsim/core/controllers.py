@@ -1,4 +1,5 @@
-"""Step-size controllers and the Jacobian/LU reuse policy, as small immutable objects.
+"""Step-size controllers and the Jacobian/iteration-matrix reuse policy, as small immutable
+objects.
 
 A controller turns the error norm ``e`` of a step (``e ≤ 1``: accepted) into the next step
 size.  With ``q = p̂ + 1`` (the embedded order plus one):
@@ -95,7 +96,8 @@ class StepController:
 
 @dataclass(frozen=True)
 class JacobianPolicy:
-    """When the implicit methods form a new Jacobian and a new LU.
+    """When the implicit methods form a new Jacobian and invert a new iteration
+    matrix.
 
     Parameters
     ----------
@@ -104,9 +106,9 @@ class JacobianPolicy:
         it is always refreshed after a rejected step, an event or a breakpoint.  Methods
         that need the exact Jacobian (RODAS4, RODAS5P) form one every step.
     lu_reuse : float
-        A W-method keeps its LU of ``I/(γh) − J`` while the step size stays within this
-        relative band of the one it was factorised for (a W-method keeps its order with
-        any matrix; the band bounds the loss of stability); 0 refactorises every step.
+        A W-method keeps its inverse of ``I/(γh) − J`` while the step size stays within
+        this relative band of the one it was inverted for (a W-method keeps its order with
+        any matrix; the band bounds the loss of stability); 0 inverts anew every step.
     """
 
     max_age: int = 40

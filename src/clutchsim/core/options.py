@@ -69,7 +69,8 @@ class SolverOptions:
         Step-size controller; ``None`` (default) takes the method family's own
         (:meth:`StepController.default_for`).
     jacobian : JacobianPolicy
-        When W-methods refresh their Jacobian and LU.
+        When W-methods refresh their Jacobian and the inverse of the
+        iteration matrix.
     """
 
     rtol: float = 1e-6

@@ -112,7 +112,10 @@ class Stats:
 
     ``event_evals`` counts calls of the plant's event functions (step ends, the samples
     inside a step where a crossing could hide, and the location iterations); ``jacobians``
-    counts Jacobians formed, exactly (the plant's own) or by finite differences."""
+    counts Jacobians formed, exactly (the plant's own) or by finite differences;
+    ``lu_decompositions`` counts the iteration matrices inverted (the implicit methods
+    solve their stages with an explicit inverse; the name predates it and is kept for the
+    result files and tables that carry it)."""
 
     steps: int
     rejected: int

@@ -378,7 +378,8 @@ class System:
     quadratures : int
         Number of trailing states that are pure integrals (energy accounts): no derivative
         depends on them.  The implicit integrators leave them out of the finite-difference
-        Jacobian and the LU (their columns are zero); default 0.
+        Jacobian and the inverted block of the iteration matrix (their columns are
+        zero); default 0.
     metadata : dict
         Free-form description kept with results (scenario, model, parameter set, ...).
     """

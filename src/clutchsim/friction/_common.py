@@ -90,7 +90,7 @@ def stribeck_partials(v, F_c, F_s, v_s, delta):
     everywhere (0 at ``v = 0``); kernels that multiply ``g'`` by ``|v|`` use it. ``g'`` at
     exactly ``v = 0``: 0 for ``delta > 1``; the limit ``v -> 0+``, ``-(F_s - F_c)/v_s``, for
     ``delta = 1``; for ``delta < 1`` the slope is unbounded there and 0 is returned (a
-    finite stand-in at that single point: an infinite entry would make every LU fail)."""
+    finite stand-in at that single point: an infinite entry would make every stage solve fail)."""
     e = _stribeck_exponent(v, v_s, delta)
     drop = (F_s - F_c) * math.exp(-e)
     v_dg = -delta * e * drop

@@ -100,8 +100,8 @@ class Plan:
             sn.append(f"wear_{c.name}")
             su.append("m")
         # angle (position) states of the inertia nodes (Network.angles): dphi/dt = w_node.
-        # Nothing reads them, so they are quadratures: the implicit solve (the LU) does not
-        # grow, and their rows of the Jacobian are exact
+        # Nothing reads them, so they are quadratures: the implicit solve (the inverted block) does
+        # not grow, and their rows of the Jacobian are exact
         self.angle_states: list[tuple[int, int]] = []
         if net.angles:
             own = {c.name for c in comps if getattr(c, "own_position", False)}

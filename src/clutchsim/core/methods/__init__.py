@@ -80,7 +80,8 @@ class RosenbrockTableau:
         form ``y(θ) = (1−θ)y0 + θ(y1 + (1−θ)(k1 + θ(k2 + θ k3)))``).
     w_method : bool
         The method keeps its order with an approximate Jacobian (a W-method): the
-        integrator may then reuse one Jacobian, and one LU while the step changes little.
+        integrator may then reuse one Jacobian, and one inverted iteration matrix while the step changes
+        little.
     stages_at_end : tuple of int
         Extra stages written directly in transformed form, for methods published that way
         (RODAS-type stiffly accurate tails); see :meth:`transformed`.

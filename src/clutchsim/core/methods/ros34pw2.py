@@ -5,8 +5,8 @@ differential algebraic equations of index 1*, BIT Numerical Mathematics 45:761�
 Table 4.2 (published ``α, γ, b, b̂``).
 
 A W-method keeps its order when the matrix in ``I/(γh) − W`` only approximates the
-Jacobian, so the integrator may reuse one Jacobian over many steps (and one LU while the
-step size changes little).  Dense output: the cubic Hermite interpolant through both ends
+Jacobian, so the integrator may reuse one Jacobian over many steps (and one inverted
+iteration matrix while the step size changes little).  Dense output: the cubic Hermite interpolant through both ends
 of the step and their slopes (third order, like the method).
 """
 
