@@ -1,12 +1,12 @@
 """The compiled integration loop shared by every method.
 
 Owns step-size control (a :class:`~clutchsim.core.controllers.StepController`, packed),
-the Jacobian/iteration-matrix reuse policy, declared input breakpoints (hit exactly), event detection and
-location on the dense output, reset maps, output recording, and the guards that make sure
-no run spins forever: ``max_steps``, a wall-time budget, a step-size floor, and chatter
-detection (too many events inside a short window).  The method is data (a tableau of
-:mod:`clutchsim.core.methods`, packed into arrays); the steps are in :mod:`._engine`; the
-plant is reached only through ``system_*`` (see ``system.py``).
+the Jacobian/iteration-matrix reuse policy, declared input breakpoints (hit exactly), event
+detection and location on the dense output, reset maps, output recording, and the guards
+that make sure no run spins forever: ``max_steps``, a wall-time budget, a step-size floor,
+and chatter detection (too many events inside a short window).  The method is data (a
+tableau of :mod:`clutchsim.core.methods`, packed into arrays); the steps are in
+:mod:`._engine`; the plant is reached only through ``system_*`` (see ``system.py``).
 
 Events are checked at the end of each step.  The event functions are sampled inside a step
 only where a crossing could hide between two same-sign ends: on the first step after the
@@ -24,7 +24,15 @@ import numpy as np
 from .._jit import jit
 from ._borrow import borrowed
 from ._clock import now as _now
-from ._engine import dense_coefficients, dense_eval, erk_step, inputs_at, jacobian, ros_step
+from ._engine import (
+    dense_coefficients,
+    dense_eval,
+    erk_step,
+    inputs_at,
+    jacobian,
+    ros_step,
+    stiffly_accurate_rows,
+)
 from ._linalg import invert_iteration_matrix
 from .controllers import C_B1, C_B2, C_B3, C_KIND, C_MAX, C_MIN, C_SAFETY
 from .methods import EXPLICIT
@@ -301,7 +309,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     n_ring = max(ch_n, 1)
     ws = np.zeros(9 * n + n_k * n + 5 * n + 2 * n * n + n_in + 2 + n_outputs
                   + (5 + N_SAMPLES) * n_ev + n_ring)
-    iws = np.zeros(n, dtype=np.int64)
+    iws = np.zeros(n + n_k + 1, dtype=np.int64)
     vec = _block(ws, 0, 9, n)
     y, y_new, ytmp, ftmp, f1, err, f0, dfdt, y_ev = (vec[0], vec[1], vec[2], vec[3], vec[4],
                                                      vec[5], vec[6], vec[7], vec[8])
@@ -329,7 +337,10 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     o += n_outputs
     ring = borrowed(ws[o:o + n_ring])
     ring[:] = -np.inf
-    piv = borrowed(iws)     # pivot rows: scratch of the inversion
+    piv = borrowed(iws[:n])     # pivot rows: scratch of the inversion
+    ext = borrowed(iws[n:])     # the tableau's stiffly accurate rows, once per run
+    if not explicit:
+        stiffly_accurate_rows(tab[0], tab[4], ext)
 
     t = t0
     status = DONE
@@ -524,7 +535,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 # I/(γ·lu_h) − J, i.e. with W = J + (1/(γh) − 1/(γ·lu_h))·I: a W-method
                 # keeps its order with any W
                 stats[S_RHS] += ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, K,
-                                         u, uc, ytmp, ftmp, y_new, err, nd, tab)
+                                         u, uc, ytmp, ftmp, y_new, err, nd, tab, ext)
         if ok:
             bad = _first_nonfinite(y_new)
             if bad < 0:

@@ -50,32 +50,32 @@ def _stage_argument(ytmp, y, A, st, K, scale):
                 ytmp[i] += w * K[j, i]
 
 
-@jit(inline="always")
-def _extends_previous_stage(A, st):
-    """Whether row ``st`` of ``A`` is row ``st - 1`` with a 1 added at column ``st - 1``
-    (RODAS' stiffly accurate last stages): then the argument of stage ``st`` is that of
-    stage ``st - 1`` plus ``K[st - 1]``, bit for bit (:func:`_stage_argument` adds the same
-    terms in the same order, then ``1·K[st - 1]``)."""
-    if st < 2 or A[st, st - 1] != 1.0:
-        return False
-    for j in range(st - 1):
-        if A[st, j] != A[st - 1, j]:
-            return False
-    return True
+@jit
+def stiffly_accurate_rows(A, m, ext):
+    """Mark in ``ext`` (length ``s + 1``) where RODAS' stiffly accurate structure lets a
+    step reuse the previous stage's argument (derived once per run, read by
+    :func:`ros_step` at every stage):
 
-
-@jit(inline="always")
-def _extends_last_stage(A, m):
-    """Whether the solution weights ``m`` are the last row of ``A`` with a 1 added at the
-    last stage (a stiffly accurate method): then ``y_new`` is the last stage's argument
-    plus ``K[s - 1]``, as in :func:`_extends_previous_stage`."""
+    * ``ext[st] = 1`` (``st >= 2``): row ``st`` of ``A`` is row ``st - 1`` with a 1 added
+      at column ``st - 1``, so the argument of stage ``st`` is that of stage ``st - 1``
+      plus ``K[st - 1]``, bit for bit (:func:`_stage_argument` adds the same terms in the
+      same order, then ``1·K[st - 1]``);
+    * ``ext[s] = 1``: the solution weights ``m`` are the last row of ``A`` with a 1 added
+      at the last stage, so ``y_new`` is the last stage's argument plus ``K[s - 1]``."""
     s = m.shape[0]
-    if s < 2 or m[s - 1] != 1.0:
-        return False
-    for j in range(s - 1):
-        if m[j] != A[s - 1, j]:
-            return False
-    return True
+    for st in range(s + 1):
+        ext[st] = 0
+    for st in range(2, s + 1):
+        row_is_m = st == s
+        if (m[s - 1] if row_is_m else A[st, st - 1]) != 1.0:
+            continue
+        same = True
+        for j in range(st - 1):
+            if (m[j] if row_is_m else A[st, j]) != A[st - 1, j]:
+                same = False
+                break
+        if same:
+            ext[st] = 1
 
 
 @jit(inline="always")
@@ -111,11 +111,12 @@ def jacobian(tag, bank, p, t, y, t_ref, f0, atol_over_rtol, u, uc, ytmp, ftmp, J
 
 @jit(inline="always")
 def ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, K, u, uc, ytmp, ftmp, y_new, err, nd,
-             tab):
+             tab, ext):
     """One Rosenbrock step with the inverted iteration matrix ``M`` (of ``I/(γh) − J``,
     :func:`~._linalg.invert_iteration_matrix`); fills the stage increments ``K[0..s-1]``,
     ``y_new`` and the error estimate ``err`` (``ftmp`` ends as the last stage's right-hand
-    side of its system).  Returns the number of right-hand-side evaluations."""
+    side of its system).  ``ext``: the tableau's :func:`stiffly_accurate_rows`.  Returns
+    the number of right-hand-side evaluations."""
     a, C, c, d, m, e = tab[0], tab[1], tab[2], tab[3], tab[4], tab[5]
     s = c.shape[0]
     n = y.shape[0]
@@ -125,7 +126,7 @@ def ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, K, u, uc, ytmp, ftmp, y_
             for i in range(n):
                 ftmp[i] = f0[i]
         else:
-            if _extends_previous_stage(a, st):    # ytmp holds stage st-1's argument
+            if ext[st] != 0:    # ytmp holds stage st-1's argument
                 for i in range(n):
                     ytmp[i] += K[st - 1, i]
             else:
@@ -143,7 +144,7 @@ def ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, K, u, uc, ytmp, ftmp, y_
                 for i in range(n):
                     ftmp[i] += cij * K[j, i]
         solve_into_row(M, ftmp, K, st, nd)
-    if _extends_last_stage(a, m):    # ytmp holds the last stage's argument
+    if ext[s] != 0:     # ytmp holds the last stage's argument
         for i in range(n):
             y_new[i] = ytmp[i] + K[s - 1, i]
     else:
