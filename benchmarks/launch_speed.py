@@ -34,11 +34,11 @@ clutchsim run of the validation, so the ratios can be read at known accuracy.
 
 Matched accuracy: clutchsim also runs on a fixed tolerance ladder (``LADDER``: rtol, with
 atol = rtol/100 as in the scenario), with the scenario's method and with the methods of
-``LADDER_METHODS`` (method, step-size controller or None for the method's own, rtols).  For
-each baseline ``ratio_vs_<method>_matched`` uses the fastest rung
-whose speed error is no larger than that baseline's error (all rungs are printed under
-``ladder``; ``clutchsim_matched_<key>_method``/``_controller``/``_rtol`` name it), which is how the targets
-"at matching results" are read.
+``LADDER_METHODS`` (method, step-size controller or None for the method's own, rtols).
+For each baseline ``ratio_vs_<method>_matched`` uses the fastest rung whose speed error is
+no larger than that baseline's error (all rungs are printed under ``ladder``;
+``clutchsim_matched_<key>_method``/``_controller``/``_rtol`` name it), which is how the
+targets "at matching results" are read.
 
 ``ratio_vs_casadi`` is the fastest CasADi run's time (``casadi_cvodes_ms``,
 ``casadi_idas_ms`` or their ``_bdf2`` variants; ``ratio_vs_casadi_solver`` names its key)
@@ -47,10 +47,10 @@ over clutchsim's at matched accuracy by the same rule (``ratio_vs_<key>_matched`
 ``clutchsim_best_ms``: the rung matched to RK45 timed alone as the scenario's setting is,
 and ``ratio_vs_rk45_best``.
 
-Timing: clutchsim in this process, median of ``--repeats`` runs after a warm-up (the ladder's
-rungs: interleaved rounds, each rung timed warm once per round, median and minimum of
-``--repeats`` rounds, so that every rung meets the same load; see ``ladder_rows``); each scipy
-and CasADi baseline in a child process, median of ``--scipy-repeats`` runs after a warm-up
+Timing: clutchsim in this process, median of ``--repeats`` runs after a warm-up (the
+ladder's rungs: interleaved rounds, each rung timed warm once per round, median and minimum
+of ``--repeats`` rounds, so that every rung meets the same load; see ``ladder_rows``); each
+scipy and CasADi baseline in a child process, median of ``--scipy-repeats`` runs after a warm-up
 run.  Every baseline run has a time limit of ``--scipy-timeout`` seconds; a baseline whose
 first run does not finish is reported as ``null`` with ``scipy_<method>_lower_bound_ms``
 (``casadi_<solver>_lower_bound_ms``; the limit) and ``ratio_vs_<method>_lower_bound``.
@@ -335,11 +335,12 @@ def casadi_rows(a, out: dict, ctx: dict) -> None:
 def ladder_rows(rungs, t_end: float, repeats: int, err) -> list[dict]:
     """Time the ladder's rungs (``(method or None, controller or None, rtol)``) interleaved:
     a warm-up run of each, then ``repeats`` rounds; in a round each rung runs ``BLOCK``
-    times back to back and the last run is timed (the first ones after another rung's run
-    were measured 25-50 % slower: caches).  A rung's ``ms`` is its median over the rounds
-    (what the baselines report), ``ms_min`` its minimum.  Rungs a few per cent apart, timed
-    one after another, were ordered by the load of the moment, which picked the matched rung
-    by chance; interleaved, every rung meets the same load."""
+    times back to back and the last run is timed (a rung's first run after another rung's
+    was slower: a loop median of 3.43 against 2.57 ms alone, in one measurement).  A
+    rung's ``ms`` is its median over the rounds (what the baselines report), ``ms_min`` its
+    minimum.  Rungs a few per cent apart, timed one after another, were ordered by the load
+    of the moment, which picked the matched rung by chance; interleaved, every rung meets
+    the same load."""
     from clutchsim.scenario import run_scenario
     scs = [_scenario(t_end, rtol, method, ctrl) for method, ctrl, rtol in rungs]
     last = [run_scenario(sc_r, MODEL) for sc_r in scs]
