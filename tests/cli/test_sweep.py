@@ -20,6 +20,7 @@ def test_sweep_writes_the_table_and_resumes(tmp_path, capsys):
     doc = json.loads(capsys.readouterr().out)
     assert doc["runs"] == 3 and doc["status_counts"] == {"completed": 3}
     assert doc["outcome_counts"] == {"completed": 3} and doc["runs_with_warnings"] == 0
+    assert doc["batched_runs"] == 3      # values on the network: one compiled batch
     t = read_results(tmp_path / "mc")
     assert list(t.columns) == ["run", "vehicle.mass", "status", "outcome", "message",
                                "warnings", "lockup_time_s", "slip_energy_J"]

@@ -37,7 +37,7 @@ from .._jit import jit
 (K_ENGAGE, K_LOCKUP, K_VDV, K_AW_RMS, K_JERK_PEAK, K_JERK_RMS, K_SHOCK, K_E_DENS, K_P_DENS,
  K_DIP, K_FLARE, K_SLIP_ENERGY, K_OMEGA_MIN, K_JUDDER, K_HELD, K_RING, K_RING_T0,
  K_RING_AMP, K_RING_CAP, K_RING_WMAX, K_CAP_MAX, K_ENGAGED, K_W_MIN_ENG, K_W_MAX_ENG,
- K_THETA_MAX, N_K) = range(26)
+ K_THETA_MAX, K_RING_N_EV, K_RING_EV_FIRST, K_RING_EV_LAST, N_K) = range(29)
 
 
 @jit
@@ -675,4 +675,29 @@ def launch_kernel(t, a, tf, w, cap, locked, p, omega, tj, theta, ev, wd_sos, wd_
                 k[K_RING_AMP] = amp
                 k[K_RING_CAP] = cwin
                 k[K_RING_WMAX] = wwin
+                # the clutch's events from the first touch on (the warning's rate)
+                n_after = 0
+                for e in range(ev.size):
+                    if ev[e] >= t[touch]:
+                        if n_after == 0:
+                            k[K_RING_EV_FIRST] = ev[e]
+                        k[K_RING_EV_LAST] = ev[e]
+                        n_after += 1
+                k[K_RING_N_EV] = n_after
     return k, aw
+
+
+@jit
+def energy_balance(w_in, losses, ke, pe):
+    """``(ΔE_kinetic, ΔE_spring, residual, scale)`` of a run [J]: ``w_in`` the work put
+    in, ``losses`` the final values of the other energy accounts (in their order), ``ke``
+    and ``pe`` the kinetic and spring energies over the run; ``residual = w_in -
+    ΔE_kinetic - ΔE_spring - Σ losses``, ``scale = max(|w_in|, max ke, 1e-30)``
+    (:func:`clutchsim.driveline.metrics.energy_balance`)."""
+    d_ke = ke[ke.size - 1] - ke[0]
+    d_pe = pe[pe.size - 1] - pe[0]
+    total = 0.0
+    for x in losses:
+        total += x
+    resid = w_in - d_ke - d_pe - total
+    return d_ke, d_pe, resid, max(abs(w_in), np.max(ke), 1e-30)

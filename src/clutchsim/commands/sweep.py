@@ -37,7 +37,8 @@ first chunk (e.g. no Dask scheduler answers) leaves no directory behind.
 The number of runs (--max-runs) and the output rows of a run at the extremes of every
 varied key (--max-output-rows) are checked before anything runs.
 --json prints {"results", "runs", "chunks", "chunks_resumed", "wall_s", "status_counts",
-"outcome_counts", "runs_with_warnings", "sweep_id"}.
+"outcome_counts", "runs_with_warnings", "batched_runs", "sweep_id"} (batched_runs: the
+runs of this call that ran in compiled batches, see docs/sweeps.md).
 exit status: 0 (also when some runs failed: they are rows with their status and outcome),
 2 bad input.
 """
@@ -115,6 +116,7 @@ def run(args) -> int:
                    "wall_s": res.wall_s, "status_counts": res.status_counts,
                    "outcome_counts": res.outcome_counts,
                    "runs_with_warnings": res.runs_with_warnings,
+                   "batched_runs": res.batched_runs,
                    "sweep_id": res.manifest["sweep_id"]})
     return 0
 

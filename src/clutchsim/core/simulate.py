@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import threading
 from collections.abc import Mapping
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -19,7 +20,7 @@ from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
 from .system import System, call_jac, closest, has_jacobian, kernels
 
-__all__ = ["resolve_inputs", "simulate"]
+__all__ = ["RunEnd", "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
 
 def _check_span(t_span) -> tuple[float, float]:
     try:
@@ -60,11 +61,12 @@ def _breakpoints(signals: list[Signal], t0: float, t1: float) -> np.ndarray:
 
 
 def _failure_message(code: int, t: float, k: int, i: int, system: System, opts: SolverOptions,
-                     solver: str, window: float) -> tuple[Outcome, str, str]:
+                     solver: str, window: float, event_names=None) -> tuple[Outcome, str, str]:
     """(outcome, message, name of the event that ended the run or "") for an integrator
-    code."""
+    code (``event_names``: the run's, default the system's)."""
     code = Code(code)
-    ev = system.event_names[k] if 0 <= k < system.n_events else "?"
+    names = system.event_names if event_names is None else event_names
+    ev = names[k] if 0 <= k < len(names) else "?"
     state = (f"'{system.state_names[i]} [{system.state_units[i]}]'"
              if 0 <= i < system.n_states else "(unknown)")
     outcome = OUTCOME_OF_CODE[code]
@@ -241,6 +243,11 @@ class _Prepared:
         self.chatter_window = float(fopt[drv.O_CHATTER_WINDOW])
         self.refs = refs        # what the key names by identity, kept alive with it
 
+    @property
+    def options(self) -> SolverOptions:
+        """The options the arguments were built for."""
+        return self.refs[0]
+
 
 #: (plant type, its layout, solver, span, ids of the options and signals) -> _Prepared
 _PREPARED: dict = {}
@@ -334,24 +341,80 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
             _load_or_compile(args)
     (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
      wall) = _integrate(args, prep.fixed_key)
-    outcome, message, ended_by = _failure_message(int(code), float(t_end), int(k), int(i),
-                                                  system, opts, solver,
-                                                  prep.chatter_window)
-    warnings = []
-    if ts.shape[0] >= opts.max_output and ts[-1] < t_end:
-        warnings.append(f"output stopped after {opts.max_output} rows at t = {ts[-1]:.9g} s "
-                        f"of a run that went on to {t_end:.9g} s (raise "
-                        "SolverOptions.max_output or set dt_out)")
-        message += "; " + warnings[-1]
-    stats = Stats(steps=int(st[drv.S_STEPS]), rejected=int(st[drv.S_REJECTED]),
-                  rhs_evals=int(st[drv.S_RHS]), jacobians=int(st[drv.S_JAC]),
-                  lu_decompositions=int(st[drv.S_LU]), events=int(st[drv.S_EVENTS]),
-                  min_step_s=float(h_small) if math.isfinite(h_small) else 0.0, wall_s=wall,
-                  event_evals=int(st[drv.S_EV_CALLS]))
+    end = run_end(system, opts, solver, prep.chatter_window, int(code), float(t_end), int(k),
+                  int(i), ts.shape[0], float(ts[-1]))
     events = Events(ev_t, ev_k, ev_a, system.event_names, system.event_sources, ACTION_WORDS)
-    return assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver,
-                    event=ended_by, warnings=tuple(warnings),
-                    event_source=system.event_sources[int(k)] if ended_by else "")
+    return assemble(system, ts, ys, us, outs, end.outcome, end.message,
+                    run_stats(st, h_small, wall), events, solver, event=end.event,
+                    warnings=end.warnings, event_source=end.event_source)
+
+
+class RunEnd(NamedTuple):
+    """How a run of the compiled loop ended: its outcome, message, the event that ended
+    it (its name and source, "" when none did) and the warnings about the run itself."""
+
+    outcome: Outcome
+    message: str
+    event: str
+    event_source: str
+    warnings: tuple
+
+
+def run_end(system: System, opts: SolverOptions, solver: str, chatter_window: float,
+            code: int, t_end: float, k: int, i: int, n_rows: int, t_last: float,
+            event_names=None) -> RunEnd:
+    """The :class:`RunEnd` of a run of the compiled loop from what the loop returned: its
+    code, end time, event and state index, and the number of output rows and the last
+    one's time (the output cap's warning).  ``event_names``: the run's (a variant's),
+    default ``system``'s.  Shared by :func:`simulate` and the loops that run many
+    variants in one compiled call (:func:`prepare_runs`)."""
+    outcome, message, ended_by = _failure_message(code, t_end, k, i, system, opts, solver,
+                                                  chatter_window, event_names)
+    warnings: tuple = ()
+    if n_rows >= opts.max_output and t_last < t_end:
+        warnings = ((f"output stopped after {opts.max_output} rows at t = {t_last:.9g} s "
+                     f"of a run that went on to {t_end:.9g} s (raise "
+                     "SolverOptions.max_output or set dt_out)"),)
+        message += "; " + warnings[-1]
+    return RunEnd(outcome, message, ended_by,
+                  system.event_sources[k] if ended_by else "", warnings)
+
+
+def run_stats(st, h_small: float, wall: float) -> Stats:
+    """The :class:`Stats` of a run from the compiled loop's counters (``st``, indexed by
+    ``_driver.S_*``), its smallest step and its wall time."""
+    return Stats(steps=int(st[drv.S_STEPS]), rejected=int(st[drv.S_REJECTED]),
+                 rhs_evals=int(st[drv.S_RHS]), jacobians=int(st[drv.S_JAC]),
+                 lu_decompositions=int(st[drv.S_LU]), events=int(st[drv.S_EVENTS]),
+                 min_step_s=float(h_small) if math.isfinite(h_small) else 0.0,
+                 wall_s=float(wall), event_evals=int(st[drv.S_EV_CALLS]))
+
+
+def prepare_runs(system: System, t_span, inputs: Mapping | None = None, *,
+                 solver: str = DEFAULT_METHOD, options: SolverOptions | None = None):
+    """The arguments of the compiled loop (:func:`clutchsim.core._driver.integrate`) for
+    runs of ``system`` and of its variants (other parameter vectors and initial states of
+    the same layout: :meth:`System.with_values`) over ``t_span`` with ``inputs``: for a
+    caller that runs many variants from its own compiled loop (a sweep's chunk,
+    :func:`clutchsim.driveline.batch.launch_batch`).  ``.args`` holds None for the
+    initial state and the parameter vector (``args[6]``, ``args[7]``);
+    ``.chatter_window`` is what :func:`run_end` needs.  The system, span, solver and
+    options are checked as :func:`simulate` checks them (compiled methods only), and the
+    plant's functions are compiled or loaded."""
+    if not isinstance(system, System):
+        raise TypeError(f"system must be a clutchsim System, got {type(system).__name__}")
+    check_solver(solver)
+    if solver.startswith("scipy-"):
+        raise ValueError(f"solver {solver!r}: a batch of runs needs a compiled method")
+    opts = options if options is not None else SolverOptions()
+    t0, t1 = _check_span(t_span)
+    signals = resolve_inputs(system, inputs)
+    prep = _prepare(system, signals, t0, t1, solver, opts)
+    if prep.args[13][drv.I_EXACT_JAC] and system.tag not in _CHECKED_JACOBIANS:
+        check_jacobian(system, system.y0, signals, t0)
+    for fn in prep.args[0]:
+        fn.__wrapper_address__()
+    return prep
 
 
 def assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver, *,

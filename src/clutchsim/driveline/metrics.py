@@ -6,8 +6,10 @@ This module reads results only; running a scenario is :mod:`clutchsim.scenario.r
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import replace
 from types import MappingProxyType
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -19,9 +21,9 @@ from ..analysis.judder import JUDDER_BAND_HZ
 from ..core import Outcome, Result
 from .chain import ENERGY_STATES
 
-__all__ = ["LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "analyse_run", "energy_balance",
-           "launch_metrics",
-           "launch_warnings", "with_weighted_acceleration"]
+__all__ = ["LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "RunSummary", "analyse_run",
+           "energy_balance", "launch_metrics", "launch_warnings", "metrics_of",
+           "warnings_of", "with_weighted_acceleration"]
 
 #: steps per simulated second above which a run is warned about [1/s].  The shipped
 #: scenarios take 7 to 1,900 (measured: default launch 365-530, ten launches 440-610, tip-out
@@ -116,28 +118,65 @@ def energy_balance(res: Result) -> dict:
     - W_sync``; ``energy_balance_rel = |residual| / max(|W_in|, E_kinetic(0), max E_kinetic)``.
     """
     out = {k: float(res[k][-1]) for k in ENERGY_STATES}
-    ke, pe = res["E_kinetic"], res["E_spring"]
-    d_ke, d_pe = float(ke[-1] - ke[0]), float(pe[-1] - pe[0])
-    resid = out["W_in"] - d_ke - d_pe - sum(out[k] for k in ENERGY_STATES[1:])
-    scale = max(abs(out["W_in"]), float(np.max(ke)), 1e-30)
+    d_ke, d_pe, resid, scale = _k.energy_balance(
+        out["W_in"], np.array([out[k] for k in ENERGY_STATES[1:]]),
+        np.ascontiguousarray(res["E_kinetic"]), np.ascontiguousarray(res["E_spring"]))
     out.update(delta_E_kinetic=d_ke, delta_E_spring=d_pe, residual=resid,
                energy_balance_rel=abs(resid) / scale)
     return out
 
 
-def _ringing(res: Result, clutch: str, run: _Run) -> str | None:
+class RunSummary(NamedTuple):
+    """What a run's launch metrics and warnings are computed from (:func:`metrics_of`,
+    :func:`warnings_of`): the run's end and statistics, and the launch kernel's values
+    ``k`` at the ``_kernels.K_*`` slots.  Built from a :class:`~clutchsim.core.Result` by
+    :func:`summary` or, for a sweep's chunk run in one compiled call, from its arrays
+    (:mod:`clutchsim.driveline.batch`)."""
+
+    status: str             #: "completed", "stopped" or "failed"
+    outcome: Outcome
+    message: str
+    warnings: tuple         #: the run's warnings so far
+    ended_by: str           #: the component whose event ended the run ("" if none did)
+    kinds: Mapping          #: component -> kind (the system's metadata)
+    n_t: int                #: output rows
+    span_s: float           #: last output time minus the first [s]
+    has_slip: bool          #: whether the run has the clutch's slip signal
+    steps: int
+    rhs_evals: int
+    events: int
+    min_step_s: float
+    wall_s: float
+    k: np.ndarray
+    energy_balance_rel: float
+
+
+def summary(res: Result, clutch: str, run: _Run, *, energy: bool = True) -> RunSummary:
+    """The :class:`RunSummary` of ``res`` with the launch kernel's values ``run``
+    (``energy``: with its energy balance; else NaN)."""
+    st = res.stats
+    return RunSummary(res.status, Outcome(res.outcome), res.message, tuple(res.warnings),
+                      _ended_by(res), res.metadata.get("kinds", {}), int(res.t.size),
+                      float(res.t[-1] - res.t[0]) if res.t.size else 0.0,
+                      f"w_slip_{clutch}" in res.signals, st.steps, st.rhs_evals, st.events,
+                      st.min_step_s, st.wall_s, run.k,
+                      energy_balance(res)["energy_balance_rel"] if energy else math.nan)
+
+
+def _ringing(k, clutch: str) -> str | None:
     """The warning for a contact whose torque swings, after it first held, further both
-    ways than its capacity (half its peak-to-peak above the capacity), else None."""
-    k = run.k
+    ways than its capacity (half its peak-to-peak above the capacity), else None (``k``:
+    the launch kernel's values)."""
     if k[_k.K_RING] != 1.0:
         return None
     t0, amplitude, capacity = (float(k[s]) for s in (_k.K_RING_T0, _k.K_RING_AMP,
                                                      _k.K_RING_CAP))
-    crossings = run.ev[run.ev >= t0]
+    n_ev = int(k[_k.K_RING_N_EV])
+    first, last = float(k[_k.K_RING_EV_FIRST]), float(k[_k.K_RING_EV_LAST])
     rate = ""
-    if len(crossings) > 2 and crossings[-1] > crossings[0]:
-        hz = 0.5 * (len(crossings) - 1) / (crossings[-1] - crossings[0])
-        rate = (f" with {len(crossings):,} events of {clutch!r} (~{hz:.0f} Hz if each is a "
+    if n_ev > 2 and last > first:
+        hz = 0.5 * (n_ev - 1) / (last - first)
+        rate = (f" with {n_ev:,} events of {clutch!r} (~{hz:.0f} Hz if each is a "
                 "slip reversal)")
     return (f"contact {clutch!r} rings after lock-up: from t = {t0:.3g} s its torque swings "
             f"±{amplitude:.0f} N·m{rate}, above its capacity {capacity:.0f} N·m, so it keeps "
@@ -166,17 +205,19 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
     """
     if res.status == "failed" or res.t.size < 2:
         return []
-    return _warnings(res, clutch, _Run(res, clutch, None), expect_lockup, friction)
+    return warnings_of(summary(res, clutch, _Run(res, clutch, None), energy=False), clutch,
+                       expect_lockup=expect_lockup, friction=friction)
 
 
-def _warnings(res: Result, clutch: str, run: _Run, expect_lockup: bool, friction: bool
-              ) -> list[str]:
-    if res.status == "failed" or res.t.size < 2:
+def warnings_of(sm: RunSummary, clutch: str, *, expect_lockup: bool = True,
+                friction: bool = True) -> list[str]:
+    """:func:`launch_warnings` of the run summarised by ``sm``."""
+    if sm.status == "failed" or sm.n_t < 2:
         return []
     out = []
-    k = run.k
-    span = float(res.t[-1] - res.t[0])
-    if expect_lockup and f"w_slip_{clutch}" in res.signals and k[_k.K_HELD] != 1.0:
+    k = sm.k
+    span = sm.span_s
+    if expect_lockup and sm.has_slip and k[_k.K_HELD] != 1.0:
         cap_max = float(k[_k.K_CAP_MAX])
         if not k[_k.K_ENGAGED] > 0:
             cause = ("it never engaged (its capacity stayed below half its largest value "
@@ -196,12 +237,12 @@ def _warnings(res: Result, clutch: str, run: _Run, expect_lockup: bool, friction
                    "there is one), or, if the clutch is meant to slip, set [scenario] "
                    "expect_lockup = false")
     if friction:
-        ring = _ringing(res, clutch, run)
+        ring = _ringing(k, clutch)
         if ring:
             out.append(ring)
-    steps = res.stats.steps
+    steps = sm.steps
     if span > 0 and steps > STEP_COUNT_FLOOR and steps / span > STEP_RATE_LIMIT:
-        n_ev = res.stats.events
+        n_ev = sm.events
         out.append(f"the run took {steps:,} steps, {steps / span:,.0f} per simulated second, "
                    f"far above the {STEP_RATE_LIMIT:,.0f}/s that clutchsim's scenarios need "
                    f"(usually 300-2,000/s), with {n_ev:,} events. Cause: something fast was "
@@ -216,10 +257,6 @@ def _warnings(res: Result, clutch: str, run: _Run, expect_lockup: bool, friction
 def _ended_by(res: Result) -> str:
     """The component whose event ended the run ("" when none did)."""
     return res.event_source if res.event else ""
-
-
-def _kind(res: Result, component: str) -> str:
-    return res.metadata.get("kinds", {}).get(component, "")
 
 
 def _event_times(res: Result, component: str) -> np.ndarray:
@@ -268,30 +305,34 @@ def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None 
     (:func:`clutchsim.analysis._kernels.launch_kernel`: the formulas of
     :mod:`clutchsim.analysis.launch_quality`); None where a signal is missing or a value
     is not finite."""
-    return _metrics(res, clutch, _Run(res, clutch, lining))
+    return metrics_of(summary(res, clutch, _Run(res, clutch, lining)), clutch)
 
 
-def _metrics(res: Result, clutch: str, run: _Run) -> dict:
-    m: dict = {"completed": res.status == "completed", "outcome": str(res.outcome),
-               "message": res.message, "warnings": list(res.warnings)}
-    if res.outcome == Outcome.CHATTER and _ended_by(res) == clutch:
+def metrics_of(sm: RunSummary, clutch: str) -> dict:
+    """:func:`launch_metrics` of the run summarised by ``sm``."""
+    m: dict = {"completed": sm.status == "completed", "outcome": str(sm.outcome),
+               "message": sm.message, "warnings": list(sm.warnings)}
+    if sm.outcome == Outcome.CHATTER and sm.ended_by == clutch:
         m["message"] = ("stopped by chatter detection at clutch lock-up (the slip speed of "
                         f"{clutch!r} reached zero and the switching law re-fired): "
-                        + res.message)
-    m.update(_quality(run))
-    value = run.value
+                        + sm.message)
+    k = sm.k
+
+    def value(slot):
+        v = float(k[slot])
+        return v if math.isfinite(v) else None
+    m.update({key: value(slot) for key, slot in _QUALITY})
     m["slip_energy_J"] = value(_k.K_SLIP_ENERGY)
     m["peak_lining_temp_C"] = value(_k.K_THETA_MAX)
     m["engine_speed_min_rpm"] = value(_k.K_OMEGA_MIN)
-    m["engine_stalled"] = (res.outcome == Outcome.EVENT_FAILED
-                           and _kind(res, _ended_by(res)) == "engine")
+    m["engine_stalled"] = (sm.outcome == Outcome.EVENT_FAILED
+                           and sm.kinds.get(sm.ended_by, "") == "engine")
     if m["engine_stalled"]:
         m["outcome"] = "stalled"
-    m["energy_balance_rel"] = energy_balance(res)["energy_balance_rel"]
+    m["energy_balance_rel"] = sm.energy_balance_rel
     m["judder_amplitude_Nm"] = value(_k.K_JUDDER)
-    st = res.stats
-    m.update(steps=st.steps, rhs_evals=st.rhs_evals, events=st.events,
-             min_step_s=st.min_step_s, wall_s=st.wall_s)
+    m.update(steps=sm.steps, rhs_evals=sm.rhs_evals, events=sm.events,
+             min_step_s=sm.min_step_s, wall_s=sm.wall_s)
     return m
 
 
@@ -302,7 +343,8 @@ def analyse_run(res: Result, clutch: str = "clutch", *, expect_lockup: bool = Tr
     :func:`launch_metrics`, from one call of the compiled launch kernel (what
     :func:`clutchsim.scenario.run.run_system` does with every run)."""
     run = _Run(res, clutch, lining)
-    warnings = tuple(_warnings(res, clutch, run, expect_lockup, friction))
+    sm = summary(res, clutch, run)
+    warnings = tuple(warnings_of(sm, clutch, expect_lockup=expect_lockup, friction=friction))
     data, units = res.data, res.units
     if "a_vehicle" in res.signals and "a_weighted" not in res.signals:
         aw = run.aw
@@ -311,4 +353,4 @@ def analyse_run(res: Result, clutch: str = "clutch", *, expect_lockup: bool = Tr
         units = MappingProxyType({**units, "a_weighted": "m/s²"})
     if warnings or data is not res.data:
         res = replace(res, data=data, units=units, warnings=res.warnings + warnings)
-    return res, _metrics(res, clutch, run)
+    return res, metrics_of(sm._replace(warnings=sm.warnings + warnings), clutch)

@@ -482,16 +482,24 @@ class Plan:
     def variant_system(self, base: System, comps, params, inputs0=None, changed=(),
                        produced0: dict | None = None) -> System:
         """``base`` (a :meth:`system` of this plan) for the components ``comps`` with
-        parameter vector ``params``: a sweep's variant.  Its initial state is computed
-        for ``comps`` (``produced0``: the produced signals' guess, :meth:`produced0` of
-        ``base``); its event names again only where a component named in ``changed``
-        formats one from its values; everything else is ``base``'s."""
+        parameter vector ``params``: a sweep's variant (its initial state and event names
+        from :meth:`variant_state`); everything else is ``base``'s."""
+        y0, names = self.variant_state(comps, params, inputs0, changed, produced0)
+        return base.with_values(params, y0, names)
+
+    def variant_state(self, comps, params, inputs0=None, changed=(),
+                      produced0: dict | None = None) -> tuple:
+        """``(y0, event_names)`` of a variant: the initial state for the components
+        ``comps`` with parameter vector ``params`` (``produced0``: the produced signals'
+        guess, :meth:`produced0` of the base system), and its event names, formatted
+        again only where a component named in ``changed`` formats one from its values
+        (else None: the base system's)."""
         comps = tuple(comps)
         y0 = self.state0(comps, inputs0, params, produced0)
         changed = set(changed)
         names = (self._event_names(comps) if any(t[1] in changed for t in
                                                  self.event_templates.values()) else None)
-        return base.with_values(params, y0, names)
+        return y0, names
 
     # ------------------------------------------------------------------ rendering
     def render(self, g) -> str:

@@ -6,12 +6,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..analysis.actuation import controller_warnings
 from ..core import Result, SolverOptions, simulate
 from ..driveline.metrics import analyse_run
 from .loader import resolve_scenario
 
-__all__ = ["LaunchResult", "expects_lockup", "lining_geometry", "run_scenario"]
+__all__ = ["LaunchResult", "batch_reason", "expects_lockup", "lining_geometry", "run_batch",
+           "run_scenario"]
 
 
 @dataclass(frozen=True)
@@ -63,7 +66,42 @@ def run_system(scenario, system, model: str | None = None, *, solver: str | None
     extra = controller_warnings(scenario, system, res)
     if extra:
         res = res.with_warnings(*extra)
+        metrics["warnings"] = [*metrics["warnings"], *extra]
     return LaunchResult(name, res, metrics)
+
+
+def batch_reason(scenario, system) -> str:
+    """Why the variants of ``system`` (built from ``scenario``) cannot be run as a batch
+    (:func:`run_batch`; "" when they can)."""
+    kinds = system.metadata.get("kinds", {})
+    if any(k in ("launch_controller", "driver") for k in kinds.values()):
+        return "a controller's stability check needs each run's result"
+    from ..driveline.batch import batch_supported
+    return batch_supported(system, (0.0, scenario.t_end), scenario.clutch)
+
+
+def run_batch(scenario, system, variants, *, options: SolverOptions | None = None
+              ) -> list[tuple[str, dict]]:
+    """Run the variants of ``system`` (built from ``scenario``) in one compiled call:
+    ``variants`` = ``[(params, y0, event_names or None), ...]``
+    (:meth:`clutchsim.scenario.variants.VariantPlan.values`).  Returns ``(status,
+    metrics)`` per variant, the status of its result and the metrics
+    :func:`run_system` gives for it (:func:`clutchsim.driveline.batch.launch_batch`).
+    Raises ValueError when they cannot be batched (:func:`batch_reason`)."""
+    why = batch_reason(scenario, system)
+    if why:
+        raise ValueError(f"{system.name}: cannot run a batch: {why}")
+    from ..driveline.batch import launch_batch
+    inputs = {n: scenario.inputs[n] for n in system.input_names}
+    names = [v[2] or system.event_names for v in variants]
+    return launch_batch(system, (0.0, scenario.t_end), inputs,
+                        np.array([v[0] for v in variants]),
+                        np.array([v[1] for v in variants]), clutch=scenario.clutch,
+                        solver=scenario.solver,
+                        options=options if options is not None else scenario.options,
+                        expect_lockup=expects_lockup(scenario),
+                        friction=_is_friction_clutch(scenario),
+                        lining=lining_geometry(scenario), event_names=names)
 
 
 def _is_friction_clutch(scenario) -> bool:

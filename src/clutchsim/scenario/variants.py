@@ -91,6 +91,9 @@ class VariantPlan:
         self._inputs0 = scenario.inputs0()
         self._lock = threading.Lock()
         self._base = None
+        #: why its variants cannot run as a batch (:func:`clutchsim.scenario.run.
+        #: batch_reason`; "" when they can, None until a sweep's runner asks)
+        self.batch_reason: str | None = None
         self.plan = compile_network(net)
         self.params = self.plan.values_vector(net.components)
         self.base = _observed(scenario, net)
@@ -201,6 +204,16 @@ class VariantPlan:
         """The :class:`~clutchsim.core.System` of the variant ``changes`` = ``((key,
         value), ...)``, or None when it must be rebuilt (:meth:`rebuilt`): a rebuild key,
         or a value that its checks refuse."""
+        found = self.values(changes)
+        if found is None:
+            return None
+        p, y0, names = found
+        return self._base_system()[0].with_values(p, y0, names)
+
+    def values(self, changes):
+        """``(params, y0, event_names)`` of the variant ``changes`` (``event_names`` None:
+        the base system's), or None when it must be rebuilt (see :meth:`system`, which is
+        the base system with these)."""
         comps = list(self.net.components)
         friction: dict = {}
         touched = []
@@ -233,12 +246,18 @@ class VariantPlan:
             comps[i] = new
             touched.append(i)
         p = self.plan.updated_vector(self.params, self.net.components, comps, touched)
-        base, produced0 = self._base_system()
+        _base, produced0 = self._base_system()
         try:
-            return self.plan.variant_system(base, comps, p, self._inputs0,
-                                            {comps[i].name for i in touched}, produced0)
+            y0, names = self.plan.variant_state(comps, p, self._inputs0,
+                                                {comps[i].name for i in touched}, produced0)
         except ValueError:
             return None     # e.g. initial speeds that violate a gear: the rebuild says so
+        return p, y0, names
+
+    def base_system(self):
+        """The base scenario's :class:`~clutchsim.core.System` (a variant is this system
+        with its own :meth:`values`)."""
+        return self._base_system()[0]
 
     def _base_system(self):
         """(the base scenario's system, its produced signals at the start), built once:

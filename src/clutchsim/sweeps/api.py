@@ -36,6 +36,11 @@ class SweepResult:
     outcome_counts: dict = field(default_factory=dict)
     #: runs that completed with warnings (the ``warnings`` column says which)
     runs_with_warnings: int = 0
+    #: runs of this call that ran in compiled batches (:func:`~clutchsim.sweeps.runner.
+    #: run_chunk`) and the wall time of those batches' compiled loops [s] (integrator
+    #: and metrics kernel, summed over the workers)
+    batched_runs: int = 0
+    batch_loop_wall_s: float = 0.0
 
 
 def _default_chunk_size(n: int) -> int:
@@ -270,7 +275,7 @@ def _execute(store, scenario, design, manifest, backend, workers, address,
            "max_output": max_output_rows, "options": manifest["options"]}
     counts: dict = {}
     outcomes: dict = {}
-    state = {"done": done_runs, "warned": 0}
+    state = {"done": done_runs, "warned": 0, "batched": 0, "loop": 0.0}
 
     def done(index, out):
         store.write_chunk(index, ids[index][1], out)
@@ -281,6 +286,8 @@ def _execute(store, scenario, design, manifest, backend, workers, address,
             outcomes[outcome] = outcomes.get(outcome, 0) + 1
             state["warned"] += bool(warnings)
         state["done"] += out["n"]
+        state["batched"] += out.get("batched", 0)
+        state["loop"] += out.get("batch_loop_wall_s", 0.0)
         if progress is not None:
             progress(state["done"], design.n)
 
@@ -307,7 +314,8 @@ def _execute(store, scenario, design, manifest, backend, workers, address,
         counts, outcomes, state["warned"] = _count_statuses(store.path)
     return {"runs": design.n, "chunks": n_chunks, "chunks_skipped": skipped,
             "wall_s": time.perf_counter() - t0, "status_counts": counts,
-            "outcome_counts": outcomes, "runs_with_warnings": state["warned"]}
+            "outcome_counts": outcomes, "runs_with_warnings": state["warned"],
+            "batched_runs": state["batched"], "batch_loop_wall_s": state["loop"]}
 
 
 def _count_statuses(path: Path) -> tuple[dict, dict, int]:

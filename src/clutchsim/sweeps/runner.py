@@ -73,19 +73,22 @@ def run_variant(job: dict, values: tuple, plan=None, options=None) -> tuple[dict
     except (ValueError, ArithmeticError, KeyError, TypeError) as exc:
         row["message"] = f"{type(exc).__name__}: {exc}"
         return row, frame
-    m = lr.metrics
-    row["status"] = lr.result.status
-    row["outcome"] = m["outcome"]
-    row["message"] = m["message"]
-    row["warnings"] = list(m["warnings"])
+    row = _row(job, lr.result.status, lr.metrics)
+    if job["keep_traces"]:
+        frame = lr.result.to_frame()
+    return row, frame
+
+
+def _row(job: dict, status: str, m: dict) -> dict:
+    """A run's row (but its run id and varied values) from its status and metrics."""
+    row = {"status": status, "outcome": m["outcome"], "message": m["message"],
+           "warnings": list(m["warnings"])}
     for name in job["metrics"]:
         v = m.get(name)
         if isinstance(v, float) and not math.isfinite(v):
             v = None
         row[name] = v
-    if job["keep_traces"]:
-        frame = lr.result.to_frame()
-    return row, frame
+    return row
 
 
 def _capped(options, job: dict):
@@ -129,15 +132,20 @@ def result_columns(keys, metrics) -> tuple:
 
 
 def run_chunk(job: dict, runs: list) -> dict:
-    """Run ``runs`` = ``[(run_id, values), ...]`` one after the other.
+    """Run ``runs`` = ``[(run_id, values), ...]``.
 
     Returns ``{"columns": {name: [value per run]}, "n": len(runs), "traces": {run_id:
-    DataFrame}}``: the chunk's table as one list per column (:func:`result_columns`), so
-    that the writer builds it in one step.  The plan and the capped solver options are
-    looked up once per chunk, not per run.
+    DataFrame}, "batched": int, "batch_loop_wall_s": float}``: the chunk's table as one
+    list per column (:func:`result_columns`), so that the writer builds it in one step.
+    The plan and the capped solver options are looked up once per chunk, not per run.
+
+    The variants that are parameter values on the scenario's network run in one compiled
+    call (:func:`clutchsim.scenario.run.run_batch`: ``batched`` of them, whose compiled
+    loop took ``batch_loop_wall_s``); the others (rebuild keys, values the checks refuse,
+    a sweep that keeps traces, a scenario the batch cannot run) one by one
+    (:func:`run_variant`).  Both give the same rows.
     """
     names = result_columns(job["keys"], job["metrics"])
-    cols: dict = {n: [] for n in names}
     traces = {}
     plan = options = None
     try:
@@ -146,12 +154,53 @@ def run_chunk(job: dict, runs: list) -> dict:
     except (ValueError, ArithmeticError, KeyError, TypeError):
         plan = None         # each run reports the error in its own row
     keys = job["keys"]
+    rows: dict = {}
+    loop_wall = 0.0
+    if plan is not None and not job["keep_traces"] and job.get("batch", True):
+        rows, loop_wall = _run_batched(job, plan, options, runs)
+    n_batched = len(rows)
     for run_id, values in runs:
+        if run_id in rows:
+            continue
         row, frame = run_variant(job, values, plan, options)
+        rows[run_id] = row
+        if frame is not None:
+            traces[run_id] = frame
+    cols: dict = {n: [] for n in names}
+    for run_id, values in runs:
+        row = rows[run_id]
         row["run"] = run_id
         row.update(zip(keys, values))
         for n in names:
             cols[n].append(row.get(n))
-        if frame is not None:
-            traces[run_id] = frame
-    return {"columns": cols, "n": len(runs), "traces": traces}
+    return {"columns": cols, "n": len(runs), "traces": traces,
+            "batched": n_batched,
+            "batch_loop_wall_s": loop_wall}
+
+
+def _run_batched(job: dict, plan, options, runs: list) -> tuple[dict, float]:
+    """``({run_id: row}, loop wall time [s])`` of the runs of ``runs`` that are values on
+    the plan's network, run as one batch (none when the scenario cannot be batched)."""
+    from ..scenario.run import batch_reason, run_batch
+    base = plan.base_system()
+    if plan.batch_reason is None:
+        plan.batch_reason = batch_reason(plan.scenario, base)
+    if plan.batch_reason:
+        return {}, 0.0
+    ids, variants = [], []
+    for run_id, values in runs:
+        try:
+            found = plan.values(tuple(zip(job["keys"], values)))
+        except (ValueError, ArithmeticError, KeyError, TypeError):
+            found = None        # run one by one: its row says why
+        if found is not None:
+            ids.append(run_id)
+            variants.append(found)
+    if not variants:
+        return {}, 0.0
+    try:
+        done = run_batch(plan.scenario, base, variants, options=options)
+    except (ValueError, ArithmeticError):
+        return {}, 0.0          # e.g. a non-finite value: each run's row says which
+    rows = {run_id: _row(job, status, m) for run_id, (status, m) in zip(ids, done)}
+    return rows, sum(m["loop_wall_s"] for _s, m in done)
