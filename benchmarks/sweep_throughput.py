@@ -14,9 +14,10 @@ grade (uniform 0–8 %).  Measured:
   ratio ``dask_vs_in_process``) and included (``dask_local_incl_startup_runs_per_s``).
   1,000 runs by default: the ``--scaling-runs`` sweep's 7 chunks of 32 on 2 workers are
   4 against 3 by construction and its ratio moved between 1.08 and 1.67 from run to run.
-  Start-up is the cluster plus one launch on every worker (``_warm_worker``: each worker
-  process loads the compiled plant from the numba cache once, ~1 s, which would otherwise
-  land inside the timed runs of whichever worker meets its first chunk there).
+  Start-up is the cluster plus a two-launch sweep on every worker (``_warm_worker``: each
+  worker process loads the compiled plant and the batch loop from the numba cache once,
+  ~1-2 s, which would otherwise land inside the timed runs of whichever worker meets its
+  first chunk there).
 
 The split of the ``runs`` sweep: ``cpu_ms_per_run`` (this process's CPU time, all threads:
 the integrator, the metrics kernel and the Python around them, per run),
@@ -25,10 +26,15 @@ run: the ``wall_s`` metric), ``idle_core_fraction`` (1 − CPU time / (cores × 
 core time this process left unused, to the other processes of a shared machine, to the
 GIL, or to the tail of the last chunks) and ``load_avg_1min`` at the end.
 
-Also ``setup_ms_per_run``: the Python time per run outside the integrator (the variant's
-parameter vector and system, the call into the compiled loop, the result, the metrics, and
-the sweep's own start-up and chunk files spread over the runs) = wall per run on 1 thread
-minus the integrator's own wall time.
+The variants of a chunk run in one compiled call (``clutchsim.driveline.batch``: the
+integrator and the metrics kernel for each, ``batched_runs`` of them), so the Python time
+per run is what is left outside it: ``python_ms_per_run`` = (this process's CPU time −
+the batches' compiled wall time, ``batch_loop_ms_per_run``) per run of the ``runs`` sweep
+(the variants' parameter vectors and initial states, the rows, the chunk files and the
+sweep's start-up spread over the runs), and ``python_ms_per_run_1_worker`` = (wall on 1
+thread − the batches' wall) per run of the ``--scaling-runs`` sweep.  Also
+``setup_ms_per_run`` as before the batches: wall per run on 1 thread minus the
+integrator's own wall time (the metrics kernel, compiled, counts as setup there).
 Issue 7 asks for 10,000 runs (the default; ~3 min on the 2-core project machine at ~30 ms
 per launch); ``--runs`` sets a smaller count (the result says which was used).
 
@@ -51,9 +57,13 @@ VARY = {"vehicle.mass": "uniform(1100, 1500)", "vehicle.grade": "uniform(0, 8)"}
 
 
 def _warm_worker():
-    """Load the compiled launch plant in this (worker) process: one default launch."""
-    from clutchsim.scenario import run_scenario
-    return run_scenario(None, "mykhailevych2020").metrics["completed"]
+    """Load the compiled launch plant and the sweep's batch loop in this (worker)
+    process: a sweep of two default launches, in the worker itself."""
+    from clutchsim.sweeps import sweep
+    with tempfile.TemporaryDirectory(prefix="clutchsim-warm-") as d:
+        res = sweep(None, {"vehicle.mass": [1200.0, 1300.0]}, out=os.path.join(d, "w"),
+                    workers=1, load=False)
+    return res.batched_runs == 2 and res.status_counts == {"completed": 2}
 
 
 def run(out, n, **kw):
@@ -85,10 +95,16 @@ def main():
     loops = pq.read_table(res.path / "results.parquet", columns=["wall_s"])["wall_s"]
     loop_s = sum(v for v in loops.to_pylist() if v is not None)
     workers = os.cpu_count()
+    # the compiled loops' own time: the batches' (integrator and metrics kernel) when every
+    # run was batched, else the integrators' (the wall_s column)
+    compiled_s = res.batch_loop_wall_s if res.batched_runs == a.runs else loop_s
     out = {"runs": a.runs, "wall_s": wall, "runs_per_s": a.runs / wall, "peak_rss_mb": rss,
            "status_counts": res.status_counts, "workers": workers,
            "cpu_ms_per_run": cpu / a.runs * 1e3,
            "loop_wall_ms_per_run": loop_s / a.runs * 1e3,
+           "batched_runs": res.batched_runs,
+           "batch_loop_ms_per_run": res.batch_loop_wall_s / a.runs * 1e3,
+           "python_ms_per_run": (cpu - compiled_s) / a.runs * 1e3,
            "idle_core_fraction": 1.0 - cpu / (workers * wall),
            "load_avg_1min": os.getloadavg()[0]}
     w1, r1 = run(os.path.join(d, "w1"), a.scaling_runs, workers=1, metrics=["wall_s"])
@@ -98,6 +114,9 @@ def main():
     out.update(scaling_runs=a.scaling_runs, runs_per_s_1_worker=a.scaling_runs / w1,
                runs_per_s_2_workers=a.scaling_runs / w2, speedup_1_to_2=w1 / w2,
                setup_ms_per_run=(w1 - integ_s) / a.scaling_runs * 1e3,
+               python_ms_per_run_1_worker=(w1 - (r1.batch_loop_wall_s if r1.batched_runs
+                                                 == a.scaling_runs else integ_s))
+               / a.scaling_runs * 1e3,
                integrator_ms_per_run=integ_s / a.scaling_runs * 1e3)
     if not a.no_dask:
         from distributed import Client, LocalCluster

@@ -269,7 +269,7 @@ class Plan:
         if relations:
             self._derive(p, comps)
         elif inertias:      # N, G, its pseudo-inverse and B stay those already in p
-            self._derive_inertia(p, comps)
+            self._derive_inertia(p, comps, changed=set(changed))
         return p
 
     def _pack_into(self, p, c) -> None:
@@ -305,26 +305,44 @@ class Plan:
         p[self.off_G:self.off_G + self.n_rel * nn] = G.ravel()
         self._derive_inertia(p, comps, G)
 
-    def _derive_inertia(self, p, comps, G=None) -> None:
+    def _derive_inertia(self, p, comps, G=None, changed=None) -> None:
         """The inertia part of the derived block (``J``, ``M⁻¹``, ``M⁻¹·Bᵀ``, ``S``) for the
-        rigid relations ``G`` (default: those already in ``p``)."""
+        rigid relations ``G`` (default: those already in ``p``).  ``changed``: the indices
+        of the only components whose inertias may differ from those behind the ``J``
+        already in ``p``: only their nodes are summed again (in the same order, so to the
+        same bits)."""
         asm = self.asm
         nn, nv, m = asm.n_nodes, asm.n_v, len(self.sw)
         if G is None:
             G = p[self.off_G:self.off_G + self.n_rel * nn].reshape(self.n_rel, nn)
         N, _Gp, B = self._reduced(G)
-        J = np.zeros(nn)
-        for c in comps:
-            for f, v in c.inertias().items():
-                J[asm.node_of[(c.name, f)]] += v
+        terms = self._inertia_terms
+        if changed is not None and any(set(comps[i].inertias()) != terms[2].get(i, set())
+                                       for i in changed):
+            changed = None      # a component that gained or lost an inertia: sum all
+        if changed is None:
+            J = np.zeros(nn)
+            for c in comps:
+                for f, v in c.inertias().items():
+                    J[asm.node_of[(c.name, f)]] += v
+        else:
+            J = p[self.off_J:self.off_J + nn].copy()
+            nodes = {n for i in changed for n in terms[1].get(i, ())}
+            for n in nodes:
+                total = 0.0
+                for i, f in terms[0][n]:
+                    total += comps[i].inertias()[f]
+                J[n] = total
         M = N.T @ (J[:, None] * N)
         if asm.n_v:
             # λ_min(M) ≥ 1/‖M⁻¹‖_F: the inverse, needed anyway, clears M of the check's
             # eigen-decomposition; only a (near-)singular M is looked at (and named) there
             try:
                 Minv = np.linalg.inv(M)
-                clear = 1.0 / np.linalg.norm(Minv) > 1e-12 * max(float(np.max(np.abs(J))),
-                                                                  1e-300)
+                # max |J| as the larger of max J and -min J: the same number, one
+                # temporary fewer
+                clear = 1.0 / np.linalg.norm(Minv) > 1e-12 * max(float(J.max()),
+                                                                  -float(J.min()), 1e-300)
             except np.linalg.LinAlgError:
                 Minv, clear = None, False
             if not clear:
@@ -339,6 +357,22 @@ class Plan:
         p[self.off_MB:self.off_MB + nv * m] = MB.ravel()
         p[self.off_S:self.off_S + m * m] = S.ravel()
         p[self.off_J:self.off_J + nn] = J
+
+    @functools.cached_property
+    def _inertia_terms(self) -> tuple:
+        """``(node -> [(component index, flange), ...] in the order the components add
+        their inertias, component index -> its nodes, component index -> its flanges
+        with an inertia)``."""
+        by_node: dict = {}
+        nodes_of: dict = {}
+        flanges_of: dict = {}
+        for i, c in enumerate(self.net.components):
+            for f in c.inertias():
+                n = self.asm.node_of[(c.name, f)]
+                by_node.setdefault(n, []).append((i, f))
+                nodes_of.setdefault(i, set()).add(n)
+                flanges_of.setdefault(i, set()).add(f)
+        return by_node, nodes_of, flanges_of
 
     def _reduced(self, G) -> tuple:
         """``(N, pinv(Gᵀ), B)`` of the rigid relations ``G`` (``B``: the switching elements'
@@ -388,30 +422,65 @@ class Plan:
                                    f"parts: they give {w[n]:g} {su} at "
                                    f"{', '.join(asm.flanges_at[n])}", label.split("'")[1]
                                    if "'" in label else label)
-        ctx = _InitCtx(self, w, inputs0)
-        for c in self.mech_order:
-            vals = by_name[c.name].initial_state(ctx)
-            for (s_name, _lbl, _u), v in zip(c.state_layout(), vals):
-                y0[self.state_index[(c.name, s_name)]] = v
-        for n, idx in self.angle_states:
-            first = by_name[asm.J_owner[n][0]]
-            y0[idx] = first.initial_position() if hasattr(first, "initial_position") else 0.0
-        for c in self.thermal:
-            y0[self.state_index[(c.name, "theta")]] = by_name[c.name].theta0
-        for c in self.wearing:
-            y0[self.state_index[(c.name, "wear")]] = by_name[c.name].wear0
+        self._component_states(y0, by_name, _InitCtx(self, w, inputs0), None)
         return y0
 
-    def state0(self, comps, inputs0, p, produced0: dict | None = None) -> np.ndarray:
+    def _component_states(self, y0, by_name, ctx, only) -> None:
+        """Write the components' own initial states into ``y0`` (all of them, or those
+        named in ``only``)."""
+        asm = self.asm
+        for c in self.mech_order:
+            if only is None or c.name in only:
+                vals = by_name[c.name].initial_state(ctx)
+                for (s_name, _lbl, _u), v in zip(c.state_layout(), vals):
+                    y0[self.state_index[(c.name, s_name)]] = v
+        for n, idx in self.angle_states:
+            first = by_name[asm.J_owner[n][0]]
+            if only is None or first.name in only:
+                y0[idx] = (first.initial_position() if hasattr(first, "initial_position")
+                           else 0.0)
+        for c in self.thermal:
+            if only is None or c.name in only:
+                y0[self.state_index[(c.name, "theta")]] = by_name[c.name].theta0
+        for c in self.wearing:
+            if only is None or c.name in only:
+                y0[self.state_index[(c.name, "wear")]] = by_name[c.name].wear0
+
+    def initial_state_from(self, base: tuple, comps, changed, inputs0=None
+                           ) -> np.ndarray | None:
+        """:meth:`initial_state` of ``comps`` with ``inputs0``, from ``base`` = ``(its
+        components, their initial state with these very inputs)`` where only the
+        components named in ``changed`` differ: their own states computed again, the
+        rest taken over.  The same numbers as :meth:`initial_state` (each component's
+        states depend on its values and on the node speeds and inputs, which are the
+        same), but only when no changed component gives other initial speeds (those move
+        the node speeds); None then."""
+        base_comps, base_y0 = base
+        by_name = {c.name: c for c in comps}
+        for c0 in base_comps:
+            if c0.name in changed and by_name[c0.name].initial_speeds() != \
+                    c0.initial_speeds():
+                return None
+        y0 = base_y0.copy()
+        w = self.asm.N @ y0[:self.asm.n_v]
+        self._component_states(y0, by_name, _InitCtx(self, w, inputs0), changed)
+        return y0
+
+    def state0(self, comps, inputs0, p, produced0: dict | None = None, base=None,
+               changed=()) -> np.ndarray:
         """The initial state of ``comps`` with parameter vector ``p``: with the produced
         signals' values at that state among the initial inputs (a clutch commanded by a
         signal, a release system's play), passed again until they stop changing (a chain
         of signals takes one pass per link).  ``produced0``: a guess of those values (a
         variant's base run): when the state built with it gives them back, that state is
         the answer without a second pass; the passes are a finite chain, so the answer is
-        the one a start without a guess reaches."""
+        the one a start without a guess reaches.  ``base``, ``changed``: the first pass
+        from a base state (:meth:`initial_state_from`)."""
         inputs0 = dict(inputs0 or {})
-        y0 = self.initial_state(comps, {**inputs0, **(produced0 or {})})
+        first = {**inputs0, **(produced0 or {})}
+        y0 = None if base is None else self.initial_state_from(base, comps, changed, first)
+        if y0 is None:
+            y0 = self.initial_state(comps, first)
         if not self.produced:
             return y0
         u = np.array([inputs0.get(n, 0.0) for n in self.input_names], dtype=float)
@@ -488,15 +557,16 @@ class Plan:
         return base.with_values(params, y0, names)
 
     def variant_state(self, comps, params, inputs0=None, changed=(),
-                      produced0: dict | None = None) -> tuple:
+                      produced0: dict | None = None, base=None) -> tuple:
         """``(y0, event_names)`` of a variant: the initial state for the components
         ``comps`` with parameter vector ``params`` (``produced0``: the produced signals'
         guess, :meth:`produced0` of the base system), and its event names, formatted
         again only where a component named in ``changed`` formats one from its values
-        (else None: the base system's)."""
+        (else None: the base system's).  ``base``: see :meth:`initial_state_from` (the
+        base components' state with the inputs ``inputs0`` and ``produced0``)."""
         comps = tuple(comps)
-        y0 = self.state0(comps, inputs0, params, produced0)
         changed = set(changed)
+        y0 = self.state0(comps, inputs0, params, produced0, base, changed)
         names = (self._event_names(comps) if any(t[1] in changed for t in
                                                  self.event_templates.values()) else None)
         return y0, names

@@ -88,6 +88,7 @@ class VariantPlan:
         self.net = net
         self._chain = chain
         self._direct: dict = {}
+        self._base_values: dict = {}
         self._inputs0 = scenario.inputs0()
         self._lock = threading.Lock()
         self._base = None
@@ -216,9 +217,11 @@ class VariantPlan:
         the base system with these)."""
         comps = list(self.net.components)
         friction: dict = {}
-        touched = []
+        values: dict = {}       # component index -> (its _Direct, {param: value})
         for key, value in changes:
-            base = _value_at(self.scenario.data, key)
+            base = self._base_values.get(key, _UNSEEN)
+            if base is _UNSEEN:     # a key's base value, read from the scenario once
+                base = self._base_values[key] = _value_at(self.scenario.data, key)
             if _is_number(base) and float(base) == float(value):
                 continue            # the base value: nothing changes
             d = self.direct(key, value)
@@ -229,16 +232,19 @@ class VariantPlan:
                 continue
             if d.schema is not None and not _schema_ok(d.schema, value):
                 return None
-            comp = comps[d.index]
+            values.setdefault(d.index, (d, {}))[1][d.param] = value
+        touched = []
+        for i, (d, params) in values.items():     # each component built once
+            comp = comps[i]
             kw = {k: comp.__dict__.get(k, v) for k, v in d.kwargs.items()}
             try:
-                new = type(comp)(comp.name, **kw, **{**comp.values, d.param: value})
+                new = type(comp)(comp.name, **kw, **{**comp.values, **params})
             except (TypeError, ValueError):
                 return None
             if new.structure() != comp.structure():
                 return None
-            comps[d.index] = new
-            touched.append(d.index)
+            comps[i] = new
+            touched.append(i)
         for i, items in friction.items():
             new = self._friction_component(comps[i], tuple(items))
             if new is None or new.structure() != comps[i].structure():
@@ -246,10 +252,11 @@ class VariantPlan:
             comps[i] = new
             touched.append(i)
         p = self.plan.updated_vector(self.params, self.net.components, comps, touched)
-        _base, produced0 = self._base_system()
+        _base, produced0, start = self._base_system()
         try:
             y0, names = self.plan.variant_state(comps, p, self._inputs0,
-                                                {comps[i].name for i in touched}, produced0)
+                                                {comps[i].name for i in touched}, produced0,
+                                                start)
         except ValueError:
             return None     # e.g. initial speeds that violate a gear: the rebuild says so
         return p, y0, names
@@ -260,8 +267,10 @@ class VariantPlan:
         return self._base_system()[0]
 
     def _base_system(self):
-        """(the base scenario's system, its produced signals at the start), built once:
-        a variant is this system with its own values (:meth:`Plan.variant_system`)."""
+        """(the base scenario's system, its produced signals at the start, (the base
+        components, their initial state with those signals)), built once: a variant is
+        this system with its own values, its initial state computed from that one
+        (:meth:`Plan.variant_state`)."""
         if self._base is None:
             with self._lock:
                 if self._base is None:
@@ -269,7 +278,10 @@ class VariantPlan:
                     base = self.plan.system(self.net.components, inputs0=self._inputs0,
                                             name=chain.name, metadata=dict(chain.metadata),
                                             params=self.params)
-                    self._base = (base, self.plan.produced0(base, self._inputs0))
+                    produced0 = self.plan.produced0(base, self._inputs0)
+                    start = self.plan.initial_state(self.net.components,
+                                                    {**self._inputs0, **produced0})
+                    self._base = (base, produced0, (tuple(self.net.components), start))
         return self._base
 
     def rebuilt(self, changes):
