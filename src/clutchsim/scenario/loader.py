@@ -85,6 +85,8 @@ class Scenario:
     #: built chains per effective model (chains are immutable; a sweep builds each
     #: variant's chain once for validation and would build it again to run it)
     _chains: dict = field(default_factory=dict, repr=False, compare=False)
+    #: built systems per effective model (:meth:`system`)
+    _systems: dict = field(default_factory=dict, repr=False, compare=False)
     #: key path -> the ``--set`` item that gave it (errors name the item, not a file line)
     set_by: dict = field(default_factory=dict, repr=False, compare=False)
 
@@ -100,9 +102,22 @@ class Scenario:
         """What one run with ``model`` will produce: a :class:`clutchsim._util.RunEstimate`
         (output rows, signals, the least number of steps), before running it."""
         from .._util import estimate_run
-        system = self.chain(model).build(self.inputs0())
+        system = self.system(model)
         n = len(system.state_names) + len(system.input_names) + len(system.output_names)
         return estimate_run(self.t_end, self.options, n)
+
+    def system(self, model: str | None = None):
+        """The :class:`~clutchsim.core.System` of :meth:`chain` with ``model``, built with
+        the inputs at t = 0 once per effective model and shared by every run of this
+        scenario (:func:`~clutchsim.scenario.run_scenario`): read it, do not modify its
+        arrays (``simulate`` copies the parameter vector it integrates; build your own
+        with ``chain(model).build(inputs0())`` to change one)."""
+        from .build import effective_model
+        key = effective_model(self, model)
+        system = self._systems.get(key)
+        if system is None:
+            system = self._systems[key] = self.chain(model).build(self.inputs0())
+        return system
 
     def chain(self, model: str | None = None):
         """The :class:`~clutchsim.driveline.Chain` with ``model`` on the clutch element."""

@@ -47,7 +47,7 @@ def run_scenario(scenario=None, model: str | None = None, *, overrides=None,
     scenario = resolve_scenario(scenario, overrides)
     if model is None and scenario.models:
         model = scenario.models[0]
-    system = scenario.chain(model).build(scenario.inputs0())
+    system = scenario.system(model)
     return run_system(scenario, system, model, solver=solver, options=options)
 
 
