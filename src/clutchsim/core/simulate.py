@@ -392,7 +392,7 @@ def run_stats(st, h_small: float, wall: float) -> Stats:
 
 def prepare_runs(system: System, t_span, inputs: Mapping | None = None, *,
                  solver: str = DEFAULT_METHOD, options: SolverOptions | None = None):
-    """The arguments of the compiled loop (:func:`clutchsim.core._driver.integrate`) for
+    """The arguments of the compiled loop (:func:`clutchsim.core.loop.integrate`) for
     runs of ``system`` and of its variants (other parameter vectors and initial states of
     the same layout: :meth:`System.with_values`) over ``t_span`` with ``inputs``: for a
     caller that runs many variants from its own compiled loop (a sweep's chunk,

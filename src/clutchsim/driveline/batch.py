@@ -2,7 +2,7 @@
 
 A sweep runs one system hundreds of times with other parameter vectors and initial
 states.  :func:`launch_batch` runs a chunk of them in one call of a compiled loop: for
-each variant the integrator (:func:`clutchsim.core._driver.integrate`, the loop
+each variant the integrator (:func:`clutchsim.core.loop.integrate`, the loop
 :func:`clutchsim.core.simulate` calls) and then the launch kernel
 (:func:`clutchsim.analysis._kernels.launch_kernel`, the one :func:`~clutchsim.driveline.
 metrics.analyse_run` calls) on the run's own output arrays, keeping only the numbers a
@@ -35,9 +35,9 @@ from ..analysis import launch_quality as lq
 from ..analysis.judder import _SLIP as _JUDDER_SLIP
 from ..analysis.judder import JUDDER_BAND_HZ
 from ..core import System
-from ..core import _driver as drv
-from ..core._clock import now
+from ..core import loop as drv
 from ..core.compile_notice import compile_notice
+from ..core.loop import now
 from ..core.simulate import prepare_runs, run_end
 from ..core.status import Outcome
 from .chain import ENERGY_STATES
@@ -50,7 +50,7 @@ __all__ = ["batch_supported", "launch_batch"]
 _KERNEL_SIGNALS = ("a_vehicle", "T_friction_{c}", "w_slip_{c}", "capacity_{c}", "{c}.locked",
                    "P_{c}", "omega_engine", "T_{c}", "theta")
 _ENERGY_SIGNALS = (*ENERGY_STATES, "E_kinetic", "E_spring")
-#: slots of a run's integer results (after the integrator's counters, ``drv.S_*``)
+#: slots of a run's integer results (after the integrator's counters, ``core.loop.S_*``)
 I_CODE, I_K, I_I, I_ROWS = drv.N_STATS, drv.N_STATS + 1, drv.N_STATS + 2, drv.N_STATS + 3
 N_I = drv.N_STATS + 4
 #: slots of a run's float results
