@@ -38,8 +38,7 @@ from ..core import System
 from ..core import loop as drv
 from ..core.compile_notice import compile_notice
 from ..core.loop import now
-from ..core.simulate import prepare_runs, run_end
-from ..core.status import Outcome
+from ..core.simulate import prepare_runs, run_end, run_stats
 from .chain import ENERGY_STATES
 from .metrics import LOCK_HOLD, LOCK_SLIP, RunSummary, metrics_of, warnings_of
 
@@ -247,14 +246,10 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
         end = run_end(system, opts, solver, prep.chatter_window, int(i[I_CODE]),
                       float(f[F_T_END]), int(i[I_K]), int(i[I_I]), int(i[I_ROWS]),
                       float(f[F_T_LAST]), names)
-        outcome = Outcome(end.outcome)
-        h_small = float(f[F_H_SMALL])
-        sm = RunSummary(outcome.status, outcome, end.message, end.warnings,
-                        end.event_source if end.event else "", kinds, int(i[I_ROWS]),
-                        float(f[F_T_LAST] - f[F_T_FIRST]), has_slip,
-                        int(i[drv.S_STEPS]), int(i[drv.S_RHS]), int(i[drv.S_EVENTS]),
-                        h_small if math.isfinite(h_small) else 0.0, float(f[F_WALL]), K[r],
-                        float(f[F_ENERGY]))
+        sm = RunSummary.of(end, run_stats(i[:drv.N_STATS], float(f[F_H_SMALL]),
+                                          float(f[F_WALL])),
+                           kinds, int(i[I_ROWS]), float(f[F_T_LAST] - f[F_T_FIRST]), has_slip,
+                           K[r], float(f[F_ENERGY]))
         extra = tuple(warnings_of(sm, clutch, expect_lockup=expect_lockup, friction=friction))
         m = metrics_of(sm._replace(warnings=sm.warnings + extra), clutch)
         m["loop_wall_s"] = float(f[F_LOOP])

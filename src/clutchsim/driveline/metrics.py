@@ -150,17 +150,27 @@ class RunSummary(NamedTuple):
     k: np.ndarray
     energy_balance_rel: float
 
+    @classmethod
+    def of(cls, end, stats, kinds, n_t: int, span_s: float, has_slip: bool, k,
+           energy_balance_rel: float) -> RunSummary:
+        """From how the run ended (``end``: its outcome, message, warnings, the event that
+        ended it and that event's source, e.g. a :class:`clutchsim.core.simulate.RunEnd`
+        or a :class:`~clutchsim.core.Result`), its :class:`~clutchsim.core.Stats` and the
+        rest."""
+        outcome = Outcome(end.outcome)
+        return cls(outcome.status, outcome, end.message, tuple(end.warnings),
+                   end.event_source if end.event else "", kinds, n_t, span_s, has_slip,
+                   stats.steps, stats.rhs_evals, stats.events, stats.min_step_s,
+                   stats.wall_s, k, energy_balance_rel)
+
 
 def summary(res: Result, clutch: str, run: _Run, *, energy: bool = True) -> RunSummary:
     """The :class:`RunSummary` of ``res`` with the launch kernel's values ``run``
     (``energy``: with its energy balance; else NaN)."""
-    st = res.stats
-    return RunSummary(res.status, Outcome(res.outcome), res.message, tuple(res.warnings),
-                      _ended_by(res), res.metadata.get("kinds", {}), int(res.t.size),
-                      float(res.t[-1] - res.t[0]) if res.t.size else 0.0,
-                      f"w_slip_{clutch}" in res.signals, st.steps, st.rhs_evals, st.events,
-                      st.min_step_s, st.wall_s, run.k,
-                      energy_balance(res)["energy_balance_rel"] if energy else math.nan)
+    return RunSummary.of(res, res.stats, res.metadata.get("kinds", {}), int(res.t.size),
+                         float(res.t[-1] - res.t[0]) if res.t.size else 0.0,
+                         f"w_slip_{clutch}" in res.signals, run.k,
+                         energy_balance(res)["energy_balance_rel"] if energy else math.nan)
 
 
 def _ringing(k, clutch: str) -> str | None:
@@ -252,11 +262,6 @@ def warnings_of(sm: RunSummary, clutch: str, *, expect_lockup: bool = True,
                    "choose a smoother friction model or reset policy; if the fast dynamics is "
                    "real, this warning can be ignored")
     return out
-
-
-def _ended_by(res: Result) -> str:
-    """The component whose event ended the run ("" when none did)."""
-    return res.event_source if res.event else ""
 
 
 def _event_times(res: Result, component: str) -> np.ndarray:
