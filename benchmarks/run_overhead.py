@@ -21,15 +21,16 @@ one warm-up call), in milliseconds:
   the breakdown of ``weighting_ms`` and ``metrics_ms``;
 * ``sweep_python_ms_per_run`` (unless ``--no-sweep``): ``sweep(None, {mass, grade},
   samples=--sweep-runs, workers=1, load=False)``, the process CPU time minus the compiled
-  loops' thread CPU time, per run (the variant's parameter vector, ``run_system``, the
-  row, the chunk files, and the sweep's fixed cost spread over the runs);
-  ``sweep_runs_per_s_1_thread`` its runs per wall second.  Its split, means over the
-  runs of that sweep (thread CPU): ``sweep_variant_system_ms_per_run`` (the variant's
-  system, ``VariantPlan.system``: parameter vector, initial state, ``System``),
-  ``sweep_run_system_python_ms_per_run`` (``run_system`` minus its compiled loop),
-  ``sweep_kernel_ms_per_run`` (the compiled metrics kernel, part of the previous one; it
-  releases the GIL), and ``sweep_fixed_ms`` (a whole 2-run sweep minus its loops: the
-  checks of the varied keys, the plan, the manifest, the files).
+  batch loops' thread CPU time (``sweep_loop_ms_per_run``: integrator and metrics kernel
+  of each variant, ``clutchsim.driveline.batch``), per run (the variant's parameter vector
+  and initial state, the row, the chunk files, and the sweep's fixed cost spread over the
+  runs); ``sweep_runs_per_s_1_thread`` its runs per wall second.  Its split, means over
+  the runs of that sweep (thread CPU): ``sweep_variant_values_ms_per_run`` (the variant's
+  parameter vector and initial state, ``VariantPlan.values``),
+  ``sweep_run_batch_python_ms_per_run`` (``scenario.run.run_batch`` minus its compiled
+  loop: the loop's arguments and the rows' metrics and warnings), and ``sweep_fixed_ms``
+  (a whole 2-run sweep minus its loops: the checks of the varied keys, the plan, the
+  manifest, the files).
 
 Runs in the tree it is started from (``PYTHONPATH=src``), so the same script measures a
 checkout of an older commit.  Prints one JSON object on the last stdout line.
@@ -145,10 +146,12 @@ def main():
             sweep(None, VARY, samples=2, seed=1, out=os.path.join(d, "warm"), load=False,
                   workers=1)
             inner.clear()
+            for v in parts.values():
+                v.clear()
             c0 = time.process_time_ns()
             sweep(None, VARY, samples=2, seed=2, out=os.path.join(d, "two"), load=False,
                   workers=1)
-            fixed = time.process_time_ns() - c0 - sum(inner)
+            fixed = time.process_time_ns() - c0 - sum(parts["loop"])
             inner.clear()
             for v in parts.values():
                 v.clear()
@@ -157,16 +160,16 @@ def main():
                   load=False, workers=1)
             cpu, wall = time.process_time_ns() - c0, time.perf_counter() - w0
             n = a.sweep_runs
+            loop = sum(parts["loop"])
             out["sweep_runs"] = n
-            out["sweep_python_ms_per_run"] = (cpu - sum(inner)) * 1e-6 / n
-            out["sweep_integrator_ms_per_run"] = sum(inner) * 1e-6 / n
+            out["sweep_python_ms_per_run"] = (cpu - loop) * 1e-6 / n
+            out["sweep_loop_ms_per_run"] = loop * 1e-6 / n
             out["sweep_runs_per_s_1_thread"] = n / wall
             # the split of sweep_python_ms_per_run (means over the runs, thread CPU)
             out["sweep_fixed_ms"] = fixed * 1e-6
-            out["sweep_variant_system_ms_per_run"] = sum(parts["system"]) * 1e-6 / n
-            out["sweep_run_system_python_ms_per_run"] = \
-                (sum(parts["run_system"]) - sum(inner)) * 1e-6 / n
-            out["sweep_kernel_ms_per_run"] = sum(parts["kernel"]) * 1e-6 / n
+            out["sweep_variant_values_ms_per_run"] = sum(parts["values"]) * 1e-6 / n
+            out["sweep_run_batch_python_ms_per_run"] = \
+                (sum(parts["run_batch"]) - loop) * 1e-6 / n
     out["load_avg_1min_end"] = os.getloadavg()[0]
     print(f"Python per run_system: {out['run_system_python_ms']:.3f} ms "
           f"(integrator {out['integrator_ms']:.3f} ms)", file=sys.stderr)
@@ -174,10 +177,11 @@ def main():
 
 
 def _sweep_parts(run_mod, dm) -> dict:
-    """Wrap the variant's system (``VariantPlan.system``), ``run_system`` and the
-    compiled metrics kernel with thread CPU timers; returns their lists of times [ns]."""
+    """Wrap the variant's values (``VariantPlan.values``), ``run_batch`` and the compiled
+    batch loop with thread CPU timers; returns their lists of times [ns]."""
+    from clutchsim.driveline import batch
     from clutchsim.scenario import variants
-    parts: dict = {"system": [], "run_system": [], "kernel": []}
+    parts: dict = {"values": [], "run_batch": [], "loop": []}
 
     def timer(fn, into):
         def timed(*args, **kw):
@@ -187,10 +191,10 @@ def _sweep_parts(run_mod, dm) -> dict:
             return res
         return timed
 
-    variants.VariantPlan.system = timer(variants.VariantPlan.system, parts["system"])
-    run_mod.run_system = timer(run_mod.run_system, parts["run_system"])
-    entry = dm._kernel_entry
-    dm._kernel_entry = lambda: timer(entry(), parts["kernel"])
+    variants.VariantPlan.values = timer(variants.VariantPlan.values, parts["values"])
+    run_mod.run_batch = timer(run_mod.run_batch, parts["run_batch"])
+    entry = batch._entry
+    batch._entry = lambda key, args: timer(entry(key, args), parts["loop"])
     return parts
 
 
