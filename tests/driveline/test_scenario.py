@@ -212,3 +212,16 @@ def test_chain_is_built_once_per_effective_model():
     names = {c.name: type(c.model).__name__ for c in robust.friction_elements
              if hasattr(c, "model")}
     assert names["clutch"] == "CoulombRobust"
+
+
+def test_a_scenario_parsed_again_reads_its_relative_paths_from_its_folder(tmp_path,
+                                                                           monkeypatch):
+    """Overrides on a loaded scenario (a sweep's key checks and variants) parse it again:
+    its ``[scenario] compare`` and signal tables stay relative to its file, not to the
+    working directory."""
+    from clutchsim.scenario.loader import resolve_scenario
+    sc = load_scenario(EXAMPLES / "launch_closed_loop.toml")
+    assert sc.compare
+    monkeypatch.chdir(tmp_path)
+    again = resolve_scenario(sc, ["scenario.t_end=1.0"])
+    assert again.t_end == 1.0 and again.compare == sc.compare

@@ -358,9 +358,13 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
     """Validate the tables of a scenario and build its signals and options.
 
     ``set_by`` maps key paths to the ``--set`` items that gave them: their errors name the
-    item instead of a line of the file.
+    item instead of a line of the file.  ``base_dir``: the folder that relative paths in
+    the scenario (signal tables, ``[scenario] compare``) are read from; default the folder
+    of ``file`` when it is a file, else the working directory.
     """
     set_by = dict(set_by or {})
+    if base_dir is None and file and Path(file).is_file():
+        base_dir = Path(file).parent    # a scenario parsed again (overrides, sweep variants)
 
     def fail(problem, key=""):
         _fail(problem, key, file=file, text=text, set_by=set_by)
