@@ -57,6 +57,17 @@ def test_unknown_key_suggests_the_closest(tmp_path):
         sweep(None, {"vehicle.mass": "-5:1200:2"}, overrides=BASE, out=tmp_path / "s")
 
 
+def test_a_table_key_on_a_network_scenario_names_the_component_key(tmp_path):
+    from pathlib import Path
+
+    from clutchsim.scenario import load_scenario
+    path = Path(__file__).resolve().parents[2] / "examples" / "launch_dmf.toml"
+    comps = load_scenario(path).data["component"]
+    i = next(i for i, c in enumerate(comps) if c.get("type") == "vehicle")
+    with pytest.raises(SweepError, match=rf"did you mean component\[{i}\]\.mass\?"):
+        sweep(path, {"vehicle.mass": "1200:1400:2"}, out=tmp_path / "s")
+
+
 @pytest.fixture(scope="module")
 def grid_sweep(tmp_path_factory):
     out = tmp_path_factory.mktemp("grid") / "sweep"

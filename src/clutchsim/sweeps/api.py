@@ -83,7 +83,22 @@ def _check_keys(sc, vary, model, max_rows: int, solver_items: dict) -> None:
             except ResourceError as exc:
                 raise ResourceError(f"--vary {key}: {exc}") from None
             except (ScenarioError, ValueError, KeyError, TypeError) as exc:
-                raise SweepError(f"--vary {key}: {exc}") from None
+                raise SweepError(f"--vary {key}: {exc}{_component_hint(sc, key)}") from None
+
+
+def _component_hint(sc, key: str) -> str:
+    """For a key of a table the scenario does not have (``vehicle.mass`` in a network
+    scenario), the component keys that name the same value: "; did you mean ..."."""
+    section, _, rest = key.partition(".")
+    if "[" in section or not rest or section in sc.data:
+        return ""
+    found = [f"component[{i}].{rest}" for i, c in enumerate(sc.data.get("component", []))
+             if isinstance(c, dict) and section in (c.get("type"), c.get("name"))
+             and rest.split(".")[0] in c]
+    if not found:
+        return ""
+    return (f" (this scenario has no [{section}] table; its components: did you mean "
+            f"{' or '.join(found)}?)")
 
 
 def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | None = None,
