@@ -10,12 +10,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["ACTUATION_KINDS", "QUALITY_KEYS", "Characteristic", "actuation_signals",
-           "compare_quality", "static_characteristics"]
+__all__ = ["ACTUATION_KINDS", "CONTROLLER_KINDS", "QUALITY_KEYS", "Characteristic",
+           "actuation_signals", "compare_quality", "has_controller", "static_characteristics"]
 
 #: component kinds of the actuation chain and of closed-loop control
 ACTUATION_KINDS = ("release_system", "hydraulic_actuator", "electromechanical_actuator",
                    "launch_controller", "driver")
+#: component kinds that close a loop (their stability is checked on each run's result)
+CONTROLLER_KINDS = ("launch_controller", "driver")
 #: the launch-quality metrics a comparison lists (docs/launch-quality.md)
 QUALITY_KEYS = ("engagement_start_s", "lockup_time_s", "slip_energy_J", "vdv_mps175",
                 "aw_rms_mps2", "jerk_peak_mps3", "jerk_rms_mps3", "lockup_shock_mps2",
@@ -105,7 +107,7 @@ def controller_margin(scenario, system, result, plan) -> list[tuple]:
     kinds = system.metadata.get("kinds", {})
     out = []
     for name, kind in kinds.items():
-        if kind not in ("launch_controller", "driver"):
+        if kind not in CONTROLLER_KINDS:
             continue
         sig = f"{name}.{'command' if kind == 'launch_controller' else 'throttle'}"
         if sig not in result.signals or result.t.size < 3:
@@ -147,12 +149,17 @@ def controller_margin(scenario, system, result, plan) -> list[tuple]:
     return out
 
 
+def has_controller(system) -> bool:
+    """Whether ``system`` has a component that closes a loop (:data:`CONTROLLER_KINDS`)."""
+    return any(k in CONTROLLER_KINDS for k in system.metadata.get("kinds", {}).values())
+
+
 def controller_warnings(scenario, system, result) -> list[str]:
     """A warning for each controller whose linearised loop is unstable at its gains
     (:func:`controller_margin`), with the margin and the remedy."""
-    kinds = system.metadata.get("kinds", {})
-    if not any(k in ("launch_controller", "driver") for k in kinds.values()):
+    if not has_controller(system):
         return []
+    kinds = system.metadata.get("kinds", {})
     if "component" not in scenario.data:
         return []
     from ..network import compile_network

@@ -274,6 +274,28 @@ def _prepare(system: System, signals, t0: float, t1: float, solver: str,
     return prep
 
 
+def _checked(system, t_span, solver: str, options) -> tuple[SolverOptions, float, float]:
+    """``(options, t0, t1)`` after the checks of the system, the solver, the options and
+    the span that :func:`simulate` and :func:`prepare_runs` make."""
+    if not isinstance(system, System):
+        raise TypeError(f"system must be a clutchsim System, got {type(system).__name__}")
+    check_solver(solver)
+    opts = options if options is not None else SolverOptions()
+    if not isinstance(opts, SolverOptions):
+        raise TypeError(f"options must be SolverOptions, got {type(opts).__name__}")
+    return (opts, *_check_span(t_span))
+
+
+def _prepared(system: System, signals, t0: float, t1: float, solver: str,
+              opts: SolverOptions, y) -> _Prepared:
+    """:func:`_prepare`, with the plant's registered Jacobian checked at ``y`` the first
+    time the plant type runs."""
+    prep = _prepare(system, signals, t0, t1, solver, opts)
+    if prep.args[13][drv.I_EXACT_JAC] and system.tag not in _CHECKED_JACOBIANS:
+        check_jacobian(system, y, signals, t0)
+    return prep
+
+
 def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
              solver: str = DEFAULT_METHOD, options: SolverOptions | None = None) -> Result:
     """Integrate a plant over ``t_span`` and return a :class:`Result`.
@@ -303,13 +325,7 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
         States, inputs and outputs by name with units; ``status`` and ``message`` say how
         the run ended.  A failed run is returned, not raised.
     """
-    if not isinstance(system, System):
-        raise TypeError(f"system must be a clutchsim System, got {type(system).__name__}")
-    check_solver(solver)
-    opts = options if options is not None else SolverOptions()
-    if not isinstance(opts, SolverOptions):
-        raise TypeError(f"options must be SolverOptions, got {type(opts).__name__}")
-    t0, t1 = _check_span(t_span)
+    opts, t0, t1 = _checked(system, t_span, solver, options)
     y_init = system.y0 if y0 is None else np.asarray(y0, dtype=float).ravel()
     if y_init.size != system.n_states:
         raise ValueError(f"{system.name}: y0 has {y_init.size} entries, the system has "
@@ -330,10 +346,8 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
         from .scipy_backend import simulate_scipy
         return simulate_scipy(system, t0, t1, y_init, signals, bank, bps, solver, opts)
 
-    prep = _prepare(system, signals, t0, t1, solver, opts)
+    prep = _prepared(system, signals, t0, t1, solver, opts, y_init)
     # the wall time is measured inside the compiled loop: it excludes JIT compilation
-    if prep.args[13][drv.I_EXACT_JAC] and system.tag not in _CHECKED_JACOBIANS:
-        check_jacobian(system, y_init, signals, t0)
     # a copy: a plant may switch its values at scheduled events (a gear shift)
     args = prep.args[:6] + (y_init, system.params.copy()) + prep.args[8:]
     with compile_notice(type(system.tag), system.name) as first:
@@ -401,17 +415,10 @@ def prepare_runs(system: System, t_span, inputs: Mapping | None = None, *,
     ``.chatter_window`` is what :func:`run_end` needs.  The system, span, solver and
     options are checked as :func:`simulate` checks them (compiled methods only), and the
     plant's functions are compiled or loaded."""
-    if not isinstance(system, System):
-        raise TypeError(f"system must be a clutchsim System, got {type(system).__name__}")
-    check_solver(solver)
+    opts, t0, t1 = _checked(system, t_span, solver, options)
     if solver.startswith("scipy-"):
         raise ValueError(f"solver {solver!r}: a batch of runs needs a compiled method")
-    opts = options if options is not None else SolverOptions()
-    t0, t1 = _check_span(t_span)
-    signals = resolve_inputs(system, inputs)
-    prep = _prepare(system, signals, t0, t1, solver, opts)
-    if prep.args[13][drv.I_EXACT_JAC] and system.tag not in _CHECKED_JACOBIANS:
-        check_jacobian(system, system.y0, signals, t0)
+    prep = _prepared(system, resolve_inputs(system, inputs), t0, t1, solver, opts, system.y0)
     for fn in prep.args[0]:
         fn.__wrapper_address__()
     return prep

@@ -176,7 +176,12 @@ def batch_supported(system: System, t_span, clutch: str) -> str:
     """Why runs of ``system`` over ``t_span`` cannot be batched ("" when they can): the
     energy accounts the batch reads, and one filter step for every span a run may end
     with (a run that stops early has a shorter one)."""
-    if _columns(system, clutch) is None:
+    return _unsupported(_columns(system, clutch), t_span)
+
+
+def _unsupported(cols, t_span) -> str:
+    """:func:`batch_supported` for the batch's column table ``cols`` (:func:`_columns`)."""
+    if cols is None:
         return "the system lacks an energy account (" + ", ".join(_ENERGY_SIGNALS) + ")"
     t0, t1 = (float(x) for x in t_span)
     full = lq.filter_step_s(np.array([t0, t1]))
@@ -197,13 +202,15 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
 
     ``params`` (n, len(system.params)) and ``y0`` (n, system.n_states): float arrays, one
     row per variant, checked finite.  ``event_names``: per variant its event names where
-    they differ from ``system``'s (None: the system's), for the messages.  Raises
+    they differ from ``system``'s (an entry or the whole argument None: the system's), for
+    the messages.  Raises
     ValueError when the runs cannot be batched (:func:`batch_supported`).
 
     The compiled loop's own wall time per variant (the integrator and the kernel) is in
     each metrics dict as ``loop_wall_s``.
     """
-    why = batch_supported(system, t_span, clutch)
+    cols = _columns(system, clutch)
+    why = _unsupported(cols, t_span)
     if why:
         raise ValueError(f"{system.name}: cannot run a batch: {why}")
     P = np.array(params, dtype=np.float64, order="C", copy=True)
@@ -232,7 +239,7 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
     iv = np.empty((n, N_I), dtype=np.int64)
     fv = np.empty((n, N_F))
     args = (a[0], a[1], a[2], a[3], t0, t1, Y0, P, a[8], a[9], a[10], a[11], a[12], a[13],
-            _columns(system, clutch), mine, np.empty((0, 1)), wd_sos, wd_zi, lp_sos, lp_zi,
+            cols, mine, np.empty((0, 1)), wd_sos, wd_zi, lp_sos, lp_zi,
             lq.FILTER_DT_S, lq.FILTER_MAX_SAMPLES, LOCK_SLIP, LOCK_HOLD, lq.SHOCK_WINDOW_S,
             lq.ENGAGE_THRESHOLD_REL, area, lo, hi, _JUDDER_SLIP, K, iv, fv)
     _entry(prep.fixed_key, args)(*args)

@@ -94,10 +94,6 @@ class _Run:
             wd_sos, wd_zi, lp_sos, lp_zi, lq.FILTER_DT_S, lq.FILTER_MAX_SAMPLES, LOCK_SLIP,
             LOCK_HOLD, lq.SHOCK_WINDOW_S, lq.ENGAGE_THRESHOLD_REL, area, lo, hi, _JUDDER_SLIP)
 
-    def value(self, slot: int) -> float | None:
-        v = float(self.k[slot])
-        return v if math.isfinite(v) else None
-
 
 def with_weighted_acceleration(res: Result) -> Result:
     """``res`` with the signal ``a_weighted`` [m/s²]: ``a_vehicle`` weighted with ISO
@@ -273,7 +269,7 @@ def _event_times(res: Result, component: str) -> np.ndarray:
 def _lockup_time(res: Result, clutch: str) -> float | None:
     """:func:`clutchsim.analysis.launch_quality.lockup_time_s` of ``clutch`` in ``res``:
     engaged = capacity above half its largest value; the clutch's located events."""
-    return _Run(res, clutch, None).value(_k.K_LOCKUP)
+    return _value(_Run(res, clutch, None).k, _k.K_LOCKUP)
 
 
 #: the launch-quality metrics of docs/launch-quality.md and their slots in the kernel's
@@ -285,13 +281,6 @@ _QUALITY = (("engagement_start_s", _k.K_ENGAGE), ("lockup_time_s", _k.K_LOCKUP),
             ("friction_energy_density_J_mm2", _k.K_E_DENS),
             ("friction_power_density_peak_W_mm2", _k.K_P_DENS),
             ("engine_dip_rpm", _k.K_DIP), ("engine_flare_rpm", _k.K_FLARE))
-
-
-def _quality(run_or_res, clutch: str = "clutch", lining: tuple | None = None) -> dict:
-    """The launch-quality metrics of docs/launch-quality.md (None where a signal is
-    missing or a value is not finite) of a :class:`_Run` or of a result."""
-    run = run_or_res if isinstance(run_or_res, _Run) else _Run(run_or_res, clutch, lining)
-    return {key: run.value(slot) for key, slot in _QUALITY}
 
 
 def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None = None
@@ -313,6 +302,19 @@ def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None 
     return metrics_of(summary(res, clutch, _Run(res, clutch, lining)), clutch)
 
 
+def _quality(run_or_res, clutch: str = "clutch", lining: tuple | None = None) -> dict:
+    """The launch-quality metrics of docs/launch-quality.md (None where a signal is
+    missing or a value is not finite) of a :class:`_Run` or of a result."""
+    run = run_or_res if isinstance(run_or_res, _Run) else _Run(run_or_res, clutch, lining)
+    return {key: _value(run.k, slot) for key, slot in _QUALITY}
+
+
+def _value(k, slot: int) -> float | None:
+    """The launch kernel's value at ``slot`` of ``k`` (None where it is not finite)."""
+    v = float(k[slot])
+    return v if math.isfinite(v) else None
+
+
 def metrics_of(sm: RunSummary, clutch: str) -> dict:
     """:func:`launch_metrics` of the run summarised by ``sm``."""
     m: dict = {"completed": sm.status == "completed", "outcome": str(sm.outcome),
@@ -324,8 +326,7 @@ def metrics_of(sm: RunSummary, clutch: str) -> dict:
     k = sm.k
 
     def value(slot):
-        v = float(k[slot])
-        return v if math.isfinite(v) else None
+        return _value(k, slot)
     m.update({key: value(slot) for key, slot in _QUALITY})
     m["slip_energy_J"] = value(_k.K_SLIP_ENERGY)
     m["peak_lining_temp_C"] = value(_k.K_THETA_MAX)

@@ -548,14 +548,6 @@ class Plan:
                       name=name or self.net.name, metadata=meta,
                       quadratures=self.n_quadratures)
 
-    def variant_system(self, base: System, comps, params, inputs0=None, changed=(),
-                       produced0: dict | None = None) -> System:
-        """``base`` (a :meth:`system` of this plan) for the components ``comps`` with
-        parameter vector ``params``: a sweep's variant (its initial state and event names
-        from :meth:`variant_state`); everything else is ``base``'s."""
-        y0, names = self.variant_state(comps, params, inputs0, changed, produced0)
-        return base.with_values(params, y0, names)
-
     def variant_state(self, comps, params, inputs0=None, changed=(),
                       produced0: dict | None = None, base=None) -> tuple:
         """``(y0, event_names)`` of a variant: the initial state for the components

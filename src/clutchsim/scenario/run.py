@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.actuation import controller_warnings
+from ..analysis.actuation import controller_warnings, has_controller
 from ..core import Result, SolverOptions, simulate
 from ..driveline.metrics import analyse_run
 from .loader import resolve_scenario
@@ -73,8 +73,7 @@ def run_system(scenario, system, model: str | None = None, *, solver: str | None
 def batch_reason(scenario, system) -> str:
     """Why the variants of ``system`` (built from ``scenario``) cannot be run as a batch
     (:func:`run_batch`; "" when they can)."""
-    kinds = system.metadata.get("kinds", {})
-    if any(k in ("launch_controller", "driver") for k in kinds.values()):
+    if has_controller(system):
         return "a controller's stability check needs each run's result"
     from ..driveline.batch import batch_supported
     return batch_supported(system, (0.0, scenario.t_end), scenario.clutch)
@@ -93,7 +92,6 @@ def run_batch(scenario, system, variants, *, options: SolverOptions | None = Non
         raise ValueError(f"{system.name}: cannot run a batch: {why}")
     from ..driveline.batch import launch_batch
     inputs = {n: scenario.inputs[n] for n in system.input_names}
-    names = [v[2] or system.event_names for v in variants]
     return launch_batch(system, (0.0, scenario.t_end), inputs,
                         np.array([v[0] for v in variants]),
                         np.array([v[1] for v in variants]), clutch=scenario.clutch,
@@ -101,7 +99,8 @@ def run_batch(scenario, system, variants, *, options: SolverOptions | None = Non
                         options=options if options is not None else scenario.options,
                         expect_lockup=expects_lockup(scenario),
                         friction=_is_friction_clutch(scenario),
-                        lining=lining_geometry(scenario), event_names=names)
+                        lining=lining_geometry(scenario),
+                        event_names=[v[2] for v in variants])
 
 
 def _is_friction_clutch(scenario) -> bool:

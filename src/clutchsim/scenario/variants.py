@@ -7,7 +7,7 @@ new parameter vector (the changed components re-packed, the derived block recomp
 when an inertia or a ratio changed: for an inertia only its inertia part), its initial
 state, and the run itself: no TOML re-parse, no copy of the scenario, no chain rebuild, no
 new :class:`~clutchsim.core.System` (the base scenario's, with the variant's values:
-:meth:`clutchsim.network.plant.Plan.variant_system`).
+:meth:`VariantPlan.values`, :meth:`clutchsim.network.plant.Plan.variant_state`).
 
 How a key is mapped: the first time a variant changes it, the scenario is built once with
 that value the ordinary way (overrides, validation, chain, network) and compared with the
@@ -30,6 +30,7 @@ rebuild, so its error is the one the scenario loader gives (file, key, rule, ``-
 
 from __future__ import annotations
 
+import functools
 import inspect
 import re
 import threading
@@ -92,9 +93,6 @@ class VariantPlan:
         self._inputs0 = scenario.inputs0()
         self._lock = threading.Lock()
         self._base = None
-        #: why its variants cannot run as a batch (:func:`clutchsim.scenario.run.
-        #: batch_reason`; "" when they can, None until a sweep's runner asks)
-        self.batch_reason: str | None = None
         self.plan = compile_network(net)
         self.params = self.plan.values_vector(net.components)
         self.base = _observed(scenario, net)
@@ -260,6 +258,13 @@ class VariantPlan:
         except ValueError:
             return None     # e.g. initial speeds that violate a gear: the rebuild says so
         return p, y0, names
+
+    @functools.cached_property
+    def batch_reason(self) -> str:
+        """Why its variants cannot run as one compiled batch ("" when they can:
+        :func:`clutchsim.scenario.run.batch_reason`)."""
+        from .run import batch_reason
+        return batch_reason(self.scenario, self.base_system())
 
     def base_system(self):
         """The base scenario's :class:`~clutchsim.core.System` (a variant is this system

@@ -181,10 +181,7 @@ def run_chunk(job: dict, runs: list) -> dict:
 def _run_batched(job: dict, plan, options, runs: list) -> tuple[dict, float]:
     """``({run_id: row}, loop wall time [s])`` of the runs of ``runs`` that are values on
     the plan's network, run as one batch (none when the scenario cannot be batched)."""
-    from ..scenario.run import batch_reason, run_batch
-    base = plan.base_system()
-    if plan.batch_reason is None:
-        plan.batch_reason = batch_reason(plan.scenario, base)
+    from ..scenario.run import run_batch
     if plan.batch_reason:
         return {}, 0.0
     ids, variants = [], []
@@ -199,7 +196,7 @@ def _run_batched(job: dict, plan, options, runs: list) -> tuple[dict, float]:
     if not variants:
         return {}, 0.0
     try:
-        done = run_batch(plan.scenario, base, variants, options=options)
+        done = run_batch(plan.scenario, plan.base_system(), variants, options=options)
     except (ValueError, ArithmeticError):
         return {}, 0.0          # e.g. a non-finite value: each run's row says which
     rows = {run_id: _row(job, status, m) for run_id, (status, m) in zip(ids, done)}
