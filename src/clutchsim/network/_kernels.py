@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
+from ..core.signals import interval
 
 __all__ = ["LOSSY_TOL", "held_by_others", "lock_solve", "lossy_bounds", "lossy_coeffs",
            "lossy_solve", "table", "table_column"]
@@ -41,13 +42,8 @@ def table_column(p, o, n, k, x):
         return p[o + k * n], 0.0
     if x >= p[o + n - 1]:
         return p[o + (k + 1) * n - 1], 0.0
-    lo, hi = 0, n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if p[o + mid] <= x:
-            lo = mid
-        else:
-            hi = mid
+    lo = interval(p, o, n, x)
+    hi = lo + 1
     s = (p[o + k * n + hi] - p[o + k * n + lo]) / (p[o + hi] - p[o + lo])
     return p[o + k * n + lo] + s * (x - p[o + lo]), s
 
