@@ -124,24 +124,33 @@ def _grow(a, cap):
 
 
 @jit(inline="always")
-def _push(buf, n_out, t, y, u, out):
-    """Append one output row (time, state, inputs, outputs), growing the buffers."""
-    ts, ys, us, outs = buf
-    if n_out >= ts.shape[0]:
-        cap = 2 * ts.shape[0]
-        ts = _grow(ts, cap)
-        ys = _grow(ys, cap)
-        us = _grow(us, cap)
-        outs = _grow(outs, cap)
+def _row(rows, k, t, y, u, out):
+    """Write output row ``k`` (time, state, inputs, outputs) into the borrowed ``rows``."""
+    ts, ys, us, outs = rows
     # element loops: a row view per array would cost atomic reference counts per row
-    ts[n_out] = t
+    ts[k] = t
     for i in range(y.shape[0]):
-        ys[n_out, i] = y[i]
+        ys[k, i] = y[i]
     for i in range(u.shape[0]):
-        us[n_out, i] = u[i]
+        us[k, i] = u[i]
     for i in range(out.shape[0]):
-        outs[n_out, i] = out[i]
-    return (ts, ys, us, outs), n_out + 1
+        outs[k, i] = out[i]
+
+
+@jit
+def _more_rows(owners, cap):
+    """Twice the output rows: ``(cap, owners, rows)`` with ``rows`` borrowed views of the
+    new ``owners`` (which the caller keeps to the end)."""
+    cap *= 2
+    owners = (_grow(owners[0], cap), _grow(owners[1], cap), _grow(owners[2], cap),
+              _grow(owners[3], cap))
+    return cap, owners, _borrow_rows(owners)
+
+
+@jit(inline="always")
+def _borrow_rows(owners):
+    return (borrowed(owners[0]), borrowed(owners[1]), borrowed(owners[2]),
+            borrowed(owners[3]))
 
 
 @jit
@@ -284,12 +293,15 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     jac_max_age = iopt[I_JAC_MAX_AGE] if w_method else 0
 
     stats = np.zeros(N_STATS, dtype=np.int64)
+    # Output rows: written through borrowed views (a row written through the owning arrays
+    # cost ~35 ns in reference counts and growth copies, ~0.07 ms of the default launch),
+    # sized for the output grid and 256 more rows (events), doubled when full.
     cap = 256
-    ts = np.empty(cap)
-    ys = np.empty((cap, n))
-    us = np.empty((cap, n_in))
-    outs = np.empty((cap, n_outputs))
-    n_out = 0
+    if dt_out > 0:
+        cap += int(min((t1 - t0) / dt_out + 2.0, 1e6, max(max_output, 0)))
+    owners = (np.empty(cap), np.empty((cap, n)), np.empty((cap, n_in)),
+              np.empty((cap, n_outputs)))
+    rows = _borrow_rows(owners)
     ecap = 16
     ev_t = np.empty(ecap)
     ev_k = np.empty(ecap, dtype=np.int64)
@@ -360,14 +372,14 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     stats[S_RHS] += 1
     system_events(tag, t, y, u, p, g_old)
     system_outputs(tag, t, y, u, p, out)
-    buf = (ts, ys, us, outs)
-    buf, n_out = _push(buf, 0, t, y, u, out)
+    _row(rows, 0, t, y, u, out)
+    n_out = 1
     log = (ev_t, ev_k, ev_a)
     next_out = t0 + dt_out
     bad = _first_nonfinite(f0)
     if _first_nonfinite(y) >= 0 or bad >= 0:
         i_bad = _first_nonfinite(y)
-        ts, ys, us, outs = buf
+        ts, ys, us, outs = owners
         return (NON_FINITE, t, -1, i_bad if i_bad >= 0 else bad, ts[:n_out], ys[:n_out],
                 us[:n_out], outs[:n_out], ev_t[:0], ev_k[:0], ev_a[:0], stats, h_smallest,
                 _now() - t_wall0)
@@ -449,7 +461,10 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     system_events(tag, t, y, u, p, g_old)
                     check_jump = True  # a reset may itself arm another event
                     system_outputs(tag, t, y, u, p, out)
-                    buf, n_out = _push(buf, n_out, t, y, u, out)
+                    if n_out == cap:
+                        cap, owners, rows = _more_rows(owners, cap)
+                    _row(rows, n_out, t, y, u, out)
+                    n_out += 1
                 continue
 
         if t >= t1:
@@ -690,11 +705,17 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                         dense_eval(dkind, dense, (next_out - t) / h, ytmp)
                         inputs_at(bank, next_out, t_ref, u, uc)
                         system_outputs(tag, next_out, ytmp, u, p, out)
-                        buf, n_out = _push(buf, n_out, next_out, ytmp, u, out)
+                        if n_out == cap:
+                            cap, owners, rows = _more_rows(owners, cap)
+                        _row(rows, n_out, next_out, ytmp, u, out)
+                        n_out += 1
                         next_out = t0 + (round((next_out - t0) / dt_out) + 1) * dt_out
                 inputs_at(bank, te, t_ref, u, uc)
                 system_outputs(tag, te, y_ev, u, p, out)
-                buf, n_out = _push(buf, n_out, te, y_ev, u, out)
+                if n_out == cap:
+                    cap, owners, rows = _more_rows(owners, cap)
+                _row(rows, n_out, te, y_ev, u, out)
+                n_out += 1
                 log, action, ended = _apply_event(tag, te, y_ev, u, p, k_first, log, ring,
                                                   ch_n, ch_window, stats)
                 system_events(tag, te, y_ev, u, p, g_seg)
@@ -719,7 +740,10 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     jac_valid = False
                 if action == _STATE_CHANGED:
                     system_outputs(tag, t, y, u, p, out)
-                    buf, n_out = _push(buf, n_out, t, y, u, out)
+                    if n_out == cap:
+                        cap, owners, rows = _more_rows(owners, cap)
+                    _row(rows, n_out, t, y, u, out)
+                    n_out += 1
                     check_jump = True
                 h = h_next
                 continue
@@ -734,12 +758,18 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 dense_eval(dkind, dense, (tq - t) / h, ytmp)
                 inputs_at(bank, tq, t_ref, u, uc)
                 system_outputs(tag, tq, ytmp, u, p, out)
-                buf, n_out = _push(buf, n_out, tq, ytmp, u, out)
+                if n_out == cap:
+                    cap, owners, rows = _more_rows(owners, cap)
+                _row(rows, n_out, tq, ytmp, u, out)
+                n_out += 1
                 next_out = t0 + (round((next_out - t0) / dt_out) + 1) * dt_out
         elif n_out < max_output:
             inputs_at(bank, t_new, t_ref, u, uc)
             system_outputs(tag, t_new, y_new, u, p, out)
-            buf, n_out = _push(buf, n_out, t_new, y_new, u, out)
+            if n_out == cap:
+                cap, owners, rows = _more_rows(owners, cap)
+            _row(rows, n_out, t_new, y_new, u, out)
+            n_out += 1
         t = t_new
         for i in range(n):
             y[i] = y_new[i]
@@ -760,13 +790,16 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
             lu_h = 0.0
             check_jump = True
 
-    if dt_out > 0 and status == DONE and n_out < max_output and buf[0][n_out - 1] < t:
+    if dt_out > 0 and status == DONE and n_out < max_output and rows[0][n_out - 1] < t:
         inputs_at(bank, t, t, u, uc)
         system_outputs(tag, t, y, u, p, out)
-        buf, n_out = _push(buf, n_out, t, y, u, out)
+        if n_out == cap:
+            cap, owners, rows = _more_rows(owners, cap)
+        _row(rows, n_out, t, y, u, out)
+        n_out += 1
     stats[S_OUTPUT] = n_out
     ne = stats[S_EVENTS]
-    ts, ys, us, outs = buf
+    ts, ys, us, outs = owners
     ev_t, ev_k, ev_a = log
     _release(ws, iws)
     return (status, t, info_k, info_i, ts[:n_out], ys[:n_out], us[:n_out], outs[:n_out],
