@@ -187,6 +187,11 @@ def test_the_compiled_primitives_are_numpy_and_scipy_to_the_last_bit():
     lp, lzi = lq._lowpass_sos(10.0, 5e-4)
     np.testing.assert_allclose(_k.filtfilt(lp, lzi, u), signal.sosfiltfilt(lp, u),
                                rtol=0, atol=1e-13)
+    # both in one loop (the launch kernel's path): the bits of each alone
+    for m in (10, 11, 3000):
+        wd, lo = _k._wd_and_lowpass(sos, zi, lp, lzi, u[:m])
+        assert np.array_equal(wd, _k.sosfilt(sos, zi, u[0], u[:m]))
+        assert np.array_equal(lo, _k.filtfilt(lp, lzi, u[:m]))
 
 
 def test_events_are_a_lazy_sequence_equal_to_their_tuple():
