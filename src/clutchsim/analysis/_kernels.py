@@ -129,6 +129,8 @@ def interp(x, xp, fp):
     n, m = x.size, xp.size
     out = np.empty(n)
     j = 0
+    js = -1             # the interval whose slope is in `slope` (one division per interval:
+    slope = 0.0         # the filter grid has ~4 points per output row)
     for i in range(n):
         xv = x[i]
         if math.isnan(xv):
@@ -147,7 +149,9 @@ def interp(x, xp, fp):
         if j == m - 1 or xp[j] == xv:
             out[i] = fp[j]
         else:
-            slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+            if j != js:
+                slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+                js = j
             r = slope * (xv - xp[j]) + fp[j]
             if math.isnan(r):
                 r = slope * (xv - xp[j + 1]) + fp[j + 1]
