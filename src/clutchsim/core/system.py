@@ -107,9 +107,11 @@ class _Kernel(WrapperAddressProtocol):
 
     numba types an object of this class as a first-class ``FunctionType`` of its
     signature, not as the particular function: the integrator is then compiled (and cached
-    on disk) once for every plant, instead of once per plant type (~30 s each).  The price: each call goes through numba's C wrapper and cannot be
-    inlined (1.3 % of the default launch), and unboxing the four values costs ~0.1 ms per
-    integrator call (numba looks each address up through Python).  numba types an object
+    on disk) once for every plant, instead of once per plant type (~30 s each).  The
+    price: each call goes through numba's C wrapper and cannot be inlined (1.3 % of the
+    default launch), and unboxing the function values is part of the 40–56 µs an
+    integrator call costs beyond its own loop (numba looks each address up through
+    Python; measured in session 13, docs/performance.md).  numba types an object
     by signature alone only through this protocol; a compiled function passed as itself
     is specialised on, which recompiles the integrator per plant.
     """
