@@ -359,7 +359,7 @@ def interval(a, o, n, x):
     Up to :data:`SMALL_TABLE` breakpoints it counts the inner ones at or below ``x``:
     compares without branches, where a bisection mispredicts about one branch in two (the
     default launch's plant evaluates tables of 5 and 8 breakpoints at every right-hand
-    side; ``perf`` put their bisection at ~9 % of the integrator's time).  Larger tables
+    side; ``perf`` put their bisection at ~9 % of the launch's compiled time).  Larger tables
     are bisected.  Both find the same interval, so the same bits."""
     if n <= SMALL_TABLE:
         lo = 0
