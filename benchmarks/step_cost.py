@@ -5,7 +5,10 @@ warm-up); then each piece of work a step does is timed alone in a compiled loop 
 of the run: a right-hand side, the event functions, the plant's exact Jacobian (or the
 finite-difference one it replaces), one inversion of ``I/(γh) − J`` (its leading block, at
 the plant's Jacobian at that state, γh = 1 ms; counted as ``lu_decompositions``) and one
-stage solve (a matrix–vector product with that inverse).  The counts of the run
+stage solve (a matrix–vector product with that inverse).  A plant with its own factors of
+``I/(γh) − J`` (the network plants' straight-line elimination,
+:mod:`clutchsim.network.elimination`) has those timed as well (``factor_ns``,
+``factor_solve_ns``), and the breakdown counts them instead of the dense inverse.  The counts of the run
 (right-hand sides, event evaluations, Jacobians, inversions, stage solves) times these costs
 give the real work; the rest of the integrator's time is the step loop's own bookkeeping
 (controller, error norm, stage combinations, dense output, output rows, event brackets).
@@ -36,6 +39,23 @@ def _loop_rhs(f, n, t, y, u, p, out):
         f(t, y, u, p, out)
         s += out[0] if out.size else 0.0
     return s
+
+
+@numba.njit
+def _loop_factor(f, n, c, J, F):
+    s = 0
+    for _ in range(n):
+        J[0, 0] += 1e-14
+        s += f(c, J, F)
+    return s
+
+
+@numba.njit
+def _loop_factor_solve(f, n, F, b, X):
+    for _ in range(n):
+        b[0] += 1e-14
+        f(F, b, X, 0)
+    return X[0, 0]
 
 
 @numba.njit
@@ -110,6 +130,14 @@ def _costs(system, y, u, n=100_000):
     out["inverse_ns"] = _best_ns(_loop_inverse, (J, n, M, piv, nd), n)
     _loop_solve(M, b, X, 10, nd)
     out["solve_ns"] = _best_ns(_loop_solve, (M, b, X, n, nd), n)
+    out["linear_solver"] = "dense inverse"
+    if fns.factor_size:
+        F = np.empty(fns.factor_size)
+        if _loop_factor(fns.factor, 10, 1e3, J, F) == 10:
+            out["factor_ns"] = _best_ns(_loop_factor, (fns.factor, n, 1e3, J, F), n)
+            _loop_factor_solve(fns.solve, 10, F, b, X)
+            out["factor_solve_ns"] = _best_ns(_loop_factor_solve, (fns.solve, n, F, b, X), n)
+            out["linear_solver"] = "plant's factors"
     return out
 
 
@@ -127,8 +155,8 @@ def _breakdown(name, run, system, y, u, method, repeats):
             # a finite-difference Jacobian's right-hand sides are counted in rhs_evals
             "jacobian": st.jacobians * c["jacobian_ns"] if c["jacobian_kind"] == "exact"
             else 0.0,
-            "inverse": st.lu_decompositions * c["inverse_ns"],
-            "solves": attempts * stages * c["solve_ns"]}
+            "inverse": st.lu_decompositions * c.get("factor_ns", c["inverse_ns"]),
+            "solves": attempts * stages * c.get("factor_solve_ns", c["solve_ns"])}
     total_ns = statistics.median(walls) * 1e9
     per_step = {k: v / st.steps for k, v in work.items()}
     per_step["bookkeeping"] = (total_ns - sum(work.values())) / st.steps

@@ -1,5 +1,5 @@
 """Plants without a static argument reach the integrators as function values: one compiled
-integrator serves them all (a new plant compiles only its own four functions)."""
+integrator serves them all (a new plant compiles only its own functions)."""
 
 import numba
 import numpy as np
@@ -8,7 +8,7 @@ from numba import types
 from clutchsim.core import _driver as drv
 from clutchsim.core import simulate
 from clutchsim.core.reference_problems import ball, oscillator, riccati
-from clutchsim.core.system import JAC_SIG, KERNEL_SIG, RESET_SIG, kernels
+from clutchsim.core.system import FACTOR_SIG, JAC_SIG, KERNEL_SIG, RESET_SIG, SOLVE_SIG, kernels
 
 
 def _function_value_signatures():
@@ -32,7 +32,8 @@ def test_kernels_are_typed_as_function_values_also_for_every_rig_model():
     ks = kernels(oscillator().tag)
     assert [numba.typeof(k) for k in ks] == [types.FunctionType(KERNEL_SIG)] * 2 + [
         types.FunctionType(RESET_SIG), types.FunctionType(KERNEL_SIG),
-        types.FunctionType(JAC_SIG)]
+        types.FunctionType(JAC_SIG), types.FunctionType(FACTOR_SIG),
+        types.FunctionType(SOLVE_SIG)]
     assert kernels(oscillator().tag) is ks               # built once per tag type
     from clutchsim.friction import make_model
     from clutchsim.rig import make_rig

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.system import JAC_SIG, KERNEL_SIG, RESET_SIG, NativeFunction
+from ..core.system import FACTOR_SIG, JAC_SIG, KERNEL_SIG, RESET_SIG, SOLVE_SIG, NativeFunction
 from .cprint import A1, A2, D, I, print_c
 
 __all__ = ["PLANT_ENTRIES", "CPlant", "CompilerError", "NoCompilerError", "build_plant_library",
@@ -51,7 +51,15 @@ PLANT_ENTRIES = {
     "events": (D, A1, A1, A1, A1),
     "reset": (D, A1, A1, A1, I),
     "jac": (D, A1, A1, A1, A2),
+    "factor": (D, A2, A1),
+    "solve": (A1, A1, A2, I),
 }
+#: the entry points that return an integer (the others return nothing)
+RETURNS_INT = ("reset", "factor")
+#: the entry points a plant may lack (its solver of the iteration matrix)
+OPTIONAL_ENTRIES = ("factor", "solve")
+#: numba signature of each entry point
+_SIGS = {"reset": RESET_SIG, "jac": JAC_SIG, "factor": FACTOR_SIG, "solve": SOLVE_SIG}
 
 
 class CompilerError(RuntimeError):
@@ -141,13 +149,13 @@ def check_numba_abi() -> None:
 def numba_entries(entries: dict[str, tuple]) -> str:
     """C source of ``nb_<f>`` for each entry ``f`` (argument kinds as :data:`PLANT_ENTRIES`):
     numba's calling convention for a first-class function value, calling ``cs_<f>``.  An
-    entry that returns (``reset``) returns ``int64_t``; the others ``void``."""
+    entry that returns (:data:`RETURNS_INT`) returns ``int64_t``; the others ``void``."""
     out = ["#include <stdint.h>", ""]
     for name, kinds in entries.items():
         names = [f"a{i}" for i in range(len(kinds))]
         params = ", ".join(_NB_ARG[k][0].format(n=n) for k, n in zip(kinds, names))
         args = ", ".join(_NB_ARG[k][1].format(n=n) for k, n in zip(kinds, names))
-        if name == "reset":
+        if name in RETURNS_INT:
             out += [f"int64_t nb_{name}({params}) {{", f"    return (int64_t)cs_{name}({args});",
                     "}"]
         else:
@@ -212,7 +220,7 @@ class CPlant:
             for t in PLANT_ENTRIES[n]:
                 args += [ptr, ctypes.c_int] if t == A2 else [kinds[t]]
             f.argtypes = args
-            f.restype = ctypes.c_int if n == "reset" else None
+            f.restype = ctypes.c_int if n in RETURNS_INT else None
         self.names = names
 
     @classmethod
@@ -255,11 +263,20 @@ class CPlant:
     def jac(self, t, y, u, p, J):
         self._call("jac", t, y, u, p, J)
 
+    def factor(self, c, J, F) -> int:
+        """``cs_factor`` (``J`` C-contiguous; ``F`` written in place)."""
+        Jc = np.ascontiguousarray(J, dtype=np.float64)
+        return int(self.lib.cs_factor(c, Jc, Jc.shape[1], F))
+
+    def solve(self, F, b, X, r) -> None:
+        """``cs_solve``: row ``r`` of the C-contiguous ``X`` written in place."""
+        self.lib.cs_solve(F, b, X, X.shape[1], int(r))
+
     def native(self, name: str):
         """Entry ``name`` as a function value for the integrators (its ``nb_`` face);
         :class:`CompilerError` when this numba passes arguments otherwise
         (:func:`check_numba_abi`)."""
         check_numba_abi()
-        sig = {"reset": RESET_SIG, "jac": JAC_SIG}.get(name, KERNEL_SIG)
+        sig = _SIGS.get(name, KERNEL_SIG)
         address = ctypes.cast(getattr(self.lib, f"nb_{name}"), ctypes.c_void_p).value
         return NativeFunction(address, sig, getattr(self, name), keep=self)

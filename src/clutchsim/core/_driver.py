@@ -38,7 +38,7 @@ from .controllers import C_B1, C_B2, C_B3, C_KIND, C_MAX, C_MIN, C_SAFETY
 from .methods import EXPLICIT
 from .signals import SignalBank
 from .status import Action, Code
-from .system import system_events, system_outputs, system_reset, system_rhs
+from .system import system_events, system_factor, system_outputs, system_reset, system_rhs
 
 # status codes (named in status.Code; plain ints here for the compiled code)
 DONE = int(Code.DONE)
@@ -60,8 +60,9 @@ _FAIL = int(Action.FAIL)
  O_LU_REUSE) = range(10)
 N_FOPT = 10
 # int options
-I_MAX_STEPS, I_CHATTER_N, I_MAX_OUTPUT, I_QUADRATURES, I_EXACT_JAC, I_JAC_MAX_AGE = range(6)
-N_IOPT = 6
+(I_MAX_STEPS, I_CHATTER_N, I_MAX_OUTPUT, I_QUADRATURES, I_EXACT_JAC, I_JAC_MAX_AGE,
+ I_FACTOR_SIZE) = range(7)
+N_IOPT = 7
 # method scalars
 M_FAMILY, M_GAMMA, M_Q, M_DENSE, M_W, M_FSAL = range(6)
 N_MOPT = 6
@@ -291,6 +292,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     nd = n - iopt[I_QUADRATURES]    # states in the implicit solve (the rest: quadratures)
     exact_jac = iopt[I_EXACT_JAC] != 0
     jac_max_age = iopt[I_JAC_MAX_AGE] if w_method else 0
+    n_factor = iopt[I_FACTOR_SIZE]  # floats of the plant's own factors (0: none)
 
     stats = np.zeros(N_STATS, dtype=np.int64)
     # Output rows: written through borrowed views (a row written through the owning arrays
@@ -320,7 +322,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     n_k = max(s_stages, 1)
     n_ring = max(ch_n, 1)
     ws = np.zeros(9 * n + n_k * n + 5 * n + 2 * n * n + n_in + 2 + n_outputs
-                  + (5 + N_SAMPLES) * n_ev + n_ring)
+                  + (5 + N_SAMPLES) * n_ev + n_ring + max(n_factor, 1))
     iws = np.zeros(n + n_k + 1, dtype=np.int64)
     vec = _block(ws, 0, 9, n)
     y, y_new, ytmp, ftmp, f1, err, f0, dfdt, y_ev = (vec[0], vec[1], vec[2], vec[3], vec[4],
@@ -349,6 +351,9 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     o += n_outputs
     ring = borrowed(ws[o:o + n_ring])
     ring[:] = -np.inf
+    o += n_ring
+    F = borrowed(ws[o:o + max(n_factor, 1)])    # the plant's factors of I/(γh) − J
+    structured = False      # the stages solve with F (else with the inverse in M)
     piv = borrowed(iws[:n])     # pivot rows: scratch of the inversion
     ext = borrowed(iws[n:])     # the tableau's stiffly accurate rows, once per run
     if not explicit:
@@ -542,15 +547,18 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                         info_i = last_nonfinite
                         break
             if lu_h == 0.0 or abs(h / lu_h - 1.0) > lu_band:
-                ok = invert_iteration_matrix(J, 1.0 / (gamma * h), M, piv, nd)
+                structured = n_factor > 0 and system_factor(tag, 1.0 / (gamma * h), J,
+                                                            F) != 0
+                ok = structured or invert_iteration_matrix(J, 1.0 / (gamma * h), M, piv, nd)
                 stats[S_LU] += 1
                 lu_h = h if ok else 0.0
             if ok:
                 # with a reused inverse (W-methods only) the stages solve with
                 # I/(γ·lu_h) − J, i.e. with W = J + (1/(γh) − 1/(γ·lu_h))·I: a W-method
                 # keeps its order with any W
-                stats[S_RHS] += ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, K,
-                                         u, uc, ytmp, ftmp, y_new, err, nd, tab, ext)
+                stats[S_RHS] += ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, F,
+                                         structured, K, u, uc, ytmp, ftmp, y_new, err, nd,
+                                         tab, ext)
         if ok:
             bad = _first_nonfinite(y_new)
             if bad < 0:

@@ -22,7 +22,7 @@ from .._jit import jit
 from ._linalg import solve_into_row
 from .methods import DENSE_HERMITE, DENSE_POLY
 from .signals import eval_inputs
-from .system import system_jac, system_rhs
+from .system import system_jac, system_rhs, system_solve
 
 _SQRT_EPS = math.sqrt(2.220446049250313e-16)
 
@@ -110,10 +110,11 @@ def jacobian(tag, bank, p, t, y, t_ref, f0, atol_over_rtol, u, uc, ytmp, ftmp, J
 
 
 @jit(inline="always")
-def ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, K, u, uc, ytmp, ftmp, y_new, err, nd,
-             tab, ext):
-    """One Rosenbrock step with the inverted iteration matrix ``M`` (of ``I/(γh) − J``,
-    :func:`~._linalg.invert_iteration_matrix`); fills the stage increments ``K[0..s-1]``,
+def ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, F, structured, K, u, uc, ytmp, ftmp,
+             y_new, err, nd, tab, ext):
+    """One Rosenbrock step with the iteration matrix ``I/(γh) − J`` factored by the plant
+    into ``F`` (``structured``, :func:`~.system.system_factor`) or else inverted into ``M``
+    (:func:`~._linalg.invert_iteration_matrix`); fills the stage increments ``K[0..s-1]``,
     ``y_new`` and the error estimate ``err`` (``ftmp`` ends as the last stage's right-hand
     side of its system).  ``ext``: the tableau's :func:`stiffly_accurate_rows`.  Returns
     the number of right-hand-side evaluations."""
@@ -143,7 +144,10 @@ def ros_step(tag, bank, p, t, y, h, t_ref, f0, dfdt, M, K, u, uc, ytmp, ftmp, y_
             if cij != 0.0:
                 for i in range(n):
                     ftmp[i] += cij * K[j, i]
-        solve_into_row(M, ftmp, K, st, nd)
+        if structured:
+            system_solve(tag, F, ftmp, K, st)
+        else:
+            solve_into_row(M, ftmp, K, st, nd)
     if ext[s] != 0:     # ytmp holds the last stage's argument
         for i in range(n):
             y_new[i] = ytmp[i] + K[s - 1, i]

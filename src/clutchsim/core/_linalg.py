@@ -7,7 +7,10 @@ pivoting); :func:`solve_into_row` then solves a stage as a matrix–vector produ
 independent dot products, which the CPU overlaps, where the forward and back
 substitutions of an LU were chains of dependent rows.  numba offers no reusable
 factorisation, and a LAPACK call costs more than the whole solve for the 3–20 states of
-our plants.
+our plants.  A plant may bring its own factors of ``M`` instead (``factor``/``solve`` of
+:mod:`clutchsim.core.system`: the network plants' straight-line elimination for the
+sparsity of their Jacobian, :mod:`clutchsim.network.elimination`); this inverse is then the
+fallback for the matrices their static order refuses.
 
 Measured on the default launch (model (6), RODAS5P, 10 × 10 block, 16 states; AMD EPYC,
 2 cores, load ~2, ``benchmarks/step_cost.py``): forming the matrix and inverting it costs

@@ -18,7 +18,7 @@ from .options import DEFAULT_METHOD, SolverOptions, check_solver
 from .result import Events, Result, Stats
 from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
-from .system import System, call_jac, closest, has_jacobian, kernels
+from .system import System, call_jac, closest, factor_size, has_jacobian, kernels
 
 __all__ = ["RunEnd", "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
 
@@ -233,6 +233,7 @@ class _Prepared:
         iopt[drv.I_MAX_OUTPUT], iopt[drv.I_QUADRATURES] = opts.max_output, system.quadratures
         iopt[drv.I_EXACT_JAC] = has_jacobian(system.tag)
         iopt[drv.I_JAC_MAX_AGE] = opts.jacobian.max_age
+        iopt[drv.I_FACTOR_SIZE] = factor_size(system.tag)
         ev_dir = np.array(system.event_directions, dtype=np.int64)
         #: the loop's arguments with None for the initial state and the parameters
         self.args = (kernels(system.tag), tab, mopt, ctrl, t0, t1, None, None,

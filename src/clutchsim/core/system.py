@@ -1,6 +1,7 @@
 """What the integrators integrate: a compiled right-hand side with events, resets and outputs.
 
-A plant (a friction test rig, a driveline, ...) defines four compiled functions
+A plant (a friction test rig, a driveline, ...) defines four compiled functions, and up to
+three optional ones,
 
 ``rhs(t, y, u, p, dy)``
     writes the state derivatives ``dy``;
@@ -17,13 +18,22 @@ A plant (a friction test rig, a driveline, ...) defines four compiled functions
     writes the exact Jacobian ``J[i, j] = d dy_i / d y_j`` (an ``(n, n)`` C-contiguous
     array, every entry, the quadrature columns included) at fixed inputs ``u``.  Without
     it the implicit integrators difference the right-hand side (one call per state).
+``factor(c, J, F) -> ok`` and ``solve(F, b, X, r)`` (optional, with ``jac``)
+    the plant's own solver for the iteration matrix ``M = c·I − J`` of the implicit
+    stages, written for the sparsity of its Jacobian (the network plants generate them
+    per topology, :mod:`clutchsim.network.elimination`): ``factor`` writes its factors to
+    ``F`` (``factor_size`` floats) and returns 1, or returns 0 when it cannot factor this
+    ``M`` safely, and the integrator inverts ``M`` densely for that step; ``solve`` writes
+    ``X[r] = M⁻¹·b`` (``b`` is not a row of ``X``; quadrature rows included, as the dense
+    path solves them).
 
 where ``t`` is time [s], ``y`` the state vector, ``u`` the input vector and ``p`` a float
 parameter vector (all arrays float64, C-contiguous).  It registers them under a *tag
 type* (a ``NamedTuple`` subclass) with :func:`register_system`.
 
 The plant's functions reach the integrators as first-class numba function values of fixed
-signatures (:data:`KERNEL_SIG`, :data:`RESET_SIG`, :data:`JAC_SIG`; :func:`kernels`), so the
+signatures (:data:`KERNEL_SIG`, :data:`RESET_SIG`, :data:`JAC_SIG`, :data:`FACTOR_SIG`,
+:data:`SOLVE_SIG`; :func:`kernels`), so the
 integrators are compiled, and cached on disk, once for all plants: a new plant only
 compiles its own functions (seconds) instead of the integrators (~30 s on the 2-core
 machine).  Each call is indirect (not inlined): 1.3 % of the default launch.  A plant
@@ -31,7 +41,7 @@ family with variants (the rig, one per friction model) registers one tag per var
 functions that fold the variant in (closures over a constant compiled under their own
 names), not a run-time dispatch.
 
-The core knows nothing of friction: only these four functions.
+The core knows nothing of friction: only these functions.
 """
 
 from __future__ import annotations
@@ -84,6 +94,9 @@ class _Functions(NamedTuple):
     outputs: object
     jac: object
     has_jac: bool
+    factor: object
+    solve: object
+    factor_size: int
 
 
 _REGISTRY: dict[type, _Functions] = {}
@@ -100,6 +113,10 @@ KERNEL_SIG = types.void(types.float64, _ARRAY, _ARRAY, _ARRAY, _ARRAY)
 RESET_SIG = types.int64(types.float64, _ARRAY, _ARRAY, _ARRAY, types.int64)
 #: signature of jac: (t, y, u, p, J) -> None, J of shape (n, n)
 JAC_SIG = types.void(types.float64, _ARRAY, _ARRAY, _ARRAY, types.float64[:, ::1])
+#: signature of factor: (c, J, F) -> 1 (factored) or 0 (use the dense inverse)
+FACTOR_SIG = types.int64(types.float64, types.float64[:, ::1], _ARRAY)
+#: signature of solve: (F, b, X, r) -> None, writes row r of X
+SOLVE_SIG = types.void(_ARRAY, _ARRAY, types.float64[:, ::1], types.int64)
 
 
 class _Kernel(WrapperAddressProtocol):
@@ -170,7 +187,7 @@ _KERNELS: dict[type, tuple] = {}
 
 def kernels(tag):
     """What the integrators receive for ``tag``: the tuple (rhs, events, reset, outputs,
-    jac) of :class:`_Kernel` function values."""
+    jac, factor, solve) of :class:`_Kernel` function values."""
     fns = _REGISTRY[type(tag)]
     with _kernel_lock:
         out = _KERNELS.get(type(tag))
@@ -178,14 +195,16 @@ def kernels(tag):
             out = tuple(f if isinstance(f, NativeFunction) else _Kernel(f, sig)
                         for f, sig in ((fns.rhs, KERNEL_SIG), (fns.events, KERNEL_SIG),
                                        (fns.reset, RESET_SIG), (fns.outputs, KERNEL_SIG),
-                                       (fns.jac, JAC_SIG)))
+                                       (fns.jac, JAC_SIG), (fns.factor, FACTOR_SIG),
+                                       (fns.solve, SOLVE_SIG)))
             _KERNELS[type(tag)] = out
     return out
 
 
 def plant_functions(tag):
     """The compiled functions registered for ``tag``: a named tuple (rhs, events, reset,
-    outputs, jac, has_jac), e.g. to time a plant alone in a compiled loop."""
+    outputs, jac, has_jac, factor, solve, factor_size), e.g. to time a plant alone in a
+    compiled loop."""
     return _REGISTRY[type(tag)]
 
 
@@ -194,8 +213,14 @@ def has_jacobian(tag) -> bool:
     return _REGISTRY[type(tag)].has_jac
 
 
+def factor_size(tag) -> int:
+    """Floats of the factors of the plant's own iteration-matrix solver (0: it has none,
+    the integrators invert densely)."""
+    return _REGISTRY[type(tag)].factor_size
+
+
 def _is_kernel_tuple(tag) -> bool:
-    return (isinstance(tag, types.BaseTuple) and len(tag) == 5
+    return (isinstance(tag, types.BaseTuple) and len(tag) == 7
             and all(isinstance(t, types.FunctionType) for t in tag))
 
 
@@ -219,8 +244,18 @@ def _no_jac(t, y, u, p, J):
     pass
 
 
+@jit
+def _no_factor(c, J, F):
+    return 0
+
+
+@jit
+def _no_solve(F, b, X, r):
+    pass
+
+
 def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None,
-                    jac=None) -> type:
+                    jac=None, factor=None, solve=None, factor_size: int = 0) -> type:
     """Register the compiled functions of a plant under the ``NamedTuple`` type ``tag``.
 
     The functions reach the integrators as function values (see the module docstring),
@@ -230,11 +265,24 @@ def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None,
 
     ``jac``: the exact Jacobian ``jac(t, y, u, p, J)`` (see the module docstring); the
     implicit integrators use it instead of finite differences.
+
+    ``factor``, ``solve``, ``factor_size``: the plant's own solver of the iteration matrix
+    (see the module docstring); only with ``jac`` (the pattern it is written for is the
+    exact Jacobian's).
     """
     if not (isinstance(tag, type) and issubclass(tag, tuple) and hasattr(tag, "_fields")):
         raise TypeError(f"tag must be a NamedTuple class, got {tag!r}")
+    if (factor is None) != (solve is None) or (factor is not None) != (factor_size > 0):
+        raise ValueError(f"{tag.__name__}: factor, solve and factor_size > 0 go together "
+                         f"(got factor={factor!r}, solve={solve!r}, "
+                         f"factor_size={factor_size!r})")
+    if factor is not None and jac is None:
+        raise ValueError(f"{tag.__name__}: factor and solve need the exact jac they are "
+                         "written for")
     _REGISTRY[tag] = _Functions(rhs, events or _no_events, reset or _no_reset,
-                                outputs or _no_outputs, jac or _no_jac, jac is not None)
+                                outputs or _no_outputs, jac or _no_jac, jac is not None,
+                                factor or _no_factor, solve or _no_solve,
+                                int(factor_size))
     return tag
 
 
@@ -261,6 +309,17 @@ def system_outputs(fns, t, y, u, p, out):
 def system_jac(fns, t, y, u, p, J):
     """Compiled-only: the plant's exact Jacobian (a no-op for plants without one)."""
     raise NotImplementedError("system_jac is only callable from compiled code")
+
+
+def system_factor(fns, c, J, F):
+    """Compiled-only: the plant's factorisation of ``c·I − J`` (0 for plants without
+    one)."""
+    raise NotImplementedError("system_factor is only callable from compiled code")
+
+
+def system_solve(fns, F, b, X, r):
+    """Compiled-only: ``X[r] = M⁻¹·b`` with the factors of :func:`system_factor`."""
+    raise NotImplementedError("system_solve is only callable from compiled code")
 
 
 @overload(system_rhs, jit_options={"cache": True})
@@ -308,6 +367,24 @@ def _ol_jac(fns, t, y, u, p, J):
     return None
 
 
+@overload(system_factor, jit_options={"cache": True})
+def _ol_factor(fns, c, J, F):
+    if _is_kernel_tuple(fns):
+        def impl(fns, c, J, F):
+            return fns[5](c, J, F)
+        return impl
+    return None
+
+
+@overload(system_solve, jit_options={"cache": True})
+def _ol_solve(fns, F, b, X, r):
+    if _is_kernel_tuple(fns):
+        def impl(fns, F, b, X, r):
+            fns[6](F, b, X, r)
+        return impl
+    return None
+
+
 # Python-callable entry points (the scipy reference backend, linearisation, checks, tests):
 # the registered functions called from Python, compiled functions and native ones alike.
 def call_rhs(tag, t, y, u, p, dy):
@@ -328,6 +405,14 @@ def call_outputs(tag, t, y, u, p, out):
 
 def call_jac(tag, t, y, u, p, J):
     _REGISTRY[type(tag)].jac(t, y, u, p, J)
+
+
+def call_factor(tag, c, J, F):
+    return _REGISTRY[type(tag)].factor(c, J, F)
+
+
+def call_solve(tag, F, b, X, r):
+    _REGISTRY[type(tag)].solve(F, b, X, r)
 
 
 def closest(name: str, valid) -> str:

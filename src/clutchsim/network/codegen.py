@@ -322,11 +322,14 @@ def _native(mod, name: str, exact_jacobian: bool) -> dict | None:
     know, a numba that passes arrays otherwise: logged once, and numba compiles the module
     instead)."""
     from ..cgen import CompilerError, CPlant, CPrintError, build_plant_library
+    from ..cgen.compiler import OPTIONAL_ENTRIES, PLANT_ENTRIES
     lib = _module_dir() / f"{name}.so"
+    entries = {k: v for k, v in PLANT_ENTRIES.items()
+               if k not in OPTIONAL_ENTRIES or hasattr(mod, k)}
     try:
         if not lib.exists():
-            build_plant_library(mod, lib)
-        c = CPlant.load(lib)
+            build_plant_library(mod, lib, entries)
+        c = CPlant.load(lib, entries)
         fns = {n: c.native(n) for n in ("rhs", "events", "reset", "outputs")}
     except (CPrintError, CompilerError, OSError) as exc:
         key = type(exc).__name__
@@ -336,6 +339,9 @@ def _native(mod, name: str, exact_jacobian: bool) -> dict | None:
                         "topology instead of about 1 s): %s", exc)
         return None
     fns["jac"] = c.native("jac") if exact_jacobian else None
+    if exact_jacobian and hasattr(mod, "factor"):
+        fns.update(factor=c.native("factor"), solve=c.native("solve"),
+                   factor_size=mod.FACTOR_SIZE)
     return fns
 
 
@@ -373,6 +379,8 @@ def load_module(topo: Topology, *, exact_jacobian: bool = True):
         if fns is None:
             fns = {"rhs": mod.rhs, "events": mod.events, "reset": mod.reset,
                    "outputs": mod.outputs, "jac": mod.jac if exact_jacobian else None}
+            if exact_jacobian and hasattr(mod, "factor"):
+                fns.update(factor=mod.factor, solve=mod.solve, factor_size=mod.FACTOR_SIZE)
         register_system(tag, **fns)
         mod.TAG = tag
         mod.FUNCTIONS = fns

@@ -9,11 +9,14 @@ sliding switching elements, node accelerations, torques in rigid parts).
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from ..core.status import Action
 from ..friction.base import RESET_CHANGED, RESET_NONE, RESET_RELEASED, RESET_STUCK
 from .codegen import ENERGY
+from .elimination import elimination_source
 
 _ACTIONS = {"continue": int(Action.CONTINUE), "stop": int(Action.STOP),
             "fail": int(Action.FAIL)}
@@ -842,7 +845,74 @@ class _R:
                     b += _ind(lines)
                 else:
                     b += lines
+        self.pattern = self.jac_pattern(b)
         return L + _ind(b) + [""]
+
+    def jac_pattern(self, body) -> np.ndarray:
+        """Where ``jac`` can write a non-zero: a boolean ``(n, nd)`` pattern over the
+        implicit columns (``nd`` states before the quadratures), read off the statements of
+        its ``body``.  ``J[i, j] +=`` with literal indices is entry ``(i, j)``; a generalised
+        acceleration's row ``J[k, col] = da_k`` holds the columns of the node torques
+        ``dT[node, j]`` that reach coordinate ``k`` through ``N`` and ``M⁻¹``; the lock
+        projection and rolling lossy gears couple every acceleration (their union).  Any
+        other write to ``J`` raises, so that a change to ``jac`` cannot leave the pattern
+        (and the elimination generated from it) behind."""
+        P, asm, n, nv = self.P, self.asm, self.n, self.nv
+        nd = n - P.n_quadratures
+        pat = np.zeros((n, n), dtype=bool)
+        dT = np.zeros((asm.n_nodes, n), dtype=bool)
+        col_rows = set()
+        for line in body:
+            for stmt in line.split("\n"):
+                stmt = stmt.strip()
+                if stmt.startswith("dT["):
+                    m = re.match(r"dT\[(\d+), (\d+)\] \+= ", stmt)
+                    if m is None:
+                        raise AssertionError(f"jac_pattern: unknown write {stmt!r}")
+                    dT[int(m[1]), int(m[2])] = True
+                    continue
+                if not re.search(r"\bJ\[", stmt) or stmt == "J[i, j] = 0.0":
+                    continue
+                m = re.match(r"J\[(\d+), (\d+)\] \+= ", stmt)
+                if m is not None:
+                    pat[int(m[1]), int(m[2])] = True
+                    continue
+                m = re.match(r"J\[(\d+), col\] (\+)?= ", stmt)
+                if m is None:
+                    raise AssertionError(f"jac_pattern: unknown write {stmt!r}")
+                col_rows.add(int(m[1]))
+        # the accelerations: dG[k'] = Σ N[node, k']·dT[node]; da_k = Σ M⁻¹[k, j]·dG[j]
+        dG = np.zeros((nv, n), dtype=bool)
+        for k in range(nv):
+            for nd_ in range(asm.n_nodes):
+                if asm.pattern[nd_][k]:
+                    dG[k] |= dT[nd_]
+        da = np.zeros((nv, n), dtype=bool)
+        for k in range(nv):
+            for j in range(nv):
+                if self.mpat[k, j]:
+                    da[k] |= dG[j]
+        lossy = any(_lossy(c) for c in P.sw)
+        if self.m or lossy:
+            every = da.any(axis=0) | dT.any(axis=0)
+            if lossy:
+                every[:nv] = True
+            da[:] = every
+        for r in col_rows:
+            pat[r] |= da[r] if r < nv else da.any(axis=0)
+        if pat[:, nd:].any():
+            raise AssertionError("jac_pattern: a quadrature column is written")
+        return pat[:, :nd]
+
+    def linear(self) -> list[str]:
+        """``FACTOR_SIZE``, ``factor`` and ``solve`` of the iteration matrix for
+        :attr:`pattern` (:mod:`clutchsim.network.elimination`), or nothing when
+        straight-line code would not beat the dense inverse."""
+        el = elimination_source(self.pattern, self.n)
+        if el is None:
+            return []
+        return ["#: floats of the factors ``factor`` writes", f"FACTOR_SIZE = {el.size}", "",
+                *el.lines]
 
     def lossy_columns(self) -> list[str]:
         """Column ``col`` of the Jacobian through rolling lossy gears: ``dL = dL/dT_a0 ·
@@ -885,7 +955,7 @@ class _R:
             if c.model.n_events:
                 parts += self.reset_fn(c)
         parts += (self.settle() + self.bank() + self.events() + self.reset() + self.outputs()
-                  + self.jac())
+                  + self.jac() + self.linear())
         parts = self.header() + parts       # the header imports what the functions use
         P = self.P
         names, dirs = [], []
