@@ -93,6 +93,21 @@ def _first_nonfinite(x):
     return -1
 
 
+@jit(fastmath={"reassoc"})
+def _all_finite(x):
+    """Is every entry of the C-contiguous ``x`` (any shape) finite?  ``Σ x_i·0`` is 0, or
+    NaN as soon as one entry is inf or NaN, in whatever order it is summed: reassociation
+    (and only that: NaN and inf keep their IEEE meaning) lets the compiler vectorise the
+    sum.  The fast path of the checks that :func:`_first_nonfinite` then places: the
+    Jacobian's 256 entries of the default launch took ~0.1 ms per launch in a scalar loop
+    with an exit per entry (perf, session 14), ~45 ns per check this way."""
+    v = x.ravel()
+    acc = 0.0
+    for i in range(v.shape[0]):
+        acc += v[i] * 0.0
+    return acc == 0.0
+
+
 @jit
 def _crossed(g_old, g_new, direction):
     """Did g cross zero from ``g_old`` to ``g_new`` in ``direction`` (+1 upward, -1
@@ -536,7 +551,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 jac_valid = True
                 jac_age = 0
                 lu_h = 0.0
-                if exact_jac:
+                if exact_jac and not _all_finite(J):
                     for i in range(n):
                         bad = _first_nonfinite(J[i])
                         if bad >= 0:
@@ -560,9 +575,11 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                                          structured, K, u, uc, ytmp, ftmp, y_new, err, nd,
                                          tab, ext)
         if ok:
-            bad = _first_nonfinite(y_new)
-            if bad < 0:
-                bad = _first_nonfinite(err)
+            bad = -1
+            if not (_all_finite(y_new) and _all_finite(err)):
+                bad = _first_nonfinite(y_new)
+                if bad < 0:
+                    bad = _first_nonfinite(err)
             if bad >= 0:
                 # name the state whose derivative went bad (a linear solve spreads a NaN
                 # over every component, so the first bad entry of y_new may be innocent)
@@ -607,7 +624,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
             inputs_at(bank, t_new, t_ref, u, uc)
             system_rhs(tag, t_new, y_new, u, p, f1)
             stats[S_RHS] += 1
-            bad = _first_nonfinite(f1)
+            bad = -1 if _all_finite(f1) else _first_nonfinite(f1)
             if bad >= 0:
                 last_nonfinite = bad
                 stats[S_REJECTED] += 1
