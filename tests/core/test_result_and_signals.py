@@ -90,3 +90,21 @@ def test_table_interpolation_stays_within_its_values(values, t):
     times = np.linspace(0.0, 20.0, len(values))
     v = Table(times, values)(t)[0]
     assert min(values) - 1e-9 <= v <= max(values) + 1e-9
+
+
+@settings(max_examples=100, deadline=None)
+@given(counts=st.lists(st.integers(0, 3), min_size=1, max_size=4),
+       t=st.floats(-1.0, 5.0))
+def test_bank_assigns_each_channel_the_sum_of_its_terms(counts, t):
+    # the compiled evaluation assigns a channel at its first term and adds the others (no
+    # clearing of u): channels of none, one and several terms, beside each other
+    from clutchsim.core.signals import Sum, build_bank, eval_inputs
+    pool = [Constant(0.5), Ramp(0.2, 1.0, 2.0), Step(1.0, -3.0), Sine(0.7, 2.0),
+            Table([0.0, 1.0, 3.0], [1.0, -1.0, 4.0])]
+    channels = [Sum(tuple(pool[(i + k) % len(pool)] for k in range(c)))
+                for i, c in enumerate(counts)]
+    u = np.full(len(channels), np.nan)
+    eval_inputs(build_bank(channels), t, t, u)
+    for ch, value in zip(channels, u):
+        want = sum((float(s(t)[0]) for s in ch.parts), 0.0)
+        assert value == pytest.approx(want, rel=1e-12, abs=1e-12)

@@ -21,7 +21,7 @@ import math
 from .._jit import jit
 from ._linalg import solve_into_row
 from .methods import DENSE_HERMITE, DENSE_POLY
-from .signals import eval_inputs
+from .signals import eval_terms
 from .system import system_jac, system_rhs, system_solve
 
 _SQRT_EPS = math.sqrt(2.220446049250313e-16)
@@ -32,7 +32,7 @@ def inputs_at(bank, t, t_ref, u, uc):
     """Evaluate the inputs into ``u`` at ``t`` (on the side of ``t_ref`` of a breakpoint)
     unless they were last evaluated there (``uc = [t, t_ref]`` of the last evaluation)."""
     if t != uc[0] or t_ref != uc[1]:
-        eval_inputs(bank, t, t_ref, u)
+        eval_terms(bank.data, t, t_ref, u)
         uc[0] = t
         uc[1] = t_ref
 

@@ -317,7 +317,9 @@ class SignalBank(NamedTuple):
     run).  Layout: ``data[0]`` = number of terms; term ``i`` occupies
     ``data[1 + i*TERM_W : 1 + (i+1)*TERM_W]`` = (channel, kind, table offset, table
     length, parameters...); a table of length ``m`` at offset ``o`` holds its times in
-    ``data[o:o+m]`` and its values in ``data[o+m:o+2m]``.
+    ``data[o:o+m]`` and its values in ``data[o+m:o+2m]``.  The terms are in channel order
+    and every channel has at least one (a channel without terms gets a zero constant), so
+    that the evaluation assigns each channel at its first term instead of clearing ``u``.
     """
 
     data: np.ndarray      # float64, layout above
@@ -332,7 +334,7 @@ def build_bank(channels: list[Signal]) -> SignalBank:
     """Flatten one signal per input channel into a :class:`SignalBank`."""
     terms, tables = [], []
     for c, sig in enumerate(channels):
-        for term in as_signal(sig).terms():
+        for term in as_signal(sig).terms() or (Constant(0.0),):
             k, pars, tt, vv = term._encode()
             terms.append((c, k, list(pars) + [0.0] * (_NPAR - len(pars)), tt, vv))
     offset = 1 + TERM_W * len(terms)
@@ -399,9 +401,17 @@ def eval_inputs(bank, t, t_ref, u):
 
     ``t_ref`` selects the branch at discontinuities (see the module docstring).
     """
-    for c in range(u.shape[0]):
-        u[c] = 0.0
-    d = bank.data
+    eval_terms(bank.data, t, t_ref, u)
+
+
+@jit(inline="always")
+def eval_terms(d, t, t_ref, u):
+    """:func:`eval_inputs` on the bank's ``data``, inlined where the integrators evaluate
+    their inputs: as a call it cost four reference-count calls and a ``memset`` of ``u``
+    per evaluation, and ``perf`` put the evaluations at 7 % of the default launch's samples
+    (session 14).  Each channel is assigned at its first term (the bank's terms are in
+    channel order, at least one per channel) and accumulated at the others."""
+    ch_last = -1
     for i in range(int(d[0])):
         b = 1 + i * TERM_W
         k = int(d[b + _T_KIND])
@@ -433,4 +443,9 @@ def eval_inputs(bank, t, t_ref, u):
         else:
             val = _table_value(d, int(d[b + _T_TAB]), int(d[b + _T_LEN]), d[q] != 0.0,
                                t, t_ref)
-        u[int(d[b + _T_CH])] += val
+        ch = int(d[b + _T_CH])
+        if ch != ch_last:
+            u[ch] = val
+            ch_last = ch
+        else:
+            u[ch] += val
