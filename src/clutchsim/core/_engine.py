@@ -233,7 +233,7 @@ def dense_coefficients(kind, tab, K, y, y_new, f0, f1, h, dense):
                         dense[r + 2, i] += w * K[j, i]
 
 
-@jit
+@jit(inline="always")
 def dense_eval(kind, dense, s, out):
     """State at fraction ``s`` in [0, 1] of the last accepted step (see
     :func:`dense_coefficients`)."""
