@@ -74,7 +74,7 @@ N_STATS = 8
 N_SAMPLES = 4
 
 
-@jit(inline="always")
+@jit
 def _norm(err, y, y_new, rtol, atol):
     n = err.shape[0]
     s = 0.0
@@ -85,7 +85,7 @@ def _norm(err, y, y_new, rtol, atol):
     return math.sqrt(s / max(n, 1))
 
 
-@jit(inline="always")
+@jit
 def _first_nonfinite(x):
     for i in range(x.shape[0]):
         if not math.isfinite(x[i]):
@@ -108,7 +108,7 @@ def _all_finite(x):
     return acc == 0.0
 
 
-@jit(inline="always")
+@jit
 def _crossed(g_old, g_new, direction):
     """Did g cross zero from ``g_old`` to ``g_new`` in ``direction`` (+1 upward, -1
     downward, 0 either)?"""
@@ -121,7 +121,7 @@ def _crossed(g_old, g_new, direction):
 NEAR_ZERO = 2.0
 
 
-@jit(inline="always")
+@jit
 def _may_hide_crossing(g_prev, g0, g1):
     """Could g cross zero twice between two same-sign ends?  Only if it comes near zero:
     an excursion inside a step is of the size of g's change over a step (its slope times
@@ -245,7 +245,7 @@ def _locate(tag, bank, p, dkind, dense, t, h, t_ref, k, ta, tb, ga, gb, tol, ytm
     return tb
 
 
-@jit(inline="always")
+@jit
 def _controller_factor(ctrl, q, e, e_old, e_older, h, h_old, first):
     """``h_new / h`` after an accepted step with error norm ``e`` (see controllers.py)."""
     kind = ctrl[C_KIND]

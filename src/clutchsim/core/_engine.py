@@ -21,7 +21,7 @@ import math
 from .._jit import jit
 from ._linalg import solve_into_row
 from .methods import DENSE_HERMITE, DENSE_POLY
-from .signals import eval_terms
+from .signals import eval_inputs
 from .system import system_jac, system_rhs, system_solve
 
 _SQRT_EPS = math.sqrt(2.220446049250313e-16)
@@ -32,7 +32,7 @@ def inputs_at(bank, t, t_ref, u, uc):
     """Evaluate the inputs into ``u`` at ``t`` (on the side of ``t_ref`` of a breakpoint)
     unless they were last evaluated there (``uc = [t, t_ref]`` of the last evaluation)."""
     if t != uc[0] or t_ref != uc[1]:
-        eval_terms(bank.data, t, t_ref, u)
+        eval_inputs(bank, t, t_ref, u)
         uc[0] = t
         uc[1] = t_ref
 
@@ -233,7 +233,7 @@ def dense_coefficients(kind, tab, K, y, y_new, f0, f1, h, dense):
                         dense[r + 2, i] += w * K[j, i]
 
 
-@jit(inline="always")
+@jit
 def dense_eval(kind, dense, s, out):
     """State at fraction ``s`` in [0, 1] of the last accepted step (see
     :func:`dense_coefficients`)."""

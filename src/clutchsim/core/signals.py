@@ -399,18 +399,13 @@ def _table_value(d, o, n, hit_knots, t, t_ref):
 def eval_inputs(bank, t, t_ref, u):
     """Write the value of every input channel at time ``t`` into ``u``.
 
-    ``t_ref`` selects the branch at discontinuities (see the module docstring).
+    ``t_ref`` selects the branch at discontinuities (see the module docstring).  Each
+    channel is assigned at its first term (the bank's terms are in channel order, at least
+    one per channel) and accumulated at the others: clearing ``u`` first was a ``memset``
+    call per evaluation, and ``perf`` put the evaluations at 7 % of the default launch's
+    samples (session 14).
     """
-    eval_terms(bank.data, t, t_ref, u)
-
-
-@jit(inline="always")
-def eval_terms(d, t, t_ref, u):
-    """:func:`eval_inputs` on the bank's ``data``, inlined where the integrators evaluate
-    their inputs: as a call it cost four reference-count calls and a ``memset`` of ``u``
-    per evaluation, and ``perf`` put the evaluations at 7 % of the default launch's samples
-    (session 14).  Each channel is assigned at its first term (the bank's terms are in
-    channel order, at least one per channel) and accumulated at the others."""
+    d = bank.data
     ch_last = -1
     for i in range(int(d[0])):
         b = 1 + i * TERM_W
