@@ -26,6 +26,7 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+from numba import types
 
 from ..core.system import FACTOR_SIG, JAC_SIG, KERNEL_SIG, RESET_SIG, SOLVE_SIG, NativeFunction
 from .cprint import A1, A2, D, I, print_c
@@ -54,12 +55,13 @@ PLANT_ENTRIES = {
     "factor": (D, A2, A1),
     "solve": (A1, A1, A2, I),
 }
-#: the entry points that return an integer (the others return nothing)
-RETURNS_INT = ("reset", "factor")
 #: the entry points a plant may lack (its solver of the iteration matrix)
 OPTIONAL_ENTRIES = ("factor", "solve")
 #: numba signature of each entry point
-_SIGS = {"reset": RESET_SIG, "jac": JAC_SIG, "factor": FACTOR_SIG, "solve": SOLVE_SIG}
+_SIGS = {n: {"reset": RESET_SIG, "jac": JAC_SIG, "factor": FACTOR_SIG,
+             "solve": SOLVE_SIG}.get(n, KERNEL_SIG) for n in PLANT_ENTRIES}
+#: the entry points that return an integer (the others return nothing)
+RETURNS_INT = tuple(n for n, sig in _SIGS.items() if sig.return_type != types.void)
 
 
 class CompilerError(RuntimeError):
@@ -134,7 +136,6 @@ def check_numba_abi() -> None:
     import re
 
     import numba
-    from numba import types
     from numba.core.datamodel import default_manager
     kinds = {D: types.float64, I: types.int64, A1: types.float64[::1],
              A2: types.float64[:, ::1]}
@@ -277,6 +278,6 @@ class CPlant:
         :class:`CompilerError` when this numba passes arguments otherwise
         (:func:`check_numba_abi`)."""
         check_numba_abi()
-        sig = _SIGS.get(name, KERNEL_SIG)
+        sig = _SIGS[name]
         address = ctypes.cast(getattr(self.lib, f"nb_{name}"), ctypes.c_void_p).value
         return NativeFunction(address, sig, getattr(self, name), keep=self)

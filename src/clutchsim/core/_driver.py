@@ -562,9 +562,9 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                         info_i = last_nonfinite
                         break
             if lu_h == 0.0 or abs(h / lu_h - 1.0) > lu_band:
-                structured = n_factor > 0 and system_factor(tag, 1.0 / (gamma * h), J,
-                                                            F) != 0
-                ok = structured or invert_iteration_matrix(J, 1.0 / (gamma * h), M, piv, nd)
+                c = 1.0 / (gamma * h)
+                structured = n_factor > 0 and system_factor(tag, c, J, F) != 0
+                ok = structured or invert_iteration_matrix(J, c, M, piv, nd)
                 stats[S_LU] += 1
                 lu_h = h if ok else 0.0
             if ok:

@@ -315,22 +315,26 @@ def _module_dir() -> Path:
     return d
 
 
-def _native(mod, name: str, exact_jacobian: bool) -> dict | None:
-    """The plant functions of module ``mod`` printed as C and compiled by the system C
-    compiler (a library beside the module, built once): ``register_system`` keywords, or
-    None when that is impossible here (no C compiler, a construct the printer does not
-    know, a numba that passes arrays otherwise: logged once, and numba compiles the module
-    instead)."""
-    from ..cgen import CompilerError, CPlant, CPrintError, build_plant_library
+def _entries(mod) -> dict:
+    """The plant entry points module ``mod`` defines (:data:`~clutchsim.cgen.compiler.
+    PLANT_ENTRIES`; ``factor`` and ``solve`` only where its pattern gained from them)."""
     from ..cgen.compiler import OPTIONAL_ENTRIES, PLANT_ENTRIES
+    return {k: v for k, v in PLANT_ENTRIES.items()
+            if k not in OPTIONAL_ENTRIES or hasattr(mod, k)}
+
+
+def _native(mod, name: str, entries: dict) -> dict | None:
+    """The plant functions ``entries`` of module ``mod`` printed as C and compiled by the
+    system C compiler (a library beside the module, built once), by name, or None when
+    that is impossible here (no C compiler, a construct the printer does not know, a numba
+    that passes arrays otherwise: logged once, and numba compiles the module instead)."""
+    from ..cgen import CompilerError, CPlant, CPrintError, build_plant_library
     lib = _module_dir() / f"{name}.so"
-    entries = {k: v for k, v in PLANT_ENTRIES.items()
-               if k not in OPTIONAL_ENTRIES or hasattr(mod, k)}
     try:
         if not lib.exists():
             build_plant_library(mod, lib, entries)
         c = CPlant.load(lib, entries)
-        fns = {n: c.native(n) for n in ("rhs", "events", "reset", "outputs")}
+        return {n: c.native(n) for n in entries}
     except (CPrintError, CompilerError, OSError) as exc:
         key = type(exc).__name__
         if key not in _FALLBACK_LOGGED:
@@ -338,11 +342,6 @@ def _native(mod, name: str, exact_jacobian: bool) -> dict | None:
             log.warning("network plants are compiled by numba, not C (10–40 s per new "
                         "topology instead of about 1 s): %s", exc)
         return None
-    fns["jac"] = c.native("jac") if exact_jacobian else None
-    if exact_jacobian and hasattr(mod, "factor"):
-        fns.update(factor=c.native("factor"), solve=c.native("solve"),
-                   factor_size=mod.FACTOR_SIZE)
-    return fns
 
 
 _FALLBACK_LOGGED: set[str] = set()
@@ -375,12 +374,12 @@ def load_module(topo: Topology, *, exact_jacobian: bool = True):
         tag = NamedTuple(f"Net_{topo.key}", [("k", int)])  # noqa: UP014
         tag.__module__ = name
         setattr(mod, tag.__name__, tag)
-        fns = _native(mod, name, exact_jacobian)
-        if fns is None:
-            fns = {"rhs": mod.rhs, "events": mod.events, "reset": mod.reset,
-                   "outputs": mod.outputs, "jac": mod.jac if exact_jacobian else None}
-            if exact_jacobian and hasattr(mod, "factor"):
-                fns.update(factor=mod.factor, solve=mod.solve, factor_size=mod.FACTOR_SIZE)
+        entries = _entries(mod)
+        fns = _native(mod, name, entries) or {n: getattr(mod, n) for n in entries}
+        if not exact_jacobian:      # the factors are written for the exact Jacobian
+            fns = {n: f for n, f in fns.items() if n not in ("jac", "factor", "solve")}
+        if "factor" in fns:
+            fns["factor_size"] = mod.FACTOR_SIZE
         register_system(tag, **fns)
         mod.TAG = tag
         mod.FUNCTIONS = fns

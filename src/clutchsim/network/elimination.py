@@ -112,17 +112,6 @@ def elimination_source(pattern: np.ndarray, n: int, *, max_flops: int | None = N
                     start[(pi, pj)] = f"c - J[{i}, {j}]" if block[i, j] else "c"
                 else:
                     start[(pi, pj)] = f"-J[{i}, {j}]"
-    ent = set(start)
-    flops = 0
-    for k in range(nd):
-        rows = [i for i in range(k + 1, nd) if (i, k) in ent]
-        cols = [j for j in range(k + 1, nd) if (k, j) in ent]
-        for i in rows:
-            for j in cols:
-                ent.add((i, j))
-                flops += 1
-    if flops > (nd ** 3 // 4 if max_flops is None else max_flops):
-        return None
 
     def a(i, j):
         return f"a{i}_{j}"
@@ -131,7 +120,8 @@ def elimination_source(pattern: np.ndarray, n: int, *, max_flops: int | None = N
     b = [f"{a(i, j)} = {start[(i, j)]}" for (i, j) in sorted(start)]
     b.append(f"big = {_max_tree([f'abs({a(i, j)})' for (i, j) in sorted(start)])}")
     b += [f"m{k} = abs({a(k, k)})" for k in range(nd)]
-    done = set(start)
+    ent = set(start)        # the entries so far, fill included
+    flops = 0
     for k in range(nd):
         b.append(f"if not abs({a(k, k)}) > {PIVOT_KEEP!r} * m{k}:")
         b.append("    return 0")
@@ -141,11 +131,14 @@ def elimination_source(pattern: np.ndarray, n: int, *, max_flops: int | None = N
         for i in rows:
             b.append(f"l{i}_{k} = {a(i, k)} * d{k}")
             for j in cols:
-                if (i, j) in done:
+                if (i, j) in ent:
                     b.append(f"{a(i, j)} -= l{i}_{k} * {a(k, j)}")
                 else:
                     b.append(f"{a(i, j)} = -(l{i}_{k} * {a(k, j)})")
-                    done.add((i, j))
+                    ent.add((i, j))
+                flops += 1
+    if flops > (nd ** 3 // 4 if max_flops is None else max_flops):
+        return None
     # growth: every entry the elimination produced is a U entry or an unscaled L entry
     b.append(f"grown = {_max_tree([f'abs({a(i, j)})' for (i, j) in sorted(ent)])}")
     b.append(f"if not grown <= {MAX_GROWTH!r} * big:")

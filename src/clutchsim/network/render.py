@@ -845,13 +845,12 @@ class _R:
                     b += _ind(lines)
                 else:
                     b += lines
-        self.pattern = self.jac_pattern(b)
         return L + _ind(b) + [""]
 
-    def jac_pattern(self, body) -> np.ndarray:
+    def jac_pattern(self, jac_lines) -> np.ndarray:
         """Where ``jac`` can write a non-zero: a boolean ``(n, nd)`` pattern over the
         implicit columns (``nd`` states before the quadratures), read off the statements of
-        its ``body``.  ``J[i, j] +=`` with literal indices is entry ``(i, j)``; a generalised
+        its lines (:meth:`jac`).  ``J[i, j] +=`` with literal indices is entry ``(i, j)``; a generalised
         acceleration's row ``J[k, col] = da_k`` holds the columns of the node torques
         ``dT[node, j]`` that reach coordinate ``k`` through ``N`` and ``M⁻¹``; the lock
         projection and rolling lossy gears couple every acceleration (their union).  Any
@@ -862,7 +861,7 @@ class _R:
         pat = np.zeros((n, n), dtype=bool)
         dT = np.zeros((asm.n_nodes, n), dtype=bool)
         col_rows = set()
-        for line in body:
+        for line in jac_lines:
             for stmt in line.split("\n"):
                 stmt = stmt.strip()
                 if stmt.startswith("dT["):
@@ -881,17 +880,9 @@ class _R:
                 if m is None:
                     raise AssertionError(f"jac_pattern: unknown write {stmt!r}")
                 col_rows.add(int(m[1]))
-        # the accelerations: dG[k'] = Σ N[node, k']·dT[node]; da_k = Σ M⁻¹[k, j]·dG[j]
-        dG = np.zeros((nv, n), dtype=bool)
-        for k in range(nv):
-            for nd_ in range(asm.n_nodes):
-                if asm.pattern[nd_][k]:
-                    dG[k] |= dT[nd_]
-        da = np.zeros((nv, n), dtype=bool)
-        for k in range(nv):
-            for j in range(nv):
-                if self.mpat[k, j]:
-                    da[k] |= dG[j]
+        # the accelerations: dG = Nᵀ·dT, da = M⁻¹·dG (as patterns)
+        dG = np.array(asm.pattern, dtype=int).T @ dT.astype(int) > 0
+        da = self.mpat.astype(int) @ dG.astype(int) > 0
         lossy = any(_lossy(c) for c in P.sw)
         if self.m or lossy:
             every = da.any(axis=0) | dT.any(axis=0)
@@ -904,11 +895,11 @@ class _R:
             raise AssertionError("jac_pattern: a quadrature column is written")
         return pat[:, :nd]
 
-    def linear(self) -> list[str]:
-        """``FACTOR_SIZE``, ``factor`` and ``solve`` of the iteration matrix for
-        :attr:`pattern` (:mod:`clutchsim.network.elimination`), or nothing when
-        straight-line code would not beat the dense inverse."""
-        el = elimination_source(self.pattern, self.n)
+    def linear(self, jac_lines) -> list[str]:
+        """``FACTOR_SIZE``, ``factor`` and ``solve`` of the iteration matrix for the
+        pattern of ``jac_lines`` (:meth:`jac_pattern`, :mod:`clutchsim.network.elimination`),
+        or nothing when straight-line code would not beat the dense inverse."""
+        el = elimination_source(self.jac_pattern(jac_lines), self.n)
         if el is None:
             return []
         return ["#: floats of the factors ``factor`` writes", f"FACTOR_SIZE = {el.size}", "",
@@ -954,8 +945,9 @@ class _R:
         for c in self.fe:
             if c.model.n_events:
                 parts += self.reset_fn(c)
+        jac = self.jac()
         parts += (self.settle() + self.bank() + self.events() + self.reset() + self.outputs()
-                  + self.jac() + self.linear())
+                  + jac + self.linear(jac))
         parts = self.header() + parts       # the header imports what the functions use
         P = self.P
         names, dirs = [], []
