@@ -465,9 +465,10 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 if _crossed(g_old[k], g_new[k], ev_dir[k]):
                     kk = k
                     break
-            for k in range(n_ev):
-                g_old[k] = g_new[k]
-            if kk >= 0:
+            if kk < 0:
+                for k in range(n_ev):
+                    g_old[k] = g_new[k]
+            else:
                 log, action, ended = _apply_event(tag, t, y, u, p, kk, log, ring, ch_n,
                                                   ch_window, stats)
                 if ended != DONE:
@@ -478,13 +479,27 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     f0_valid = False
                     jac_valid = False
                     lu_h = 0.0
-                    system_events(tag, t, y, u, p, g_old)
-                    check_jump = True  # a reset may itself arm another event
+                    system_events(tag, t, y, u, p, g_tmp)
                     system_outputs(tag, t, y, u, p, out)
                     if n_out == cap:
                         cap, owners, rows = _more_rows(owners, cap)
                     _row(rows, n_out, t, y, u, out)
                     n_out += 1
+                else:
+                    for k in range(n_ev):
+                        g_tmp[k] = g_new[k]
+                # Several events may be due at one instant (at t0, or at an input jump):
+                # each fires in turn.  One that crossed with the others and is still on its
+                # far side after this reset keeps its old value, so that the next pass
+                # fires it; the rest start from the values the reset left.
+                for k in range(n_ev):
+                    if (k != kk and _crossed(g_old[k], g_new[k], ev_dir[k])
+                            and _crossed(g_old[k], g_tmp[k], ev_dir[k])):
+                        check_jump = True
+                    else:
+                        g_old[k] = g_tmp[k]
+                if action == _STATE_CHANGED:
+                    check_jump = True  # a reset may itself arm another event
                 continue
 
         if t >= t1:
