@@ -81,6 +81,8 @@ class CoulombRobust(FrictionModel):
 
     name: ClassVar[str] = "coulomb-robust"
     code: ClassVar[int] = 2
+    passive: ClassVar[bool] = True
+    hybrid: ClassVar[bool] = True
     uses_stick_force: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Olsson H., Åström K.J., Canudas de Wit C., Gäfvert M., Lischinsky P., Friction models "
@@ -161,12 +163,23 @@ def coulomb_robust_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     return F
 
 
+#: the break-away function on its boundary (|F_e| equal to the capacity): positive, so that
+#: leaving the boundary is a crossing
+STUCK_MARGIN = 1e-300
+
+
 @jit
 def coulomb_robust_events(p, z, v, F_e, scale, g):
     mode = z[0]
     if mode == 0.0:
         g[0] = NO_EVENT
+        # stuck while |F_e| <= capacity (MSL: it starts sliding only when the stick force
+        # exceeds the capacity); on the boundary the function stays on its positive side,
+        # so that a free element (capacity 0) that must carry no force (F_e = 0) still
+        # breaks away the moment F_e leaves 0 (a crossing from exactly 0 is not one)
         g[1] = scale * p[1] - abs(F_e)
+        if g[1] == 0.0:
+            g[1] = STUCK_MARGIN
     else:
         g[0] = sgn(mode) * v
         g[1] = NO_EVENT

@@ -107,7 +107,9 @@ class _FrictionElement(Component):
 
     @property
     def lockable(self) -> bool:
-        return self.model.name == "coulomb-robust"
+        """Does the plant lock and free it (a hybrid stick/slip model, declared by the
+        model: :attr:`FrictionModel.hybrid`)?"""
+        return self.model.hybrid
 
     def options(self):
         tabs = tuple(None if getattr(self, k) is None else len(getattr(self, k)[0])
@@ -173,7 +175,10 @@ class _FrictionElement(Component):
             return False
         if self.locked0 is not None:
             return bool(self.locked0)
-        return self._slip0(ctx) == 0.0 and ctx.input0.get(self.command, 1.0) > 0.0
+        # at zero slip it sticks, whatever its capacity (Modelica PartialFriction: it starts
+        # sliding only when the torque that holds it exceeds the capacity, which the
+        # break-away event decides at t0; with capacity 0 any torque does, in its direction)
+        return self._slip0(ctx) == 0.0
 
     def initial_state(self, ctx):
         if self.z0 is not None:

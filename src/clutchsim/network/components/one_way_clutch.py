@@ -165,6 +165,10 @@ class OneWayClutch(Clutch):
 
     def initial_state(self, ctx):
         w = self._slip0(ctx)
+        # speeds given through gear ratios carry round-off: a relative speed within it is 0
+        scale = abs(ctx.speed(self.name, self.side_a)) + abs(ctx.speed(self.name, self.side_b))
+        if abs(w) <= 1e-12 * (1.0 + scale):
+            w = 0.0
         if w < 0.0:
             raise ValueError(f"{self.label}: initial relative speed omega_b - omega_a = {w:g} "
                              "rad/s is negative; the freewheel only allows >= 0")
