@@ -165,4 +165,4 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
                   events=len(events), min_step_s=float(dts[dts > 0].min()) if np.any(dts > 0)
                   else 0.0, wall_s=time.perf_counter() - wall0)
     return assemble(system, ts, ys, us, outs, status, message, stats, tuple(events), solver,
-                    event=ended_by, event_source=source)
+                    event=ended_by, event_source=source, tolerances=(opts.rtol, opts.atol))

@@ -361,7 +361,8 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     events = Events(ev_t, ev_k, ev_a, system.event_names, system.event_sources, ACTION_WORDS)
     return assemble(system, ts, ys, us, outs, end.outcome, end.message,
                     run_stats(st, h_small, wall), events, solver, event=end.event,
-                    warnings=end.warnings, event_source=end.event_source)
+                    warnings=end.warnings, event_source=end.event_source,
+                    tolerances=(opts.rtol, opts.atol))
 
 
 class RunEnd(NamedTuple):
@@ -425,11 +426,44 @@ def prepare_runs(system: System, t_span, inputs: Mapping | None = None, *,
     return prep
 
 
+def check_invariants(system: System, ts, ys, outs, outcome: Outcome, message: str,
+                     warnings: tuple, tolerances) -> tuple[Outcome, str, tuple, str]:
+    """Run the plant's physics checks (:attr:`System.invariants`) on a run's rows with the
+    solver's ``(rtol, atol)``: ``(outcome, message, warnings, source)`` after them.  A
+    fatal violation turns a run that completed (or stopped as intended) into
+    :attr:`Outcome.INVARIANT_VIOLATED`, its message naming the part, the check, the time
+    and the values (``source``: the part); the others become warnings."""
+    if system.invariants is None or tolerances is None:
+        return outcome, message, warnings, ""
+    found = system.invariants(ts, ys, outs, *tolerances)
+    if not found:
+        return outcome, message, warnings, ""
+    found = sorted(found, key=lambda v: v.t)
+    fatal = [v for v in found if v.fatal]
+    soft = tuple(f"physics check: {v.text}" for v in found if not v.fatal)
+    source = ""
+    if fatal and outcome in (Outcome.COMPLETED, Outcome.STOPPED):
+        v = fatal[0]
+        outcome, source = Outcome.INVARIANT_VIOLATED, v.element
+        message = (f"invariant violated: {v.text}; the result is not physical (a friction "
+                   "element must dissipate and slide with its slip): do not use its numbers"
+                   + (f"; {len(fatal) - 1} more" if len(fatal) > 1 else ""))
+    elif fatal:
+        soft = tuple(f"physics check: {v.text}" for v in fatal) + soft
+    return outcome, message, tuple(warnings) + soft, source
+
+
 def assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver, *,
-             event: str = "", warnings: tuple[str, ...] = (), event_source: str = ""
-             ) -> Result:
+             event: str = "", warnings: tuple[str, ...] = (), event_source: str = "",
+             tolerances: tuple[float, float] | None = None) -> Result:
     """Build a :class:`Result` from raw output arrays (shared by all backends).  The
-    arrays are made read-only and the result's columns are views of them (no copies)."""
+    arrays are made read-only and the result's columns are views of them (no copies).
+    With the solver's ``tolerances`` ``(rtol, atol)`` the plant's physics checks run on
+    the rows (:func:`check_invariants`)."""
+    outcome, message, warnings, source = check_invariants(
+        system, ts, ys, outs, outcome, message, warnings, tolerances)
+    if source:
+        event, event_source = "", source
     blocks = []
     for a in (ts, ys, us, outs):
         if a.dtype != np.float64:

@@ -76,6 +76,10 @@ class Outcome(enum.StrEnum):
     NAN = "nan"
     #: a scipy reference backend reported an error of its own
     SOLVER_ERROR = "solver_error"
+    #: the run broke a physics invariant the plant declares (:attr:`System.invariants`:
+    #: e.g. friction that created energy); the message names the part, the check, the
+    #: time and the values
+    INVARIANT_VIOLATED = "invariant_violated"
 
     @property
     def status(self) -> str:

@@ -51,6 +51,7 @@ import difflib
 import threading
 import warnings
 from dataclasses import dataclass, field
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numba.experimental.function_type  # noqa: F401  (registers typeof for _Kernel)
@@ -469,6 +470,14 @@ class System:
         zero); default 0.
     metadata : dict
         Free-form description kept with results (scenario, model, parameter set, ...).
+    invariants : callable, optional
+        The plant's physics checks, run on every result: ``invariants(ts, ys, outs, rtol,
+        atol)`` with the run's times, states and outputs returns a list of violations,
+        objects with ``text`` (what, where, the values) and ``fatal`` (the result is wrong,
+        not only at the edge of the tolerances).  A fatal one makes the run's outcome
+        :attr:`~clutchsim.core.Outcome.INVARIANT_VIOLATED`, the others are warnings
+        (:mod:`clutchsim.network.invariants` for a network's).  The core knows nothing of
+        what they check.
     """
 
     tag: tuple
@@ -486,6 +495,7 @@ class System:
     metadata: dict = field(default_factory=dict)
     quadratures: int = 0
     event_sources: tuple[str, ...] = ()
+    invariants: Callable | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
         if type(self.tag) not in _REGISTRY:

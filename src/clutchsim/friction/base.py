@@ -147,6 +147,14 @@ class FrictionModel(abc.ABC):
     #: the integrator steps through such a crossing instead of restarting at it.  False
     #: for a model whose force switches at its event (coulomb-naive's sign).
     smooth_at_events: ClassVar[bool] = False
+    #: is the model passive at every instant: memoryless, its force never opposes its slip
+    #: (``F·v >= 0``)?  Plants check it on every run (:mod:`clutchsim.network.invariants`).
+    #: False for models that store energy in a state (bristles, pre-sliding) and for
+    #: Karnopp's stick band (its stick force acts at small non-zero slips)
+    passive: ClassVar[bool] = False
+    #: is the model a stick/slip state machine (one state, the mode: −1 backward, 0 stuck,
+    #: +1 forward) whose stuck mode the plant locks and frees?  (coulomb-robust)
+    hybrid: ClassVar[bool] = False
 
     # ------------------------------------------------------------------ hooks
     @abc.abstractmethod

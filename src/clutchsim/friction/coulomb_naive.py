@@ -52,6 +52,7 @@ class CoulombNaive(FrictionModel):
 
     name: ClassVar[str] = "coulomb-naive"
     code: ClassVar[int] = 1
+    passive: ClassVar[bool] = True
     uses_stick_force: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Mykhailevych M.G., Model of friction for dry friction clutch working process "

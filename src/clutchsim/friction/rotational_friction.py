@@ -58,6 +58,7 @@ class RotationalFriction(FrictionModel):
 
     name: ClassVar[str] = "rotational-friction"
     code: ClassVar[int] = 6
+    passive: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "The MathWorks, Simscape Rotational Friction block (documentation); "
         "SciML ModelingToolkitStandardLibrary.jl, Mechanical.Rotational.RotationalFriction."

@@ -56,6 +56,7 @@ class StribeckFriction(FrictionModel):
 
     name: ClassVar[str] = "stribeck"
     code: ClassVar[int] = 5
+    passive: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Armstrong-Hélouvry B., Dupont P., Canudas de Wit C., A survey of models, analysis "
         "tools and compensation methods for the control of machines with friction, "

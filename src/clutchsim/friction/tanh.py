@@ -42,6 +42,7 @@ class TanhFriction(FrictionModel):
 
     name: ClassVar[str] = "tanh"
     code: ClassVar[int] = 4
+    passive: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Mykhailevych M.G., Model of friction for dry friction clutch working process "
         "simulation, Avtomobil i elektronika. Suchasni tekhnolohii, no. 18, 2020, eq. (4)."

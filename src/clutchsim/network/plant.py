@@ -16,6 +16,7 @@ import numpy as np
 
 from ..core import System
 from .codegen import ENERGY, generate, load_module
+from .invariants import build_invariants
 from .network import Network, NetworkError
 
 __all__ = ["Plan", "compile_network"]
@@ -500,6 +501,11 @@ class Plan:
         return y0
 
     @functools.cached_property
+    def invariants(self):
+        """The physics checks of every run of this plant (:mod:`.invariants`)."""
+        return build_invariants(self)
+
+    @functools.cached_property
     def _produced_at(self) -> dict:
         """Produced signal -> its index among the outputs."""
         return {n: self.output_names.index(n) for n in self.produced}
@@ -546,7 +552,7 @@ class Plan:
                       event_directions=self.event_directions,
                       event_sources=self.event_sources,
                       name=name or self.net.name, metadata=meta,
-                      quadratures=self.n_quadratures)
+                      quadratures=self.n_quadratures, invariants=self.invariants)
 
     def variant_state(self, comps, params, inputs0=None, changed=(),
                       produced0: dict | None = None, base=None) -> tuple:

@@ -36,7 +36,7 @@ def _lockable(c) -> bool:
 
 def _robust(c) -> bool:
     """Is ``c`` a coulomb-robust friction element (locked and freed by the plant)?"""
-    return _lockable(c) and not _lossy(c) and c.model.code == 2
+    return _lockable(c) and not _lossy(c) and c.model.hybrid
 
 
 def _lossy(c) -> bool:
