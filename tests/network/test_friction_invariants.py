@@ -52,6 +52,11 @@ def test_issue34_clutch_slides_with_its_slip_and_dissipates():
                    options=TIGHT)
     _no_physics_warnings(res)
     _dissipates(res, "clutch", "brake")
+    # each element's own friction work: never falling, together the total
+    wc, wbk = res["W_friction_clutch"], res["W_friction_brake"]
+    assert np.all(np.diff(wc) >= -1e-12) and np.all(np.diff(wbk) >= -1e-12)
+    assert wc[-1] + wbk[-1] == pytest.approx(res["W_friction"][-1], rel=1e-9)
+    assert wc[-1] > 1.0 and wbk[-1] > 0.01
     # B is driven by nothing but the clutch, whose other side is slower: B slows down
     wb = res["omega_B"]
     assert wb[-1] < 10.0 and np.all(np.diff(wb) <= 1e-9)

@@ -50,7 +50,7 @@ log = logging.getLogger("clutchsim")
 ENERGY = (("W_in", "in"), ("W_friction", "fric"), ("W_damping", "damp"), ("W_road", "road"),
           ("E_grade", "grade"), ("W_sync", "sync"))
 #: version of the generated code's layout; part of every module's hash
-GENERATOR_VERSION = 2
+GENERATOR_VERSION = 3
 
 _ALLOWED = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.BoolOp, ast.Compare, ast.IfExp,
             ast.Call, ast.Name, ast.Load, ast.Constant, ast.Attribute, ast.Subscript,

@@ -112,7 +112,13 @@ class Plan:
                 self.angle_states.append((n, len(sn)))
                 sn.append(f"{dom.position}_{asm.node_names[n]}")
                 su.append(dom.position_unit)
-        self.n_quadratures = len(ENERGY) + len(self.wearing) + len(self.angle_states)
+        # each friction element's own friction work (the total is W_friction)
+        for c in self.fes:
+            self.state_index[(c.name, "work")] = len(sn)
+            sn.append(f"W_friction_{c.name}")
+            su.append("J")
+        self.n_quadratures = (len(ENERGY) + len(self.wearing) + len(self.angle_states)
+                              + len(self.fes))
         self.state_names, self.state_units = tuple(sn), tuple(su)
         self.n = len(sn)
         # ---- parameter layout

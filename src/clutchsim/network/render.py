@@ -223,6 +223,9 @@ class _R:
             pw["fric"].append(f"fT{e} * s{e}")
         for i, (_name, acc) in enumerate(ENERGY):
             L.append(f"dy[{P.y_energy + i}] = {' + '.join(pw[acc]) or '0.0'}")
+        for c in self.fe:                    # each element's own friction work
+            e = P.fe_index[c.name]
+            L.append(f"dy[{P.state_index[(c.name, 'work')]}] = fT{e} * s{e}")
         for c in P.wearing:                  # lining wear (network/wear.py)
             L += self.wear_rate(c)
             L.append(f"dy[{P.state_index[(c.name, 'wear')]}] = kw{P.fe_index[c.name]} * "
@@ -245,6 +248,11 @@ class _R:
                 terms = [f"p[{P.off_Gp + r * nn + n}] * R{n}" for n in range(nn)]
                 L.append(f"lam{r} = {' + '.join(terms)}")
         return L
+
+    def work_rows(self, c) -> tuple[int, int]:
+        """The rows a friction element's power ``fT·s`` goes to: ``W_friction`` and the
+        element's own ``W_friction_<name>``."""
+        return (self.P.y_energy + 1, self.P.state_index[(c.name, "work")])
 
     def wear_rate(self, c) -> list[str]:
         """``kw<e> = k(θ)/area`` and ``dkw<e> = d(kw)/dθ`` (:mod:`clutchsim.network.wear`)."""
@@ -744,8 +752,9 @@ class _R:
             if _lossy(c):
                 # loss power L·w: the L·dw part here, dL·w in the column loop below
                 for nd in np.flatnonzero(gv):
-                    b += self.expand("J", P.y_energy + 1, ("w", int(nd)),
-                                     f"fT{e} * {float(gv[nd])!r}")
+                    for fr in self.work_rows(c):
+                        b += self.expand("J", fr, ("w", int(nd)),
+                                         f"fT{e} * {float(gv[nd])!r}")
                 continue
             cond = f"not lk{e}" if c.name in P.sw_index else "True"
             blk = [f"Jz{e} = local_zeros(({nz}, {nz + 1}))", f"dF{e} = local_zeros({nz + 3})",
@@ -765,11 +774,12 @@ class _R:
                 for key, expr in parts:
                     blk += self.expand("dT", int(nd), key, f"{-float(gv[nd])!r} * {expr}")
             # friction power fT·s
-            fr = P.y_energy + 1
-            for key, expr in parts:
-                blk += self.expand("J", fr, key, f"({expr}) * s{e}")
-            for nd in np.flatnonzero(gv):
-                blk += self.expand("J", fr, ("w", int(nd)), f"fT{e} * {float(gv[nd])!r}")
+            for fr in self.work_rows(c):
+                for key, expr in parts:
+                    blk += self.expand("J", fr, key, f"({expr}) * s{e}")
+                for nd in np.flatnonzero(gv):
+                    blk += self.expand("J", fr, ("w", int(nd)),
+                                       f"fT{e} * {float(gv[nd])!r}")
             # own state rows
             for i in range(nz):
                 for j in range(nz):
@@ -801,8 +811,9 @@ class _R:
                 # the τ·dw part (w itself is held at 0)
                 els = []
                 for nd in np.flatnonzero(gv):
-                    els += self.expand("J", P.y_energy + 1, ("w", int(nd)),
-                                       f"fT{e} * {float(gv[nd])!r}")
+                    for fr in self.work_rows(c):
+                        els += self.expand("J", fr, ("w", int(nd)),
+                                           f"fT{e} * {float(gv[nd])!r}")
                 if els:
                     b += ["else:", *_ind(els)]
         # generalised: dF = N^T dT, then M^-1 and the lock projection
@@ -934,7 +945,7 @@ class _R:
                      f"p[{P.off_B + i * nv} + col] if col < {nv} else 0.0)")
             for k in range(nv):
                 b.append(f"da{k} += dL * xu{e}_{k}")
-            b.append(f"J[{P.y_energy + 1}, col] += dL * s{e}")
+            b += [f"J[{fr}, col] += dL * s{e}" for fr in self.work_rows(c)]
             for nd in np.flatnonzero(gi):
                 b.append(f"dTc[{int(nd)}] += {-float(gi[nd])!r} * dL")
             L += [f"if not lk{e}:"] + _ind(b)
