@@ -34,11 +34,14 @@ crossed zero.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FrictionCheck", "Invariants", "Violation"]
+from .._jit import jit
+
+__all__ = ["CHECKS", "FrictionCheck", "Invariants", "Violation", "build_invariants", "scan"]
 
 
 @dataclass(frozen=True)
@@ -81,10 +84,105 @@ class FrictionCheck:
     capacity: int
 
 
+#: the checks, in the order of the rows of a scan's table (:func:`scan`)
+CHECKS = ("mode_against_slip", "slipping_while_stuck", "stick_over_capacity",
+          "negative_power", "friction_work_decreases")
+N_CHECKS = len(CHECKS)
+#: columns of a scan's table: row, time, violation, soft and hard limits, two values there
+R_ROW, R_T, R_VALUE, R_SOFT, R_HARD, R_A, R_B = range(7)
+N_R = 7
+#: columns of the element table: hybrid, passive, mode, locked (states), torque, slip,
+#: capacity (outputs)
+E_HYBRID, E_PASSIVE, E_MODE, E_LOCKED, E_TORQUE, E_SLIP, E_CAP = range(7)
+
+
+@jit
+def _record(tab, k, i, t, x, soft, hard, a, b):
+    """Keep row ``i`` as check ``k``'s worst so far: the first row past ``hard`` wins (where
+    it went wrong), else the largest violation past ``soft``."""
+    if not x > soft:
+        return
+    old = tab[k, R_VALUE]
+    if old > tab[k, R_HARD] and tab[k, R_ROW] >= 0:
+        return                       # the first fatal row is kept
+    if x > hard or tab[k, R_ROW] < 0 or x > old:
+        tab[k, R_ROW], tab[k, R_T], tab[k, R_VALUE] = i, t, x
+        tab[k, R_SOFT], tab[k, R_HARD], tab[k, R_A], tab[k, R_B] = soft, hard, a, b
+
+
+@jit
+def scan(ts, ys, outs, el, speeds, w_fric, all_passive, rtol, atol, tab):
+    """The checks of the module docstring over a run's rows, compiled (single runs and a
+    sweep's batch share it).  ``el`` (m, 7): the element table (``E_*``); ``speeds``:
+    the speed states; ``w_fric``: the state of ``W_friction`` (-1: none).  Writes ``tab``
+    (``(m + 1)·N_CHECKS``, ``N_R``): per element and check (then the total friction work)
+    the worst row, ``-1`` in ``R_ROW`` where the check passed."""
+    n = ts.shape[0]
+    m = el.shape[0]
+    for r in range(tab.shape[0]):
+        tab[r, R_ROW] = -1.0
+        tab[r, R_VALUE] = 0.0
+        tab[r, R_HARD] = 0.0
+    if n == 0:
+        return
+    w_scale = 0.0
+    for i in range(n):
+        for j in speeds:
+            w_scale = max(w_scale, abs(ys[i, j]))
+    w_scale += 1.0
+    if not math.isfinite(w_scale):
+        return
+    w_soft = 100.0 * (atol + rtol * w_scale)
+    w_hard = max(1e-3 * w_scale, 10.0 * w_soft)
+    for e in range(m):
+        o = e * N_CHECKS
+        c_scale = 0.0
+        for i in range(n):
+            c_scale = max(c_scale, abs(outs[i, el[e, E_CAP]]))
+        c_scale += 1.0
+        t_soft = 100.0 * (atol + rtol * c_scale)
+        t_hard = max(1e-3 * c_scale, 10.0 * t_soft)
+        for i in range(n):
+            # a row followed by another at the same instant is the left limit before a
+            # reset (the integrator writes one before and one after each): the event that
+            # resets it is where the element leaves a state it may no longer hold
+            if i + 1 < n and ts[i + 1] == ts[i]:
+                continue
+            w = outs[i, el[e, E_SLIP]]
+            tau = outs[i, el[e, E_TORQUE]]
+            if el[e, E_HYBRID]:
+                mode = ys[i, el[e, E_MODE]]
+                locked = ys[i, el[e, E_LOCKED]] > 0.5
+                if not locked and mode != 0.0:
+                    _record(tab, o, i, ts[i], -mode * w, w_soft, w_hard, mode, w)
+                if mode == 0.0:
+                    _record(tab, o + 1, i, ts[i], abs(w), w_soft, w_hard, mode, w)
+                if locked:
+                    cap = outs[i, el[e, E_CAP]]
+                    _record(tab, o + 2, i, ts[i], abs(tau) - abs(cap), t_soft, t_hard, tau,
+                            cap)
+            if el[e, E_PASSIVE] and tau * w < 0.0:
+                _record(tab, o + 3, i, ts[i], abs(w), w_soft, w_hard, tau, w)
+    if all_passive and w_fric >= 0 and n > 1:
+        e_scale = 0.0
+        for i in range(n):
+            e_scale = max(e_scale, abs(ys[i, w_fric]))
+        e_scale += 1.0
+        e_soft = 100.0 * (atol + rtol * e_scale)
+        e_hard = max(1e-3 * e_scale, 10.0 * e_soft)
+        top = ys[0, w_fric]
+        for i in range(n):
+            top = max(top, ys[i, w_fric])
+            _record(tab, m * N_CHECKS + 4, i, ts[i], top - ys[i, w_fric], e_soft, e_hard,
+                    ys[i, w_fric], top)
+
+
 @dataclass(frozen=True)
 class Invariants:
     """The physics checks of one plant layout (see the module docstring).  Called with a
-    run's rows: ``check(ts, ys, outs, rtol, atol) -> [Violation, ...]``."""
+    run's rows: ``check(ts, ys, outs, rtol, atol) -> [Violation, ...]``; :attr:`arrays`
+    and :meth:`violations` are the same checks for a compiled loop that runs many
+    variants (:func:`scan` on each, the table read back here)."""
 
     elements: tuple[FrictionCheck, ...]
     speeds: tuple[int, ...]
@@ -93,73 +191,44 @@ class Invariants:
     speed_unit: str
     effort_unit: str
 
+    @property
+    def arrays(self) -> tuple:
+        """``(el, speeds, w_fric, all_passive, table rows)``: :func:`scan`'s arguments."""
+        el = np.array([[c.hybrid, c.passive, c.mode, c.locked, c.torque, c.slip, c.capacity]
+                       for c in self.elements], dtype=np.int64).reshape(-1, 7)
+        return (el, np.array(self.speeds, dtype=np.int64), int(self.w_friction),
+                bool(self.all_passive), (len(self.elements) + 1) * N_CHECKS)
+
     def __call__(self, ts, ys, outs, rtol: float, atol: float) -> list[Violation]:
         if ts.shape[0] == 0 or not self.elements:
             return []
-        # a row followed by another at the same instant is the left limit before a reset
-        # (the integrator writes one before and one after each reset): the event that
-        # resets it is where the element leaves a state it may no longer hold
-        last = np.ones(ts.shape[0], dtype=bool)
-        last[:-1] = ts[1:] != ts[:-1]
-        found: list[Violation] = []
-        sp = ys[:, list(self.speeds)] if self.speeds else np.zeros((ts.shape[0], 1))
-        w_scale = 1.0 + float(np.max(np.abs(sp))) if sp.size else 1.0
-        if not np.isfinite(w_scale):
-            return []
-        w_soft = 100.0 * (atol + rtol * w_scale)
-        w_hard = max(1e-3 * w_scale, 10.0 * w_soft)
-        su, eu = self.speed_unit, self.effort_unit
-        for c in self.elements:
-            w = outs[:, c.slip]
-            tau = outs[:, c.torque]
-            if c.hybrid:
-                mode = ys[:, c.mode]
-                locked = ys[:, c.locked] > 0.5
-                sliding = (~locked) & (mode != 0.0)
-                self._worst(found, last, c.name, "mode_against_slip", ts,
-                            np.where(sliding, -mode * w, 0.0), w_soft, w_hard, su,
-                            lambda i: f"mode {mode[i]:+.0f} with slip {w[i]:.6g} {su}")
-                self._worst(found, last, c.name, "slipping_while_stuck", ts,
-                            np.where(mode == 0.0, np.abs(w), 0.0), w_soft, w_hard, su,
-                            lambda i: f"stuck mode with slip {w[i]:.6g} {su}")
-                cap = outs[:, c.capacity]
-                t_scale = 1.0 + float(np.max(np.abs(cap)))
-                t_soft = 100.0 * (atol + rtol * t_scale)
-                t_hard = max(1e-3 * t_scale, 10.0 * t_soft)
-                self._worst(found, last, c.name, "stick_over_capacity", ts,
-                            np.where(locked, np.abs(tau) - np.abs(cap), 0.0), t_soft, t_hard,
-                            eu, lambda i: f"locked with torque {tau[i]:.6g} {eu}, capacity "
-                                          f"{cap[i]:.6g} {eu}")
-            if c.passive:
-                # slip against the force, where the power is negative
-                against = np.where(tau * w < 0.0, np.abs(w), 0.0)
-                self._worst(found, last, c.name, "negative_power", ts, against, w_soft, w_hard, su,
-                            lambda i: f"torque {tau[i]:.6g} {eu} against slip {w[i]:.6g} "
-                                      f"{su}: power {tau[i] * w[i]:.6g} W")
-        if self.all_passive and self.w_friction >= 0 and ts.shape[0] > 1:
-            wf = ys[:, self.w_friction]
-            e_scale = 1.0 + float(np.max(np.abs(wf)))
-            e_soft = 100.0 * (atol + rtol * e_scale)
-            drop = np.maximum.accumulate(wf) - wf
-            self._worst(found, last, "friction", "friction_work_decreases", ts, drop, e_soft,
-                        max(1e-3 * e_scale, 10.0 * e_soft), "J",
-                        lambda i: f"W_friction {wf[i]:.6g} J after a maximum of "
-                                  f"{float(np.max(wf[:i + 1])):.6g} J")
-        return found
+        el, speeds, w_fric, all_passive, rows = self.arrays
+        tab = np.empty((rows, N_R))
+        scan(ts, ys, outs, el, speeds, w_fric, all_passive, float(rtol), float(atol), tab)
+        return self.violations(tab)
 
-    @staticmethod
-    def _worst(found, last, name, invariant, ts, x, soft, hard, unit, detail) -> None:
-        """Record the worst row of ``x`` (the violation per row, <= 0 where none) when it
-        exceeds ``soft``: the first row past ``hard`` if any (where it went wrong), else
-        the largest."""
-        x = np.where(last, np.nan_to_num(x, nan=0.0), 0.0)
-        over = np.flatnonzero(x > soft)
-        if over.size == 0:
-            return
-        past = over[x[over] > hard]
-        i = int(past[0]) if past.size else int(over[np.argmax(x[over])])
-        found.append(Violation(name, invariant, float(ts[i]), float(x[i]), soft, hard, unit,
-                               detail(i)))
+    def violations(self, tab) -> list[Violation]:
+        """The violations a :func:`scan` table holds, earliest first."""
+        su, eu = self.speed_unit, self.effort_unit
+        words = {
+            0: lambda a, b: f"mode {a:+.0f} with slip {b:.6g} {su}",
+            1: lambda a, b: f"stuck mode with slip {b:.6g} {su}",
+            2: lambda a, b: f"locked with torque {a:.6g} {eu}, capacity {b:.6g} {eu}",
+            3: lambda a, b: f"torque {a:.6g} {eu} against slip {b:.6g} {su}: power "
+                            f"{a * b:.6g} W",
+            4: lambda a, b: f"W_friction {a:.6g} J after a maximum of {b:.6g} J"}
+        units = (su, su, eu, su, "J")
+        found = []
+        for r in range(tab.shape[0]):
+            if tab[r, R_ROW] < 0:
+                continue
+            e, k = divmod(r, N_CHECKS)
+            name = self.elements[e].name if e < len(self.elements) else "friction"
+            found.append(Violation(name, CHECKS[k], float(tab[r, R_T]),
+                                   float(tab[r, R_VALUE]), float(tab[r, R_SOFT]),
+                                   float(tab[r, R_HARD]), units[k],
+                                   words[k](tab[r, R_A], tab[r, R_B])))
+        return sorted(found, key=lambda v: v.t)
 
 
 def build_invariants(plan) -> Invariants:
