@@ -283,7 +283,8 @@ def _springs(rng, model=None):
 
 
 def _gears(rng, model=None):
-    """An ideal gear with a moving support, a planetary set and a vehicle."""
+    """An ideal gear with a moving support, a planetary set, a lossy gear without losses
+    and a vehicle; angle states."""
     net = Network([
         TorqueSource("drive", input="tau"),
         Inertia("a", J=_f(rng, 0.1, 1.0)),
@@ -291,13 +292,15 @@ def _gears(rng, model=None):
         Inertia("housing", J=_f(rng, 1.0, 3.0)),
         SpringDamper("mount", c=_f(rng, 1e3, 2e3), d=_f(rng, 1.0, 5.0)),
         Planetary("pg", ratio=_f(rng, 1.5, 3.0)),
+        LossyGear("ideal", ratio=_f(rng, 0.5, 2.0)),     # no losses: an ideal gear
         Inertia("ring", J=_f(rng, 0.1, 1.0)),
         Vehicle("car", mass=_f(rng, 800.0, 1500.0), tyre_radius=_f(rng, 0.25, 0.35),
                 grade=_f(rng, -10.0, 10.0), rolling=_f(rng, 0.005, 0.02),
                 cd_area=_f(rng, 0.5, 0.8), v_eps=_f(rng, 0.03, 0.1)),
     ], [["drive.flange", "a.a"], ["a.b", "gear.a"], ["gear.support", "housing.a"],
         ["housing.b", "mount.a"], ["mount.b", "ground"], ["gear.b", "pg.sun"],
-        ["pg.ring", "ring.a"], ["pg.carrier", "car.flange"]], name="jac_gears", angles=True)
+        ["pg.ring", "ideal.a"], ["ideal.b", "ring.a"], ["pg.carrier", "car.flange"]],
+        name="jac_gears", angles=True)
     return Case(net, {"tau": (-300.0, 300.0)}, scales={"phi_mount": 1e-2})
 
 
