@@ -307,6 +307,9 @@ def _component_keys(cls) -> tuple:
                           low=1, high=1e4),
                       Key("z_ring", "int", "Ring teeth.", low=1, high=1e4)),
     }.get(cls.kind, ())
+    # input signals a component declares itself: ``signal_docs`` {key: (doc, required)}
+    extra += tuple(Key(k, "str", doc, required=req)
+                   for k, (doc, req) in getattr(cls, "signal_docs", {}).items())
     return tuple(keys) + tuple(extra)
 
 

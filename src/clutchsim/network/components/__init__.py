@@ -8,8 +8,10 @@ from __future__ import annotations
 
 from .backlash import ElastoBacklash
 from .converter import TorqueConverter
+from .damper import Damper, TranslationalDamper
 from .dmf import DualMassFlywheel
 from .driver import Driver
+from .elasto_gap import ElastoGap
 from .engine import Engine
 from .friction import Brake, Clutch
 from .hydraulic_actuator import HydraulicActuator
@@ -20,6 +22,18 @@ from .lossy_gear import Gearbox, LossyGear
 from .mass_stop import MassWithStopAndFriction
 from .one_way_clutch import OneWayClutch
 from .planetary import Planetary
+from .prescribed import (
+    Accelerate,
+    ConstantSpeed,
+    Move,
+    Position,
+    Speed,
+    TranslationalAccelerate,
+    TranslationalConstantSpeed,
+    TranslationalMove,
+    TranslationalPosition,
+    TranslationalSpeed,
+)
 from .release_system import ReleaseSystem
 from .servo_actuator import ServoActuator
 from .speed_torque import QuadraticSpeedTorque
@@ -35,8 +49,10 @@ from .translational import (
 )
 from .vehicle import Vehicle
 
-__all__ = ["COMPONENTS", "Brake", "Clutch", "Driver", "DualMassFlywheel", "ElastoBacklash",
-           "Engine", "Force", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia",
+__all__ = ["COMPONENTS", "Accelerate", "Brake", "ConstantSpeed", "Move", "Position", "Speed",
+           "TranslationalAccelerate", "TranslationalConstantSpeed", "TranslationalMove",
+           "TranslationalPosition", "TranslationalSpeed", "Clutch", "Driver", "DualMassFlywheel", "ElastoBacklash",
+           "ElastoGap", "Engine", "Force", "Damper", "TranslationalDamper", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia",
            "LaunchController", "LossyGear", "Mass", "MassWithStopAndFriction", "OneWayClutch",
            "Planetary", "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator",
            "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
@@ -52,4 +68,10 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   ServoActuator, LaunchController, Driver,
                                   # translational (Modelica Mechanics.Translational)
                                   Mass, TranslationalSpringDamper, Force, SupportFriction,
-                                  TranslationalBrake, MassWithStopAndFriction)}
+                                  TranslationalBrake, MassWithStopAndFriction,
+                                  Damper, TranslationalDamper, ElastoGap,
+                                  # prescribed motion (network/components/prescribed.py)
+                                  Speed, Position, Accelerate, Move, ConstantSpeed,
+                                  TranslationalSpeed, TranslationalPosition,
+                                  TranslationalAccelerate, TranslationalMove,
+                                  TranslationalConstantSpeed)}
