@@ -47,6 +47,7 @@ from .translational import (
     TranslationalBrake,
     TranslationalSpringDamper,
 )
+from .translational_vehicle import TranslationalVehicle
 from .vehicle import Vehicle
 
 __all__ = ["COMPONENTS", "Accelerate", "Brake", "ConstantSpeed", "Move", "Position", "Speed",
@@ -57,7 +58,7 @@ __all__ = ["COMPONENTS", "Accelerate", "Brake", "ConstantSpeed", "Move", "Positi
            "Planetary", "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator",
            "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
            "TorquePulsation", "TorqueSource", "TranslationalBrake",
-           "TranslationalSpringDamper", "Vehicle"]
+           "TranslationalSpringDamper", "TranslationalVehicle", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
@@ -74,4 +75,4 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   Speed, Position, Accelerate, Move, ConstantSpeed,
                                   TranslationalSpeed, TranslationalPosition,
                                   TranslationalAccelerate, TranslationalMove,
-                                  TranslationalConstantSpeed)}
+                                  TranslationalConstantSpeed, TranslationalVehicle)}
