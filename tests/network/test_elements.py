@@ -1,0 +1,264 @@
+"""The standard elements of issue 34 §5 (prescribed motion, elastic gap, dampers, the
+translational vehicle, speed-dependent and eddy-current torques): closed forms, the exact
+Jacobian against central differences at random states, the energy balance, and the rules
+of a prescribed node (each a clear error naming the components, with file and line in a
+scenario)."""
+
+import math
+
+import numpy as np
+import pytest
+from test_network import _jac_fd
+
+from clutchsim.core import SolverOptions, simulate
+from clutchsim.core.signals import Constant, Sine
+from clutchsim.network import Network, NetworkError
+from clutchsim.network.components import (
+    COMPONENTS,
+    Accelerate,
+    Clutch,
+    ConstantSpeed,
+    Damper,
+    ElastoGap,
+    Force,
+    IdealGear,
+    Inertia,
+    Mass,
+    Move,
+    Position,
+    Speed,
+    SpringDamper,
+    TorqueSource,
+    TranslationalAccelerate,
+    TranslationalConstantSpeed,
+    TranslationalDamper,
+    TranslationalMove,
+    TranslationalPosition,
+    TranslationalSpeed,
+    TranslationalSpringDamper,
+    TranslationalVehicle,
+)
+from clutchsim.friction import CoulombRobust
+from clutchsim.scenario import ScenarioError, load_scenario
+
+OPTS = SolverOptions(rtol=1e-10, atol=1e-12, dt_out=0.01)
+
+
+# ---------------------------------------------------------------- test networks per kind
+def _rot_source(src, inputs0):
+    """A rotational source driving an inertia, a load torque there, and a spring-damper
+    to a free inertia (partials by the prescribed speed reach it)."""
+    return Network([src, Inertia("j1", J=0.7), TorqueSource("load", input="tl"),
+                    SpringDamper("sd", c=300.0, d=2.0, phi0=0.01),
+                    Inertia("j2", J=1.3, omega0=2.0)],
+                   [[f"{src.name}.flange", "j1.a", "load.flange", "sd.a"],
+                    ["sd.b", "j2.a"]]), {"tl": -0.4, **inputs0}
+
+
+def _tr_source(src, inputs0):
+    return Network([src, Mass("m1", m=0.7), Force("load", input="tl"),
+                    TranslationalSpringDamper("sd", c=300.0, d=2.0, stretch0=0.01),
+                    Mass("m2", m=1.3, v0=2.0)],
+                   [[f"{src.name}.flange", "m1.a", "load.flange", "sd.a"],
+                    ["sd.b", "m2.a"]]), {"tl": -0.4, **inputs0}
+
+
+BUILDERS = {
+    "speed": lambda: _rot_source(Speed("src", input="wr", f_crit=5.0), {"wr": 1.5}),
+    "speed exact": lambda: _rot_source(Speed("src", input="wr", exact=1, derivative="ar"),
+                                       {"wr": 1.5, "ar": 0.3}),
+    "position": lambda: _rot_source(Position("src", input="pr", f_crit=3.0), {"pr": 0.2}),
+    "accelerate": lambda: _rot_source(Accelerate("src", input="ar", w0=1.0), {"ar": 0.3}),
+    "move": lambda: _rot_source(Move("src", position="pr", speed="wr", acceleration="ar"),
+                                {"pr": 0.2, "wr": 1.5, "ar": 0.3}),
+    "constant_speed": lambda: _rot_source(ConstantSpeed("src", w_fixed=2.5), {}),
+    "translational_speed": lambda: _tr_source(TranslationalSpeed("src", input="wr"),
+                                              {"wr": 1.5}),
+    "translational_position": lambda: _tr_source(TranslationalPosition("src", input="pr"),
+                                                 {"pr": 0.2}),
+    "translational_accelerate": lambda: _tr_source(TranslationalAccelerate("src", input="ar"),
+                                                   {"ar": 0.3}),
+    "translational_move": lambda: _tr_source(
+        TranslationalMove("src", position="pr", speed="wr", acceleration="ar"),
+        {"pr": 0.2, "wr": 1.5, "ar": 0.3}),
+    "translational_constant_speed": lambda: _tr_source(
+        TranslationalConstantSpeed("src", v_fixed=-1.0), {}),
+    "damper": lambda: (Network([Inertia("j1", J=1.0, omega0=3.0), Damper("dp", d=0.8),
+                                Inertia("j2", J=2.0)], [["j1.b", "dp.a"], ["dp.b", "j2.a"]]),
+                       {}),
+    "translational_damper": lambda: (Network([Mass("m1", m=1.0, v0=3.0),
+                                              TranslationalDamper("dp", d=0.8)],
+                                             [["m1.b", "dp.a"], ["dp.b", "ground"]]), {}),
+    "elasto_gap": lambda: (Network([Mass("m1", m=1.0, v0=-1.0),
+                                    ElastoGap("gap", c=1e3, d=40.0, s_rel0=0.1,
+                                              s_rel_start=0.05, n=1.5, s_ref=0.2),
+                                    Force("f", input="fi")],
+                                   [["gap.a", "ground"], ["gap.b", "m1.a", "f.flange"]]),
+                           {"fi": 1.0}),
+    "translational_vehicle": lambda: (Network([
+        TranslationalVehicle("car", m=1200.0, R=0.3, A=2.2, Cd=0.3, Cr=0.012, v_wind=1.0,
+                             torque="tw", inclination_input="incl", v0=0.0005)], []),
+        {"tw": 300.0, "incl": 0.04}),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BUILDERS))
+def test_exact_jacobian_matches_central_differences(case):
+    """Every entry of the generated Jacobian (energy rows included) against central
+    differences of the compiled right-hand side at random states around the start, for a
+    network holding the component (tolerance 1e-6 of the column's scale)."""
+    net, u0 = BUILDERS[case]()
+    sys_ = net.build(u0)
+    u = np.array([u0[n] for n in sys_.input_names], dtype=float)
+    rng = np.random.default_rng(34)
+    for _ in range(12):
+        y = sys_.y0.copy()
+        y += rng.normal(0.0, 0.3, y.size) * np.maximum(1.0, np.abs(y))
+        if case == "elasto_gap":        # in contact, open, and both limiter bounds
+            y[sys_.state_names.index("s_rel_gap")] = rng.uniform(-0.2, 0.3)
+        J, Jfd = _jac_fd(sys_, y, u)
+        scale = 1.0 + np.abs(Jfd)
+        assert np.all(np.abs(J - Jfd) <= 1e-6 * scale.max(axis=0)), \
+            (case, np.argwhere(np.abs(J - Jfd) > 1e-6 * scale.max(axis=0)))
+
+
+def test_every_new_component_has_a_jacobian_builder():
+    """The kinds this module adds are all walked by the Jacobian test above."""
+    new = {"speed", "position", "accelerate", "move", "constant_speed", "damper",
+           "elasto_gap", "translational_damper", "translational_vehicle"}
+    new |= {f"translational_{k}" for k in ("speed", "position", "accelerate", "move",
+                                           "constant_speed")}
+    assert new <= set(COMPONENTS)
+    assert new <= {k.replace(" exact", "") for k in BUILDERS}
+
+
+# ---------------------------------------------------------------- prescribed motion
+def test_speed_source_filter_closed_form_and_its_torque():
+    """speed: ω = 1 − exp(−ω_c·t) for a unit reference (ω(0) = ω_ref(0) = 0 needs a
+    reference starting at 0: a step at 0.1 s), and the torque that holds it,
+    J·a − Σ others, here J·ω_c·exp(−ω_c·(t − 0.1)) + 0.4 (the load is −0.4)."""
+    wc = 2 * math.pi * 5.0
+    net = Network([Speed("src", input="wr", f_crit=5.0), Inertia("j1", J=0.7),
+                   TorqueSource("load", input="tl")],
+                  [["src.flange", "j1.a", "load.flange"]])
+    sys_ = net.build({"wr": 0.0, "tl": -0.4})
+    from clutchsim.core.signals import Step
+    res = simulate(sys_, (0.0, 0.6), {"wr": Step(0.1, 1.0), "tl": Constant(-0.4)}, solver="rodas4", options=OPTS)
+    assert res.status == "completed"
+    t = res.t
+    w = np.where(t > 0.1, 1.0 - np.exp(-wc * (t - 0.1)), 0.0)
+    assert np.max(np.abs(res["omega_src"] - w)) < 1e-8
+    assert np.max(np.abs(res["omega_j1"] - w)) < 1e-8       # the node moves with it
+    tau = np.where(t > 0.1, 0.7 * wc * np.exp(-wc * (t - 0.1)), 0.0) + 0.4
+    late = t > 0.12
+    assert np.max(np.abs(res["T_src"][late] - tau[late])) < 1e-6
+
+
+def test_prescribed_source_books_its_power():
+    """A speed source driving a spring-damper and a free inertia: the energy balance
+    closes (the source books τ·ω with τ = J·a − Σ others)."""
+    net, u0 = BUILDERS["speed"]()
+    sys_ = net.build(u0)
+    res = simulate(sys_, (0.0, 1.0), {"wr": Sine(2.0, 1.5), "tl": Constant(-0.4)},
+                   solver="rodas4", options=OPTS)
+    assert res.status == "completed"
+    ke, pe = res["E_kinetic"], res["E_spring"]
+    losses = sum(res[k][-1] for k in ("W_friction", "W_damping", "W_road", "E_grade", "W_sync"))
+    resid = res["W_in"][-1] - (ke[-1] - ke[0]) - (pe[-1] - pe[0]) - losses
+    assert abs(res["W_in"][-1]) > 0.1
+    assert abs(resid) < 1e-7 * max(abs(res["W_in"][-1]), ke.max())
+
+
+def _error(net):
+    with pytest.raises(NetworkError) as err:
+        net.compile()
+    return str(err.value)
+
+
+def test_two_prescribed_speeds_on_one_node_are_refused():
+    msg = _error(Network([Speed("s1", input="w"), Speed("s2", input="w"), Inertia("j", J=1.0)],
+                         [["s1.flange", "s2.flange", "j.a"]]))
+    assert "s2" in msg and "s1" in msg and "fight" in msg
+
+
+def test_a_prescribed_speed_through_a_gear_is_refused():
+    msg = _error(Network([Speed("s1", input="w"), IdealGear("g", ratio=2.0), Inertia("j", J=1.0)],
+                         [["s1.flange", "g.a"], ["g.b", "j.a"]]))
+    assert "'g'" in msg and "s1" in msg and "rigid part" in msg
+
+
+def test_a_friction_element_on_a_prescribed_node_is_refused():
+    msg = _error(Network([Speed("s1", input="w"), Inertia("j0", J=1.0),
+                          Clutch("c", CoulombRobust(F_c=1.0, F_s=1.2), command="com"),
+                          Inertia("j", J=1.0)],
+                         [["s1.flange", "j0.a", "c.a"], ["c.b", "j.a"]]))
+    assert "'c'" in msg and "s1" in msg and "lock" in msg
+
+
+def test_a_prescribed_motion_of_the_ground_is_refused():
+    msg = _error(Network([ConstantSpeed("s1", w_fixed=1.0)], [["s1.flange", "ground"]]))
+    assert "ground" in msg and "s1" in msg
+
+
+def test_scenario_errors_name_file_and_line(tmp_path):
+    base = """[scenario]
+name = "x"
+t_end = 0.1
+expect_lockup = false
+[inputs]
+w = "const(1)"
+[network]
+connect = [["s1.flange", "s2.flange", "m.a"]]
+[[component]]
+type = "translational_speed"
+name = "s1"
+input = "w"
+[[component]]
+type = "translational_speed"
+name = "s2"
+input = "w"
+[[component]]
+type = "mass"
+name = "m"
+m = 1.0
+"""
+    path = tmp_path / "two.toml"
+    path.write_text(base)
+    with pytest.raises(ScenarioError) as err:
+        load_scenario(path)
+    text = str(err.value)
+    assert "two.toml:" in text and "s2" in text and "fight" in text
+    gap = base.replace('type = "translational_speed"\nname = "s2"\ninput = "w"',
+                       'type = "elasto_gap"\nname = "s2"\nc = -5.0')
+    gap = gap.replace('["s1.flange", "s2.flange", "m.a"]', '["s1.flange", "s2.a", "m.a"], '
+                      '["s2.b", "ground"]')
+    path.write_text(gap)
+    with pytest.raises(ScenarioError) as err:
+        load_scenario(path)
+    text = str(err.value)
+    assert "two.toml:16" in text and "component[1].c" in text and "-5" in text
+
+
+def test_exact_speed_needs_its_derivative():
+    with pytest.raises(ValueError, match="derivative"):
+        Speed("s", input="w", exact=1)
+    with pytest.raises(ValueError, match="exact = 1"):
+        Speed("s", input="w", derivative="a")
+
+
+# ---------------------------------------------------------------- elastic gap
+def test_elastic_gap_never_pulls_and_books_its_loss():
+    """A mass thrown at an elastic gap with heavy damping: the contact force never pulls
+    (F <= 0 on flange a's side: it pushes the flanges apart), it lifts off, and the energy
+    balance closes with the damping loss."""
+    net = Network([Mass("m1", m=1.0, v0=-2.0),
+                   ElastoGap("gap", c=1e4, d=400.0, s_rel0=0.0, s_rel_start=0.05)],
+                  [["gap.a", "ground"], ["gap.b", "m1.a"]])
+    res = simulate(net.build({}), (0.0, 0.3), solver="rodas4", options=OPTS)
+    assert res.status == "completed"
+    assert np.all(res["F_gap"] <= 1e-12)
+    assert res["v_m1"][-1] > 0.0                         # bounced off, slower
+    assert res["v_m1"][-1] < 2.0
+    ke0, ke1 = 0.5 * 2.0 ** 2, 0.5 * res["v_m1"][-1] ** 2
+    assert res["W_damping"][-1] == pytest.approx(ke0 - ke1, rel=1e-6)
+    assert any("contact edge" in e.name for e in res.events)
