@@ -38,6 +38,21 @@ from clutchsim.network.components import (
     TranslationalSpringDamper,
     TranslationalVehicle,
 )
+from clutchsim.network.components.eddy_current import (
+    EddyCurrentBrake,
+    TranslationalEddyCurrentBrake,
+)
+from clutchsim.network.components.speed_torque import (
+    InverseSpeedForce,
+    InverseSpeedTorque,
+    LinearSpeedForce,
+    LinearSpeedTorque,
+    QuadraticSpeedForce,
+    QuadraticSpeedTorque,
+    SignForce,
+    SignTorque,
+)
+from clutchsim.network.components.thermal import ThermalNode
 from clutchsim.friction import CoulombRobust
 from clutchsim.scenario import ScenarioError, load_scenario
 
@@ -61,6 +76,34 @@ def _tr_source(src, inputs0):
                     Mass("m2", m=1.3, v0=2.0)],
                    [[f"{src.name}.flange", "m1.a", "load.flange", "sd.a"],
                     ["sd.b", "m2.a"]]), {"tl": -0.4, **inputs0}
+
+
+def _body(cls, name, v0):
+    return (Inertia(name, J=1.5, omega0=v0) if cls.domain == "rotational"
+            else Mass(name, m=1.5, v0=v0))
+
+
+def _load(cls, signed):
+    """A speed-dependent load between a body and a second body as its support."""
+    p = cls.params
+    law = cls("law", **{p[0].name: -2.0, p[1].name: 3.0, "signed": float(signed),
+                        **({p[3].name: 0.5} if len(p) > 3 else {})})
+    return Network([_body(cls, "j1", 2.0), law, _body(cls, "j2", -0.7)],
+                   [["j1.a", "law.flange"], ["law.support", "j2.a"]]), {}
+
+
+def _sign(cls, reg):
+    p = cls.params
+    law = cls("law", **{p[0].name: -2.0, p[1].name: 1.5, "reg": float(reg)})
+    return Network([_body(cls, "j1", 1.0), law], [["j1.a", "law.flange"]]), {}
+
+
+def _eddy(cls, tn, wn):
+    """An eddy-current brake heating a thermal node, its excitation an input."""
+    brake = cls("eb", excitation_input="ex", heat="disc",
+                **{tn: 40.0, wn: 5.0, "alpha": 0.004, "T_ref": 20.0})
+    return Network([_body(cls, "j1", 6.0), brake, ThermalNode("disc", capacity=500.0, theta0=80.0)],
+                   [["j1.a", "eb.flange"]]), {"ex": 0.8}
 
 
 BUILDERS = {
@@ -95,6 +138,14 @@ BUILDERS = {
                                     Force("f", input="fi")],
                                    [["gap.a", "ground"], ["gap.b", "m1.a", "f.flange"]]),
                            {"fi": 1.0}),
+    **{f"{cls.kind} signed={sg}": (lambda cls=cls, sg=sg: _load(cls, sg)) for sg in (0, 1)
+       for cls in (QuadraticSpeedTorque, QuadraticSpeedForce, LinearSpeedTorque,
+                   LinearSpeedForce, InverseSpeedTorque, InverseSpeedForce)},
+    **{f"{cls.kind} reg={reg}": (lambda cls=cls, reg=reg: _sign(cls, reg)) for reg in range(4)
+       for cls in (SignTorque, SignForce)},
+    "eddy_current_brake": lambda: _eddy(EddyCurrentBrake, "tau_nominal", "w_nominal"),
+    "translational_eddy_current_brake": lambda: _eddy(TranslationalEddyCurrentBrake,
+                                                      "f_nominal", "v_nominal"),
     "translational_vehicle": lambda: (Network([
         TranslationalVehicle("car", m=1200.0, R=0.3, A=2.2, Cd=0.3, Cr=0.012, v_wind=1.0,
                              torque="tw", inclination_input="incl", v0=0.0005)], []),
@@ -114,6 +165,8 @@ def test_exact_jacobian_matches_central_differences(case):
     for _ in range(12):
         y = sys_.y0.copy()
         y += rng.normal(0.0, 0.3, y.size) * np.maximum(1.0, np.abs(y))
+        if case.startswith(("sign_", "inverse_")):     # both sides of the regularisation
+            y[0] = rng.uniform(-3.0, 3.0)
         if case == "elasto_gap":        # in contact, open, and both limiter bounds
             y[sys_.state_names.index("s_rel_gap")] = rng.uniform(-0.2, 0.3)
         J, Jfd = _jac_fd(sys_, y, u)
@@ -127,9 +180,12 @@ def test_every_new_component_has_a_jacobian_builder():
     new = {"speed", "position", "accelerate", "move", "constant_speed", "damper",
            "elasto_gap", "translational_damper", "translational_vehicle"}
     new |= {f"translational_{k}" for k in ("speed", "position", "accelerate", "move",
-                                           "constant_speed")}
+                                           "constant_speed", "eddy_current_brake")}
+    new |= {f"{k}_speed_{d}" for k in ("quadratic", "linear", "inverse")
+            for d in ("torque", "force")}
+    new |= {"sign_torque", "sign_force", "eddy_current_brake"}
     assert new <= set(COMPONENTS)
-    assert new <= {k.replace(" exact", "") for k in BUILDERS}
+    assert new <= {k.split(" ")[0] for k in BUILDERS}
 
 
 # ---------------------------------------------------------------- prescribed motion
@@ -262,3 +318,45 @@ def test_elastic_gap_never_pulls_and_books_its_loss():
     ke0, ke1 = 0.5 * 2.0 ** 2, 0.5 * res["v_m1"][-1] ** 2
     assert res["W_damping"][-1] == pytest.approx(ke0 - ke1, rel=1e-6)
     assert any("contact edge" in e.name for e in res.events)
+
+
+# ---------------------------------------------------------------- loads
+def test_eddy_current_brake_kloss_law_and_its_heat():
+    """Kloss' characteristic: the braking torque 2·τ_n·e²·x/(1 + x²) with the temperature
+    stretching the nominal speed (1 + α·(θ − T_ref)); the loss heats the node: C·Δθ equals
+    the booked loss (W_damping) and the kinetic energy the inertia lost."""
+    net, u0 = BUILDERS["eddy_current_brake"]()
+    sys_ = net.build(u0)
+    res = simulate(sys_, (0.0, 2.0), {"ex": Constant(0.8)}, solver="rodas4", options=OPTS)
+    assert res.status == "completed"
+    w, th = res["omega_j1"], res["theta_disc"]
+    x = w / (5.0 * (1.0 + 0.004 * (th - 20.0)))
+    assert np.max(np.abs(res["T_eb"] - 2 * 40.0 * 0.64 * x / (1 + x * x))) < 1e-9
+    assert res["T_eb"][0] < 2 * 40.0 * 0.64 * 0.5      # hot: x ≠ 1 at w = w_nominal·1.24
+    heat = 500.0 * (th[-1] - th[0])
+    assert heat == pytest.approx(res["W_damping"][-1], rel=1e-7)
+    assert heat == pytest.approx(0.5 * 1.5 * (w[0] ** 2 - w[-1] ** 2), rel=1e-7)
+
+
+@pytest.mark.parametrize("signed", [0, 1])
+def test_speed_laws_in_closed_form(signed):
+    """The laws at a few speeds: linear tn·|w|/wn (signed: tn·w/wn), inverse tn·wn/|w|
+    beyond w0 and tn·wn/w0 below (signed: tn·wn/w, tn·wn·w/w0²), quadratic tn·(w/wn)²
+    (signed: times sign w)."""
+    from clutchsim.core.system import call_outputs
+    for cls, f in ((LinearSpeedTorque, lambda w: -2.0 * (w if signed else abs(w)) / 3.0),
+                   (QuadraticSpeedTorque,
+                    lambda w: -2.0 * (w / 3.0) ** 2 * (np.sign(w) if signed else 1.0)),
+                   (InverseSpeedTorque,
+                    lambda w: (-2.0 * 3.0 * (w / 0.25 if signed else 1.0 / 0.5)
+                               if abs(w) < 0.5 else -6.0 / (w if signed else abs(w))))):
+        net, _ = _load(cls, signed)
+        sys_ = net.build({})
+        for w in (-4.0, -0.3, 0.2, 1.0, 5.0):
+            y = sys_.y0.copy()
+            y[sys_.state_names.index("omega_j1")] = w
+            y[sys_.state_names.index("omega_j2")] = 0.0
+            out = np.zeros(len(sys_.output_names))
+            call_outputs(sys_.tag, 0.0, y, np.zeros(0), sys_.params, out)
+            assert out[sys_.output_names.index("T_law")] == pytest.approx(f(w), rel=1e-12), \
+                (cls.kind, w)

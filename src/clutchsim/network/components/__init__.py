@@ -11,6 +11,7 @@ from .converter import TorqueConverter
 from .damper import Damper, TranslationalDamper
 from .dmf import DualMassFlywheel
 from .driver import Driver
+from .eddy_current import EddyCurrentBrake, TranslationalEddyCurrentBrake
 from .elasto_gap import ElastoGap
 from .engine import Engine
 from .friction import Brake, Clutch
@@ -36,7 +37,16 @@ from .prescribed import (
 )
 from .release_system import ReleaseSystem
 from .servo_actuator import ServoActuator
-from .speed_torque import QuadraticSpeedTorque
+from .speed_torque import (
+    InverseSpeedForce,
+    InverseSpeedTorque,
+    LinearSpeedForce,
+    LinearSpeedTorque,
+    QuadraticSpeedForce,
+    QuadraticSpeedTorque,
+    SignForce,
+    SignTorque,
+)
 from .spring_damper import SpringDamper
 from .thermal import ThermalNode
 from .torque_pulsation import TorquePulsation
@@ -53,7 +63,9 @@ from .vehicle import Vehicle
 __all__ = ["COMPONENTS", "Accelerate", "Brake", "ConstantSpeed", "Move", "Position", "Speed",
            "TranslationalAccelerate", "TranslationalConstantSpeed", "TranslationalMove",
            "TranslationalPosition", "TranslationalSpeed", "Clutch", "Driver", "DualMassFlywheel", "ElastoBacklash",
-           "ElastoGap", "Engine", "Force", "Damper", "TranslationalDamper", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia",
+           "EddyCurrentBrake", "ElastoGap", "Engine", "InverseSpeedForce",
+           "InverseSpeedTorque", "LinearSpeedForce", "LinearSpeedTorque", "QuadraticSpeedForce",
+           "SignForce", "SignTorque", "TranslationalEddyCurrentBrake", "Force", "Damper", "TranslationalDamper", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia",
            "LaunchController", "LossyGear", "Mass", "MassWithStopAndFriction", "OneWayClutch",
            "Planetary", "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator",
            "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
@@ -75,4 +87,8 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   Speed, Position, Accelerate, Move, ConstantSpeed,
                                   TranslationalSpeed, TranslationalPosition,
                                   TranslationalAccelerate, TranslationalMove,
-                                  TranslationalConstantSpeed, TranslationalVehicle)}
+                                  TranslationalConstantSpeed, TranslationalVehicle,
+                                  # speed-dependent and eddy-current loads
+                                  LinearSpeedTorque, InverseSpeedTorque, SignTorque,
+                                  QuadraticSpeedForce, LinearSpeedForce, InverseSpeedForce,
+                                  SignForce, EddyCurrentBrake, TranslationalEddyCurrentBrake)}
