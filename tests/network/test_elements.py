@@ -12,6 +12,7 @@ from test_network import _jac_fd
 
 from clutchsim.core import SolverOptions, simulate
 from clutchsim.core.signals import Constant, Sine
+from clutchsim.friction import CoulombRobust
 from clutchsim.network import Network, NetworkError
 from clutchsim.network.components import (
     COMPONENTS,
@@ -19,41 +20,39 @@ from clutchsim.network.components import (
     Clutch,
     ConstantSpeed,
     Damper,
+    EddyCurrentBrake,
+    ElastoBacklash,
     ElastoGap,
     Force,
     IdealGear,
     Inertia,
+    InverseSpeedForce,
+    InverseSpeedTorque,
+    LinearSpeedForce,
+    LinearSpeedTorque,
+    LossyGear,
+    LossyGearWithLash,
     Mass,
     Move,
     Position,
+    QuadraticSpeedForce,
+    QuadraticSpeedTorque,
+    SignForce,
+    SignTorque,
     Speed,
     SpringDamper,
+    ThermalNode,
     TorqueSource,
     TranslationalAccelerate,
     TranslationalConstantSpeed,
     TranslationalDamper,
+    TranslationalEddyCurrentBrake,
     TranslationalMove,
     TranslationalPosition,
     TranslationalSpeed,
     TranslationalSpringDamper,
     TranslationalVehicle,
 )
-from clutchsim.network.components.eddy_current import (
-    EddyCurrentBrake,
-    TranslationalEddyCurrentBrake,
-)
-from clutchsim.network.components.speed_torque import (
-    InverseSpeedForce,
-    InverseSpeedTorque,
-    LinearSpeedForce,
-    LinearSpeedTorque,
-    QuadraticSpeedForce,
-    QuadraticSpeedTorque,
-    SignForce,
-    SignTorque,
-)
-from clutchsim.network.components.thermal import ThermalNode
-from clutchsim.friction import CoulombRobust
 from clutchsim.scenario import ScenarioError, load_scenario
 
 OPTS = SolverOptions(rtol=1e-10, atol=1e-12, dt_out=0.01)
@@ -146,6 +145,10 @@ BUILDERS = {
     "eddy_current_brake": lambda: _eddy(EddyCurrentBrake, "tau_nominal", "w_nominal"),
     "translational_eddy_current_brake": lambda: _eddy(TranslationalEddyCurrentBrake,
                                                       "f_nominal", "v_nominal"),
+    "lossy_gear_with_lash": lambda: (_lash_drive(
+        [LossyGearWithLash("gear", ratio=2.0, b=0.02, c=1e4, d=20.0, phi0=0.013,
+                           loss_table=((0.0, 0.5, 0.6, 0.2, 0.1),))], [["gear.b", "j2.a"]]),
+        {"tau": 3.0, "tl": -1.0}),
     "translational_vehicle": lambda: (Network([
         TranslationalVehicle("car", m=1200.0, R=0.3, A=2.2, Cd=0.3, Cr=0.012, v_wind=1.0,
                              torque="tw", inclination_input="incl", v0=0.0005)], []),
@@ -183,7 +186,7 @@ def test_every_new_component_has_a_jacobian_builder():
                                            "constant_speed", "eddy_current_brake")}
     new |= {f"{k}_speed_{d}" for k in ("quadratic", "linear", "inverse")
             for d in ("torque", "force")}
-    new |= {"sign_torque", "sign_force", "eddy_current_brake"}
+    new |= {"sign_torque", "sign_force", "eddy_current_brake", "lossy_gear_with_lash"}
     assert new <= set(COMPONENTS)
     assert new <= {k.split(" ")[0] for k in BUILDERS}
 
@@ -199,7 +202,8 @@ def test_speed_source_filter_closed_form_and_its_torque():
                   [["src.flange", "j1.a", "load.flange"]])
     sys_ = net.build({"wr": 0.0, "tl": -0.4})
     from clutchsim.core.signals import Step
-    res = simulate(sys_, (0.0, 0.6), {"wr": Step(0.1, 1.0), "tl": Constant(-0.4)}, solver="rodas4", options=OPTS)
+    res = simulate(sys_, (0.0, 0.6), {"wr": Step(0.1, 1.0), "tl": Constant(-0.4)},
+                   solver="rodas4", options=OPTS)
     assert res.status == "completed"
     t = res.t
     w = np.where(t > 0.1, 1.0 - np.exp(-wc * (t - 0.1)), 0.0)
@@ -360,3 +364,40 @@ def test_speed_laws_in_closed_form(signed):
             call_outputs(sys_.tag, 0.0, y, np.zeros(0), sys_.params, out)
             assert out[sys_.output_names.index("T_law")] == pytest.approx(f(w), rel=1e-12), \
                 (cls.kind, w)
+
+
+# ---------------------------------------------------------------- gearbox with lash
+def _lash_drive(gear_parts, connect):
+    return Network([TorqueSource("drive", input="tau"), Inertia("j1", J=1.0), *gear_parts,
+                    Inertia("j2", J=1.5), TorqueSource("load", input="tl")],
+                   [["drive.flange", "j1.a"], ["j1.b", "gear.a"], *connect,
+                    ["j2.a", "load.flange"]])
+
+
+def test_gearbox_with_lash_is_the_lossy_gear_and_lash_in_series():
+    """lossy_gear_with_lash (Modelica Gearbox) runs as a lossy gear and an elasto-backlash
+    joined at a massless node: the same states, events and speeds (to 1e-9)."""
+    table = ((0.0, 0.5, 0.6, 0.2, 0.1), (5.0, 0.45, 0.55, 0.3, 0.2))
+    one = _lash_drive([LossyGearWithLash("gear", loss_table=table, ratio=2.0, b=0.02, c=1e4,
+                                         d=20.0)], [["gear.b", "j2.a"]])
+    two = _lash_drive([LossyGear("gear", loss_table=table, ratio=2.0),
+                       ElastoBacklash("lash", b=0.02, c=1e4, d=20.0)],
+                      [["gear.b", "lash.a"], ["lash.b", "j2.a"]])
+    runs = []
+    for net in (one, two):
+        sys_ = net.build({"tau": 0.0, "tl": -1.0})
+        res = simulate(sys_, (0.0, 1.0), {"tau": Sine(10.0, 1.0), "tl": Constant(-1.0)},
+                       solver="rodas4", options=SolverOptions(rtol=1e-10, atol=1e-12))
+        assert res.status == "completed", res.message
+        runs.append(res)
+    a, b = runs
+    assert len(a.events) == len(b.events) > 2
+    for x, y in zip(a.events, b.events):
+        assert x.t == pytest.approx(y.t, abs=1e-9)
+    for col in ("omega_j1", "omega_j2", "gear.mode", "W_friction", "W_damping"):
+        assert np.max(np.abs(a[col] - b[col])) < 1e-9, col
+    assert np.max(np.abs(a["phi_gear"] - b["phi_lash"])) < 1e-9
+    assert np.max(np.abs(a["T_lash_gear"] - b["T_lash"])) < 1e-7
+    with pytest.raises(NetworkError, match="internal to lossy gear with lash 'gear'"):
+        _lash_drive([LossyGearWithLash("gear", ratio=2.0, c=1e4, b=0.0)],
+                    [["gear.b", "j2.a"], ["gear.mesh", "ground"]]).compile()

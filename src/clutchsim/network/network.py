@@ -141,6 +141,10 @@ def _parse_flange(net: Network, text, k: int):
         raise NetworkError(f"connection {k + 1}: {text!r} names a component, not one of its "
                            f"flanges ({', '.join(f'{comp}.{f}' for f in c.flanges)})", comp)
     c = net.component(comp)
+    if flange in getattr(c, "internal_flanges", ()):
+        raise NetworkError(f"connection {k + 1}: {text!r} is internal to {c.label} (it joins "
+                           "two of its own parts); connect its other flanges "
+                           f"({', '.join(f for f in c.flanges if f != flange)})", text)
     if flange not in c.flanges:
         raise NetworkError(f"connection {k + 1}: {c.label} has no flange {flange!r}"
                            f"{closest(flange, c.flanges)}; its flanges: "

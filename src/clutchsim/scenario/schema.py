@@ -301,6 +301,7 @@ def _component_keys(cls) -> tuple:
             Key("target", "str", "Signal of the target speed [m/s].", required=True),
             Key("feedforward", "str", "Signal of a throttle feed-forward [-].")),
         "lossy_gear": (LOSSY_GEAR[3],),
+        "lossy_gear_with_lash": (LOSSY_GEAR[3],),
         "gearbox": (GEARBOX[2], GEARBOX[5]),
         "one_way_clutch": (ONE_WAY_CLUTCH[2], ONE_WAY_CLUTCH[5], ONE_WAY_CLUTCH[6]),
         "planetary": (Key("z_sun", "int", "Sun teeth (with z_ring, instead of ratio).",

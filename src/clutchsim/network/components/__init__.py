@@ -15,6 +15,7 @@ from .eddy_current import EddyCurrentBrake, TranslationalEddyCurrentBrake
 from .elasto_gap import ElastoGap
 from .engine import Engine
 from .friction import Brake, Clutch
+from .gearbox_lash import LossyGearWithLash
 from .hydraulic_actuator import HydraulicActuator
 from .ideal_gear import IdealGear
 from .inertia import Inertia, Mass
@@ -60,17 +61,18 @@ from .translational import (
 from .translational_vehicle import TranslationalVehicle
 from .vehicle import Vehicle
 
-__all__ = ["COMPONENTS", "Accelerate", "Brake", "ConstantSpeed", "Move", "Position", "Speed",
-           "TranslationalAccelerate", "TranslationalConstantSpeed", "TranslationalMove",
-           "TranslationalPosition", "TranslationalSpeed", "Clutch", "Driver", "DualMassFlywheel", "ElastoBacklash",
-           "EddyCurrentBrake", "ElastoGap", "Engine", "InverseSpeedForce",
-           "InverseSpeedTorque", "LinearSpeedForce", "LinearSpeedTorque", "QuadraticSpeedForce",
-           "SignForce", "SignTorque", "TranslationalEddyCurrentBrake", "Force", "Damper", "TranslationalDamper", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia",
-           "LaunchController", "LossyGear", "Mass", "MassWithStopAndFriction", "OneWayClutch",
-           "Planetary", "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator",
-           "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
-           "TorquePulsation", "TorqueSource", "TranslationalBrake",
-           "TranslationalSpringDamper", "TranslationalVehicle", "Vehicle"]
+__all__ = ["COMPONENTS", "Accelerate", "Brake", "Clutch", "ConstantSpeed", "Damper", "Driver",
+           "DualMassFlywheel", "EddyCurrentBrake", "ElastoBacklash", "ElastoGap", "Engine",
+           "Force", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia", "InverseSpeedForce",
+           "InverseSpeedTorque", "LaunchController", "LinearSpeedForce", "LinearSpeedTorque",
+           "LossyGear", "LossyGearWithLash", "Mass", "MassWithStopAndFriction", "Move",
+           "OneWayClutch", "Planetary", "Position", "QuadraticSpeedForce", "QuadraticSpeedTorque",
+           "ReleaseSystem", "ServoActuator", "SignForce", "SignTorque", "Speed", "SpringDamper",
+           "SupportFriction", "ThermalNode", "TorqueConverter", "TorquePulsation", "TorqueSource",
+           "TranslationalAccelerate", "TranslationalBrake", "TranslationalConstantSpeed",
+           "TranslationalDamper", "TranslationalEddyCurrentBrake", "TranslationalMove",
+           "TranslationalPosition", "TranslationalSpeed", "TranslationalSpringDamper",
+           "TranslationalVehicle", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
@@ -91,4 +93,5 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   # speed-dependent and eddy-current loads
                                   LinearSpeedTorque, InverseSpeedTorque, SignTorque,
                                   QuadraticSpeedForce, LinearSpeedForce, InverseSpeedForce,
-                                  SignForce, EddyCurrentBrake, TranslationalEddyCurrentBrake)}
+                                  SignForce, EddyCurrentBrake, TranslationalEddyCurrentBrake,
+                                  LossyGearWithLash)}

@@ -4,6 +4,8 @@ temperature."""
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 from ..component import Component
 from ..spec import Param
 
@@ -36,10 +38,11 @@ class EddyCurrentBrake(Component):
         Param("excitation", "-", "excitation (1: the nominal torque), without an input",
               default=1.0, low=0.0),
     )
-    signal_docs = {"excitation_input": ("Input signal: the excitation [-] (instead of the "
-                                        "parameter).", False),
-                   "heat": ("Thermal node the loss heats (its temperature sets the "
-                            "characteristic).", False)}
+    signal_docs: ClassVar[dict] = {
+        "excitation_input": ("Input signal: the excitation [-] (instead of the parameter).",
+                             False),
+        "heat": ("Thermal node the loss heats (its temperature sets the characteristic).",
+                 False)}
     signal_keys = ("excitation_input",)
 
     def __init__(self, name, excitation_input=None, heat=None, **values):

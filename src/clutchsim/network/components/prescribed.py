@@ -36,6 +36,8 @@ The laws (``ω_c = 2π·f_crit``):
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 from ..component import Component
 from ..spec import DOMAINS, Param
 
@@ -86,7 +88,7 @@ class PrescribedMotion(Component):
                 for k, n in self.signal_names.items()}
 
     #: what each signal key is (position, speed, acceleration)
-    input_kind: dict = {}
+    input_kind: ClassVar[dict] = {}
 
     def constraints(self):
         # the prescribed node leaves the free speeds, as the ground does (its speed is
@@ -173,7 +175,7 @@ def _params(domain: str, *which: str) -> tuple[Param, ...]:
 
 class _Speed(PrescribedMotion):
     signal_keys = ("input", "derivative")
-    input_kind = {"input": "speed", "derivative": "acceleration"}
+    input_kind: ClassVar[dict] = {"input": "speed", "derivative": "acceleration"}
 
     def _needs(self, key):
         return key == "input" or (key == "derivative" and self.values.get("exact", 0) > 0.5)
@@ -203,7 +205,7 @@ class Speed(_Speed):
     kind = "speed"
     title = "prescribed speed (Modelica Speed: filtered, or exact with its derivative)"
     params = _params("rotational", "f_crit", "exact", "p0")
-    signal_docs = {"input": ("Input signal: the reference speed [rad/s].", True),
+    signal_docs: ClassVar[dict] = {"input": ("Input signal: the reference speed [rad/s].", True),
                    "derivative": ("Input signal: dω_ref/dt [rad/s²], with exact = 1.", False)}
 
 
@@ -214,13 +216,13 @@ class TranslationalSpeed(_Speed):
     title = "prescribed velocity (Modelica Speed: filtered, or exact with its derivative)"
     domain = "translational"
     params = _params("translational", "f_crit", "exact", "p0")
-    signal_docs = {"input": ("Input signal: the reference velocity [m/s].", True),
+    signal_docs: ClassVar[dict] = {"input": ("Input signal: the reference velocity [m/s].", True),
                    "derivative": ("Input signal: dv_ref/dt [m/s²], with exact = 1.", False)}
 
 
 class _Position(PrescribedMotion):
     signal_keys = ("input",)
-    input_kind = {"input": "position"}
+    input_kind: ClassVar[dict] = {"input": "position"}
 
     def start(self, u0):
         return float(u0.get(self.signal_names["input"], 0.0)), self.values[self.params[1].name]
@@ -241,7 +243,7 @@ class Position(_Position):
     kind = "position"
     title = "prescribed angle (Modelica Position, filtered)"
     params = _params("rotational", "f_crit", "w0")
-    signal_docs = {"input": ("Input signal: the reference angle [rad].", True)}
+    signal_docs: ClassVar[dict] = {"input": ("Input signal: the reference angle [rad].", True)}
 
 
 class TranslationalPosition(_Position):
@@ -252,12 +254,12 @@ class TranslationalPosition(_Position):
     title = "prescribed position (Modelica Position, filtered)"
     domain = "translational"
     params = _params("translational", "f_crit", "w0")
-    signal_docs = {"input": ("Input signal: the reference position [m].", True)}
+    signal_docs: ClassVar[dict] = {"input": ("Input signal: the reference position [m].", True)}
 
 
 class _Accelerate(PrescribedMotion):
     signal_keys = ("input",)
-    input_kind = {"input": "acceleration"}
+    input_kind: ClassVar[dict] = {"input": "acceleration"}
 
     def start(self, u0):
         return self.values[self.params[0].name], self.values[self.params[1].name]
@@ -272,7 +274,7 @@ class Accelerate(_Accelerate):
     kind = "accelerate"
     title = "prescribed angular acceleration (Modelica Accelerate)"
     params = _params("rotational", "p0", "w0")
-    signal_docs = {"input": ("Input signal: the acceleration [rad/s²].", True)}
+    signal_docs: ClassVar[dict] = {"input": ("Input signal: the acceleration [rad/s²].", True)}
 
 
 class TranslationalAccelerate(_Accelerate):
@@ -282,12 +284,12 @@ class TranslationalAccelerate(_Accelerate):
     title = "prescribed acceleration (Modelica Accelerate)"
     domain = "translational"
     params = _params("translational", "p0", "w0")
-    signal_docs = {"input": ("Input signal: the acceleration [m/s²].", True)}
+    signal_docs: ClassVar[dict] = {"input": ("Input signal: the acceleration [m/s²].", True)}
 
 
 class _Move(PrescribedMotion):
     signal_keys = ("position", "speed", "acceleration")
-    input_kind = {k: k for k in signal_keys}
+    input_kind: ClassVar[dict] = {k: k for k in signal_keys}
 
     def start(self, u0):
         return (float(u0.get(self.signal_names["position"], 0.0)),
@@ -302,7 +304,7 @@ class Move(_Move):
 
     kind = "move"
     title = "prescribed angle, speed and acceleration (Modelica Move)"
-    signal_docs = {"position": ("Input signal: the angle [rad].", True),
+    signal_docs: ClassVar[dict] = {"position": ("Input signal: the angle [rad].", True),
                    "speed": ("Input signal: the speed [rad/s].", True),
                    "acceleration": ("Input signal: the angular acceleration [rad/s²].", True)}
 
@@ -314,7 +316,7 @@ class TranslationalMove(_Move):
     kind = "translational_move"
     title = "prescribed position, velocity and acceleration (Modelica Move)"
     domain = "translational"
-    signal_docs = {"position": ("Input signal: the position [m].", True),
+    signal_docs: ClassVar[dict] = {"position": ("Input signal: the position [m].", True),
                    "speed": ("Input signal: the velocity [m/s].", True),
                    "acceleration": ("Input signal: the acceleration [m/s²].", True)}
 

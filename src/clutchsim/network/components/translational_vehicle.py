@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 from ..component import Component
 from ..spec import Param
 
@@ -46,9 +48,10 @@ class TranslationalVehicle(Component):
               default=0.0),
     )
     signal_keys = ("torque", "inclination_input")
-    signal_docs = {"torque": ("Input signal: the wheel torque [N·m] (force torque/R).", False),
-                   "inclination_input": ("Input signal: the inclination tan α [-] "
-                                         "(instead of the parameter inclination).", False)}
+    signal_docs: ClassVar[dict] = {
+        "torque": ("Input signal: the wheel torque [N·m] (force torque/R).", False),
+        "inclination_input": ("Input signal: the inclination tan α [-] (or the parameter).",
+                              False)}
 
     def __init__(self, name, torque=None, inclination_input=None, **values):
         super().__init__(name, **values)
