@@ -7,7 +7,9 @@ exactly, for a set of *independent speeds* ``v`` with ``w = N·v`` (reduced row 
 form; the speeds of inertias named first are kept as states, in the order the components
 are listed).  The reduced inertia matrix ``M = Nᵀ·diag(J)·N`` must be regular: a
 coordinate without inertia (a support left floating with nothing on it) is an error that
-names its flanges.  Friction elements that lock (coulomb-robust) add relations at run time;
+names its flanges.  A prescribed-motion source's node is a *moving ground*: eliminated like
+the ground, its speed read from the source (:meth:`Assembly._prescribed` states the rules).
+Friction elements that lock (coulomb-robust) add relations at run time;
 the generated plant solves them in closed form (:mod:`clutchsim.network.codegen`).
 
 Nothing here depends on scenarios: :mod:`clutchsim.scenario` builds a :class:`Network`
