@@ -406,3 +406,33 @@ def test_gearbox_with_lash_is_the_lossy_gear_and_lash_in_series():
     with pytest.raises(NetworkError, match="internal to lossy gear with lash 'gear'"):
         _lash_drive([LossyGearWithLash("gear", ratio=2.0, c=1e4, b=0.0)],
                     [["gear.b", "j2.a"], ["gear.mesh", "ground"]]).compile()
+
+
+def test_position_source_is_msl_bessel_filter():
+    """position: φ'' = ((φ_ref − φ)·ω_c − af·φ')·ω_c/bf from φ(0) = φ_ref(0), ω(0) = w0,
+    against an independent integration of that filter (scipy), for a step of the reference
+    at 0.1 s; the node (an inertia) moves with it."""
+    from scipy.integrate import solve_ivp
+
+    from clutchsim.core.signals import Step
+    from clutchsim.network.components.prescribed import BESSEL_AF, BESSEL_BF
+    wc = 2 * math.pi * 3.0
+    net = Network([Position("src", input="pr", f_crit=3.0, w0=0.5), Inertia("j1", J=0.7)],
+                  [["src.flange", "j1.a"]])
+    sys_ = net.build({"pr": 0.2})
+    res = simulate(sys_, (0.0, 1.0), {"pr": Step(0.1, 1.0, 0.2)}, solver="rodas4",
+                   options=OPTS)
+    assert res.status == "completed"
+
+    def f(t, x, ref):
+        return [x[1], ((ref - x[0]) * wc - BESSEL_AF * x[1]) * wc / BESSEL_BF]
+
+    a = solve_ivp(f, (0.0, 0.1), [0.2, 0.5], args=(0.2,), rtol=1e-11, atol=1e-13,
+                  dense_output=True)
+    b = solve_ivp(f, (0.1, 1.0), a.y[:, -1], args=(1.2,), rtol=1e-11, atol=1e-13,
+                  dense_output=True)
+    t = res.t
+    ref = np.where(t <= 0.1, a.sol(np.minimum(t, 0.1))[0], b.sol(np.maximum(t, 0.1))[0])
+    assert np.max(np.abs(res["phi_src"] - ref)) < 1e-7
+    assert np.max(np.abs(res["omega_j1"] - res["omega_src"])) == 0.0
+    assert res["phi_src"][-1] == pytest.approx(1.2, abs=1e-3)
