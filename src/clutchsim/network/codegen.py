@@ -166,7 +166,7 @@ class Emitter:
 
     # keys of partial derivatives
     def kw(self, flange: str):
-        return ("w", self.g.asm.node_of[(self.c.name, flange)])
+        return self.g.plan.speed_key(self.g.asm.node_of[(self.c.name, flange)])
 
     def kx(self, state: str):
         return ("y", self.g.state_index[(self.c.name, state)])
@@ -231,6 +231,18 @@ class Emitter:
             raise ValueError(f"{self.c.label}: event action {action!r} is not one of fail, "
                              "stop, continue, bank")
         self.g.events.append((name, int(direction), check_expr(expr), action, self.c.name))
+
+    def node_inertia(self, flange: str) -> str:
+        """Inertia [kg·m²] at the node of ``flange`` (a derived value)."""
+        return f"p[{self.g.plan.off_J + self.g.asm.node_of[(self.c.name, flange)]}]"
+
+    def applied(self, flange: str) -> tuple[list[str], list[tuple]]:
+        """The torques the components emitted so far put on the node of ``flange``, and
+        their partials ``(key, expr)`` (a prescribed-motion source, emitted last, books the
+        power it delivers from them)."""
+        node = self.g.asm.node_of[(self.c.name, flange)]
+        return ([e for n, e in self.g.torques if n == node],
+                [(k, e) for n, k, e in self.g.dtorques if n == node])
 
     def accel(self, flange: str) -> str:
         """Acceleration of ``flange`` [rad/s²] (outputs only)."""

@@ -7,7 +7,9 @@ exactly, for a set of *independent speeds* ``v`` with ``w = N·v`` (reduced row 
 form; the speeds of inertias named first are kept as states, in the order the components
 are listed).  The reduced inertia matrix ``M = Nᵀ·diag(J)·N`` must be regular: a
 coordinate without inertia (a support left floating with nothing on it) is an error that
-names its flanges.  Friction elements that lock (coulomb-robust) add relations at run time;
+names its flanges.  A prescribed-motion source's node is a *moving ground*: eliminated like
+the ground, its speed read from the source (:meth:`Assembly._prescribed` states the rules).
+Friction elements that lock (coulomb-robust) add relations at run time;
 the generated plant solves them in closed form (:mod:`clutchsim.network.codegen`).
 
 Nothing here depends on scenarios: :mod:`clutchsim.scenario` builds a :class:`Network`
@@ -141,6 +143,10 @@ def _parse_flange(net: Network, text, k: int):
         raise NetworkError(f"connection {k + 1}: {text!r} names a component, not one of its "
                            f"flanges ({', '.join(f'{comp}.{f}' for f in c.flanges)})", comp)
     c = net.component(comp)
+    if flange in getattr(c, "internal_flanges", ()):
+        raise NetworkError(f"connection {k + 1}: {text!r} is internal to {c.label} (it joins "
+                           "two of its own parts); connect its other flanges "
+                           f"({', '.join(f for f in c.flanges if f != flange)})", text)
     if flange not in c.flanges:
         raise NetworkError(f"connection {k + 1}: {c.label} has no flange {flange!r}"
                            f"{closest(flange, c.flanges)}; its flanges: "
@@ -238,7 +244,58 @@ class Assembly:
         self.node_names = tuple(names)
         self.flanges_at = [[f"{c.name}.{f}" for c in net.components for f in c.flanges
                             if self.node_of[(c.name, f)] == n] for n in range(self.n_nodes)]
+        self.prescribed = self._prescribed()
         self._reduce()
+
+    # ------------------------------------------------------------------ prescribed motion
+    def _prescribed(self) -> dict:
+        """``node -> source`` of the prescribed-motion sources (a component with a
+        ``prescribed_flange``): the node moves as the source says, like a moving ground.
+        The rules (each a NetworkError naming the components): one source per node; not the
+        ground; no rigid part (gear, planetary set, gear with losses) at the node, since the
+        plant eliminates rigid parts as homogeneous relations and a prescribed node is not
+        one of their coordinates; no friction element at the node, since a lock there would
+        hold the relative acceleration at 0 against the prescribed one."""
+        out: dict = {}
+        for c in self.net.components:
+            f = getattr(c, "prescribed_flange", None)
+            if f is None:
+                continue
+            n = self.node_of[(c.name, f)]
+            where = f"{c.name}.{f}"
+            if n == self.ground:
+                raise NetworkError(f"{c.label}: {where} is connected to the ground, which "
+                                   "stands still: a prescribed motion of the housing (connect "
+                                   "the source to the part it drives)", c.name)
+            if n in out:
+                raise NetworkError(f"{c.label}: {where} is at the node {out[n].label} already "
+                                   "drives (two prescribed motions on one node fight each "
+                                   "other: keep one)", c.name)
+            out[n] = c
+        for n, src in out.items():
+            for c in self.net.components:
+                if c is src:
+                    continue
+                here = [f for f in c.flanges if self.node_of[(c.name, f)] == n]
+                if not here:
+                    continue
+                if c.constraints():
+                    raise NetworkError(
+                        f"{c.label}: its flange {c.name}.{here[0]} is at the node whose motion "
+                        f"{src.label} prescribes; a rigid part may not touch a prescribed node "
+                        "(two prescribed speeds on one rigid group fight each other, and the "
+                        "plant eliminates rigid parts as relations between free speeds): "
+                        "prescribe the motion on the other side of the gear, scaled by its "
+                        "ratio, or put a compliant part between", c.name)
+                if getattr(c, "friction", False):
+                    raise NetworkError(
+                        f"{c.label}: its flange {c.name}.{here[0]} is at the node whose motion "
+                        f"{src.label} prescribes; a friction element may not touch a "
+                        "prescribed node (locked, it would hold the relative acceleration at 0 "
+                        "against the prescribed motion): put an inertia between the source and "
+                        "the friction element (a drive's rotor), driven through a stiff spring "
+                        "if needed", c.name)
+        return out
 
     # ------------------------------------------------------------------ rigid relations
     def constraint_rows(self) -> tuple[np.ndarray, list[tuple[Component, int]]]:
@@ -318,7 +375,7 @@ class Assembly:
         # a node the rigid parts hold at rest although it is not the ground: their ratios
         # disagree around a loop, or they tie it to the housing on both sides
         for n in range(self.n_nodes):
-            if n != self.ground and not np.any(N[n]):
+            if n != self.ground and n not in self.prescribed and not np.any(N[n]):
                 parts = sorted({c.name for c, _ in owners
                                 if any(self.node_of[(c.name, f)] == n for f in c.flanges)})
                 raise NetworkError(

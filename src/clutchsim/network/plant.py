@@ -64,7 +64,11 @@ class Plan:
         self.fe_index = {c.name: i for i, c in enumerate(self.fes)}
         # ---- signals between components, then the external inputs
         self.produced = produced_signals(comps)
-        self.emit_order = _signal_order(self.mech_order, self.produced)
+        # prescribed-motion sources last: each books the power it delivers from the torques
+        # every other component puts on its node (Emitter.applied)
+        order = _signal_order(self.mech_order, self.produced)
+        self.emit_order = ([c for c in order if c not in asm.prescribed.values()]
+                           + [c for c in order if c in asm.prescribed.values()])
         names: list[str] = []
         units: list[str] = []
         for c in comps:
@@ -216,6 +220,24 @@ class Plan:
         asm = self.asm
         if n == asm.ground:
             return "0.0"
+        src = asm.prescribed.get(n)
+        if src is not None:         # a prescribed node: the source's speed (its state)
+            return src.speed_of(self)
+        return self._free_speed(n)
+
+    def speed_key(self, n: int) -> tuple:
+        """The key of a partial derivative by the speed of node ``n``: ``("w", n)``, or
+        for a prescribed node the source's speed state (``("y", index)``; the ground's key,
+        which has no partials, for a constant speed)."""
+        src = self.asm.prescribed.get(n)
+        if src is None:
+            return ("w", n)
+        state = src.speed_state()
+        return ("w", self.asm.ground) if state is None else \
+            ("y", self.state_index[(src.name, state)])
+
+    def _free_speed(self, n: int) -> str:
+        asm = self.asm
         if n in asm.free:
             return f"y[{asm.free.index(n)}]"
         return _sum_products([(self.N(n, k), f"y[{k}]") for k in range(asm.n_v)
@@ -424,6 +446,8 @@ class Plan:
             y0[k] = given.get(n, ("", 0.0))[1]
         w = asm.N @ y0[:asm.n_v]
         for n, (label, val) in given.items():
+            if n in asm.prescribed:     # its source sets that speed (its initial state)
+                continue
             if abs(w[n] - val) > 1e-9 * (1.0 + abs(val)):
                 raise NetworkError(f"{label}: initial speed {val:g} {su} violates the rigid "
                                    f"parts: they give {w[n]:g} {su} at "

@@ -351,7 +351,7 @@ def build_network(scenario, model: str | None = None):
         elif t["type"] == "torque_pulsation" and "amplitude_table" in kw:
             kw["amplitude_table"] = _pairs(kw["amplitude_table"], "speed", "amplitude",
                                            f"{key}.amplitude_table", fail)
-        elif t["type"] == "lossy_gear":
+        elif t["type"] in ("lossy_gear", "lossy_gear_with_lash"):
             kw["loss_table"] = loss_table(kw.get("loss_table"), f"{key}.loss_table", fail)
         elif t["type"] == "gearbox":
             kw["shifts"] = tuple((s.get("time"), s.get("gear")) for s in kw.get("shifts", []))

@@ -301,12 +301,16 @@ def _component_keys(cls) -> tuple:
             Key("target", "str", "Signal of the target speed [m/s].", required=True),
             Key("feedforward", "str", "Signal of a throttle feed-forward [-].")),
         "lossy_gear": (LOSSY_GEAR[3],),
+        "lossy_gear_with_lash": (LOSSY_GEAR[3],),
         "gearbox": (GEARBOX[2], GEARBOX[5]),
         "one_way_clutch": (ONE_WAY_CLUTCH[2], ONE_WAY_CLUTCH[5], ONE_WAY_CLUTCH[6]),
         "planetary": (Key("z_sun", "int", "Sun teeth (with z_ring, instead of ratio).",
                           low=1, high=1e4),
                       Key("z_ring", "int", "Ring teeth.", low=1, high=1e4)),
     }.get(cls.kind, ())
+    # input signals a component declares itself: ``signal_docs`` {key: (doc, required)}
+    extra += tuple(Key(k, "str", doc, required=req)
+                   for k, (doc, req) in getattr(cls, "signal_docs", {}).items())
     return tuple(keys) + tuple(extra)
 
 

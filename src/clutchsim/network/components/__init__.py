@@ -8,10 +8,14 @@ from __future__ import annotations
 
 from .backlash import ElastoBacklash
 from .converter import TorqueConverter
+from .damper import Damper, TranslationalDamper
 from .dmf import DualMassFlywheel
 from .driver import Driver
+from .eddy_current import EddyCurrentBrake, TranslationalEddyCurrentBrake
+from .elasto_gap import ElastoGap
 from .engine import Engine
 from .friction import Brake, Clutch
+from .gearbox_lash import LossyGearWithLash
 from .hydraulic_actuator import HydraulicActuator
 from .ideal_gear import IdealGear
 from .inertia import Inertia, Mass
@@ -20,9 +24,30 @@ from .lossy_gear import Gearbox, LossyGear
 from .mass_stop import MassWithStopAndFriction
 from .one_way_clutch import OneWayClutch
 from .planetary import Planetary
+from .prescribed import (
+    Accelerate,
+    ConstantSpeed,
+    Move,
+    Position,
+    Speed,
+    TranslationalAccelerate,
+    TranslationalConstantSpeed,
+    TranslationalMove,
+    TranslationalPosition,
+    TranslationalSpeed,
+)
 from .release_system import ReleaseSystem
 from .servo_actuator import ServoActuator
-from .speed_torque import QuadraticSpeedTorque
+from .speed_torque import (
+    InverseSpeedForce,
+    InverseSpeedTorque,
+    LinearSpeedForce,
+    LinearSpeedTorque,
+    QuadraticSpeedForce,
+    QuadraticSpeedTorque,
+    SignForce,
+    SignTorque,
+)
 from .spring_damper import SpringDamper
 from .thermal import ThermalNode
 from .torque_pulsation import TorquePulsation
@@ -33,15 +58,21 @@ from .translational import (
     TranslationalBrake,
     TranslationalSpringDamper,
 )
+from .translational_vehicle import TranslationalVehicle
 from .vehicle import Vehicle
 
-__all__ = ["COMPONENTS", "Brake", "Clutch", "Driver", "DualMassFlywheel", "ElastoBacklash",
-           "Engine", "Force", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia",
-           "LaunchController", "LossyGear", "Mass", "MassWithStopAndFriction", "OneWayClutch",
-           "Planetary", "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator",
-           "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
-           "TorquePulsation", "TorqueSource", "TranslationalBrake",
-           "TranslationalSpringDamper", "Vehicle"]
+__all__ = ["COMPONENTS", "Accelerate", "Brake", "Clutch", "ConstantSpeed", "Damper", "Driver",
+           "DualMassFlywheel", "EddyCurrentBrake", "ElastoBacklash", "ElastoGap", "Engine",
+           "Force", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia", "InverseSpeedForce",
+           "InverseSpeedTorque", "LaunchController", "LinearSpeedForce", "LinearSpeedTorque",
+           "LossyGear", "LossyGearWithLash", "Mass", "MassWithStopAndFriction", "Move",
+           "OneWayClutch", "Planetary", "Position", "QuadraticSpeedForce", "QuadraticSpeedTorque",
+           "ReleaseSystem", "ServoActuator", "SignForce", "SignTorque", "Speed", "SpringDamper",
+           "SupportFriction", "ThermalNode", "TorqueConverter", "TorquePulsation", "TorqueSource",
+           "TranslationalAccelerate", "TranslationalBrake", "TranslationalConstantSpeed",
+           "TranslationalDamper", "TranslationalEddyCurrentBrake", "TranslationalMove",
+           "TranslationalPosition", "TranslationalSpeed", "TranslationalSpringDamper",
+           "TranslationalVehicle", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
@@ -52,4 +83,15 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   ServoActuator, LaunchController, Driver,
                                   # translational (Modelica Mechanics.Translational)
                                   Mass, TranslationalSpringDamper, Force, SupportFriction,
-                                  TranslationalBrake, MassWithStopAndFriction)}
+                                  TranslationalBrake, MassWithStopAndFriction,
+                                  Damper, TranslationalDamper, ElastoGap,
+                                  # prescribed motion (network/components/prescribed.py)
+                                  Speed, Position, Accelerate, Move, ConstantSpeed,
+                                  TranslationalSpeed, TranslationalPosition,
+                                  TranslationalAccelerate, TranslationalMove,
+                                  TranslationalConstantSpeed, TranslationalVehicle,
+                                  # speed-dependent and eddy-current loads
+                                  LinearSpeedTorque, InverseSpeedTorque, SignTorque,
+                                  QuadraticSpeedForce, LinearSpeedForce, InverseSpeedForce,
+                                  SignForce, EddyCurrentBrake, TranslationalEddyCurrentBrake,
+                                  LossyGearWithLash)}

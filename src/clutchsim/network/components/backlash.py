@@ -44,6 +44,12 @@ class ElastoBacklash(TwistCoupling):
     )
 
     def emit(self, e):
+        self.emit_lash(e, f"T_{self.name}")
+
+    def emit_lash(self, e, torque_output: str) -> None:
+        """The lash's equations between its :attr:`twist_flanges`, its torque as the output
+        ``torque_output``."""
+        fa, fb = self.twist_flanges
         b, c, d, phi_rel0 = (e.par(k) for k in ("b", "c", "d", "phi_rel0"))
         phi, w = self.twist(e)
         s = e.let("s", f"{phi} - {phi_rel0}")
@@ -65,10 +71,10 @@ class ElastoBacklash(TwistCoupling):
         e.power("damp", f"({tau} - {tc}) * {w}")
         e.dpower("damp", e.kx("phi"), f"({kp} - {kc}) * {w}")
         dpw = e.let("dpw", f"{tau} - {tc} + {kw} * {w}")
-        e.dpower("damp", e.kw("b"), dpw)
-        e.dpower("damp", e.kw("a"), f"-{dpw}")
+        e.dpower("damp", e.kw(fb), dpw)
+        e.dpower("damp", e.kw(fa), f"-{dpw}")
         e.spring_energy(f"(0.5 * {tc} * {tc} / {c})")
-        e.output(f"T_{self.name}", "N·m", tau)
+        e.output(torque_output, "N·m", tau)
         e.output(f"contact_{self.name}", "-", sg)
         # the gap edges: the torque's slope jumps there (no event for a plain spring)
         for side, edge in (("+", f"{s} - {hb}"), ("-", f"{s} + {hb}")):

@@ -118,6 +118,8 @@ class LossyGear(Component):
     lossy = True
     side_a = "support"
     side_b = "a"
+    #: the flange the gear drives (the ratio's flange b)
+    out_flange = "b"
 
     def __init__(self, name, loss_table=((0.0, 1.0, 1.0, 0.0, 0.0),), locked0=None,
                  **values):
@@ -143,7 +145,7 @@ class LossyGear(Component):
 
     def constraints(self):
         r = self.gear_ratio()
-        return [{"a": 1.0, "b": -r, "support": r - 1.0}]
+        return [{"a": 1.0, self.out_flange: -r, "support": r - 1.0}]
 
     def slip(self):
         return {"a": 1.0, "support": -1.0}
@@ -173,7 +175,7 @@ class LossyGear(Component):
         return [0.0 if locked else (1.0 if w >= 0.0 else -1.0), 1.0 if locked else 0.0]
 
     def emit(self, e):
-        e.output(f"T_{self.name}", "N·m", f"-{e.constraint_torque(0, 'b')}")
+        e.output(f"T_{self.name}", "N·m", f"-{e.constraint_torque(0, self.out_flange)}")
         if not self.friction:
             return
         i = e.g.plan.fe_index[self.name]
