@@ -845,7 +845,11 @@ def test_jacobian_where_the_force_is_the_clipped_stick_torque(label, builder, mo
 
 def test_every_registered_component_has_a_builder():
     """A component registered in COMPONENTS without a test network here fails, by name."""
-    missing = sorted(set(COMPONENTS) - set(BUILDERS))
+    # the sources, dampers, speed laws, eddy brakes, gap and gearbox with lash of issue 34
+    # have their networks in test_elements.py, walked there with the same kind of check
+    from test_elements import BUILDERS as ELEMENT_BUILDERS
+    elsewhere = {k.split(" ")[0] for k in ELEMENT_BUILDERS}
+    missing = sorted(set(COMPONENTS) - set(BUILDERS) - elsewhere)
     assert not missing, (
         f"registered network component(s) {', '.join(missing)} have no Jacobian test "
         "network: add each to BUILDERS in tests/network/test_component_jacobians.py (an "
