@@ -20,7 +20,8 @@ from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
 from .system import System, call_jac, closest, factor_size, has_jacobian, kernels
 
-__all__ = ["RunEnd", "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
+__all__ = ["RunEnd", "apply_violations", "check_invariants", "prepare_runs", "resolve_inputs",
+           "run_end", "run_stats", "simulate"]
 
 def _check_span(t_span) -> tuple[float, float]:
     try:
@@ -435,7 +436,14 @@ def check_invariants(system: System, ts, ys, outs, outcome: Outcome, message: st
     and the values (``source``: the part); the others become warnings."""
     if system.invariants is None or tolerances is None:
         return outcome, message, warnings, ""
-    found = system.invariants(ts, ys, outs, *tolerances)
+    return apply_violations(system.invariants(ts, ys, outs, *tolerances), outcome, message,
+                            warnings)
+
+
+def apply_violations(found, outcome: Outcome, message: str, warnings: tuple
+                     ) -> tuple[Outcome, str, tuple, str]:
+    """:func:`check_invariants` for the violations ``found`` (a run's physics checks, or a
+    batch's, which scans each run in its compiled loop)."""
     if not found:
         return outcome, message, warnings, ""
     found = sorted(found, key=lambda v: v.t)

@@ -38,7 +38,8 @@ from ..core import System
 from ..core import loop as drv
 from ..core.compile_notice import compile_notice
 from ..core.loop import now
-from ..core.simulate import prepare_runs, run_end, run_stats
+from ..core.simulate import apply_violations, prepare_runs, run_end, run_stats
+from ..network.invariants import N_CHECKS, N_R, scan
 from .chain import ENERGY_STATES
 from .metrics import LOCK_HOLD, LOCK_SLIP, RunSummary, metrics_of, warnings_of
 
@@ -73,10 +74,11 @@ def _column(ys, us, outs, n, src, j, empty):
 @jit
 def _run_batch(fns, tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs, fopt, iopt,
                cols, mine, empty2, wd_sos, wd_zi, lp_sos, lp_zi, dt_s, max_samples, lock_slip,
-               hold, window, engage_rel, area, band_lo, band_hi, judder_slip, K, I, F):
+               hold, window, engage_rel, area, band_lo, band_hi, judder_slip, inv_el,
+               inv_speeds, inv_wf, inv_passive, rtol, atol, K, I, F, V):
     """Run each row of ``Y0``/``P`` and write its kernel values to ``K``, its counters and
-    end to ``I``, its times, energy balance and compiled wall time to ``F`` (see
-    :func:`launch_batch`).  ``P`` is overwritten (a plant may switch its values at
+    end to ``I``, its times, energy balance and compiled wall time to ``F``, its physics
+    checks' table to ``V`` (see :func:`launch_batch`).  ``P`` is overwritten (a plant may switch its values at
     scheduled events)."""
     empty = empty2[:, 0]
     n_losses = len(ENERGY_STATES) - 1
@@ -87,6 +89,8 @@ def _run_batch(fns, tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs
          wall) = drv.integrate(fns, tab, mopt, ctrl, t0, t1, Y0[r], P[r], bank, bps, ev_dir,
                                n_outputs, fopt, iopt)
         n = ts.shape[0]
+        # the plant's physics checks on the run's rows (network/invariants.py)
+        scan(ts, ys, outs, inv_el, inv_speeds, inv_wf, inv_passive, rtol, atol, V[r])
         n_mine = 0
         for e in range(ev_t.shape[0]):
             if mine[ev_k[e]]:
@@ -238,10 +242,18 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
     K = np.empty((n, _k.N_K))
     iv = np.empty((n, N_I), dtype=np.int64)
     fv = np.empty((n, N_F))
+    checks = system.invariants
+    if checks is not None:
+        inv_el, inv_speeds, inv_wf, inv_passive, inv_rows = checks.arrays
+    else:
+        inv_el, inv_speeds, inv_wf, inv_passive, inv_rows = (
+            np.zeros((0, 7), dtype=np.int64), np.zeros(0, dtype=np.int64), -1, False, N_CHECKS)
+    V = np.empty((n, inv_rows, N_R))
     args = (a[0], a[1], a[2], a[3], t0, t1, Y0, P, a[8], a[9], a[10], a[11], a[12], a[13],
             cols, mine, np.empty((0, 1)), wd_sos, wd_zi, lp_sos, lp_zi,
             lq.FILTER_DT_S, lq.FILTER_MAX_SAMPLES, LOCK_SLIP, LOCK_HOLD, lq.SHOCK_WINDOW_S,
-            lq.ENGAGE_THRESHOLD_REL, area, lo, hi, _JUDDER_SLIP, K, iv, fv)
+            lq.ENGAGE_THRESHOLD_REL, area, lo, hi, _JUDDER_SLIP, inv_el, inv_speeds, inv_wf,
+            inv_passive, float(opts.rtol), float(opts.atol), K, iv, fv, V)
     _entry(prep.fixed_key, args)(*args)
     kinds = system.metadata.get("kinds", {})
     has_slip = f"w_slip_{clutch}" in (*system.state_names, *system.input_names,
@@ -253,6 +265,11 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
         end = run_end(system, opts, solver, prep.chatter_window, int(i[I_CODE]),
                       float(f[F_T_END]), int(i[I_K]), int(i[I_I]), int(i[I_ROWS]),
                       float(f[F_T_LAST]), names)
+        if checks is not None:
+            outcome, message, warns, source = apply_violations(
+                checks.violations(V[r]), end.outcome, end.message, end.warnings)
+            end = end._replace(outcome=outcome, message=message, warnings=warns,
+                               **({"event": "", "event_source": source} if source else {}))
         sm = RunSummary.of(end, run_stats(i[:drv.N_STATS], float(f[F_H_SMALL]),
                                           float(f[F_WALL])),
                            kinds, int(i[I_ROWS]), float(f[F_T_LAST] - f[F_T_FIRST]), has_slip,
