@@ -67,6 +67,11 @@ def _on_sigterm(signum, frame):
     raise Terminated()
 
 
+#: it stops the program: a run of the compiled loop is cut short when it arrives
+#: (:func:`clutchsim.core.simulate.interrupts_deferred`)
+_on_sigterm.interrupts = True
+
+
 def _one_line(exc: BaseException) -> str:
     """The message of ``exc`` as the one line the command prints."""
     if isinstance(exc, KeyError) and exc.args:

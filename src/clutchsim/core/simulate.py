@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import signal
 import threading
 from collections.abc import Mapping
 from typing import NamedTuple
@@ -20,7 +23,8 @@ from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
 from .system import System, call_jac, closest, factor_size, has_jacobian, kernels
 
-__all__ = ["RunEnd", "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
+__all__ = ["RunEnd", "interrupts_deferred", "prepare_runs", "resolve_inputs", "run_end",
+           "run_stats", "simulate"]
 
 def _check_span(t_span) -> tuple[float, float]:
     try:
@@ -350,18 +354,119 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     prep = _prepared(system, signals, t0, t1, solver, opts, y_init)
     # the wall time is measured inside the compiled loop: it excludes JIT compilation
     # a copy: a plant may switch its values at scheduled events (a gear shift)
-    args = prep.args[:6] + (y_init, system.params.copy()) + prep.args[8:]
+    # and its own int options: their stop flag is this run's (interrupts_deferred)
+    iopt = prep.args[13].copy()
+    args = prep.args[:6] + (y_init, system.params.copy()) + prep.args[8:13] + (iopt,)
     with compile_notice(type(system.tag), system.name) as first:
         if first:
             _load_or_compile(args)
-    (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
-     wall) = _integrate(args, prep.fixed_key)
+    with interrupts_deferred(iopt):
+        (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
+         wall) = _integrate(args, prep.fixed_key)
     end = run_end(system, opts, solver, prep.chatter_window, int(code), float(t_end), int(k),
                   int(i), ts.shape[0], float(ts[-1]))
     events = Events(ev_t, ev_k, ev_a, system.event_names, system.event_sources, ACTION_WORDS)
     return assemble(system, ts, ys, us, outs, end.outcome, end.message,
                     run_stats(st, h_small, wall), events, solver, event=end.event,
                     warnings=end.warnings, event_source=end.event_source)
+
+
+#: the signals a run of the compiled loop defers (:func:`interrupts_deferred`)
+_DEFERRED = (signal.SIGINT, signal.SIGTERM)
+
+
+def _stops(handler) -> bool:
+    """Does ``handler`` stop the program (so that a run it interrupts may be cut short)?
+    Python's ``KeyboardInterrupt``, the default action, or a handler marked
+    ``interrupts = True`` (the command line's SIGTERM handler)."""
+    return (handler is signal.default_int_handler or handler == signal.SIG_DFL
+            or getattr(handler, "interrupts", False))
+
+
+class _Watcher:
+    """A thread that sets the stop flag of the loop now running when a signal arrives.
+
+    A Python signal handler runs only between two bytecodes of the main thread, so not
+    while the compiled loop runs (for seconds, without the GIL); the C-level handler writes
+    the signal's number to the wake-up file descriptor (:func:`signal.set_wakeup_fd`) at
+    once, and this thread, reading it, sets ``iopt[I_STOP]``.  One per process."""
+
+    def __init__(self):
+        self.pid = os.getpid()
+        self.r, self.w = os.pipe()
+        os.set_blocking(self.w, False)
+        self.iopt = None            # the int options of the loop now running, or None
+        self.stops: tuple = ()      # the numbers of the signals that stop it
+        threading.Thread(target=self._watch, name="clutchsim-interrupts", daemon=True).start()
+
+    def _watch(self) -> None:
+        while True:
+            data = os.read(self.r, 64)
+            iopt = self.iopt
+            if iopt is not None and any(b in self.stops for b in data):
+                iopt[drv.I_STOP] = 1
+
+
+_WATCHER: list = []
+
+
+def _watcher() -> _Watcher:
+    if not _WATCHER or _WATCHER[0].pid != os.getpid():    # (a forked child: its own)
+        _WATCHER[:] = [_Watcher()]
+    return _WATCHER[0]
+
+
+@contextlib.contextmanager
+def interrupts_deferred(iopt):
+    """Deliver SIGINT and SIGTERM after the compiled loop returns, not inside it, and stop
+    the loop when they arrive.
+
+    Python runs a signal's handler between two bytecodes of the main thread, and the
+    compiled loop runs bytecode now and then (numba looks up the plant's function values
+    through Python); a ``KeyboardInterrupt`` raised there is lost inside numba and comes
+    out as ``SystemError: ... returned a result with an exception set``, or as an
+    unrelated ``TypeError``.  So while the block runs, the signals' Python handlers only
+    take note, and the loop's stop flag ``iopt[I_STOP]`` is set at once (by
+    :class:`_Watcher`) where the signal's own handler stops the program (:func:`_stops`;
+    another handler is only called late, the run is not cut short); the loop then ends
+    within 256 steps.  When the block ends the handlers are put back and the first signal
+    is delivered to its own.  The run that stopped is never returned: the delivered
+    signal raises (or ends the process).  Only the main thread receives signals;
+    elsewhere this does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous, caught = {}, []
+
+    def record(signum, frame):
+        caught.append(signum)
+
+    watcher = _watcher()
+    old_fd = None
+    try:
+        for s in _DEFERRED:
+            handler = signal.getsignal(s)
+            if handler is not None and handler != signal.SIG_IGN:   # None: set outside Python
+                previous[s] = handler
+                signal.signal(s, record)
+        watcher.stops = tuple(int(s) for s, h in previous.items() if _stops(h))
+        watcher.iopt = iopt
+        old_fd = signal.set_wakeup_fd(watcher.w, warn_on_full_buffer=False)
+        yield
+    finally:
+        if old_fd is not None:
+            signal.set_wakeup_fd(old_fd)
+        watcher.iopt = None
+        iopt[drv.I_STOP] = 0
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        if caught:
+            s = caught[0]
+            handler = previous[s]
+            if handler == signal.SIG_DFL:
+                os.kill(os.getpid(), s)
+            else:
+                handler(s, None)
 
 
 class RunEnd(NamedTuple):
