@@ -186,9 +186,10 @@ def read_manifest(directory) -> dict | None:
                               f"read ({exc})") from None
     if not (isinstance(doc, dict) and isinstance(doc.get("kind"), str)
             and isinstance(doc.get("files"), list)
-            and all(isinstance(f, str) for f in doc["files"])):
+            and all(isinstance(f, str) and f and not Path(f).is_absolute()
+                    and ".." not in Path(f).parts for f in doc["files"])):
         raise OutputPathError(f"{str(mf)!r}: not a clutchsim output manifest (expected "
-                              '{"kind": ..., "files": [...]})')
+                              '{"kind": ..., "files": [paths inside the directory]})')
     return doc
 
 
@@ -250,23 +251,38 @@ class OutputDir:
         return OutputPathError(f"{self.flag} {self.shown!r}: {why}" + (f"; {hint}" if hint
                                                                         else ""))
 
+    def _in_use(self, pid: str, stale: bool = False) -> OutputPathError:
+        """``stale``: the lock is a file's existence, left behind by a process killed."""
+        self._unmake()
+        return self._refuse(f"in use by process {pid or '?'} (another clutchsim command is "
+                            "writing it)", f"wait for it to end, or choose another {self.flag}"
+                            + (f" (no such process? remove {str(self._lock_path)!r})"
+                               if stale else ""))
+
     def _lock(self) -> None:
-        import fcntl
         parent = self.path.parent
         missing = [d for d in [parent, *parent.parents] if not d.exists()]
         parent.mkdir(parents=True, exist_ok=True)
         self._made = missing       # innermost first: removed again if nothing is written
+        try:
+            import fcntl
+        except ImportError:        # no advisory locks (Windows): the lock file's existence
+            try:
+                fd = os.open(self._lock_path, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o644)
+            except FileExistsError:
+                raise self._in_use(self._lock_path.read_text(errors="replace").strip(),
+                                   stale=True) from None
+            os.write(fd, f"{os.getpid()}\n".encode())
+            self._fd = fd
+            return
         while True:
             fd = os.open(self._lock_path, os.O_RDWR | os.O_CREAT, 0o644)
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
-                pid = os.read(fd, 32).decode(errors="replace").strip() or "?"
+                pid = os.read(fd, 32).decode(errors="replace").strip()
                 os.close(fd)
-                self._unmake()
-                raise self._refuse(f"in use by process {pid} (another clutchsim command is "
-                                   "writing it)", f"wait for it to end, or choose another "
-                                   f"{self.flag}") from None
+                raise self._in_use(pid) from None
             try:   # the holder before us may have removed the file it locked: lock again
                 same = os.stat(self._lock_path).st_ino == os.fstat(fd).st_ino
             except FileNotFoundError:
@@ -294,10 +310,16 @@ class OutputDir:
         """Give up the lock (and the parent directories made for it, if still empty)."""
         if self._fd is not None:
             with _signals_held():
-                with contextlib.suppress(OSError):
-                    os.unlink(self._lock_path)
+                try:
+                    os.unlink(self._lock_path)      # still locked: no one takes it between
+                    removed = True
+                except OSError:
+                    removed = False
                 os.close(self._fd)
                 self._fd = None
+                if not removed:                     # an open file cannot be removed (Windows)
+                    with contextlib.suppress(OSError):
+                        os.unlink(self._lock_path)
         if not self.path.exists():
             self._unmake()
 
@@ -336,10 +358,8 @@ class OutputDir:
             log.info("replacing the earlier clutchsim %s output in %s", self.kind, self.shown)
             return
         patterns = OUTPUT_KINDS[self.kind]
-        clash = [f for f in foreign if "/" not in f
-                 and any(fnmatch.fnmatchcase(f, pat) for pat in patterns)]
-        clash += [f for f in foreign if "/" in f and f.split("/")[0] not in clash
-                  and any(fnmatch.fnmatchcase(f.split("/")[0], pat) for pat in patterns)]
+        clash = [top for top in sorted({f.split("/")[0] for f in foreign})
+                 if any(fnmatch.fnmatchcase(top, pat) for pat in patterns)]
         if clash:
             raise self._refuse(
                 f"holds {_examples(clash)}, not written by clutchsim, with the name of a "
@@ -383,7 +403,11 @@ class OutputDir:
             if path.exists():
                 gone = Path(tempfile.mkdtemp(prefix=f".{path.name}.old-", dir=path.parent))
                 os.replace(path, gone)
-                os.replace(partial, path)
+                try:
+                    os.replace(partial, path)
+                except BaseException:
+                    os.replace(gone, path)          # the earlier output back in place
+                    raise
                 shutil.rmtree(gone, ignore_errors=True)
             else:
                 os.replace(partial, path)

@@ -135,3 +135,42 @@ def test_a_signal_inside_the_compiled_loop_interrupts_the_run(earlier_output, si
     assert _tree(earlier_output.parent) == before   # no DIR.partial, no lock, no .tmp
 
 
+
+
+def _wait_for(cond, timeout=5.0):
+    end = time.perf_counter() + timeout
+    while not cond() and time.perf_counter() < end:
+        time.sleep(0.01)
+    return cond()
+
+
+def test_a_deferred_signal_stops_the_loop_and_is_delivered_after_it():
+    """``interrupts_deferred`` (what ``simulate`` wraps the compiled loop in): a signal sets
+    the loop's stop flag at once and raises only when the block ends; a handler that does
+    not stop the program is called late and does not cut the run short."""
+    import numpy as np
+
+    from clutchsim.cli import Terminated, _install_sigterm
+    from clutchsim.core import _driver as drv
+    from clutchsim.core.simulate import interrupts_deferred
+    iopt = np.zeros(drv.N_IOPT, dtype=np.int64)
+    before = signal.getsignal(signal.SIGINT)
+    with pytest.raises(KeyboardInterrupt):
+        with interrupts_deferred(iopt):
+            os.kill(os.getpid(), signal.SIGINT)
+            assert _wait_for(lambda: iopt[drv.I_STOP] == 1)   # raised nothing here
+    assert iopt[drv.I_STOP] == 0 and signal.getsignal(signal.SIGINT) is before
+    previous = _install_sigterm()
+    try:
+        with pytest.raises(Terminated), interrupts_deferred(iopt):
+            os.kill(os.getpid(), signal.SIGTERM)
+            assert _wait_for(lambda: iopt[drv.I_STOP] == 1)
+        seen = []
+        signal.signal(signal.SIGTERM, lambda s, f: seen.append(s))
+        with interrupts_deferred(iopt):
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.2)
+            assert iopt[drv.I_STOP] == 0 and seen == []
+        assert seen == [signal.SIGTERM]
+    finally:
+        signal.signal(signal.SIGTERM, previous)

@@ -410,9 +410,14 @@ class _Watcher:
 _WATCHER: list = []
 
 
-def _watcher() -> _Watcher:
-    if not _WATCHER or _WATCHER[0].pid != os.getpid():    # (a forked child: its own)
-        _WATCHER[:] = [_Watcher()]
+def _watcher() -> _Watcher | None:
+    """This process's watcher; None where a pipe cannot be a wake-up descriptor (Windows
+    wants a socket): there the signals are still deferred, the run is not cut short."""
+    if not _WATCHER or (_WATCHER[0] is not None and _WATCHER[0].pid != os.getpid()):
+        try:                                        # (a forked child: its own)
+            _WATCHER[:] = [_Watcher() if os.name == "posix" else None]
+        except OSError:
+            _WATCHER[:] = [None]
     return _WATCHER[0]
 
 
@@ -449,14 +454,16 @@ def interrupts_deferred(iopt):
             if handler is not None and handler != signal.SIG_IGN:   # None: set outside Python
                 previous[s] = handler
                 signal.signal(s, record)
-        watcher.stops = tuple(int(s) for s, h in previous.items() if _stops(h))
-        watcher.iopt = iopt
-        old_fd = signal.set_wakeup_fd(watcher.w, warn_on_full_buffer=False)
+        if watcher is not None:
+            watcher.stops = tuple(int(s) for s, h in previous.items() if _stops(h))
+            watcher.iopt = iopt
+            old_fd = signal.set_wakeup_fd(watcher.w, warn_on_full_buffer=False)
         yield
     finally:
         if old_fd is not None:
             signal.set_wakeup_fd(old_fd)
-        watcher.iopt = None
+        if watcher is not None:
+            watcher.iopt = None
         iopt[drv.I_STOP] = 0
         for s, handler in previous.items():
             signal.signal(s, handler)
