@@ -8,7 +8,7 @@ import os
 import signal
 import threading
 from collections.abc import Mapping
-from typing import NamedTuple
+from typing import ClassVar, NamedTuple
 
 import numba
 import numpy as np
@@ -421,6 +421,36 @@ def _watcher() -> _Watcher | None:
     return _WATCHER[0]
 
 
+class _Deferral:
+    """The state of :func:`interrupts_deferred` (main thread only): the int options of the
+    loop now running (None when none runs) and the signals that arrived meanwhile."""
+
+    running = None
+    caught: ClassVar[list] = []
+
+
+def _front(handler):
+    """A handler that stands in front of ``handler``: while the compiled loop runs it only
+    takes note of the signal; otherwise it passes it on.  Each carries its own
+    ``behind``, so one put back by whoever saved it still passes on to the right one."""
+
+    def front(signum, frame):
+        if _Deferral.running is not None:
+            _Deferral.caught.append(signum)
+            return
+        _deliver(handler, signum)
+    front.behind = handler
+    return front
+
+
+def _deliver(handler, signum) -> None:
+    if handler == signal.SIG_DFL:
+        signal.signal(signum, signal.SIG_DFL)
+        os.kill(os.getpid(), signum)
+    elif handler != signal.SIG_IGN:
+        handler(signum, None)
+
+
 @contextlib.contextmanager
 def interrupts_deferred(iopt):
     """Deliver SIGINT and SIGTERM after the compiled loop returns, not inside it, and stop
@@ -430,32 +460,36 @@ def interrupts_deferred(iopt):
     compiled loop runs bytecode now and then (numba looks up the plant's function values
     through Python); a ``KeyboardInterrupt`` raised there is lost inside numba and comes
     out as ``SystemError: ... returned a result with an exception set``, or as an
-    unrelated ``TypeError``.  So while the block runs, the signals' Python handlers only
-    take note, and the loop's stop flag ``iopt[I_STOP]`` is set at once (by
+    unrelated ``TypeError``.  So each of the two signals' handlers gets a front
+    (:func:`_front`, installed once and again whenever someone has set another handler;
+    it stays and passes signals on, so that a run costs no system call) that only takes
+    note while the block runs; the loop's stop flag ``iopt[I_STOP]`` is set at once (by
     :class:`_Watcher`) where the signal's own handler stops the program (:func:`_stops`;
-    another handler is only called late, the run is not cut short); the loop then ends
-    within 256 steps.  When the block ends the handlers are put back and the first signal
-    is delivered to its own.  The run that stopped is never returned: the delivered
-    signal raises (or ends the process).  Only the main thread receives signals;
-    elsewhere this does nothing."""
-    if threading.current_thread() is not threading.main_thread():
+    another handler is only called late, the run is not cut short), and the loop ends
+    within 256 steps.  When the block ends the first signal is delivered to its own
+    handler.  The run that stopped is never returned: the delivered signal raises (or
+    ends the process).  Only the main thread receives signals; elsewhere this does
+    nothing, and a handler set outside Python (``getsignal`` gives None) is left alone."""
+    if threading.current_thread() is not threading.main_thread() or \
+            _Deferral.running is not None:
         yield
         return
-    previous, caught = {}, []
-
-    def record(signum, frame):
-        caught.append(signum)
-
+    behind = {}
+    for s in _DEFERRED:
+        handler = signal.getsignal(s)
+        if handler is None:
+            continue
+        if not hasattr(handler, "behind"):
+            handler = _front(handler)
+            signal.signal(s, handler)
+        behind[s] = handler.behind
     watcher = _watcher()
     old_fd = None
+    _Deferral.caught = []
+    _Deferral.running = iopt
     try:
-        for s in _DEFERRED:
-            handler = signal.getsignal(s)
-            if handler is not None and handler != signal.SIG_IGN:   # None: set outside Python
-                previous[s] = handler
-                signal.signal(s, record)
         if watcher is not None:
-            watcher.stops = tuple(int(s) for s, h in previous.items() if _stops(h))
+            watcher.stops = tuple(int(s) for s, h in behind.items() if _stops(h))
             watcher.iopt = iopt
             old_fd = signal.set_wakeup_fd(watcher.w, warn_on_full_buffer=False)
         yield
@@ -464,16 +498,11 @@ def interrupts_deferred(iopt):
             signal.set_wakeup_fd(old_fd)
         if watcher is not None:
             watcher.iopt = None
+        _Deferral.running = None
         iopt[drv.I_STOP] = 0
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-        if caught:
-            s = caught[0]
-            handler = previous[s]
-            if handler == signal.SIG_DFL:
-                os.kill(os.getpid(), s)
-            else:
-                handler(s, None)
+        if _Deferral.caught:
+            s = _Deferral.caught[0]
+            _deliver(behind[s], s)
 
 
 class RunEnd(NamedTuple):
