@@ -36,6 +36,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
 from clutchsim import __version__
+from clutchsim._util import atomic_write
 from clutchsim.benchmarks.phenomena import (
     build_report,
     measure_model,
@@ -43,7 +44,6 @@ from clutchsim.benchmarks.phenomena import (
     render_matrix,
     render_pages,
 )
-from clutchsim.core import atomic_write
 from clutchsim.friction import MODELS
 
 DOCS = ROOT / "docs"

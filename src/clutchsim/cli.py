@@ -8,6 +8,9 @@ Every subcommand lives in :mod:`clutchsim.commands` as a module with ``register(
   output path that cannot be written and a run or sweep above its size limits), 130 / 143
   interrupted by SIGINT / SIGTERM (partial outputs are removed; a sweep keeps its finished
   chunks to resume);
+* ``--out DIR`` never deletes a file clutchsim did not write: DIR is replaced only when it
+  is empty or an earlier output of the same command, else refused up front (``--force``:
+  written beside the other files, which are kept); see :mod:`clutchsim._util`;
 * ``--json`` prints exactly one JSON document on stdout; progress and logs go to stderr;
 * ``--quiet`` silences progress and info logs, ``--verbose`` adds detail, ``--debug``
   shows tracebacks instead of one-line messages.
@@ -65,6 +68,11 @@ MAX_MESSAGE = 2000
 
 def _on_sigterm(signum, frame):
     raise Terminated()
+
+
+#: it stops the program: a run of the compiled loop is cut short when it arrives
+#: (:func:`clutchsim.core.simulate.interrupts_deferred`)
+_on_sigterm.interrupts = True
 
 
 def _one_line(exc: BaseException) -> str:

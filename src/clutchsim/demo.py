@@ -13,7 +13,7 @@ import logging
 import time
 from pathlib import Path
 
-from .core.result import atomic_directory, atomic_write
+from ._util import atomic_write, claim_output_dir
 
 __all__ = ["DEMO_MODELS", "format_summary", "run_demo"]
 
@@ -23,20 +23,28 @@ log = logging.getLogger("clutchsim")
 DEMO_MODELS = ("mykhailevych2020", "coulomb-robust", "coulomb-naive")
 
 
-def run_demo(out: str | Path = "clutchsim-out/demo", *, plots: bool = True) -> dict:
+def run_demo(out: str | Path = "clutchsim-out/demo", *, plots: bool = True,
+             force: bool = False) -> dict:
     """Run the demo into ``out`` (built atomically) and return its summary.
+
+    ``out`` is checked before anything runs (:func:`clutchsim._util.claim_output_dir`: an
+    existing directory only if it is empty or an earlier demo; ``force``: beside files
+    clutchsim did not write, which are kept).
 
     Layout: ``launch/`` (time series, summary.json, figures of the three launches),
     ``drift/`` (drift benchmark figure, traces, bench.json), ``demo.json`` and
     ``report.html``.
     """
+    with claim_output_dir(out, "demo", force=force) as claimed:
+        return _run_demo(Path(out), claimed, plots)
+
+
+def _run_demo(out: Path, claimed, plots: bool) -> dict:
     from .benchmarks import run_benchmark, write_outputs
     from .scenario import load_scenario
     from .scenario.outputs import write_runs
-
-    out = Path(out)
     t0 = time.perf_counter()
-    with atomic_directory(out) as part:
+    with claimed.build() as part:
         scenario = load_scenario(None)
         launch = write_runs(scenario, DEMO_MODELS, part / "launch", plots=plots)
         log.info("drift test on all applicable models ...")

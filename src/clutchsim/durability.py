@@ -397,7 +397,7 @@ def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
 def write_durability(res: DurabilityResult, directory, *, plots: bool = True) -> None:
     """``durability.csv`` (with a units row) and, with ``plots``, ``durability.png``:
     wear, clamp force, capacity and peak temperature over the cycles."""
-    from .core.result import atomic_write
+    from ._util import atomic_write
     directory = Path(directory)
     keys = list(UNITS)
     rows = [",".join(keys), ",".join(UNITS[k] for k in keys)]

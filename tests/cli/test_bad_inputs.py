@@ -7,6 +7,7 @@ and random signal formulas to the loader and the formula parser.
 
 from __future__ import annotations
 
+import json
 import re
 import shlex
 import time
@@ -36,6 +37,20 @@ def _files(d: Path) -> None:
     (d / "adir.csv").mkdir()
     (d / "adir.toml").mkdir()
     (d / "data.csv").write_text("t,v,F\n0,0,0\n0.1,1,1\n0.2,2,2\n")
+    # output directories: a user's folder, a clutchsim run's (its manifest), a damaged one,
+    # a user's file with the name of an output, a link to nowhere
+    from clutchsim._util import MANIFEST
+    for name, files in (("userdir", {"notes.txt": "mine\n"}),
+                        ("runout", {"summary.json": "{}", MANIFEST: json.dumps(
+                            {"kind": "run", "files": ["summary.json"]})}),
+                        ("damaged", {"summary.json": "{bad", MANIFEST: json.dumps(
+                            {"kind": "run", "files": ["summary.json"]})}),
+                        ("clash", {"summary.json": "{}"}),
+                        ("notout", {"a.json": "{}"})):
+        (d / name).mkdir()
+        for f, text in files.items():
+            (d / name / f).write_text(text)
+    (d / "dangling").symlink_to(d / "nowhere")
 
 
 RIG = ["rig", "--model", "lugre", "--t-end", "1"]
@@ -126,6 +141,18 @@ CASES = [
     # other commands
     (["bench", "drfit"], ["drift"]),
     (["report", "no_such_dir"], ["no_such_dir", "does not exist"]),
+    (["report", "notout"], ["notout", "not a clutchsim output"]),
+    (["report", "damaged"], ["damaged/summary.json", "is damaged", "re-run"]),
+    # output directories: never a file clutchsim did not write, checked before anything runs
+    (["run", "--out", "userdir"], ["--out", "userdir", "notes.txt", "never deletes", "--force"]),
+    (["run", "--out", "clash", "--force"], ["clash", "summary.json", "never overwrites"]),
+    (["run", "--out", "dangling"], ["--out", "dangling", "symbolic link", "not a directory"]),
+    (["bench", "drift", "--out", "runout"], ["--out", "runout", "`clutchsim run`", "--force"]),
+    (["durability", "missing.toml", "--out", "userdir"], ["userdir", "notes.txt"]),
+    (FIT[:-1] + ["userdir"], ["userdir", "notes.txt"]),
+    (["judder", "--out", "runout"], ["runout", "`clutchsim run`"]),
+    (["demo", "--out", "userdir"], ["userdir", "notes.txt"]),
+    (SWEEP[:-1] + ["userdir", "--vary", "vehicle.mass=1300"], ["userdir", "not empty"]),
 ]
 
 

@@ -5,6 +5,9 @@ from __future__ import annotations
 import json
 import os
 import signal
+import subprocess
+import sys
+import time
 
 import pytest
 
@@ -77,12 +80,98 @@ def test_sigterm_during_a_sweep_keeps_the_chunks_to_resume(tmp_path, capsys, mon
     assert doc["status_counts"] == {"completed": 40}
 
 
-@pytest.mark.parametrize("interrupt", [KeyboardInterrupt, SystemExit])
-def test_atomic_directory_removes_the_partial_on_any_interrupt(tmp_path, interrupt):
-    from clutchsim.cli import Terminated
-    from clutchsim.core.result import atomic_directory
-    for exc in (interrupt, Terminated):
-        with pytest.raises(exc), atomic_directory(tmp_path / "d") as part:
-            (part / "x").write_text("x")
-            raise exc()
-        assert list(tmp_path.iterdir()) == []
+#: a run whose integration takes ~25 s (10 million steps of at most 10 µs) once compiled
+LONG = ["run", "--model", "coulomb-robust", "--no-plots", "--set", "solver.dt_out=0.1",
+        "--option", "h_max=1e-5", "--option", "max_steps=20000000",
+        "--set", "scenario.t_end=100"]
+
+
+def _clutchsim(*args, **kw):
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    return subprocess.Popen([sys.executable, "-m", "clutchsim", *args], env=env, text=True,
+                            stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, **kw)
+
+
+def _tree(d):
+    return {str(p.relative_to(d)): p.read_bytes() if p.is_file() else None
+            for p in sorted(d.rglob("*"))}
+
+
+@pytest.fixture(scope="module")
+def earlier_output(tmp_path_factory):
+    """A finished run's output directory (its run also compiles or loads the plant)."""
+    out = tmp_path_factory.mktemp("signals") / "o"
+    p = _clutchsim(*LONG[:-6], "--set", "scenario.t_end=0.5", "--out", str(out))
+    assert p.wait(timeout=600) == 0, p.stderr.read()
+    p.stderr.close()
+    return out
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_a_signal_inside_the_compiled_loop_interrupts_the_run(earlier_output, sig, code):
+    """A real signal while the integrator runs: exit 130 / 143 within moments (the loop
+    stops; it used to run on to its end, or end in "internal error: SystemError"), one line
+    "interrupted", no traceback, and the earlier output exactly as it was."""
+    before = _tree(earlier_output.parent)
+    p = _clutchsim(*LONG, "--out", str(earlier_output))
+    with p:
+        err = []
+        for line in p.stderr:              # the run starts after this line ...
+            err.append(line)
+            if line.startswith("running "):
+                break
+        time.sleep(2.5)                    # ... and the plant is loaded within moments
+        assert p.poll() is None, "".join(err)
+        sent = time.perf_counter()
+        p.send_signal(sig)
+        err.append(p.stderr.read())
+        rc = p.wait(timeout=120)
+        late = time.perf_counter() - sent
+    err = "".join(err)
+    assert rc == code, err
+    assert f"interrupted ({sig.name})" in err
+    assert "Traceback" not in err and "internal error" not in err and "SystemError" not in err
+    assert late < 5.0, f"the run went on for {late:.1f} s after the signal"
+    assert _tree(earlier_output.parent) == before   # no DIR.partial, no lock, no .tmp
+
+
+
+
+def _wait_for(cond, timeout=5.0):
+    end = time.perf_counter() + timeout
+    while not cond() and time.perf_counter() < end:
+        time.sleep(0.01)
+    return cond()
+
+
+def test_a_deferred_signal_stops_the_loop_and_is_delivered_after_it():
+    """``interrupts_deferred`` (what ``simulate`` wraps the compiled loop in): a signal sets
+    the loop's stop flag at once and raises only when the block ends; a handler that does
+    not stop the program is called late and does not cut the run short."""
+    import numpy as np
+
+    from clutchsim.cli import Terminated, _install_sigterm
+    from clutchsim.core import _driver as drv
+    from clutchsim.core.simulate import interrupts_deferred
+    iopt = np.zeros(drv.N_IOPT, dtype=np.int64)
+    with pytest.raises(KeyboardInterrupt), interrupts_deferred(iopt):
+        os.kill(os.getpid(), signal.SIGINT)
+        assert _wait_for(lambda: iopt[drv.I_STOP] == 1)   # raised nothing here
+    assert iopt[drv.I_STOP] == 0
+    with pytest.raises(KeyboardInterrupt):      # outside a run: at once, as before
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(1)
+    previous = _install_sigterm()
+    try:
+        with pytest.raises(Terminated), interrupts_deferred(iopt):
+            os.kill(os.getpid(), signal.SIGTERM)
+            assert _wait_for(lambda: iopt[drv.I_STOP] == 1)
+        seen = []
+        signal.signal(signal.SIGTERM, lambda s, f: seen.append(s))
+        with interrupts_deferred(iopt):
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.2)
+            assert iopt[drv.I_STOP] == 0 and seen == []
+        assert seen == [signal.SIGTERM]
+    finally:
+        signal.signal(signal.SIGTERM, previous)

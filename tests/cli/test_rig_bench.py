@@ -99,8 +99,10 @@ def test_bench_json_and_outputs(tmp_path):
     assert doc["benchmark"] == "stick-slip"
     assert doc["results"]["lugre"]["period_s"] == pytest.approx(6.3627, rel=1e-3)
     names = sorted(f.name for f in out.iterdir())
-    assert names == ["bench.json", "command.txt", "report.html", "stick-slip.png",
-                     "stick-slip_traces.csv"]
+    assert names == [".clutchsim-output.json", "bench.json", "command.txt", "report.html",
+                     "stick-slip.png", "stick-slip_traces.csv"]
+    manifest = json.loads((out / ".clutchsim-output.json").read_text())
+    assert manifest["kind"] == "bench" and manifest["files"] == names[1:]
     assert not (tmp_path / "ss.partial").exists()
 
 

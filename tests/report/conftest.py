@@ -54,4 +54,7 @@ def run_dir(tmp_path, rig_result):
     (d / "summary.json").write_text(json.dumps(summary, indent=2))
     (d / "figures.json").write_text(json.dumps({"position.png": "Position of the mass"}))
     (d / "scenario.toml").write_text('[rig]\nmodel = "lugre"\nspring = 2.0   # N/m\n')
+    from clutchsim._util import MANIFEST  # what clutchsim writes with it: its manifest
+    (d / MANIFEST).write_text(json.dumps({"kind": "run", "files": sorted(
+        p.name for p in d.iterdir())}))
     return d

@@ -47,8 +47,12 @@ def test_cli(run_dir, tmp_path, capsys):
     empty = tmp_path / "empty"
     empty.mkdir()
     (empty / "report.html").write_text("old")          # a report alone is still empty
+    mine = tmp_path / "mine"                            # a folder clutchsim did not write
+    mine.mkdir()
+    (mine / "notes.json").write_text("{}")
     for bad, words in ((tmp_path / "missing", "does not exist"), (empty, "is empty"),
-                       (run_dir / "summary.json", "is a file")):
+                       (run_dir / "summary.json", "is a file"),
+                       (mine, "is not a clutchsim output directory")):
         assert main(["report", str(bad)]) == 2
         err = capsys.readouterr().err
         assert words in err and len(err.strip().splitlines()) == 1

@@ -37,7 +37,7 @@ def traces_frame(result, max_rows: int = MAX_ROWS_PER_RUN):
 def write_outputs(result, directory) -> None:
     """Write ``<name>.png``, ``<name>_traces.csv`` and ``bench.json`` into ``directory``.
 
-    The caller makes the directory atomic (:func:`clutchsim.core.result.atomic_directory`).
+    The caller makes the directory atomic (:meth:`clutchsim._util.OutputDir.build`).
     """
     from ..plot._style import save_png
     from ..plot.benchmarks import plot_benchmark

@@ -7,7 +7,8 @@ from pathlib import Path
 
 from .._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
 
-__all__ = ["add_limit_flags", "checked_scenario", "solver_option_items", "write_command"]
+__all__ = ["add_force_flag", "add_limit_flags", "checked_scenario", "solver_option_items",
+           "write_command"]
 
 
 def _positive_int(text: str) -> int:
@@ -34,6 +35,15 @@ def add_limit_flags(p, *, runs: bool = False) -> None:
                        f"{DEFAULT_MAX_RUNS:,})")
 
 
+def add_force_flag(p) -> None:
+    """``--force``: write into an --out directory that holds other files (one help text
+    for every command that writes a directory; the rules: :mod:`clutchsim._util`)."""
+    p.add_argument("--force", action="store_true",
+                   help="write into DIR even if it holds files clutchsim did not write or "
+                        "another command's output: clutchsim's own files there are "
+                        "replaced, every other file is kept")
+
+
 def checked_scenario(sc, model, max_rows: int):
     """``sc`` with its solver options fitted to the output limit, after refusing a run
     beyond it (:class:`clutchsim._util.ResourceError`)."""
@@ -49,7 +59,7 @@ def write_command(directory: Path, argv: list[str]) -> None:
     called with its own list)."""
     import shlex
 
-    from ..core.result import atomic_write
+    from .._util import atomic_write
     text = shlex.join(["clutchsim", *argv]) + "\n"
     atomic_write(Path(directory, "command.txt"), lambda p: Path(p).write_text(text))
 

@@ -5,10 +5,9 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-from pathlib import Path
 
 from ..cli import SimulationFailed, UserError, emit_json
-from ._common import write_command
+from ._common import add_force_flag, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -22,7 +21,9 @@ examples:
 benchmarks: curves, drift, hysteresis, presliding, lag, breakaway, stick-slip,
 coulomb-analytic.  A model is NAME[:PARAMETER_SET][,key=value...].
 --out DIR receives <name>.png, <name>_traces.csv and bench.json; the directory is
-built as DIR.partial and renamed when complete.
+built as DIR.partial and put in place when complete.  An existing DIR is replaced only when
+it is empty or holds an earlier `clutchsim bench` output (--force: write beside other files,
+which are kept).
 """
 
 
@@ -35,16 +36,21 @@ def register(sub, common):
     p.add_argument("--model", action="append", metavar="M",
                    help="model (repeatable; default: every applicable model)")
     p.add_argument("--out", metavar="DIR", help="write PNG, CSV traces and bench.json")
+    add_force_flag(p)
     p.add_argument("--json", action="store_true", help="print one JSON document")
 
 
 def run(args) -> int:
     from ..benchmarks import get_benchmark
     bench = get_benchmark(args.name)
-    out = Path(args.out) if args.out else None
-    if out is not None:
-        from .._util import check_output_dir
-        check_output_dir(args.out)
+    if args.out is None:
+        return _run(args, bench, None)
+    from .._util import claim_output_dir
+    with claim_output_dir(args.out, "bench", force=args.force) as out:
+        return _run(args, bench, out)
+
+
+def _run(args, bench, out) -> int:
     try:
         from ..benchmarks import resolve_models
         entries = resolve_models(args.model, bench.default_models, bench.applicable)
@@ -54,13 +60,12 @@ def run(args) -> int:
     result = bench.run(args.model)
     if out is not None:
         from ..benchmarks import write_outputs
-        from ..core.result import atomic_directory
         from ..report import build_report
-        with atomic_directory(out) as part:
+        with out.build() as part:
             write_outputs(result, part)
             write_command(part, args.argv)
             build_report(part)
-        log.info("wrote %s", out)
+        log.info("wrote %s", args.out)
     if args.json:
         emit_json(result.metrics_json())
     else:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..cli import emit_json
+from ._common import add_force_flag
 
 HELP = """\
 examples:
@@ -24,12 +25,13 @@ def register(sub, common):
                        epilog=HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default="clutchsim-out/demo", metavar="DIR",
                    help="output directory (default: clutchsim-out/demo)")
+    add_force_flag(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
 def run(args) -> int:
     from ..demo import format_summary, run_demo
-    summary = run_demo(args.out)
+    summary = run_demo(args.out, force=args.force)
     if args.json:
         emit_json(summary)
     else:

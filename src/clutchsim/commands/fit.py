@@ -8,7 +8,7 @@ import math
 from pathlib import Path
 
 from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_option_flag, solver_option_items, write_command
+from ._common import add_force_flag, add_option_flag, solver_option_items, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -76,6 +76,7 @@ def register(sub, common):
                         "rodas4)")
     add_option_flag(p, what="every simulation")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_force_flag(p)
     p.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
     p.add_argument("--json", action="store_true", help="print one JSON document")
 
@@ -229,11 +230,15 @@ def _from_data(args):
 
 
 def run(args) -> int:
-    from .._util import check_output_dir
-    from ..identify import fit
+    from .._util import claim_output_dir
     _check_numbers(args)
     _window(args.window)
-    check_output_dir(args.out)
+    with claim_output_dir(args.out, "fit", force=args.force) as out:
+        return _run(args, out)
+
+
+def _run(args, out) -> int:
+    from ..identify import fit
     path = Path(args.data)
     if path.suffix.lower() == ".toml":
         model, data, validate, kw = _from_spec(args)
@@ -248,10 +253,9 @@ def run(args) -> int:
                      progress=progress_for(args, "simulations"), **kw)
     except RuntimeError as exc:
         raise SimulationFailed(str(exc)) from None
-    from ..core.result import atomic_directory
     from ..identify.outputs import write_outputs
     from ..report import build_report
-    with atomic_directory(args.out) as part:
+    with out.build() as part:
         files = write_outputs(result, part, plots=not args.no_plots,
                               unit=(data[0] if isinstance(data, list) else data).units.get(
                                   kw["output"], ""))

@@ -6,7 +6,7 @@ import argparse
 import logging
 
 from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_option_flag, scenario_with_options
+from ._common import add_force_flag, add_option_flag, scenario_with_options
 
 log = logging.getLogger("clutchsim")
 
@@ -42,7 +42,9 @@ frf.png.
 --json prints {"kind": "judder", "model", "operating_point": {"t_s", "elements": {NAME:
 {"slip_rad_s", "friction_slope_Nms", "state"}}}, "modes": [{"frequency_hz",
 "damping_ratio", "growth_rate_1_s", "stable", "dominant_states"}], "stable"}.  --out DIR
-writes judder.json and judder.png (atomically: DIR.partial renamed when complete).
+writes judder.json and judder.png (atomically: DIR.partial put in place when complete; an
+existing DIR only if empty or an earlier `clutchsim judder` output, --force: beside other
+files, which are kept).
 
 exit status: 0 done (whether or not the point is stable: see "stable"), 1 the run to --at
 did not complete, 2 bad input (--at past t_end, an unknown element, a bad scenario, an
@@ -69,6 +71,7 @@ def register(sub, common):
     p.add_argument("--out", default=None, metavar="DIR",
                    help="write judder.json and judder.png to DIR (--map: judder_map.*, --frf: "
                    "frf.csv, frf.json, frf.png)")
+    add_force_flag(p)
     p.add_argument("--map", action="append", default=None, metavar="KEY=LO:HI:N",
                    help="stability map: give twice (x, then y axis), N values from LO to HI "
                    "of a scenario key")
@@ -106,23 +109,29 @@ def _table(result) -> str:
 
 def run(args) -> int:
     import math
-    import sys
 
-    from .._util import check_output_dir
-    from ..analysis import OperatingPointError, judder_analysis
-    from ..scenario import load_scenario
     if not math.isfinite(args.at):
         raise UserError(f"--at {args.at!r}: the operating time must be a finite number of "
                         "seconds")
-    if args.out is not None:
-        check_output_dir(args.out)
+    if args.out is None:
+        return _dispatch(args, None)
+    from .._util import claim_output_dir
+    with claim_output_dir(args.out, "judder", force=args.force) as out:
+        return _dispatch(args, out)
+
+
+def _dispatch(args, out) -> int:
+    import sys
+
+    from ..analysis import OperatingPointError, judder_analysis
+    from ..scenario import load_scenario
     if args.frf is not None:
-        return _run_frf(args)
+        return _run_frf(args, out)
     for flag in ("f_min", "f_max", "points"):
         if getattr(args, flag) is not None:
             raise UserError(f"--{flag.replace('_', '-')} needs --frf")
     if args.map is not None:
-        return _run_map(args)
+        return _run_map(args, out)
     if args.classic is not None:
         raise UserError("--classic needs --map")
     sc = scenario_with_options(load_scenario(args.scenario, overrides=args.set), args.option)
@@ -131,9 +140,9 @@ def run(args) -> int:
     except OperatingPointError as exc:
         raise SimulationFailed(str(exc)) from None
     doc = result.as_dict()
-    if args.out is not None:
+    if out is not None:
         from ..plot.judder import plot_modes
-        _write_out(args.out, "judder", doc, lambda p: plot_modes(result, p))
+        _write_out(out, "judder", doc, lambda p: plot_modes(result, p))
     if args.json:
         emit_json(doc)
     else:
@@ -143,24 +152,24 @@ def run(args) -> int:
 
 def _write_out(out, stem: str, doc: dict, plot, rows=None) -> None:
     """``STEM.json``, ``STEM.png`` (``plot(path)``) and, with ``rows``, ``STEM.csv`` in the
-    directory ``out``, atomically (``out.partial`` renamed when complete)."""
+    claimed directory ``out`` (:class:`clutchsim._util.OutputDir`), atomically."""
     import csv
     import json
 
-    from ..core.result import atomic_directory, atomic_write
+    from .._util import atomic_write
 
     def write_csv(path):
         with open(path, "w", newline="", encoding="utf-8") as fh:
             w = csv.DictWriter(fh, fieldnames=list(rows[0]))
             w.writeheader()
             w.writerows(rows)
-    with atomic_directory(out) as part:
+    with out.build() as part:
         if rows:
             atomic_write(part / f"{stem}.csv", write_csv)
         atomic_write(part / f"{stem}.json", lambda p: p.write_text(
             json.dumps(doc, indent=2, allow_nan=False)))
         plot(part / f"{stem}.png")
-    log.info("wrote %s", out)
+    log.info("wrote %s", out.shown)
 
 
 def _axis(text: str):
@@ -180,7 +189,7 @@ def _axis(text: str):
     return key, np.linspace(lo, hi, n)
 
 
-def _run_map(args) -> int:
+def _run_map(args, out) -> int:
 
     from ..analysis import OperatingPointError, judder_map
     if len(args.map) != 2:
@@ -198,9 +207,9 @@ def _run_map(args) -> int:
     except OperatingPointError as exc:
         raise SimulationFailed(str(exc)) from None
     doc = jm.as_dict()
-    if args.out is not None:
+    if out is not None:
         from ..plot.judder import plot_map
-        _write_out(args.out, "judder_map", doc, lambda p: plot_map(jm, p), jm.rows())
+        _write_out(out, "judder_map", doc, lambda p: plot_map(jm, p), jm.rows())
     if args.json:
         emit_json(doc)
     else:
@@ -210,7 +219,7 @@ def _run_map(args) -> int:
     return 0
 
 
-def _run_frf(args) -> int:
+def _run_frf(args, out) -> int:
     import sys
 
     from ..analysis import OperatingPointError, frequency_grid, frf_analysis
@@ -240,9 +249,9 @@ def _run_frf(args) -> int:
     for w in fr.warnings:
         log.warning("frf: %s", w)
     doc = fr.as_dict()
-    if args.out is not None:
+    if out is not None:
         from ..plot.judder import plot_frf
-        _write_out(args.out, "frf", doc, lambda p: plot_frf(fr, p), fr.rows())
+        _write_out(out, "frf", doc, lambda p: plot_frf(fr, p), fr.rows())
     if args.json:
         emit_json(doc)
     else:

@@ -29,8 +29,9 @@ def register(sub, common):
 
 
 def run(args) -> int:
+    from .._util import add_to_manifest
     from ..report import build_report
-    from ..report.gather import report_inputs
+    from ..report.gather import REPORT_NAME, check_output, report_inputs
     d = Path(args.dir)
     if not d.exists():
         raise UserError(f"DIR {args.dir!r} does not exist (give an output directory of "
@@ -40,7 +41,12 @@ def run(args) -> int:
     if not report_inputs(d):
         raise UserError(f"DIR {args.dir!r} is empty: nothing to report (run clutchsim "
                         "run/bench/fit with --out first)")
+    try:
+        check_output(d)
+    except ValueError as exc:
+        raise UserError(f"DIR {exc}") from None
     path = build_report(d, title=args.title)
+    add_to_manifest(d, [REPORT_NAME])
     if args.json:
         emit_json({"report": str(path)})
     else:

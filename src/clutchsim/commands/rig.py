@@ -168,7 +168,7 @@ def run(args) -> int:
             bar(1, 1)
     if args.out:
         frame = _frame(res, args.domain)
-        from ..core.result import atomic_write
+        from .._util import atomic_write
         atomic_write(args.out, lambda p: frame.to_csv(p, index=False, float_format="%.17g"))
         log.info("wrote %s", args.out)
     if args.json:

@@ -7,6 +7,7 @@ import logging
 
 from ..cli import SimulationFailed, UserError, emit_json
 from ._common import (
+    add_force_flag,
     add_limit_flags,
     add_option_flag,
     checked_scenario,
@@ -27,8 +28,10 @@ examples:
 outputs in DIR: timeseries.csv and timeseries.parquet (first model; one file per model with
 several), summary.json {"models": {NAME: {"outcome", "warnings", metric: value}}, "failed":
 [NAME, ...]}, launch_<model>.png and, with several models, comparison.png, command.txt and
-report.html.  DIR is written as DIR.partial and renamed when complete; Ctrl-C or SIGTERM
-removes DIR.partial.
+report.html, and .clutchsim-output.json (the manifest: kind and files).  DIR is written
+as DIR.partial and put in place when complete; Ctrl-C or SIGTERM removes DIR.partial.
+An existing DIR is replaced only when it is empty or holds an earlier `clutchsim run`
+output; clutchsim never deletes a file it did not write (--force: write beside them).
 
 Every model is checked (its parameters, and the output size against --max-output-rows)
 before the first one runs.  exit status: 0 every model completed, 1 any did not (the JSON
@@ -47,6 +50,7 @@ def register(sub, common):
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="override a scenario key, e.g. vehicle.grade=12")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_force_flag(p)
     add_option_flag(p, what="every model's run")
     p.add_argument("--no-plots", action="store_true", help="skip the figures")
     p.add_argument("--json", action="store_true", help="print summary.json on stdout")
@@ -54,15 +58,19 @@ def register(sub, common):
 
 
 def run(args) -> int:
+    from .._util import claim_output_dir
+    with claim_output_dir(args.out, "run", force=args.force) as out:
+        return _run(args, out)
+
+
+def _run(args, out) -> int:
     import json
 
-    from .._util import check_output_dir
-    from ..core.result import atomic_directory, atomic_write
+    from .._util import atomic_write
     from ..progress import progress_for
     from ..report import build_report
     from ..scenario import load_scenario
     from ..scenario.outputs import write_runs
-    check_output_dir(args.out)
     sc = scenario_with_options(load_scenario(args.scenario, overrides=args.set), args.option)
     models = args.model or list(sc.models) or [None]
     if len(set(models)) != len(models):
@@ -71,7 +79,7 @@ def run(args) -> int:
         sc = checked_scenario(sc, m, args.max_output_rows)
     bar = progress_for(args, "models", tick=1.0)
     try:
-        with atomic_directory(args.out) as part:
+        with out.build() as part:
             summary = write_runs(sc, models, part, plots=not args.no_plots, progress=bar)
             summary["failed"] = [n for n, m in summary["models"].items()
                                  if not m["completed"]]

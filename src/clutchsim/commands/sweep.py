@@ -79,10 +79,7 @@ def register(sub, common):
 def run(args) -> int:
     import math
 
-    from .._util import check_output_dir
-    from ..progress import progress_for
-    from ..report import build_report
-    from ..sweeps import sweep
+    from .._util import claim_output_dir
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers {args.workers}: must be >= 1")
     if args.chunk_size is not None and args.chunk_size < 1:
@@ -90,12 +87,19 @@ def run(args) -> int:
     if not (math.isfinite(args.connect_timeout) and args.connect_timeout > 0):
         raise UserError(f"--connect-timeout {args.connect_timeout!r}: must be a finite "
                         "number of seconds > 0")
-    check_output_dir(args.out)
+    with claim_output_dir(args.out, "sweep", in_place=True) as out:
+        return _run(args, out.path)
+
+
+def _run(args, out) -> int:
+    from ..progress import progress_for
+    from ..report import build_report
+    from ..sweeps import sweep
     metrics = [m.strip() for m in args.metrics.split(",") if m.strip()] \
         if args.metrics else None
     backend = "dask" if args.dask else "threads"
     res = sweep(args.scenario, args.vary, samples=args.samples, seed=args.seed,
-                metrics=metrics, model=args.model, overrides=args.set, out=args.out,
+                metrics=metrics, model=args.model, overrides=args.set, out=out,
                 backend=backend, workers=args.workers, address=args.dask or "local",
                 connect_timeout=args.connect_timeout, chunk_size=args.chunk_size,
                 keep_traces=args.keep_traces, plots=not args.no_plots, load=not args.no_plots,

@@ -1,7 +1,7 @@
 """The simulation core: signals, systems, integrators and results.  Knows nothing of friction."""
 
 from .options import SOLVERS, SolverOptions
-from .result import Event, Events, Result, Stats, atomic_write
+from .result import Event, Events, Result, Stats
 from .signals import Constant, Pulse, Ramp, Signal, Sine, Step, Sum, Table, as_signal
 from .simulate import simulate
 from .status import Action, Outcome
@@ -41,7 +41,6 @@ __all__ = [
     "System",
     "Table",
     "as_signal",
-    "atomic_write",
     "register_system",
     "simulate",
 ]

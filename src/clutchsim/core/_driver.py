@@ -59,10 +59,11 @@ _FAIL = int(Action.FAIL)
 (O_RTOL, O_ATOL, O_H0, O_HMAX, O_HMIN, O_WALL, O_CHATTER_WINDOW, O_DT_OUT, O_EVENT_TOL,
  O_LU_REUSE) = range(10)
 N_FOPT = 10
-# int options
+# int options; ``iopt[I_STOP]`` is the one the loop reads while it runs: set to 1 (by the
+# signal handler of ``simulate``), the loop stops within 256 steps (its wall-time check)
 (I_MAX_STEPS, I_CHATTER_N, I_MAX_OUTPUT, I_QUADRATURES, I_EXACT_JAC, I_JAC_MAX_AGE,
- I_FACTOR_SIZE) = range(7)
-N_IOPT = 7
+ I_FACTOR_SIZE, I_STOP) = range(8)
+N_IOPT = 8
 # method scalars
 M_FAMILY, M_GAMMA, M_Q, M_DENSE, M_W, M_FSAL = range(6)
 N_MOPT = 6
@@ -507,8 +508,10 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
         if stats[S_STEPS] + stats[S_REJECTED] >= max_steps:
             status = MAX_STEPS
             break
-        if (wall > 0 and ((stats[S_STEPS] + stats[S_REJECTED]) & 255) == 0
-                and _now() - t_wall0 > wall):
+        if ((stats[S_STEPS] + stats[S_REJECTED]) & 255) == 0 and (
+                iopt[I_STOP] != 0 or (wall > 0 and _now() - t_wall0 > wall)):
+            # a stop request (an interrupt) ends the run as the wall-time budget does;
+            # its caller discards the run and delivers the signal
             status = WALL_TIME
             break
 

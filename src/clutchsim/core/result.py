@@ -2,11 +2,7 @@
 
 from __future__ import annotations
 
-import contextlib
 import json
-import os
-import shutil
-import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -14,96 +10,10 @@ from types import MappingProxyType
 
 import numpy as np
 
+from .._util import atomic_write
 from .status import Outcome
 
-__all__ = ["Event", "Events", "Result", "Stats", "atomic_write"]
-
-
-def _current_umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-_UMASK = _current_umask()
-
-
-@contextlib.contextmanager
-def _signals_held():
-    """Hold SIGINT and SIGTERM while a rename or a clean-up runs (a second Ctrl-C must not
-    leave half of it done); they are delivered when the block ends.  Only the main thread
-    of the interpreter receives signals, so elsewhere this does nothing."""
-    import signal
-    import threading
-    if threading.current_thread() is not threading.main_thread() or \
-            not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    held = {signal.SIGINT, signal.SIGTERM}
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
-
-
-def atomic_write(path: str | Path, write) -> Path:
-    """Write a file atomically: ``write(tmp_path)`` then rename onto ``path``.
-
-    On any exception, Ctrl-C and SIGTERM included (the command line turns SIGTERM into an
-    exception), the temporary file is removed and ``path`` is left as it was.
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if path.is_dir():
-        raise IsADirectoryError(21, "is a directory, not a file", str(path))
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        write(Path(tmp))
-        os.chmod(tmp, 0o666 & ~_UMASK)   # mkstemp creates 0600; outputs are shared files
-        with _signals_held():
-            os.replace(tmp, path)
-    except BaseException:
-        with _signals_held():
-            Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
-
-
-@contextlib.contextmanager
-def atomic_directory(path: str | Path):
-    """Build an output directory atomically.
-
-    Yields ``PATH.partial`` to write into; when the block completes, the directory replaces
-    ``path`` (an old one is removed only then).  If the block fails, the partial directory
-    is removed and ``path`` is left as it was: a failed run never leaves a complete-looking
-    output directory.  Ctrl-C and SIGTERM (which the command line raises as an exception)
-    are failures like any other; while the clean-up or the final renames run they are held
-    back, so a second signal cannot leave half of either done.
-    """
-    path = Path(path)
-    if path.exists() and not path.is_dir():
-        raise ValueError(f"{path}: exists and is not a directory")
-    partial = path.with_name(path.name + ".partial")
-    if partial.exists():
-        shutil.rmtree(partial)
-    partial.mkdir(parents=True)
-    try:
-        yield partial
-    except BaseException:
-        with _signals_held():
-            shutil.rmtree(partial, ignore_errors=True)
-        raise
-    old = path.with_name(path.name + ".old")
-    with _signals_held():
-        if path.exists():
-            if old.exists():
-                shutil.rmtree(old)
-            os.replace(path, old)
-        os.replace(partial, path)
-        if old.exists():
-            shutil.rmtree(old)
+__all__ = ["Event", "Events", "Result", "Stats"]
 
 
 @dataclass(frozen=True)

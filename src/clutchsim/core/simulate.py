@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import signal
 import threading
 from collections.abc import Mapping
-from typing import NamedTuple
+from typing import ClassVar, NamedTuple
 
 import numba
 import numpy as np
@@ -20,8 +23,8 @@ from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
 from .system import System, call_jac, closest, factor_size, has_jacobian, kernels
 
-__all__ = ["RunEnd", "apply_violations", "check_invariants", "prepare_runs", "resolve_inputs",
-           "run_end", "run_stats", "simulate"]
+__all__ = ["RunEnd", "apply_violations", "check_invariants", "interrupts_deferred",
+           "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
 
 def _check_span(t_span) -> tuple[float, float]:
     try:
@@ -351,12 +354,15 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     prep = _prepared(system, signals, t0, t1, solver, opts, y_init)
     # the wall time is measured inside the compiled loop: it excludes JIT compilation
     # a copy: a plant may switch its values at scheduled events (a gear shift)
-    args = prep.args[:6] + (y_init, system.params.copy()) + prep.args[8:]
+    # and its own int options: their stop flag is this run's (interrupts_deferred)
+    iopt = prep.args[13].copy()
+    args = prep.args[:6] + (y_init, system.params.copy()) + prep.args[8:13] + (iopt,)
     with compile_notice(type(system.tag), system.name) as first:
         if first:
             _load_or_compile(args)
-    (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
-     wall) = _integrate(args, prep.fixed_key)
+    with interrupts_deferred(iopt):
+        (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
+         wall) = _integrate(args, prep.fixed_key)
     end = run_end(system, opts, solver, prep.chatter_window, int(code), float(t_end), int(k),
                   int(i), ts.shape[0], float(ts[-1]))
     events = Events(ev_t, ev_k, ev_a, system.event_names, system.event_sources, ACTION_WORDS)
@@ -364,6 +370,140 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
                     run_stats(st, h_small, wall), events, solver, event=end.event,
                     warnings=end.warnings, event_source=end.event_source,
                     tolerances=(opts.rtol, opts.atol))
+
+
+#: the signals a run of the compiled loop defers (:func:`interrupts_deferred`)
+_DEFERRED = (signal.SIGINT, signal.SIGTERM)
+
+
+def _stops(handler) -> bool:
+    """Does ``handler`` stop the program (so that a run it interrupts may be cut short)?
+    Python's ``KeyboardInterrupt``, the default action, or a handler marked
+    ``interrupts = True`` (the command line's SIGTERM handler)."""
+    return (handler is signal.default_int_handler or handler == signal.SIG_DFL
+            or getattr(handler, "interrupts", False))
+
+
+class _Watcher:
+    """A thread that sets the stop flag of the loop now running when a signal arrives.
+
+    A Python signal handler runs only between two bytecodes of the main thread, so not
+    while the compiled loop runs (for seconds, without the GIL); the C-level handler writes
+    the signal's number to the wake-up file descriptor (:func:`signal.set_wakeup_fd`) at
+    once, and this thread, reading it, sets ``iopt[I_STOP]``.  One per process."""
+
+    def __init__(self):
+        self.pid = os.getpid()
+        self.r, self.w = os.pipe()
+        os.set_blocking(self.w, False)
+        self.iopt = None            # the int options of the loop now running, or None
+        self.stops: tuple = ()      # the numbers of the signals that stop it
+        threading.Thread(target=self._watch, name="clutchsim-interrupts", daemon=True).start()
+
+    def _watch(self) -> None:
+        while True:
+            data = os.read(self.r, 64)
+            iopt = self.iopt
+            if iopt is not None and any(b in self.stops for b in data):
+                iopt[drv.I_STOP] = 1
+
+
+_WATCHER: list = []
+
+
+def _watcher() -> _Watcher | None:
+    """This process's watcher; None where a pipe cannot be a wake-up descriptor (Windows
+    wants a socket): there the signals are still deferred, the run is not cut short."""
+    if not _WATCHER or (_WATCHER[0] is not None and _WATCHER[0].pid != os.getpid()):
+        try:                                        # (a forked child: its own)
+            _WATCHER[:] = [_Watcher() if os.name == "posix" else None]
+        except OSError:
+            _WATCHER[:] = [None]
+    return _WATCHER[0]
+
+
+class _Deferral:
+    """The state of :func:`interrupts_deferred` (main thread only): the int options of the
+    loop now running (None when none runs) and the signals that arrived meanwhile."""
+
+    running = None
+    caught: ClassVar[list] = []
+
+
+def _front(handler):
+    """A handler that stands in front of ``handler``: while the compiled loop runs it only
+    takes note of the signal; otherwise it passes it on.  Each carries its own
+    ``behind``, so one put back by whoever saved it still passes on to the right one."""
+
+    def front(signum, frame):
+        if _Deferral.running is not None:
+            _Deferral.caught.append(signum)
+            return
+        _deliver(handler, signum)
+    front.behind = handler
+    return front
+
+
+def _deliver(handler, signum) -> None:
+    if handler == signal.SIG_DFL:
+        signal.signal(signum, signal.SIG_DFL)
+        os.kill(os.getpid(), signum)
+    elif handler != signal.SIG_IGN:
+        handler(signum, None)
+
+
+@contextlib.contextmanager
+def interrupts_deferred(iopt):
+    """Deliver SIGINT and SIGTERM after the compiled loop returns, not inside it, and stop
+    the loop when they arrive.
+
+    Python runs a signal's handler between two bytecodes of the main thread, and the
+    compiled loop runs bytecode now and then (numba looks up the plant's function values
+    through Python); a ``KeyboardInterrupt`` raised there is lost inside numba and comes
+    out as ``SystemError: ... returned a result with an exception set``, or as an
+    unrelated ``TypeError``.  So each of the two signals' handlers gets a front
+    (:func:`_front`, installed once and again whenever someone has set another handler;
+    it stays and passes signals on, so that a run costs no system call) that only takes
+    note while the block runs; the loop's stop flag ``iopt[I_STOP]`` is set at once (by
+    :class:`_Watcher`) where the signal's own handler stops the program (:func:`_stops`;
+    another handler is only called late, the run is not cut short), and the loop ends
+    within 256 steps.  When the block ends the first signal is delivered to its own
+    handler.  The run that stopped is never returned: the delivered signal raises (or
+    ends the process).  Only the main thread receives signals; elsewhere this does
+    nothing, and a handler set outside Python (``getsignal`` gives None) is left alone."""
+    if threading.current_thread() is not threading.main_thread() or \
+            _Deferral.running is not None:
+        yield
+        return
+    behind = {}
+    for s in _DEFERRED:
+        handler = signal.getsignal(s)
+        if handler is None:
+            continue
+        if not hasattr(handler, "behind"):
+            handler = _front(handler)
+            signal.signal(s, handler)
+        behind[s] = handler.behind
+    watcher = _watcher()
+    old_fd = None
+    _Deferral.caught = []
+    _Deferral.running = iopt
+    try:
+        if watcher is not None:
+            watcher.stops = tuple(int(s) for s, h in behind.items() if _stops(h))
+            watcher.iopt = iopt
+            old_fd = signal.set_wakeup_fd(watcher.w, warn_on_full_buffer=False)
+        yield
+    finally:
+        if old_fd is not None:
+            signal.set_wakeup_fd(old_fd)
+        if watcher is not None:
+            watcher.iopt = None
+        _Deferral.running = None
+        iopt[drv.I_STOP] = 0
+        if _Deferral.caught:
+            s = _Deferral.caught[0]
+            _deliver(behind[s], s)
 
 
 class RunEnd(NamedTuple):

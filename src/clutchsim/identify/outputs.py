@@ -15,7 +15,7 @@ def write_outputs(result, out: Path, *, plots: bool = True, unit: str = "") -> d
     """
     import numpy as np
 
-    from ..core.result import atomic_write
+    from .._util import atomic_write
     out.mkdir(parents=True, exist_ok=True)
     files = {}
     doc = result.as_dict()

@@ -15,5 +15,5 @@ def new_figure(nrows=1, ncols=1, *, figsize=(8.0, 5.0), **kw):
 
 def save_png(fig, path: str | Path, *, dpi: int = 130) -> Path:
     """Save a figure as PNG atomically (temporary name, then rename)."""
-    from ..core.result import atomic_write
+    from .._util import atomic_write
     return atomic_write(path, lambda p: fig.savefig(p, format="png", dpi=dpi))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from ..core.result import atomic_write
+from .._util import atomic_write
 from .gather import REPORT_NAME, gather
 from .html import render
 

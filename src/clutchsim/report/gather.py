@@ -17,7 +17,8 @@ from pathlib import Path
 from .._version import __version__
 from .tables import Sections, StatusEntry, Table, analyse
 
-__all__ = ["KIND_FILES", "REPORT_NAME", "Figure", "FileEntry", "ReportData", "gather"]
+__all__ = ["KIND_FILES", "REPORT_NAME", "Figure", "FileEntry", "ReportData", "check_output",
+           "gather"]
 
 REPORT_NAME = "report.html"
 #: JSON file name -> directory kind, when no document has a ``"kind"`` key
@@ -78,6 +79,42 @@ def report_inputs(directory: Path) -> list[Path]:
     """The entries of ``directory`` a report is built from (not the report, not hidden)."""
     return sorted(p for p in directory.iterdir()
                   if p.name != REPORT_NAME and not p.name.startswith("."))
+
+
+def check_output(directory: Path) -> dict:
+    """The manifest of a clutchsim output directory, after checking that its JSON
+    documents read (:func:`clutchsim._util.read_manifest`); a sweep's directory is known by
+    its ``sweep.json``.  Raises ValueError saying what is wrong: not a clutchsim output, or
+    a damaged one."""
+    from .._util import MANIFEST, read_manifest
+    d = Path(directory)
+    manifest = read_manifest(d)
+    sweep = d / "sweep.json"
+    if manifest is None and sweep.is_file():
+        manifest = {"kind": "sweep", "files": ["sweep.json"]}
+    if manifest is None:
+        raise ValueError(f"{str(d)!r} is not a clutchsim output directory (no {MANIFEST}, "
+                         "the manifest that run, bench, fit, durability, judder and demo "
+                         "write with --out, and no sweep.json); give a directory clutchsim "
+                         "wrote")
+    for name in manifest["files"]:
+        p = d / name
+        if p.suffix.lower() != ".json" or "/" in name:
+            continue
+        try:
+            doc = json.loads(p.read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise ValueError(f"{str(p)!r} is missing from this clutchsim {manifest['kind']} "
+                             "output: re-run the command that made it") from None
+        except (OSError, UnicodeDecodeError, ValueError) as exc:
+            raise ValueError(f"{str(p)!r} is damaged ({exc}): re-run the command that made "
+                             "this output") from None
+        if isinstance(doc, dict):
+            continue
+        raise ValueError(f"{str(p)!r} is damaged (a JSON {type(doc).__name__}, not the "
+                         "document clutchsim writes): re-run the command that made this "
+                         "output")
+    return manifest
 
 
 def gather(directory: str | Path, *, title: str | None = None) -> ReportData:

@@ -6,7 +6,7 @@ import json
 import logging
 from pathlib import Path
 
-from ..core.result import atomic_write
+from .._util import atomic_write
 
 __all__ = ["write_runs"]
 
@@ -24,7 +24,7 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
     and, for several models, ``comparison.png``; a run with gear lash, a dual-mass flywheel
     or a torque converter also gets ``components_MODEL.png``.  Returns the summary.
     ``progress``, if given, is called as ``progress(done, total)`` after each model.  The caller makes
-    the directory atomic (see :func:`clutchsim.core.result.atomic_directory`).
+    the directory atomic (see :meth:`clutchsim._util.OutputDir.build`).
     """
     from .run import run_scenario
     directory = Path(directory)
