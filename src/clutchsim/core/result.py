@@ -162,7 +162,8 @@ class Result:
         Why the run ended, machine-readable: one of :class:`~clutchsim.core.status.Outcome`
         (``"completed"``, ``"stopped"``, ``"event_failed"``, ``"budget"``,
         ``"wall_time"``, ``"step_collapse"``, ``"chatter"``, ``"nan"``,
-        ``"solver_error"``).  Code decides on this, never on the message.
+        ``"solver_error"``, ``"invariant_violated"``: the plant's physics checks failed,
+        :attr:`System.invariants`).  Code decides on this, never on the message.
     status : str
         The coarse status derived from ``outcome``: ``"completed"``, ``"stopped"`` (a
         terminal event ended the run as intended) or ``"failed"``.
