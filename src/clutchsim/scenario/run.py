@@ -10,11 +10,11 @@ import numpy as np
 
 from ..analysis.actuation import controller_warnings, has_controller
 from ..core import Result, SolverOptions, simulate
-from ..driveline.metrics import analyse_run
+from ..driveline.metrics import analyse_run, grid_problem
 from .loader import resolve_scenario
 
-__all__ = ["LaunchResult", "batch_reason", "expects_lockup", "lining_geometry", "run_batch",
-           "run_scenario"]
+__all__ = ["LaunchResult", "batch_reason", "engine_max_speed", "expects_lockup",
+           "lining_geometry", "run_batch", "run_scenario"]
 
 
 @dataclass(frozen=True)
@@ -57,12 +57,14 @@ def run_system(scenario, system, model: str | None = None, *, solver: str | None
     with the scenario's inputs, span and solver, and compute the launch metrics."""
     inputs = {n: scenario.inputs[n] for n in system.input_names}
     opts = options if options is not None else scenario.options
+    _check_grid(scenario, opts)
     res = simulate(system, (0.0, scenario.t_end), inputs, solver=solver or scenario.solver,
                    options=opts)
     name = system.metadata["models"].get(scenario.clutch, model or "")
     res, metrics = analyse_run(res, scenario.clutch, expect_lockup=expects_lockup(scenario),
                                friction=_is_friction_clutch(scenario),
-                               lining=lining_geometry(scenario))
+                               lining=lining_geometry(scenario),
+                               engine_max_radps=engine_max_speed(scenario))
     extra = controller_warnings(scenario, system, res)
     if extra:
         res = res.with_warnings(*extra)
@@ -91,6 +93,7 @@ def run_batch(scenario, system, variants, *, options: SolverOptions | None = Non
     if why:
         raise ValueError(f"{system.name}: cannot run a batch: {why}")
     from ..driveline.batch import launch_batch
+    _check_grid(scenario, options if options is not None else scenario.options)
     inputs = {n: scenario.inputs[n] for n in system.input_names}
     return launch_batch(system, (0.0, scenario.t_end), inputs,
                         np.array([v[0] for v in variants]),
@@ -100,7 +103,28 @@ def run_batch(scenario, system, variants, *, options: SolverOptions | None = Non
                         expect_lockup=expects_lockup(scenario),
                         friction=_is_friction_clutch(scenario),
                         lining=lining_geometry(scenario),
+                        engine_max_radps=engine_max_speed(scenario),
                         event_names=[v[2] for v in variants])
+
+
+def _check_grid(scenario, options: SolverOptions) -> None:
+    """A ValueError when the launch metrics cannot be computed on the output grid of
+    ``options`` (:func:`clutchsim.driveline.metrics.grid_problem`; the scenario loader
+    refuses such a ``[solver] dt_out`` with its file and line)."""
+    why = grid_problem(options.dt_out)
+    if why:
+        raise ValueError(f"{scenario.name}: {why}")
+
+
+def engine_max_speed(scenario) -> float | None:
+    """The last speed of the full-load table of the scenario's engine [rad/s] (where its
+    fuel is cut: the overspeed warning's limit), or None without an engine."""
+    tables = [scenario.data["engine"]] if isinstance(scenario.data.get("engine"), dict) else []
+    tables += [c for c in scenario.data.get("component", [])
+               if isinstance(c, dict) and c.get("type") == "engine"]
+    speeds = [float(t["full_load"]["speed"][-1]) for t in tables
+              if isinstance(t.get("full_load"), dict) and t["full_load"].get("speed")]
+    return max(speeds) if speeds else None
 
 
 def _is_friction_clutch(scenario) -> bool:
