@@ -292,6 +292,11 @@ def read_measurements(path: str | Path, *, time: str = "t",
         if name != "t" and name not in cols and name not in optional:
             raise ValueError(f"{path}: scale given for unknown column {name!r}; columns: "
                              f"{', '.join(cols)}")
+    for name, factor in scale.items():
+        if not (math.isfinite(float(factor)) and float(factor) != 0.0):
+            raise ValueError(f"{path}: scale {name} = {factor!r} must be a finite, non-zero "
+                             "factor (it multiplies the column into SI units; a negative one "
+                             "flips a sign convention)")
     if not np.all(np.isfinite(t)):
         raise ValueError(f"{path}: time {_describe_gaps(time, t, t)} (time gaps cannot be "
                          "dropped or interpolated)")
