@@ -253,13 +253,14 @@ def warnings_of(sm: RunSummary, clutch: str, *, expect_lockup: bool = True,
     if engine_max_radps is not None and n_max > engine_max_radps * 30.0 / math.pi:
         out.append(f"the engine overspeeds: it reached {n_max:,.0f} rpm, above the "
                    f"{engine_max_radps * 30.0 / math.pi:,.0f} rpm where its full-load table "
-                   "ends and its fuel is cut (the rev limiter): the driveline or the vehicle "
-                   "drove it there (a downshift, a steep downhill, a throttle held at full "
-                   "load in too low a gear). Remedy: check the gear, the grade and the "
-                   "throttle; a real engine would be damaged or its limiter would hunt")
+                   "ends and its fuel is cut (the rev limiter): the throttle held it against "
+                   "the limiter (an open clutch, too low a gear) or the driveline drove it "
+                   "there (a downshift, a steep downhill). Remedy: check the throttle, the "
+                   "gear and the grade; a real engine would hunt on its limiter or be "
+                   "damaged")
     if expect_lockup:
-        missing = [what for what, slot in (("a vehicle ([vehicle]: a_vehicle)", _k.K_AW_RMS),
-                                            ("an engine ([engine]: omega_engine)",
+        missing = [what for what, slot in (("vehicle ([vehicle]: a_vehicle)", _k.K_AW_RMS),
+                                            ("engine ([engine]: omega_engine)",
                                              _k.K_OMEGA_MIN))
                    if math.isnan(float(k[slot]))]
         if missing:
