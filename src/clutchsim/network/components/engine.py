@@ -7,7 +7,6 @@ import numpy as np
 from ..component import Component
 from ..spec import Param, check_table
 
-
 #: highest idle (and stall) speed accepted [rad/s]: 2,000 rpm, above any engine's idle
 #: (passenger cars 600-900 rpm, trucks 500-700 rpm); 800 typed as rad/s (7,640 rpm) is
 #: an rpm value in the wrong unit

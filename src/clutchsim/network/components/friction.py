@@ -23,7 +23,6 @@ from ..component import Component
 from ..spec import Param, check_table
 from ..wear import WearLaw
 
-
 #: the tables of a friction element and the least value each may hold: a clamp force
 #: and a friction coefficient's factor are never negative (the one place these rules live:
 #: the chain's friction elements read them too)
@@ -114,10 +113,12 @@ class _FrictionElement(Component):
 
     def input_ranges(self):
         # COM, the normalised actuation of seed eqs. 1-2 (not a pedal position read through
-        # a clamp table, nor a clamp force [N])
+        # a clamp table, nor a clamp force [N]); below 0 it is an open clutch (the capacity
+        # is clipped at 0, as the normalised normal force of Modelica's clutches, whose
+        # CoupledClutches example drives one with a cosine)
         if self.commanded and not self.reads_force and self.clamp_table is None:
-            return {self.command: (0.0, 1.0, "-", "its actuation COM (0 open, 1 fully "
-                                                  "engaged)")}
+            return {self.command: (-1.0, 1.0, "-", "its actuation COM (1 fully engaged, "
+                                                   "0 or below open)")}
         return {}
 
     @property
