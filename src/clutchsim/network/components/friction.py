@@ -117,8 +117,8 @@ class _FrictionElement(Component):
         # is clipped at 0, as the normalised normal force of Modelica's clutches, whose
         # CoupledClutches example drives one with a cosine)
         if self.commanded and not self.reads_force and self.clamp_table is None:
-            return {self.command: (-1.0, 1.0, "-", "its actuation COM (1 fully engaged, "
-                                                   "0 or below open)")}
+            what = "its actuation COM (1 fully engaged, 0 or below open)"
+            return {self.command: (-1.0, 1.0, "-", what)}
         return {}
 
     @property
