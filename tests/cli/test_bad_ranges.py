@@ -6,9 +6,10 @@ runs, naming the key, the value, the unit and the rule (the same checks as
 from __future__ import annotations
 
 import pytest
-from test_bad_inputs import _files, _listing
+from test_bad_inputs import REPO, _files, _listing
 
 from clutchsim.cli import main
+from clutchsim.scenario import default_scenario_text
 
 FIT = ["fit", "data.csv", "--model", "tanh", "--params", "F_c", "--out", "fit_out"]
 #: (argv, words every one of which the message must contain)
@@ -30,14 +31,46 @@ CASES = [
     (["run", "--set", "solver.dt_out=10", "--out", "o"],
      ["solver.dt_out = 10 s", "<= 0.01 s", "launch metrics"]),
     (FIT + ["--input", "F", "--output", "F"], ["input = output = 'F'", "two different"]),
+    # weak messages mended: file:line, the key, the unit of the domain, no numpy reprs
+    (["run", "tiny_j.toml", "--out", "o"],
+     ["tiny_j.toml:", "inertia[1]", "1e-12 kg·m²", "below 1e-12 of the largest"]),
+    (["run", "no_gears.toml", "--out", "o"],
+     ["no_gears.toml:", "coupling[2].ratios", "= [] lists no gear"]),
+    (["run", "two_engines.toml", "--out", "o"],
+     ["two_engines.toml:", "engine 'engine2' and engine 'engine_torque' both write",
+      "T_engine"]),
+    (["run", str(REPO / "examples" / "dct_upshift.toml"), "--set",
+      "component[2].friction.overrides.F_c=3000.0", "--out", "o"],
+     ["component[2].friction", "F_s = 330 N·m must be >= F_c = 3000 N·m"]),
+    (["fit", "gap.csv", "--model", "tanh", "--input", "v", "--output", "F", "--params", "F_c",
+      "--out", "fo"], ["gap.csv", "column 'v' has 1 NaN/inf value(s) at row 1", "--nan drop"]),
+    (["fit", "binary.csv", "--model", "tanh", "--input", "v", "--output", "F", "--params",
+      "F_c", "--out", "fo"], ["binary.csv", "not a text file", "byte 0x80"]),
     (FIT + ["--input", "v", "--output", "F", "--scale", "v=0"],
      ["data.csv", "scale v = 0", "non-zero"]),
 ]
 
 
+def _more_files(d) -> None:
+    text = default_scenario_text()
+    (d / "tiny_j.toml").write_text(text.replace("J = 0.015", "J = 1e-12", 1))
+    (d / "no_gears.toml").write_text(text.replace("ratios = [3.6, 2.1, 1.4, 1.0, 0.8]",
+                                                  "ratios = []", 1))
+    dmf = (REPO / "examples" / "launch_dmf.toml").read_text(encoding="utf-8")
+    i = dmf.index('[[component]]\ntype = "engine"')
+    j = dmf.index("[[component]]", i + 5)
+    dmf = dmf[:j] + dmf[i:j].replace('name = "engine_torque"', 'name = "engine2"') + dmf[j:]
+    dmf = dmf.replace('    ["engine_torque.flange", "engine.a"],',
+                      '    ["engine_torque.flange", "engine.a"],\n    ["engine2.flange", "engine.a"],')
+    (d / "two_engines.toml").write_text(dmf)
+    (d / "gap.csv").write_text("t,v,F\n0,1,1\n0.1,,2\n0.2,1,3\n")
+    (d / "binary.csv").write_bytes(bytes(range(256)) * 8)
+
+
 @pytest.fixture
 def scratch(tmp_path, monkeypatch):
     _files(tmp_path)
+    _more_files(tmp_path)
     monkeypatch.chdir(tmp_path)
     return tmp_path
 

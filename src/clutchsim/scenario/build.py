@@ -323,8 +323,9 @@ def build_chain(scenario, model: str | None = None) -> Chain:
                                 name=scenario.name, angles=angle_states(scenario)),
                   "coupling")
     from ..network import NetworkError
-    try:        # the assembly's checks (cached per structure: the run reuses it)
-        chain.network().compile()
+    try:        # the assembly's checks (the plan is cached per structure, the run reuses
+        net = chain.network()   # it) and those of the values (an inertia too small)
+        net.compile().values_vector(net.components)
     except NetworkError as exc:
         fail(str(exc), _chain_key(data, exc.where.split(".")[0]))
     return chain
@@ -415,7 +416,7 @@ def build_network(scenario, model: str | None = None):
     try:
         net = Network(comps, data["network"]["connect"], name=scenario.name,
                       angles=angle_states(scenario))
-        net.compile()
+        net.compile().values_vector(net.components)     # and the values' checks
     except NetworkError as exc:
         comp = exc.where.split(".")[0]
         fail(str(exc), where.get(comp, "network.connect"))
