@@ -46,6 +46,8 @@ CASES = [
       "--out", "fo"], ["gap.csv", "column 'v' has 1 NaN/inf value(s) at row 1", "--nan drop"]),
     (["fit", "binary.csv", "--model", "tanh", "--input", "v", "--output", "F", "--params",
       "F_c", "--out", "fo"], ["binary.csv", "not a text file", "byte 0x80"]),
+    (["run", "csv_nan.toml", "--out", "o"],
+     ["csv_nan.toml:", "inputs.throttle", "thr.csv", "row 2 (time 1 s, value nan)"]),
     (FIT + ["--input", "v", "--output", "F", "--scale", "v=0"],
      ["data.csv", "scale v = 0", "non-zero"]),
 ]
@@ -65,6 +67,9 @@ def _more_files(d) -> None:
     (d / "two_engines.toml").write_text(dmf)
     (d / "gap.csv").write_text("t,v,F\n0,1,1\n0.1,,2\n0.2,1,3\n")
     (d / "binary.csv").write_bytes(bytes(range(256)) * 8)
+    (d / "thr.csv").write_text("t,throttle\n0,0.1\n1,nan\n2,0.3\n")
+    (d / "csv_nan.toml").write_text(text.replace('throttle = "0.1 + ramp(0.3, 0.5, 0.25)"',
+                                                 'throttle = "thr.csv"', 1))
 
 
 @pytest.fixture
@@ -88,6 +93,7 @@ def test_out_of_range_input_is_one_clear_line_and_exit_2(scratch, capsys, argv, 
     for w in words:
         assert w in lines[-1], (w, lines[-1])
     assert "running " not in err          # nothing was simulated
+    assert "np.float64" not in err        # no numpy reprs
     assert captured.out == ""
     assert _listing(scratch) == before
 
