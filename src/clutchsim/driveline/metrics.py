@@ -339,7 +339,8 @@ def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None 
     need ``lining`` = ``(r_inner [m], r_outer [m], faces [-])``), slip_energy_J,
     peak_heat_node_temp_C (the largest temperature of the run's first thermal node
     ``theta_<node>``: a lumped bulk mass, the pressure plate in the shipped scenarios, not
-    the friction surface), engine_speed_min_rpm, engine_speed_max_rpm, engine_stalled,
+    the friction surface), peak_surface_temp_C (:func:`analyse_run` with a surface layer;
+    else None), engine_speed_min_rpm, engine_speed_max_rpm, engine_stalled,
     energy_balance_rel,
     judder_amplitude_Nm (:func:`clutchsim.analysis.judder_amplitude`), steps, rhs_evals,
     events, min_step_s, wall_s.
@@ -379,6 +380,7 @@ def metrics_of(sm: RunSummary, clutch: str) -> dict:
     m.update({key: value(slot) for key, slot in _QUALITY})
     m["slip_energy_J"] = value(_k.K_SLIP_ENERGY)
     m["peak_heat_node_temp_C"] = value(_k.K_THETA_MAX)
+    m["peak_surface_temp_C"] = None        # with a surface layer: analyse_run
     m["engine_speed_min_rpm"] = value(_k.K_OMEGA_MIN)
     m["engine_speed_max_rpm"] = value(_k.K_OMEGA_MAX)
     m["engine_stalled"] = (sm.outcome == Outcome.EVENT_FAILED
@@ -394,11 +396,14 @@ def metrics_of(sm: RunSummary, clutch: str) -> dict:
 
 def analyse_run(res: Result, clutch: str = "clutch", *, expect_lockup: bool = True,
                 friction: bool = True, lining: tuple | None = None,
-                engine_max_radps: float | None = None) -> tuple[Result, dict]:
+                engine_max_radps: float | None = None, surface_node: str | None = None
+                ) -> tuple[Result, dict]:
     """``(result, metrics)``: ``res`` with its :func:`launch_warnings` appended and the
     signal ``a_weighted`` (:func:`with_weighted_acceleration`), and its
     :func:`launch_metrics`, from one call of the compiled launch kernel (what
-    :func:`clutchsim.scenario.run.run_system` does with every run)."""
+    :func:`clutchsim.scenario.run.run_system` does with every run).  ``surface_node``: the
+    thermal node that is the clutch's friction-surface layer (its peak temperature is
+    ``peak_surface_temp_C``; :func:`clutchsim.scenario.run.surface_node`)."""
     run = _Run(res, clutch, lining)
     sm = summary(res, clutch, run)
     warnings = tuple(warnings_of(sm, clutch, expect_lockup=expect_lockup, friction=friction,
@@ -411,4 +416,8 @@ def analyse_run(res: Result, clutch: str = "clutch", *, expect_lockup: bool = Tr
         units = MappingProxyType({**units, "a_weighted": "m/s²"})
     if warnings or data is not res.data:
         res = replace(res, data=data, units=units, warnings=res.warnings + warnings)
-    return res, metrics_of(sm._replace(warnings=sm.warnings + warnings), clutch)
+    m = metrics_of(sm._replace(warnings=sm.warnings + warnings), clutch)
+    theta = data.get(f"theta_{surface_node}") if surface_node else None
+    if theta is not None and theta.size:
+        m["peak_surface_temp_C"] = _value(np.array([np.max(theta)]), 0)
+    return res, m

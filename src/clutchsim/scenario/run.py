@@ -14,7 +14,7 @@ from ..driveline.metrics import analyse_run, grid_problem
 from .loader import resolve_scenario
 
 __all__ = ["LaunchResult", "batch_reason", "engine_max_speed", "expects_lockup",
-           "lining_geometry", "run_batch", "run_scenario"]
+           "lining_geometry", "run_batch", "run_scenario", "surface_node"]
 
 
 @dataclass(frozen=True)
@@ -64,7 +64,8 @@ def run_system(scenario, system, model: str | None = None, *, solver: str | None
     res, metrics = analyse_run(res, scenario.clutch, expect_lockup=expects_lockup(scenario),
                                friction=_is_friction_clutch(scenario),
                                lining=lining_geometry(scenario),
-                               engine_max_radps=engine_max_speed(scenario))
+                               engine_max_radps=engine_max_speed(scenario),
+                               surface_node=surface_node(scenario))
     extra = controller_warnings(scenario, system, res)
     if extra:
         res = res.with_warnings(*extra)
@@ -77,6 +78,8 @@ def batch_reason(scenario, system) -> str:
     (:func:`run_batch`; "" when they can)."""
     if has_controller(system):
         return "a controller's stability check needs each run's result"
+    if surface_node(scenario):
+        return "the friction-surface temperature is read from each run's result"
     from ..driveline.batch import batch_supported
     return batch_supported(system, (0.0, scenario.t_end), scenario.clutch)
 
@@ -114,6 +117,24 @@ def _check_grid(scenario, options: SolverOptions) -> None:
     why = grid_problem(options.dt_out)
     if why:
         raise ValueError(f"{scenario.name}: {why}")
+
+
+def surface_node(scenario) -> str | None:
+    """The friction-surface layer of the scenario's clutch, or None: the first thermal node
+    its friction power heats when that node conducts on to another (``link``: a thin
+    layer at the friction face over the bulk of its plate, docs/launch-quality.md)."""
+    element = next((t for t in (*scenario.data.get("coupling", []),
+                                *scenario.data.get("component", []))
+                    if isinstance(t, dict) and t.get("name") == scenario.clutch), None)
+    heat = element.get("heat") if element else None
+    if not heat or not isinstance(heat[0], dict):
+        return None
+    first = heat[0].get("node")
+    nodes = [*scenario.data.get("thermal", []),
+             *(c for c in scenario.data.get("component", [])
+               if isinstance(c, dict) and c.get("type") == "thermal_node")]
+    node = next((n for n in nodes if isinstance(n, dict) and n.get("name") == first), None)
+    return first if node is not None and node.get("link") else None
 
 
 def engine_max_speed(scenario) -> float | None:

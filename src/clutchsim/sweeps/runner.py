@@ -26,6 +26,7 @@ METRICS = {
     "engine_flare_rpm": ("rpm", "float"),
     "slip_energy_J": ("J", "float"),
     "peak_heat_node_temp_C": ("°C", "float"),
+    "peak_surface_temp_C": ("°C", "float"),
     "engine_speed_min_rpm": ("rpm", "float"),
     "engine_speed_max_rpm": ("rpm", "float"),
     "engine_stalled": ("-", "bool"),
