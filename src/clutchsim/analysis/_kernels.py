@@ -660,7 +660,7 @@ def launch_kernel(t, a, tf, w, cap, locked, p, omega, tj, theta, ev, wd_sos, wd_
     Arrays (empty when the run has no such signal): ``a`` the vehicle's acceleration,
     ``tf`` the clutch's transmitted torque ``T_friction_<c>``, ``w`` its slip, ``cap`` its
     capacity, ``locked`` its locked flag, ``p`` its friction power, ``omega`` the engine
-    speed, ``tj`` its torque ``T_<c>`` (judder), ``theta`` the first lining temperature;
+    speed, ``tj`` its torque ``T_<c>`` (judder), ``theta`` the first thermal node's temperature;
     scalars: the filter grid's step and sample limit, the lock-up hold test's slip and
     time, the shock window, the engagement threshold's share, the lining area (NaN: none), the judder band and slip;
     ``ev`` the times of the clutch's events.  Returns ``(k, aw)``: ``k`` the values at
