@@ -7,6 +7,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import pytest
 from _dl_paths import EXAMPLES
 
 from clutchsim import run_scenario
@@ -66,3 +67,19 @@ def test_the_chatter_message_names_no_model():
     assert "chatter detected" in msg
     for name in ("mykhailevych2020", "coulomb-robust", "coulomb-naive"):
         assert name not in msg, msg
+
+
+def test_the_engine_dip_of_a_dct_upshift_is_measured_from_engagement_start():
+    """It was measured from the speed at t = 0 (idle), and read −1,578 rpm on this shift;
+    from the speed when the oncoming clutch starts to carry torque it is the shift's drop
+    of engine speed towards the second gear's."""
+    import numpy as np
+    lr = run_scenario(EXAMPLES / "dct_upshift.toml")
+    m, res = lr.metrics, lr.result
+    t0, t1 = m["engagement_start_s"], m["lockup_time_s"]
+    assert 2.9 < t0 < t1 < 4.0
+    rpm = res["omega_engine"] * 30 / math.pi
+    inside = (res.t >= t0) & (res.t <= t1)
+    want = float(np.interp(t0, res.t, rpm)) - float(rpm[inside].min())
+    assert m["engine_dip_rpm"] == pytest.approx(want, rel=1e-3)
+    assert 500.0 < m["engine_dip_rpm"] < 1500.0
