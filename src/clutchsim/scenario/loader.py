@@ -486,7 +486,8 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
 def _check_input_ranges(scen: Scenario, built) -> None:
     """Fail at ``inputs.<name>`` when an input signal leaves the range the component that
     reads it declares (:meth:`clutchsim.network.component.Component.input_ranges`), sampled
-    over the run (2,001 points and the signal's breakpoints)."""
+    over the run (501 points and the signal's breakpoints: a range check, not a peak
+    finder)."""
     from ..network import Network
     net = built if isinstance(built, Network) else built.network()
     for comp in net.components:
@@ -495,7 +496,7 @@ def _check_input_ranges(scen: Scenario, built) -> None:
             if sig is None:
                 continue
             bps = np.asarray(sig.breakpoints(), dtype=float)
-            ts = np.union1d(np.linspace(0.0, scen.t_end, 2001),
+            ts = np.union1d(np.linspace(0.0, scen.t_end, 501),
                             bps[(bps >= 0.0) & (bps <= scen.t_end)])
             x = np.asarray(sig(ts), dtype=float)
             i = int(np.argmax(np.maximum(low - x, x - high)))
