@@ -75,14 +75,14 @@ def _fmt(value, spec: str, none: str = "–") -> str:
 
 def format_summary(summary: dict) -> str:
     """A short plain-text table of the demo for the terminal."""
-    rows = [("model", "completed", "lock-up [s]", "slip energy [kJ]", "peak lining [°C]",
+    rows = [("model", "completed", "lock-up [s]", "slip energy [kJ]", "heat node peak [°C]",
              "steps", "wall [s]")]
     for name, m in summary["launch"].items():
         rows.append((name, "yes" if m["completed"] else "NO",
                      _fmt(m.get("lockup_time_s"), ".3f"),
                      _fmt(None if m.get("slip_energy_J") is None
                           else m["slip_energy_J"] / 1e3, ".2f"),
-                     _fmt(m.get("peak_lining_temp_C"), ".1f"),
+                     _fmt(m.get("peak_heat_node_temp_C"), ".1f"),
                      str(m.get("steps", "")), _fmt(m.get("wall_s"), ".3f")))
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     lines = [f"Launch: {summary['scenario']}"]

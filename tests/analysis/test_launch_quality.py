@@ -75,11 +75,26 @@ def test_lockup_shock_is_the_step_height():
     t = np.concatenate([np.linspace(0.0, 1.0, 501), np.linspace(1.0, 2.0, 501)])
     a = np.where(np.arange(t.size) < 501, 1.0, 1.8)   # 1.0 before, 1.8 after (two samples at 1 s)
     assert lq.lockup_shock_mps2(t, a, 1.0) == pytest.approx(0.8, rel=1e-12)
-    # a ramp of slope k has mean k·w/2 after and −k·w/2 before: shock k·w
+    # a ramp of slope k: the level is its mean over the 20 ms before, k·(t_lock − 10 ms);
+    # the largest deviation is at the window's end, k·(SHOCK_WINDOW_S + 10 ms)
     t = np.linspace(0.0, 2.0, 1001)
-    assert lq.lockup_shock_mps2(t, 3.0 * t, 1.0013) == pytest.approx(3.0 * lq.SHOCK_WINDOW_S,
-                                                                      rel=1e-9)
+    assert lq.lockup_shock_mps2(t, 3.0 * t, 1.0013) == pytest.approx(
+        3.0 * (lq.SHOCK_WINDOW_S + lq.SHOCK_REF_S / 2), rel=1e-9)
     assert lq.lockup_shock_mps2(t, 3.0 * t, None) is None
+
+
+def test_lockup_shock_captures_a_swing_100_ms_after_lock_up():
+    """The shape the launch traces show: the acceleration holds its level through lock-up
+    and drops by 3 m/s² over the next 100 ms (the old 20 ms windows read ~0.3 here)."""
+    t = np.linspace(0.0, 2.0, 1001)          # the default 2 ms grid
+    t_lock = 1.0
+    dip = np.where((t > t_lock) & (t < t_lock + 0.2),
+                   3.0 * np.sin(np.pi * np.clip(t - t_lock, 0.0, 0.2) / 0.2), 0.0)
+    a = 1.2 - dip
+    assert lq.lockup_shock_mps2(t, a, t_lock) == pytest.approx(3.0, rel=1e-9)
+    # a swing that begins after the window is not the lock-up's
+    late = 1.2 - np.where(t > t_lock + 0.3, 3.0, 0.0)
+    assert lq.lockup_shock_mps2(t, late, t_lock) == pytest.approx(0.0, abs=1e-12)
 
 
 def test_friction_densities_of_a_constant_power_slip():
@@ -145,7 +160,8 @@ def test_engine_dip_and_flare():
     # 800 rpm, runs up to 1400 rpm by 0.5 s, falls to 650 rpm at 1.0 s, ends at 900 rpm
     rpm = np.interp(t, [0.0, 0.5, 0.7, 1.0, 2.0], [800.0, 1400.0, 1500.0, 650.0, 900.0])
     dip, flare = lq.engine_dip_flare_rpm(t, rpm * math.pi / 30, 0.5, 1.5)
-    assert dip == pytest.approx(800.0 - 650.0)
+    # from the speed at engagement start (1400 rpm), not at the run's first sample (800)
+    assert dip == pytest.approx(1400.0 - 650.0)
     assert flare == pytest.approx(1500.0 - 1400.0)
     assert lq.engine_dip_flare_rpm(t, rpm * math.pi / 30, None, None) == (None, None)
 
@@ -195,6 +211,7 @@ def test_default_launch_metrics_and_weighted_signal(tmp_path):
     assert m["aw_rms_mps2"] == pytest.approx(lq.rms(res.t, res["a_weighted"]))
     assert 0 < m["aw_rms_mps2"] < m["vdv_mps175"] and 0 < m["jerk_rms_mps3"] < m["jerk_peak_mps3"]
     assert m["engine_dip_rpm"] > 0 and m["engine_flare_rpm"] >= 0
+    assert m["engine_speed_min_rpm"] < m["engine_speed_max_rpm"] < 3000
     # without lining radii the densities are null, the rest is unchanged
     from clutchsim.scenario import default_scenario_text
     lines = [ln for ln in default_scenario_text().splitlines()
@@ -230,6 +247,12 @@ def test_quality_metrics_of_a_built_result_and_non_finite_values():
         float(np.max(np.abs(torque * slip))) / lq.lining_area_mm2(0.08, 0.115, 2))
     assert m["engine_dip_rpm"] == pytest.approx(0.0, abs=1e-9)
     assert _quality(res, "clutch", None)["friction_energy_density_J_mm2"] is None
+    # a slip that falls through 1 rad/s in the run's last samples has not held: no
+    # lock-up time (it used to read ≈ t_end beside the warning "never locked up")
+    late = Result.build(t, [("w_slip_clutch", "rad/s", 20.0 * (1.0 - 0.485 * t)), *cols[1:]],
+                        outcome="completed", message="", stats=stats)
+    assert float(late["w_slip_clutch"][-1]) < 1.0
+    assert _quality(late, "clutch", None)["lockup_time_s"] is None
     a_bad = a.copy()
     a_bad[500:] = np.nan
     cols[4] = ("a_vehicle", "m/s²", a_bad)

@@ -73,13 +73,14 @@ def _reference(res, clutch="clutch", area=None):
     i = int(np.flatnonzero(tq > thr)[0])
     t_eng = m["engagement_start_s"] = float(
         tg[i - 1] + (tg[i] - tg[i - 1]) * (thr - tq[i - 1]) / (tq[i] - tq[i - 1]))
-    t_lock = m["lockup_time_s"] = res_lockup(res, clutch)
+    t_lock = m["lockup_time_s"] = res_lockup(res, clutch) if _held(res, clutch) else None
     if t_lock is not None:
         ta, al = _grid(t, a)
         tb, ab = _grid(t, a, last=False)
-        lo, hi = max(t_lock - lq.SHOCK_WINDOW_S, t[0]), min(t_lock + lq.SHOCK_WINDOW_S, t[-1])
-        m["lockup_shock_mps2"] = (_window_mean(ta, al, t_lock, hi)
-                                  - _window_mean(tb, ab, lo, t_lock))
+        lo, hi = max(t_lock - lq.SHOCK_REF_S, t[0]), min(t_lock + lq.SHOCK_WINDOW_S, t[-1])
+        ref = _window_mean(tb, ab, lo, t_lock)
+        tw = np.concatenate([[t_lock], ta[(ta > t_lock) & (ta < hi)], [hi]])
+        m["lockup_shock_mps2"] = float(np.max(np.abs(np.interp(tw, ta, al) - ref)))
     p = np.abs(res[f"P_{clutch}"])
     m["slip_energy_J"] = float(np.trapezoid(p, t))
     if area is not None:
@@ -89,8 +90,9 @@ def _reference(res, clutch="clutch", area=None):
     hi = tg[-1] if t_lock is None else min(t_lock, tg[-1])
     tw = np.concatenate([[t_eng], tg[(tg > t_eng) & (tg < hi)], [hi]])
     nw = np.interp(tw, tg, n)
-    m["engine_dip_rpm"], m["engine_flare_rpm"] = float(n[0] - nw.min()), float(nw.max() - nw[0])
+    m["engine_dip_rpm"], m["engine_flare_rpm"] = float(nw[0] - nw.min()), float(nw.max() - nw[0])
     m["engine_speed_min_rpm"] = float(np.min(res["omega_engine"]) * 30 / math.pi)
+    m["engine_speed_max_rpm"] = float(np.max(res["omega_engine"]) * 30 / math.pi)
     m["judder_amplitude_Nm"] = _judder(res, clutch)
     return m
 
@@ -120,6 +122,25 @@ def res_lockup(res, clutch):
     k = int(np.searchsorted(t, tz))
     inside = ev[(ev > t[max(k - 1, 0)]) & (ev <= t[min(k, t.size - 1)])]
     return float(inside[-1]) if inside.size else tz
+
+
+def _held(res, clutch, lock_slip=1.0, hold=0.05):
+    """The clutch held: its locked flag set after the start, or its slip below
+    ``lock_slip`` for ``hold`` seconds on end while engaged (lock-up exists only then)."""
+    t = res.t
+    if f"{clutch}.locked" in res.signals and np.any((res[f"{clutch}.locked"] > 0.5)
+                                                     & (t > t[0])):
+        return True
+    cap, w = res[f"capacity_{clutch}"], np.abs(res[f"w_slip_{clutch}"])
+    start = None
+    for i in range(t.size):
+        if cap[i] > 0.5 * cap.max() and w[i] < lock_slip:
+            start = i if start is None else start
+            if t[i] - t[start] >= hold:
+                return True
+        else:
+            start = None
+    return False
 
 
 def _judder(res, clutch):

@@ -205,13 +205,24 @@ def test_freewheel_lossy_gear_and_shift_fmus_switch_as_clutchsim(tmp_path, examp
 
 
 def test_cli_without_c_compiler_says_what_it_looked_for(tmp_path, capsys, monkeypatch):
-    monkeypatch.setenv("CC", "no-such-cc")
+    monkeypatch.delenv("CC", raising=False)
     monkeypatch.setenv("PATH", str(tmp_path / "empty"))
     out = tmp_path / "launch.fmu"
     code, _, err = run_cli(capsys, "fmu", str(EXAMPLES / "launch.toml"), "--out", str(out))
     assert code == 2, err
-    assert "no C compiler found" in err and "$CC=no-such-cc" in err and "gcc" in err
+    assert "no C compiler found" in err and "gcc" in err
     assert "apt-get install gcc" in err
+    assert not out.exists()
+
+
+def test_cli_with_a_cc_that_does_not_exist_refuses_rather_than_use_another(tmp_path, capsys,
+                                                                           monkeypatch):
+    """CC=/nonexistent/cc used to fall back silently to the cc on the PATH."""
+    monkeypatch.setenv("CC", "/nonexistent/cc")
+    out = tmp_path / "launch.fmu"
+    code, _, err = run_cli(capsys, "fmu", str(EXAMPLES / "launch.toml"), "--out", str(out))
+    assert code == 2, err
+    assert "CC='/nonexistent/cc' is not an executable compiler" in err and "unset it" in err
     assert not out.exists()
 
 

@@ -66,7 +66,7 @@ def test_parameter_tables_join_stderr_and_units():
 
 def test_units_from_names():
     assert split_unit("lockup_time_s") == ("lockup_time", "s")
-    assert label("peak_lining_temp_C") == ("peak lining temp", "°C")
+    assert label("peak_heat_node_temp_C") == ("peak heat node temp", "°C")
     assert label("engine_speed_min_rpm") == ("engine speed min", "rpm")
     for symbol in ("F_s", "v_s", "F_c", "sigma0", "energy_balance_rel"):
         assert split_unit(symbol)[1] is None

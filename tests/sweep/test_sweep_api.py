@@ -91,7 +91,7 @@ def test_2d_grid_round_trips_through_parquet_with_units(grid_sweep):
     schema = pq.read_schema(path)
     unit = {f.name: f.metadata[b"unit"].decode() for f in schema}
     assert unit["vehicle.mass"] == "kg" and unit["vehicle.grade"] == "%"
-    assert unit["slip_energy_J"] == "J" and unit["peak_lining_temp_C"] == "°C"
+    assert unit["slip_energy_J"] == "J" and unit["peak_heat_node_temp_C"] == "°C"
     back = read_results(grid_sweep.path)
     assert back.attrs["units"] == unit
     assert back.attrs["sweep"]["grid_keys"] == ["vehicle.mass", "vehicle.grade"]

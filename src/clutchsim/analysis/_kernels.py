@@ -37,7 +37,12 @@ from .._jit import jit
 (K_ENGAGE, K_LOCKUP, K_VDV, K_AW_RMS, K_JERK_PEAK, K_JERK_RMS, K_SHOCK, K_E_DENS, K_P_DENS,
  K_DIP, K_FLARE, K_SLIP_ENERGY, K_OMEGA_MIN, K_JUDDER, K_HELD, K_RING, K_RING_T0,
  K_RING_AMP, K_RING_CAP, K_RING_WMAX, K_CAP_MAX, K_ENGAGED, K_W_MIN_ENG, K_W_MAX_ENG,
- K_THETA_MAX, K_RING_N_EV, K_RING_EV_FIRST, K_RING_EV_LAST, N_K) = range(29)
+ K_THETA_MAX, K_RING_N_EV, K_RING_EV_FIRST, K_RING_EV_LAST, K_OMEGA_MAX, N_K) = range(30)
+
+#: coarsest step of the filters' uniform grid [s] (``launch_quality.FILTER_DT_MAX_S``)
+FILTER_DT_MAX_S = 2.5e-3
+#: the acceleration's level before lock-up is its mean over this time before it [s]
+SHOCK_REF_S = 0.02
 
 
 @jit
@@ -197,7 +202,7 @@ def take(x, idx):
 def uniform_grid(t, x, dt_s, max_samples):
     """``launch_quality.uniform_grid`` on a collapsed grid ``t`` (no repeated times)."""
     span = t[-1] - t[0] if t.size else 0.0
-    dt = max(dt_s, span / max_samples)
+    dt = max(dt_s, min(span / max_samples, FILTER_DT_MAX_S))
     n = math.floor(span / dt + 1e-9) + 1
     tu = np.empty(n)
     for i in range(n):
@@ -511,22 +516,28 @@ def _window_mean(t, x, lo, hi):
 
 @jit
 def lockup_shock(t_s, a, t_lock, window):
-    """``launch_quality.lockup_shock_mps2``; NaN without lock-up."""
+    """``launch_quality.lockup_shock_mps2``: the largest deviation ``|a(t) − a_ref|`` for
+    ``t`` in ``[t_lock, t_lock + window]`` (the linear interpolant: its samples and the
+    window's ends), ``a_ref`` the mean of ``a`` over the :data:`SHOCK_REF_S` before lock-up
+    (the value before the event at the lock-up sample); NaN without lock-up."""
     if math.isnan(t_lock):
         return np.nan
     il, ib = grid_index(t_s, True), grid_index(t_s, False)
     t, al = take(t_s, il), take(a, il)
     tb, ab = take(t_s, ib), take(a, ib)
-    lo, hi = max(t_lock - window, t[0]), min(t_lock + window, t[-1])
+    lo, hi = max(t_lock - SHOCK_REF_S, t[0]), min(t_lock + window, t[-1])
     if not (lo < t_lock < hi):
         return np.nan
-    return _window_mean(t, al, t_lock, hi) - _window_mean(tb, ab, lo, t_lock)
+    ref = _window_mean(tb, ab, lo, t_lock)
+    aw = interp(_window(t, t_lock, hi), t, al)
+    return np.max(np.abs(aw - ref))
 
 
 @jit
 def dip_flare(t_s, omega, t_start, t_end):
-    """``launch_quality.engine_dip_flare_rpm``: ``(dip, flare)``; NaN without an
-    engagement start (``t_end`` NaN: to the end of the run)."""
+    """``launch_quality.engine_dip_flare_rpm``: ``(dip, flare)``, both from the engine
+    speed at engagement start ``t_start``; NaN without an engagement start (``t_end`` NaN:
+    to the end of the run)."""
     if math.isnan(t_start):
         return np.nan, np.nan
     idx = grid_index(t_s, True)
@@ -536,7 +547,7 @@ def dip_flare(t_s, omega, t_start, t_end):
         n[i] = omega[idx[i]] * 30.0 / math.pi
     hi = t[-1] if math.isnan(t_end) else min(t_end, t[-1])
     nw = interp(_window(t, t_start, hi), t, n)
-    return n[0] - np.min(nw), np.max(nw) - nw[0]
+    return nw[0] - np.min(nw), np.max(nw) - nw[0]
 
 
 @jit
@@ -649,7 +660,7 @@ def launch_kernel(t, a, tf, w, cap, locked, p, omega, tj, theta, ev, wd_sos, wd_
     Arrays (empty when the run has no such signal): ``a`` the vehicle's acceleration,
     ``tf`` the clutch's transmitted torque ``T_friction_<c>``, ``w`` its slip, ``cap`` its
     capacity, ``locked`` its locked flag, ``p`` its friction power, ``omega`` the engine
-    speed, ``tj`` its torque ``T_<c>`` (judder), ``theta`` the first lining temperature;
+    speed, ``tj`` its torque ``T_<c>`` (judder), ``theta`` the first thermal node's temperature;
     scalars: the filter grid's step and sample limit, the lock-up hold test's slip and
     time, the shock window, the engagement threshold's share, the lining area (NaN: none), the judder band and slip;
     ``ev`` the times of the clutch's events.  Returns ``(k, aw)``: ``k`` the values at
@@ -662,12 +673,15 @@ def launch_kernel(t, a, tf, w, cap, locked, p, omega, tj, theta, ev, wd_sos, wd_
         k[K_THETA_MAX] = np.max(theta)
     if omega.size:
         k[K_OMEGA_MIN] = np.min(omega) * 30 / math.pi
+        k[K_OMEGA_MAX] = np.max(omega) * 30 / math.pi
     if n < 2:
         return k, aw
     has_wc = w.size > 0 and cap.size > 0
     cmax = np.max(cap) if cap.size else 0.0
-    # lock-up (driveline.metrics._lockup_time)
-    if has_wc and cmax > 0:
+    # lock-up (driveline.metrics._lockup_time), only for a clutch that held (else the
+    # last sample of a slip that just fell through lock_slip at the run's end would count)
+    k[K_HELD] = 1.0 if held(t, w, cap, locked, lock_slip, hold) else 0.0
+    if has_wc and cmax > 0 and k[K_HELD] == 1.0:
         eng = np.empty(n)
         for i in range(n):
             eng[i] = 1.0 if cap[i] > 0.5 * cmax else 0.0
@@ -704,8 +718,7 @@ def launch_kernel(t, a, tf, w, cap, locked, p, omega, tj, theta, ev, wd_sos, wd_
         k[K_FLARE] = flare
     if tj.size and has_wc:
         k[K_JUDDER] = judder(t, tj, cap, w, band_lo, band_hi, judder_slip)
-    # the warnings' tests (driveline.metrics._held, _ringing, launch_warnings)
-    k[K_HELD] = 1.0 if held(t, w, cap, locked, lock_slip, hold) else 0.0
+    # the warnings' tests (driveline.metrics._ringing, launch_warnings; K_HELD above)
     k[K_RING] = 0.0
     if has_wc:
         k[K_CAP_MAX] = cmax

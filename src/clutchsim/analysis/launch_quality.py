@@ -26,7 +26,8 @@ from scipy import signal
 
 from . import _kernels as _k
 
-__all__ = ["ENGAGE_THRESHOLD_REL", "FILTER_DT_S", "JERK_CUTOFF_HZ", "SHOCK_WINDOW_S",
+__all__ = ["ENGAGE_THRESHOLD_REL", "FILTER_DT_MAX_S", "FILTER_DT_S", "JERK_CUTOFF_HZ",
+           "SHOCK_REF_S", "SHOCK_WINDOW_S",
            "WD_F1_HZ", "WD_F2_HZ", "WD_F3_HZ", "WD_F4_HZ", "WD_Q4", "engagement_start_s",
            "engine_dip_flare_rpm", "friction_densities",
            "jerk_mps3", "lining_area_mm2", "lockup_shock_mps2", "lockup_time_s", "rms",
@@ -35,7 +36,7 @@ __all__ = ["ENGAGE_THRESHOLD_REL", "FILTER_DT_S", "JERK_CUTOFF_HZ", "SHOCK_WINDO
 
 #: sampling step of the uniform grid the filters run on [s] (2 kHz)
 FILTER_DT_S = 5e-4
-#: most samples of that grid; a longer run gets a coarser step [-]
+#: most samples of that grid; a longer run gets a coarser step, up to FILTER_DT_MAX_S [-]
 FILTER_MAX_SAMPLES = 2_000_000
 
 #: ISO 2631-1:1997 Annex A, Table A.2, weighting W_d (x- and y-axis, seated): band
@@ -53,8 +54,15 @@ ENGAGE_THRESHOLD_REL = 0.02
 #: corner of the 2nd-order Butterworth low-pass applied before differentiating the
 #: acceleration into jerk [Hz]
 JERK_CUTOFF_HZ = 10.0
-#: averaging window before and after lock-up for the lock-up shock [s]
-SHOCK_WINDOW_S = 0.02
+#: the lock-up shock is the largest deviation of the acceleration from its level before
+#: lock-up within this time after it [s]: the first swing of the driveline's shuffle mode
+#: (2-10 Hz, a half period of 50-250 ms) that the lock-up excites
+SHOCK_WINDOW_S = 0.2
+#: ... that level: the mean acceleration over this time before lock-up [s]
+SHOCK_REF_S = _k.SHOCK_REF_S
+#: coarsest step of the filters' uniform grid [s] (400 Hz: twice the W_d band limit of
+#: 100 Hz, so every filter stays designable however long the run)
+FILTER_DT_MAX_S = _k.FILTER_DT_MAX_S
 
 
 def _arrays(t_s, *signals):
@@ -79,9 +87,15 @@ def _none(v: float) -> float | None:
 
 def filter_step_s(t_s, dt_s: float = FILTER_DT_S) -> float:
     """The step of the uniform grid :func:`uniform_grid` puts under ``t_s`` [s]
-    (``tu[1] - tu[0]``, the step the filters are designed for)."""
+    (``tu[1] - tu[0]``, the step the filters are designed for): ``dt_s``, coarser for a run
+    longer than :data:`FILTER_MAX_SAMPLES` steps but never coarser than
+    :data:`FILTER_DT_MAX_S` (a ValueError for a ``dt_s`` above it)."""
+    if not 0 < float(dt_s) <= FILTER_DT_MAX_S:
+        raise ValueError(f"filter step dt_s = {dt_s!r} s must be in (0, {FILTER_DT_MAX_S:g}] s "
+                         f"(the filters need a rate of at least {1 / FILTER_DT_MAX_S:g} Hz, "
+                         f"twice the W_d band limit of {WD_F2_HZ:g} Hz)")
     t0, t1 = float(t_s[0]), float(t_s[-1])
-    dt = max(float(dt_s), (t1 - t0) / FILTER_MAX_SAMPLES)
+    dt = max(float(dt_s), min((t1 - t0) / FILTER_MAX_SAMPLES, FILTER_DT_MAX_S))
     return (t0 + dt) - t0
 
 
@@ -140,7 +154,12 @@ def _wd_sos(dt_s: float) -> tuple:
 @functools.lru_cache(maxsize=16)
 def _lowpass_sos(cutoff_Hz: float, dt_s: float):
     """``(sos, zi)``: 2nd-order Butterworth low-pass of corner ``cutoff_Hz`` for step
-    ``dt_s`` and its steady state for a unit input (cached; run by ``_kernels.filtfilt``)."""
+    ``dt_s`` and its steady state for a unit input (cached; run by ``_kernels.filtfilt``);
+    a ValueError for a corner at or above the grid's Nyquist frequency."""
+    if not 0 < cutoff_Hz < 0.5 / dt_s:
+        raise ValueError(f"low-pass corner cutoff_Hz = {cutoff_Hz:g} Hz must be in (0, "
+                         f"{0.5 / dt_s:g}) Hz, below half the filter grid's rate "
+                         f"(step {dt_s:g} s)")
     sos = np.ascontiguousarray(signal.butter(2, cutoff_Hz, btype="low", fs=1.0 / dt_s,
                                              output="sos"))
     return sos, np.ascontiguousarray(signal.sosfilt_zi(sos))
@@ -236,15 +255,18 @@ def lockup_time_s(t_s, slip_radps, engaged, locked=None, event_times_s=None,
 
 def lockup_shock_mps2(t_s, a_mps2, t_lock_s: float | None,
                       window_s: float = SHOCK_WINDOW_S) -> float | None:
-    """Step of the acceleration across lock-up [m/s²]: its time average over
-    ``[t_lock, t_lock + window_s]`` minus that over ``[t_lock - window_s, t_lock]``
-    (windows clipped to the run); ``None`` without lock-up.
+    """The shock the lock-up gives the vehicle [m/s²]: the largest deviation ``|a(t) −
+    a_ref|`` of the acceleration for ``t`` in ``[t_lock, t_lock + window_s]`` (clipped to
+    the run; the samples of the linear interpolant and the window's ends), ``a_ref`` its
+    mean over the :data:`SHOCK_REF_S` (20 ms) before lock-up; ``None`` without lock-up.
 
-    The 20 ms default spans 10 samples of the default 2 ms output grid and is short
-    against the driveline's first (shuffle) mode, 2-10 Hz (100-500 ms period), so it
-    measures the step, not the oscillation that follows.  At the lock-up sample the
-    interpolant takes the value before the event for the window before, and the value
-    after it for the window after (the grid holds both).
+    At lock-up the clutch torque jumps from the friction torque to the torque that holds
+    the speeds together, and the driveline's first (shuffle) mode, 2-10 Hz, swings the
+    vehicle's acceleration away from its level during the slip (the "lurch" of Dolcini,
+    Canudas de Wit and Béchart, docs/launch-quality.md).  The default 200 ms spans the
+    first half period of that swing down to 2.5 Hz.  A step of height h gives |h|.  At
+    the lock-up sample the level takes the value before the event, the window after it
+    the value after it (the grid holds both).
     """
     if t_lock_s is None:
         return None
@@ -279,9 +301,10 @@ def engine_dip_flare_rpm(t_s, omega_radps, t_start_s: float | None,
     """``(dip, flare)`` of the engine speed during engagement [rpm].
 
     The engagement window is ``[t_start_s, t_end_s]`` (engagement start to lock-up;
-    to the end of the run without lock-up).  ``dip = n(t_0) − min n`` over the window,
-    with ``n(t_0)`` the engine speed at the first sample (idle, for a launch from rest);
-    negative when the engine stays above it.  ``flare = max n − n(t_start)`` over the
+    to the end of the run without lock-up).  ``dip = n(t_start) − min n`` over the
+    window: how far the clutch pulls the engine below its speed at engagement start (for
+    a launch from rest about idle; for a shift the speed when the oncoming clutch starts
+    to carry torque), >= 0.  ``flare = max n − n(t_start)`` over the
     window: how far the engine runs up above its speed at engagement start before the
     clutch catches it (>= 0).  ``(None, None)`` without an engagement start.
     """

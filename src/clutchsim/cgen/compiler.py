@@ -74,14 +74,19 @@ class NoCompilerError(CompilerError, LookupError):
 
 def find_compiler() -> str:
     """Path of the system C compiler (``$CC``, else the first of :data:`COMPILERS` on the
-    ``PATH``); :class:`NoCompilerError` saying what was looked for when there is none."""
+    ``PATH``); :class:`NoCompilerError` saying what was looked for when there is none, or
+    when ``$CC`` names no executable (the user chose that compiler: another one is never
+    used in its place)."""
     cc = os.environ.get("CC")
     tried = []
     if cc:
         found = shutil.which(cc)
         if found:
             return found
-        tried.append(f"$CC={cc}")
+        raise NoCompilerError(
+            f"CC={cc!r} is not an executable compiler (not found, or not executable, on the "
+            "PATH): set CC to the path of a C compiler, or unset it to use the first of "
+            f"{', '.join(COMPILERS)} on the PATH")
     for name in COMPILERS:
         found = shutil.which(name)
         if found:

@@ -10,12 +10,14 @@ from .controllers import JacobianPolicy, StepController
 from .methods import METHODS
 from .system import closest
 
-__all__ = ["DEFAULT_METHOD", "SOLVERS", "SolverOptions", "check_solver"]
+__all__ = ["CHATTER_WINDOW_MAX_S", "DEFAULT_METHOD", "SOLVERS", "SolverOptions", "check_solver"]
 
 #: the method every entry point uses unless told otherwise (written here only)
 DEFAULT_METHOD = "rodas4"
 
 _DEFAULT_POLICY = JacobianPolicy()
+#: the default chatter window's upper end [s] (1e-4 of a 4 s launch)
+CHATTER_WINDOW_MAX_S = 4e-4
 
 #: compiled methods (one tableau each, :mod:`clutchsim.core.methods`) and the scipy
 #: reference backends
@@ -57,8 +59,11 @@ class SolverOptions:
         Chatter detection: this many events ...
     chatter_window : float or None
         ... inside this many seconds stop the run as failed (0 events disables it).
-        ``None`` (default) uses 1e-4 of the simulated time span: a hundred events in
-        0.4 ms of a 4 s launch is a sliding mode, not physics.
+        ``None`` (default) uses 1e-4 of the simulated time span, at most
+        :data:`CHATTER_WINDOW_MAX_S` (0.4 ms): a hundred events in 0.4 ms of a 4 s launch
+        is a sliding mode, not physics, and a longer run has no more events per second
+        (a window growing with the span would call a day-long run's slow oscillations
+        chatter).
     event_tol : float
         Events are located to this time tolerance [s].
     dt_out : float
@@ -152,5 +157,8 @@ class SolverOptions:
         return cls(**kw)
 
     def chatter_window_for(self, span: float) -> float:
-        """The chatter window [s] for a run over ``span`` seconds."""
-        return self.chatter_window if self.chatter_window is not None else 1e-4 * span
+        """The chatter window [s] for a run over ``span`` seconds: ``chatter_window``, by
+        default ``min(1e-4·span, CHATTER_WINDOW_MAX_S)``."""
+        if self.chatter_window is not None:
+            return self.chatter_window
+        return min(1e-4 * span, CHATTER_WINDOW_MAX_S)

@@ -226,13 +226,15 @@ class Table(Signal):
                              f"length (got {t.size} and {v.size})")
         bad = np.flatnonzero(~np.isfinite(t) | ~np.isfinite(v))
         if bad.size:
-            raise ValueError(f"Table{where}: non-finite value at row {bad[0] + 1} "
-                             f"(time {t[bad[0]]!r}, value {v[bad[0]]!r})")
+            i = int(bad[0])
+            raise ValueError(f"Table{where}: non-finite value at row {i + 1} (time "
+                             f"{float(t[i]):g} s, value {float(v[i]):g}): every row needs a "
+                             "number (fill or drop the gap in the table)")
         back = np.flatnonzero(np.diff(t) < 0)
         if back.size:
             i = back[0]
             raise ValueError(f"Table{where}: time must be non-decreasing, but row {i + 2} has "
-                             f"t = {t[i + 1]} after t = {t[i]}")
+                             f"t = {float(t[i + 1]):g} s after t = {float(t[i]):g} s")
         if t.size > 2 and np.any(t[2:] == t[:-2]):
             raise ValueError(f"Table{where}: a time may appear at most twice (a jump)")
         object.__setattr__(self, "times", t)

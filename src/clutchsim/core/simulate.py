@@ -103,9 +103,11 @@ def _failure_message(code: int, t: float, k: int, i: int, system: System, opts: 
                    f"{window:g} s, the last of them '{ev}' at t = {t:.9g} s."
                    " The event re-fires as soon as it is crossed (a sliding mode): "
                    "typically a discontinuous switching law at zero slip, such as a "
-                   "naive stick/slip friction model at lock-up. Use a hybrid stick/slip "
-                   "model (coulomb-robust) or a dynamic friction model (e.g. "
-                   "mykhailevych2020)")
+                   "naive stick/slip friction model at lock-up: replace such a model by a "
+                   "hybrid stick/slip or a dynamic friction model (`clutchsim models` "
+                   "lists them). If the element already has one, the events are dense "
+                   "but may be genuine (a slow oscillation through zero slip): raise "
+                   "solver.chatter_events or lower solver.chatter_window")
     else:
         message = (f"non-finite value (NaN or inf) in state {state} at t = {t:.9g} s: "
                    "the right-hand side produced it; check parameters and inputs")

@@ -156,8 +156,9 @@ def _describe_gaps(name: str, values: np.ndarray, t: np.ndarray, limit: int = 3)
 
 def _check_nan(source, name, values, t) -> None:
     if not np.all(np.isfinite(values)):
-        raise ValueError(f"{source}: {_describe_gaps(name, values, t)}; pass nan='drop' to "
-                         "drop those rows or nan='interpolate' to fill them linearly")
+        raise ValueError(f"{source}: {_describe_gaps(name, values, t)}; drop those rows "
+                         "(command line: --nan drop; Python: nan='drop') or fill them "
+                         "linearly (--nan interpolate; nan='interpolate')")
 
 
 # ---------------------------------------------------------------- file readers
@@ -165,7 +166,11 @@ def _read_csv(path: Path) -> tuple[dict[str, np.ndarray], dict[str, float]]:
     import pandas as pd
     try:
         frame = pd.read_csv(path, sep=None, engine="python")
-    except (OSError, UnicodeDecodeError) as exc:
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not a text file (byte 0x{exc.object[exc.start]:02x} at "
+                         f"offset {exc.start} is not UTF-8): a CSV table is text, one row per "
+                         "line, columns separated by commas") from None
+    except OSError as exc:
         raise ValueError(f"{path}: cannot read CSV ({exc})") from None
     except pd.errors.ParserError as exc:
         raise ValueError(f"{path}: malformed CSV ({str(exc).strip()})") from None
@@ -292,6 +297,11 @@ def read_measurements(path: str | Path, *, time: str = "t",
         if name != "t" and name not in cols and name not in optional:
             raise ValueError(f"{path}: scale given for unknown column {name!r}; columns: "
                              f"{', '.join(cols)}")
+    for name, factor in scale.items():
+        if not (math.isfinite(float(factor)) and float(factor) != 0.0):
+            raise ValueError(f"{path}: scale {name} = {factor!r} must be a finite, non-zero "
+                             "factor (it multiplies the column into SI units; a negative one "
+                             "flips a sign convention)")
     if not np.all(np.isfinite(t)):
         raise ValueError(f"{path}: time {_describe_gaps(time, t, t)} (time gaps cannot be "
                          "dropped or interpolated)")
@@ -314,7 +324,8 @@ def read_measurements(path: str | Path, *, time: str = "t",
             if gaps.any():
                 if gaps[0] or gaps[-1]:
                     raise ValueError(f"{path}: {_describe_gaps(name, values, t)}: a gap at the "
-                                     "start or end cannot be interpolated; use nan='drop'")
+                                     "start or end cannot be interpolated; drop those rows "
+                                     "(command line: --nan drop; Python: nan='drop')")
                 values[gaps] = np.interp(t[gaps], t[~gaps], values[~gaps])
     for name in tare:
         if name not in cols:

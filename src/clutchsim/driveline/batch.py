@@ -198,6 +198,7 @@ def _unsupported(cols, t_span) -> str:
 def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndarray, *,
                  clutch: str, solver: str, options, expect_lockup: bool = True,
                  friction: bool = True, lining: tuple | None = None,
+                 engine_max_radps: float | None = None,
                  event_names: Sequence | None = None) -> list[tuple[str, dict]]:
     """Run the variants ``params[r]``, ``y0[r]`` of ``system`` over ``t_span`` with
     ``inputs`` in one compiled call and return ``(status, metrics)`` per variant: the
@@ -274,7 +275,8 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
                                           float(f[F_WALL])),
                            kinds, int(i[I_ROWS]), float(f[F_T_LAST] - f[F_T_FIRST]), has_slip,
                            K[r], float(f[F_ENERGY]))
-        extra = tuple(warnings_of(sm, clutch, expect_lockup=expect_lockup, friction=friction))
+        extra = tuple(warnings_of(sm, clutch, expect_lockup=expect_lockup, friction=friction,
+                                  engine_max_radps=engine_max_radps))
         m = metrics_of(sm._replace(warnings=sm.warnings + extra), clutch)
         m["loop_wall_s"] = float(f[F_LOOP])
         out.append((sm.status, m))

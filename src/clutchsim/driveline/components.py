@@ -14,7 +14,7 @@ import numpy as np
 
 from ..friction.base import FrictionModel
 from ..friction.coulomb_robust import CoulombRobust
-from ..network.components.friction import static_capacity
+from ..network.components.friction import TABLE_LOW, static_capacity
 from ..network.components.lossy_gear import LOSS_COLUMNS, check_loss_table
 from ..network.spec import check_table
 
@@ -59,7 +59,7 @@ def _num(owner: str, name: str, value, *, low=None, high=None, strict=False, uni
 def _table(owner: str, name: str, xs, ys):
     if xs is None and ys is None:
         return None
-    return check_table(owner, name, xs, ys)
+    return check_table(owner, name, xs, ys, low=TABLE_LOW.get(name))
 
 
 def _heat_shares(o, heat):
@@ -551,9 +551,11 @@ class Engine:
         tab = _table(o, "full-load curve (speeds, torques)", self.speeds, self.torques)
         object.__setattr__(self, "speeds", tab[0])
         object.__setattr__(self, "torques", tab[1])
-        for key, unit in (("drag0", "N·m"), ("drag1", "N·m·s/rad"), ("idle_speed", "rad/s"),
-                          ("kp", "1/(rad/s)"), ("ki", "1/rad"), ("stall_speed", "rad/s")):
-            object.__setattr__(self, key, _num(o, key, getattr(self, key), low=0.0, unit=unit))
+        from ..network.components.engine import Engine as _NetworkEngine
+        from ..network.spec import check_value
+        for spec in _NetworkEngine.params:      # the ranges are declared there, once
+            object.__setattr__(self, spec.name, check_value(o, spec,
+                                                            getattr(self, spec.name)))
         if self.idle_speed and self.stall_speed >= self.idle_speed:
             raise ValueError(f"engine: stall_speed = {self.stall_speed:g} rad/s must be below "
                              f"idle_speed = {self.idle_speed:g} rad/s")

@@ -21,8 +21,8 @@ from ..analysis.judder import JUDDER_BAND_HZ
 from ..core import Outcome, Result
 from .chain import ENERGY_STATES
 
-__all__ = ["LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "RunSummary", "analyse_run",
-           "energy_balance", "launch_metrics", "launch_warnings", "metrics_of",
+__all__ = ["DT_OUT_MAX_S", "LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "RunSummary",
+           "analyse_run", "energy_balance", "grid_problem", "launch_metrics", "launch_warnings", "metrics_of",
            "warnings_of", "with_weighted_acceleration"]
 
 #: steps per simulated second above which a run is warned about [1/s].  The shipped
@@ -34,6 +34,26 @@ STEP_COUNT_FLOOR = 10_000
 #: slip below which an engaged clutch counts as held [rad/s], and for how long [s] at least
 LOCK_SLIP = 1.0
 LOCK_HOLD = 0.05
+
+
+#: coarsest output grid the launch metrics are computed on [s]: they read the sampled
+#: signals (peaks, times, integrals of the friction power), and on this grid or a finer one
+#: they agree with those of a 1 ms grid within 1 % (tests/driveline/test_metrics_grid.py;
+#: docs/launch-quality.md); 0 (every step) is fine as well
+DT_OUT_MAX_S = 0.01
+
+
+def grid_problem(dt_out_s: float) -> str:
+    """Why the launch metrics cannot be computed on an output grid of ``dt_out_s``
+    seconds ("" when they can): a grid coarser than :data:`DT_OUT_MAX_S` misses the
+    engagement (a 10 s grid on a 4 s launch gives a slip energy of 6e-11 J instead of
+    2.5 kJ)."""
+    if dt_out_s > DT_OUT_MAX_S:
+        return (f"solver.dt_out = {dt_out_s:g} s is coarser than the {DT_OUT_MAX_S:g} s the "
+                "launch metrics need (they are read from the output grid: a coarser one "
+                "misses the engagement's peaks and energy, docs/launch-quality.md); set "
+                f"solver.dt_out <= {DT_OUT_MAX_S:g} s, or 0 for every step")
+    return ""
 
 
 _EMPTY = np.empty(0)
@@ -196,7 +216,8 @@ def _ringing(k, clutch: str) -> str | None:
 
 
 def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool = True,
-                    friction: bool = True) -> list[str]:
+                    friction: bool = True, engine_max_radps: float | None = None
+                    ) -> list[str]:
     """Reasons not to trust a run that completed, each with its cause and remedy.
 
     * the clutch never held although ``expect_lockup`` (see
@@ -205,24 +226,49 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
       with a torque amplitude above its capacity;
     * the step count is far above what the scenarios need: more than
       :data:`STEP_RATE_LIMIT` steps per simulated second (and more than
-      :data:`STEP_COUNT_FLOOR` steps).
+      :data:`STEP_COUNT_FLOOR` steps);
+    * the engine ran faster than ``engine_max_radps`` (the last speed of its full-load
+      table, where its fuel is cut) [rad/s];
+    * (``expect_lockup``: a launch) the run has no vehicle (``a_vehicle``) or no engine
+      (``omega_engine``), so the metrics that read them are null.
 
     A failed run gets none (its outcome and message say what went wrong).
     """
     if res.status == "failed" or res.t.size < 2:
         return []
     return warnings_of(summary(res, clutch, _Run(res, clutch, None), energy=False), clutch,
-                       expect_lockup=expect_lockup, friction=friction)
+                       expect_lockup=expect_lockup, friction=friction,
+                       engine_max_radps=engine_max_radps)
 
 
 def warnings_of(sm: RunSummary, clutch: str, *, expect_lockup: bool = True,
-                friction: bool = True) -> list[str]:
+                friction: bool = True, engine_max_radps: float | None = None) -> list[str]:
     """:func:`launch_warnings` of the run summarised by ``sm``."""
     if sm.status == "failed" or sm.n_t < 2:
         return []
     out = []
     k = sm.k
     span = sm.span_s
+    n_max = float(k[_k.K_OMEGA_MAX])
+    if engine_max_radps is not None and n_max > engine_max_radps * 30.0 / math.pi:
+        out.append(f"the engine overspeeds: it reached {n_max:,.0f} rpm, above the "
+                   f"{engine_max_radps * 30.0 / math.pi:,.0f} rpm where its full-load table "
+                   "ends and its fuel is cut (the rev limiter): the throttle held it against "
+                   "the limiter (an open clutch, too low a gear) or the driveline drove it "
+                   "there (a downshift, a steep downhill). Remedy: check the throttle, the "
+                   "gear and the grade; a real engine would hunt on its limiter or be "
+                   "damaged")
+    if expect_lockup:
+        missing = [what for what, slot in (("vehicle ([vehicle]: a_vehicle)", _k.K_AW_RMS),
+                                            ("engine ([engine]: omega_engine)",
+                                             _k.K_OMEGA_MIN))
+                   if math.isnan(float(k[slot]))]
+        if missing:
+            out.append(f"this launch has no {' and no '.join(missing)}: the launch metrics "
+                       "that read it (vehicle: vdv, aw r.m.s., jerk, lock-up shock; engine: "
+                       "dip, flare, engine speeds) are null. Remedy: add the missing table, "
+                       "or, if the scenario is not a launch, set [scenario] expect_lockup = "
+                       "false")
     if expect_lockup and sm.has_slip and k[_k.K_HELD] != 1.0:
         cap_max = float(k[_k.K_CAP_MAX])
         if not k[_k.K_ENGAGED] > 0:
@@ -291,7 +337,11 @@ def launch_metrics(res: Result, clutch: str = "clutch", *, lining: tuple | None 
     jerk_rms_mps3, lockup_shock_mps2, friction_energy_density_J_mm2,
     friction_power_density_peak_W_mm2, engine_dip_rpm, engine_flare_rpm; the densities
     need ``lining`` = ``(r_inner [m], r_outer [m], faces [-])``), slip_energy_J,
-    peak_lining_temp_C, engine_speed_min_rpm, engine_stalled, energy_balance_rel,
+    peak_heat_node_temp_C (the largest temperature of the run's first thermal node
+    ``theta_<node>``: a lumped bulk mass, the pressure plate in the shipped scenarios, not
+    the friction surface), peak_surface_temp_C (:func:`analyse_run` with a surface layer;
+    else None), engine_speed_min_rpm, engine_speed_max_rpm, engine_stalled,
+    energy_balance_rel,
     judder_amplitude_Nm (:func:`clutchsim.analysis.judder_amplitude`), steps, rhs_evals,
     events, min_step_s, wall_s.
 
@@ -329,8 +379,10 @@ def metrics_of(sm: RunSummary, clutch: str) -> dict:
         return _value(k, slot)
     m.update({key: value(slot) for key, slot in _QUALITY})
     m["slip_energy_J"] = value(_k.K_SLIP_ENERGY)
-    m["peak_lining_temp_C"] = value(_k.K_THETA_MAX)
+    m["peak_heat_node_temp_C"] = value(_k.K_THETA_MAX)
+    m["peak_surface_temp_C"] = None        # with a surface layer: analyse_run
     m["engine_speed_min_rpm"] = value(_k.K_OMEGA_MIN)
+    m["engine_speed_max_rpm"] = value(_k.K_OMEGA_MAX)
     m["engine_stalled"] = (sm.outcome == Outcome.EVENT_FAILED
                            and sm.kinds.get(sm.ended_by, "") == "engine")
     if m["engine_stalled"]:
@@ -343,14 +395,19 @@ def metrics_of(sm: RunSummary, clutch: str) -> dict:
 
 
 def analyse_run(res: Result, clutch: str = "clutch", *, expect_lockup: bool = True,
-                friction: bool = True, lining: tuple | None = None) -> tuple[Result, dict]:
+                friction: bool = True, lining: tuple | None = None,
+                engine_max_radps: float | None = None, surface_node: str | None = None
+                ) -> tuple[Result, dict]:
     """``(result, metrics)``: ``res`` with its :func:`launch_warnings` appended and the
     signal ``a_weighted`` (:func:`with_weighted_acceleration`), and its
     :func:`launch_metrics`, from one call of the compiled launch kernel (what
-    :func:`clutchsim.scenario.run.run_system` does with every run)."""
+    :func:`clutchsim.scenario.run.run_system` does with every run).  ``surface_node``: the
+    thermal node that is the clutch's friction-surface layer (its peak temperature is
+    ``peak_surface_temp_C``; :func:`clutchsim.scenario.run.surface_node`)."""
     run = _Run(res, clutch, lining)
     sm = summary(res, clutch, run)
-    warnings = tuple(warnings_of(sm, clutch, expect_lockup=expect_lockup, friction=friction))
+    warnings = tuple(warnings_of(sm, clutch, expect_lockup=expect_lockup, friction=friction,
+                                 engine_max_radps=engine_max_radps))
     data, units = res.data, res.units
     if "a_vehicle" in res.signals and "a_weighted" not in res.signals:
         aw = run.aw
@@ -359,4 +416,8 @@ def analyse_run(res: Result, clutch: str = "clutch", *, expect_lockup: bool = Tr
         units = MappingProxyType({**units, "a_weighted": "m/s²"})
     if warnings or data is not res.data:
         res = replace(res, data=data, units=units, warnings=res.warnings + warnings)
-    return res, metrics_of(sm._replace(warnings=sm.warnings + warnings), clutch)
+    m = metrics_of(sm._replace(warnings=sm.warnings + warnings), clutch)
+    theta = data.get(f"theta_{surface_node}") if surface_node else None
+    if theta is not None and theta.size:
+        m["peak_surface_temp_C"] = _value(np.array([np.max(theta)]), 0)
+    return res, m

@@ -700,6 +700,10 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
                              f"{', '.join(spec.parameters)}")
         if name in params:
             raise ValueError(f"{name!r} is in both params and per_record: list it once")
+    if input == output:
+        raise ValueError(f"input = output = {input!r}: the fit drives the plant with the input "
+                         "column and compares its response with the output column; name two "
+                         "different columns (e.g. --input v --output F)")
     if not params and not per_record:
         raise ValueError("params: give at least one parameter to fit")
     if len(set(params)) != len(params):
@@ -726,6 +730,10 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
             for k in range(n_rec):
                 bounds.setdefault(f"{n}@{k + 1}", b)
     space = ParameterSpace.build(names, start, bounds, _default_bounds(spec, setups, names))
+    start_notes = [f"start value {n} = {start[n]:.6g} lies outside its bounds "
+                   f"[{lo:.6g}, {hi:.6g}]: the fit starts from the nearest bound"
+                   for n, lo, hi in zip(names, space.lower, space.upper)
+                   if not lo <= start[n] <= hi]
     problems = [_Problem(model, s, names, fixed_plant, solver, tolerances, record=k + 1)
                 for k, s in enumerate(setups)]
     dens = [float(np.linalg.norm(s.normaliser)) for s in setups]
@@ -833,7 +841,7 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
                    zip(names, space.lower, space.upper)}
     at_bound, unidentified, fit_warnings = _identifiability(
         names, {n: float(v) for n, v in reported.items()}, phys_bounds, stderr, fitted_model)
-    notes = [note for s in setups for note in s.notes]
+    notes = start_notes + [note for s in setups for note in s.notes]
     val_traces = []
     y_start = None
     if val_list:

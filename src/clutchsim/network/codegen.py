@@ -219,7 +219,16 @@ class Emitter:
         self.g.dpowers.append((account, key, check_expr(expr)))
 
     def output(self, name: str, unit: str, expr: str, setup: tuple[str, ...] = ()) -> None:
-        """An output signal; ``setup`` statements run before it (outputs only)."""
+        """An output signal; ``setup`` statements run before it (outputs only).  Two
+        components writing the same output (two engines, two vehicles) are a NetworkError
+        naming both."""
+        other = self.g.output_owner.setdefault(name, self.c)
+        if other is not self.c:
+            from .network import NetworkError
+            raise NetworkError(f"{self.c.label} and {other.label} both write the output "
+                               f"{name!r} [{unit}]: a network holds one component of this "
+                               f"kind ({self.c.kind}); remove one, or join them into one (one "
+                               "engine with their summed full-load curve)", self.c.name)
         self.g.outputs.append((name, unit, check_expr(expr), setup))
 
     def event(self, name: str, direction: int, expr: str, action: str) -> None:
@@ -289,6 +298,7 @@ class _Gen:
         self.powers: list = []
         self.dpowers: list = []
         self.outputs: list = []
+        self.output_owner: dict = {}        # output name -> the component writing it
         self.events: list = []
         self.springs: list = []
         self.signal_var: dict = {}

@@ -117,6 +117,12 @@ class Component:
         """Unit of each input of :meth:`inputs`."""
         return {}
 
+    def input_ranges(self) -> dict[str, tuple[float, float, str, str]]:
+        """``input name -> (low, high, unit, what it is)``: the range each input of :meth:`inputs` must
+        stay in (a throttle or a normalised actuation in [0, 1]); the scenario loader checks
+        the input signals against it over the run.  Inputs without a range are absent."""
+        return {}
+
     def signals(self) -> dict[str, str]:
         """Signals it produces: local name -> unit.  Their full names are
         ``<component>.<local name>``; each is also an output (a results column)."""

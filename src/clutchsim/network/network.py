@@ -408,6 +408,15 @@ class Assembly:
                 motion = N @ vecs[:, k]
                 big = np.abs(motion) > 1e-9 * np.max(np.abs(motion))
                 fl = [f for n in np.flatnonzero(big) for f in self.flanges_at[n]]
+                moved = float(np.sum(J[big]))
+                if moved > 0.0:
+                    unit = "kg" if body == "mass" else "kg·m²"
+                    raise NetworkError(
+                        f"network: {', '.join(fl)} move only {moved:g} {unit} of {body}, "
+                        f"below 1e-12 of the largest {body} ({scale:g} {unit}): too little "
+                        "to integrate beside it (the speeds there would change 1e12 times "
+                        f"faster); give it a realistic {body} (a clutch disc is ~0.01 kg·m²) "
+                        "or join it rigidly to its neighbour", fl[0].split(".")[0] if fl else "")
                 raise NetworkError(
                     f"network: {', '.join(fl)} can move without moving any {body} (a "
                     f"support or flange left floating): put {article} {body} there, or connect "

@@ -96,14 +96,16 @@ def check_value(owner: str, spec: Param, value) -> float:
     bad = ((spec.low is not None and (x <= spec.low if spec.strict else x < spec.low))
            or (spec.high is not None and x > spec.high) or (spec.nonzero and x == 0.0))
     if bad:
-        raise ValueError(f"{owner}: {spec.name} = {x:g}{u} must be {spec.rule()}")
+        raise ValueError(f"{owner}: {spec.name} = {x:g}{u} must be {spec.rule()} "
+                         f"({spec.doc})")
     return x
 
 
-def check_table(owner: str, key: str, xs, ys, *, min_points: int = 2):
+def check_table(owner: str, key: str, xs, ys, *, min_points: int = 2,
+                low: float | None = None):
     """A piecewise-linear table ``(breakpoints, values)`` as two tuples of floats, or a
     ValueError naming ``owner`` and ``key``: equal lengths, at least ``min_points``, finite,
-    breakpoints strictly increasing."""
+    breakpoints strictly increasing, values >= ``low`` (None: any)."""
     x = np.asarray(xs, dtype=float).ravel()
     v = np.asarray(ys, dtype=float).ravel()
     if x.size < min_points or x.size != v.size:
@@ -114,4 +116,7 @@ def check_table(owner: str, key: str, xs, ys, *, min_points: int = 2):
         raise ValueError(f"{owner}: {key} has non-finite entries")
     if np.any(np.diff(x) <= 0):
         raise ValueError(f"{owner}: {key} breakpoints must be strictly increasing")
+    if low is not None and np.any(v < low):
+        i = int(np.argmin(v))
+        raise ValueError(f"{owner}: {key} value {v[i]:g} (entry {i}) must be >= {low:g}")
     return (tuple(x), tuple(v))

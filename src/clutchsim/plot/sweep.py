@@ -11,7 +11,7 @@ from ._style import new_figure, save_png
 __all__ = ["plot_heatmap", "plot_histograms", "plot_scatter", "write_figures"]
 
 #: metrics shown by default, most telling first
-MAIN_METRICS = ("lockup_time_s", "slip_energy_J", "peak_lining_temp_C", "jerk_peak_mps3",
+MAIN_METRICS = ("lockup_time_s", "slip_energy_J", "peak_heat_node_temp_C", "jerk_peak_mps3",
                 "vdv_mps175", "engine_speed_min_rpm")
 
 

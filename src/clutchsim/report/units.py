@@ -50,8 +50,8 @@ def label(name: str) -> tuple[str, str | None]:
 
     Examples
     --------
-    >>> label("peak_lining_temp_C")
-    ('peak lining temp', '°C')
+    >>> label("peak_heat_node_temp_C")
+    ('peak heat node temp', '°C')
     """
     stem, unit = split_unit(name)
     return stem.replace("_", " "), unit

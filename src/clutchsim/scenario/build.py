@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import warnings
 
 from ..driveline.chain import Chain
@@ -63,12 +64,27 @@ def friction_model(spec: dict, model: str | None, key: str, fail, element: str =
             warnings.simplefilter("error", SelfExcitedWarning)
             built = make_model(name, pset, **entry)
     except (TypeError, ValueError, SelfExcitedWarning) as exc:
-        fail(str(exc), where)
+        fail(_in_domain(str(exc), name, domain), where)
     label = f"friction element {element!r}" if element else "this friction element"
     problem = domain_problem(built, domain, label, choose_set=how[0], give_params=how[1])
     if problem:
         fail(problem, where)
     return built
+
+
+def _in_domain(message: str, model: str, domain: str) -> str:
+    """A friction model's message with its ``<param> = <value> <unit>`` parts in the units
+    of ``domain``: the models keep translational units (N, m/s), and on a clutch or brake
+    the same parameters are N·m and rad/s (``F_s = 330 N`` reads ``F_s = 330 N·m``)."""
+    if domain == "translational":
+        return message
+    cls = get_model_class(model)
+    for param in cls.parameter_info:
+        old, new = cls.unit_of(param), cls.unit_of(param, domain)
+        if old != new:
+            message = re.sub(rf"\b({re.escape(param)} = \S+) {re.escape(old)}(?![\w·/])",
+                             rf"\1 {new}", message)
+    return message
 
 
 def _replaced(t, model, scenario) -> bool:
@@ -253,6 +269,9 @@ def build_chain(scenario, model: str | None = None) -> Chain:
             couplings.append(guard(lambda kw=kw: SpringDamper(**kw), key))
         elif ctype == "gearbox":
             shifts = tuple((s.get("time"), s.get("gear")) for s in kw.pop("shifts", []))
+            if isinstance(kw.get("ratios"), list) and not kw["ratios"]:
+                fail("= [] lists no gear: give at least one ratio [-] (gear 1 first), e.g. "
+                     "ratios = [3.6, 2.1, 1.4, 1.0, 0.8]", f"{key}.ratios")
             if "gear" in kw and isinstance(kw["gear"], int) and \
                     not 1 <= kw["gear"] <= len(kw["ratios"]):
                 fail(f"gear {kw['gear']} does not exist: this gearbox has {len(kw['ratios'])} "
@@ -300,8 +319,27 @@ def build_chain(scenario, model: str | None = None) -> Chain:
         if t.link is not None and t.link not in th_names:
             fail(f"= {t.link!r} is not a thermal node{suggest(t.link, th_names)} (nodes: "
                  f"{', '.join(th_names)})", f"thermal[{i}].link")
-    return guard(lambda: Chain(inertias, couplings, brakes, engine, vehicle, thermal,
-                               name=scenario.name, angles=angle_states(scenario)), "coupling")
+    chain = guard(lambda: Chain(inertias, couplings, brakes, engine, vehicle, thermal,
+                                name=scenario.name, angles=angle_states(scenario)),
+                  "coupling")
+    from ..network import NetworkError
+    try:        # the assembly's checks (the plan is cached per structure, the run reuses
+        net = chain.network()   # it) and those of the values (an inertia too small)
+        net.compile().values_vector(net.components)
+    except NetworkError as exc:
+        fail(str(exc), _chain_key(data, exc.where.split(".")[0]))
+    return chain
+
+
+def _chain_key(data: dict, name: str) -> str:
+    """The table of a chain scenario that declares the network component ``name`` (an
+    inertia, coupling, brake or thermal node by its name; the engine), for a message's
+    file and line."""
+    for table in ("inertia", "coupling", "brake", "thermal"):
+        for i, t in enumerate(data.get(table, [])):
+            if isinstance(t, dict) and t.get("name") == name:
+                return f"{table}[{i}]"
+    return "engine" if name.startswith("engine") and "engine" in data else "coupling"
 
 
 def build_network(scenario, model: str | None = None):
@@ -378,7 +416,7 @@ def build_network(scenario, model: str | None = None):
     try:
         net = Network(comps, data["network"]["connect"], name=scenario.name,
                       angles=angle_states(scenario))
-        net.compile()
+        net.compile().values_vector(net.components)     # and the values' checks
     except NetworkError as exc:
         comp = exc.where.split(".")[0]
         fail(str(exc), where.get(comp, "network.connect"))

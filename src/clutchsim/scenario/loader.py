@@ -231,8 +231,11 @@ def with_solver_options(scenario: Scenario, items) -> Scenario:
         return scenario
     from dataclasses import replace
     table = {k: v for k, v in scenario.data.get("solver", {}).items() if k != "method"}
-    return replace(scenario, options=SolverOptions.from_mapping({**table, **dict(items)},
-                                                                dt_out=0.0))
+    options = SolverOptions.from_mapping({**table, **dict(items)}, dt_out=0.0)
+    from ..driveline.metrics import grid_problem
+    if grid_problem(options.dt_out):
+        raise ValueError(grid_problem(options.dt_out))
+    return replace(scenario, options=options)
 
 
 def toml_value(v) -> str:
@@ -445,6 +448,9 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
         options = SolverOptions.from_mapping(solver_tab, dt_out=0.0)
     except ValueError as exc:
         fail(str(exc), "solver")
+    from ..driveline.metrics import grid_problem
+    if grid_problem(options.dt_out):
+        fail(grid_problem(options.dt_out), "solver.dt_out")
     clutch = sc.get("clutch", "clutch")
     fe_names = [c["name"] for c in data.get("coupling", [])
                 if c.get("type") in ("clutch", "one_way_clutch", "lossy_gear")]
@@ -455,6 +461,9 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
         fail(f"friction element {clutch!r} does not exist{suggest(clutch, fe_names)} "
              f"(friction elements: {', '.join(fe_names) or 'none'})", "scenario.clutch")
     models = tuple(sc.get("models", ()))
+    if "models" in sc and not models:
+        fail("= [] names no friction model: list at least one (`clutchsim models`), or "
+             "leave the key out to run the element's own model", "scenario.models")
     compare = ""
     if "compare" in sc:
         path = Path(sc["compare"]) if base_dir is None else Path(base_dir) / sc["compare"]
@@ -469,5 +478,30 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
                     t_end=float(sc["t_end"]), models=models, clutch=clutch, inputs=inputs,
                     solver=method, options=options, data=data, file=file, text=text,
                     set_by=set_by, compare=compare)
-    scen.chain()   # build once: component-level validation errors surface here
+    built = scen.chain()   # build once: component-level validation errors surface here
+    _check_input_ranges(scen, built)
     return scen
+
+
+def _check_input_ranges(scen: Scenario, built) -> None:
+    """Fail at ``inputs.<name>`` when an input signal leaves the range the component that
+    reads it declares (:meth:`clutchsim.network.component.Component.input_ranges`), sampled
+    over the run (501 points and the signal's breakpoints: a range check, not a peak
+    finder)."""
+    from ..network import Network
+    net = built if isinstance(built, Network) else built.network()
+    for comp in net.components:
+        for name, (low, high, unit, what) in comp.input_ranges().items():
+            sig = scen.inputs.get(name)
+            if sig is None:
+                continue
+            bps = np.asarray(sig.breakpoints(), dtype=float)
+            ts = np.union1d(np.linspace(0.0, scen.t_end, 501),
+                            bps[(bps >= 0.0) & (bps <= scen.t_end)])
+            x = np.asarray(sig(ts), dtype=float)
+            i = int(np.argmax(np.maximum(low - x, x - high)))
+            if x[i] < low or x[i] > high:
+                u = "" if unit == "-" else f" {unit}"
+                scen.fail(f"reaches {x[i]:g}{u} at t = {ts[i]:g} s, outside [{low:g}, "
+                          f"{high:g}]{u}: {comp.label} reads it as {what}",
+                          f"inputs.{name}")

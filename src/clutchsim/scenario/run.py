@@ -10,11 +10,11 @@ import numpy as np
 
 from ..analysis.actuation import controller_warnings, has_controller
 from ..core import Result, SolverOptions, simulate
-from ..driveline.metrics import analyse_run
+from ..driveline.metrics import analyse_run, grid_problem
 from .loader import resolve_scenario
 
-__all__ = ["LaunchResult", "batch_reason", "expects_lockup", "lining_geometry", "run_batch",
-           "run_scenario"]
+__all__ = ["LaunchResult", "batch_reason", "engine_max_speed", "expects_lockup",
+           "lining_geometry", "run_batch", "run_scenario", "surface_node"]
 
 
 @dataclass(frozen=True)
@@ -57,12 +57,15 @@ def run_system(scenario, system, model: str | None = None, *, solver: str | None
     with the scenario's inputs, span and solver, and compute the launch metrics."""
     inputs = {n: scenario.inputs[n] for n in system.input_names}
     opts = options if options is not None else scenario.options
+    _check_grid(scenario, opts)
     res = simulate(system, (0.0, scenario.t_end), inputs, solver=solver or scenario.solver,
                    options=opts)
     name = system.metadata["models"].get(scenario.clutch, model or "")
     res, metrics = analyse_run(res, scenario.clutch, expect_lockup=expects_lockup(scenario),
                                friction=_is_friction_clutch(scenario),
-                               lining=lining_geometry(scenario))
+                               lining=lining_geometry(scenario),
+                               engine_max_radps=engine_max_speed(scenario),
+                               surface_node=surface_node(scenario))
     extra = controller_warnings(scenario, system, res)
     if extra:
         res = res.with_warnings(*extra)
@@ -75,6 +78,8 @@ def batch_reason(scenario, system) -> str:
     (:func:`run_batch`; "" when they can)."""
     if has_controller(system):
         return "a controller's stability check needs each run's result"
+    if surface_node(scenario):
+        return "the friction-surface temperature is read from each run's result"
     from ..driveline.batch import batch_supported
     return batch_supported(system, (0.0, scenario.t_end), scenario.clutch)
 
@@ -91,6 +96,7 @@ def run_batch(scenario, system, variants, *, options: SolverOptions | None = Non
     if why:
         raise ValueError(f"{system.name}: cannot run a batch: {why}")
     from ..driveline.batch import launch_batch
+    _check_grid(scenario, options if options is not None else scenario.options)
     inputs = {n: scenario.inputs[n] for n in system.input_names}
     return launch_batch(system, (0.0, scenario.t_end), inputs,
                         np.array([v[0] for v in variants]),
@@ -100,7 +106,46 @@ def run_batch(scenario, system, variants, *, options: SolverOptions | None = Non
                         expect_lockup=expects_lockup(scenario),
                         friction=_is_friction_clutch(scenario),
                         lining=lining_geometry(scenario),
+                        engine_max_radps=engine_max_speed(scenario),
                         event_names=[v[2] for v in variants])
+
+
+def _check_grid(scenario, options: SolverOptions) -> None:
+    """A ValueError when the launch metrics cannot be computed on the output grid of
+    ``options`` (:func:`clutchsim.driveline.metrics.grid_problem`; the scenario loader
+    refuses such a ``[solver] dt_out`` with its file and line)."""
+    why = grid_problem(options.dt_out)
+    if why:
+        raise ValueError(f"{scenario.name}: {why}")
+
+
+def surface_node(scenario) -> str | None:
+    """The friction-surface layer of the scenario's clutch, or None: the first thermal node
+    its friction power heats when that node conducts on to another (``link``: a thin
+    layer at the friction face over the bulk of its plate, docs/launch-quality.md)."""
+    element = next((t for t in (*scenario.data.get("coupling", []),
+                                *scenario.data.get("component", []))
+                    if isinstance(t, dict) and t.get("name") == scenario.clutch), None)
+    heat = element.get("heat") if element else None
+    if not heat or not isinstance(heat[0], dict):
+        return None
+    first = heat[0].get("node")
+    nodes = [*scenario.data.get("thermal", []),
+             *(c for c in scenario.data.get("component", [])
+               if isinstance(c, dict) and c.get("type") == "thermal_node")]
+    node = next((n for n in nodes if isinstance(n, dict) and n.get("name") == first), None)
+    return first if node is not None and node.get("link") else None
+
+
+def engine_max_speed(scenario) -> float | None:
+    """The last speed of the full-load table of the scenario's engine [rad/s] (where its
+    fuel is cut: the overspeed warning's limit), or None without an engine."""
+    tables = [scenario.data["engine"]] if isinstance(scenario.data.get("engine"), dict) else []
+    tables += [c for c in scenario.data.get("component", [])
+               if isinstance(c, dict) and c.get("type") == "engine"]
+    speeds = [float(t["full_load"]["speed"][-1]) for t in tables
+              if isinstance(t.get("full_load"), dict) and t["full_load"].get("speed")]
+    return max(speeds) if speeds else None
 
 
 def _is_friction_clutch(scenario) -> bool:

@@ -62,7 +62,7 @@ SOLVER = (
     Key("max_steps", "int", "Step budget.", low=1, high=1e9),
     _n("wall_time", "Wall-time budget of one run (0: none).", "s", low=0.0, high=1e6),
     Key("chatter_events", "int", "Chatter detection: this many events ...", low=0, high=1e9),
-    _n("chatter_window", "... within this time stop the run (default: 1e-4 of t_end).", "s",
+    _n("chatter_window", "... within this time stop the run (default: 1e-4 of t_end, at most 0.4 ms).", "s",
        low=0.0, high=1e6),
     Key("controller", "str", "Step-size controller: " + ", ".join(CONTROLLERS)
         + " (default: the method's own; see docs/core.md)."),
@@ -107,9 +107,10 @@ CLUTCH = (
     _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
     _n("r_inner", "Inner radius of the friction linings (with `r_outer`; only for the "
        "launch-quality metrics per lining area, docs/launch-quality.md).", "m", low=0.0,
-       strict=True, high=2.0),
-    _n("r_outer", "Outer radius of the friction linings (> `r_inner`).", "m", low=0.0,
-       strict=True, high=2.0),
+       strict=True, high=0.5),
+    _n("r_outer", "Outer radius of the friction linings (> `r_inner`; a dry clutch disc is "
+       "180-280 mm across in a car, up to 430 mm in a truck: at most 0.5 m).", "m", low=0.0,
+       strict=True, high=0.5),
     Key("faces", "int", "Number of friction faces (default 2: a single-plate dry clutch).",
         "-", low=1, high=100),
 )

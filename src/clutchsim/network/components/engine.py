@@ -7,6 +7,14 @@ import numpy as np
 from ..component import Component
 from ..spec import Param, check_table
 
+#: highest idle (and stall) speed accepted [rad/s]: 2,000 rpm, above any engine's idle
+#: (passenger cars 600-900 rpm, trucks 500-700 rpm); 800 typed as rad/s (7,640 rpm) is
+#: an rpm value in the wrong unit
+IDLE_SPEED_MAX = 2000.0 * np.pi / 30.0
+#: band above the full-load table's last speed over which the rev limiter takes the
+#: full-load torque to 0, as a share of that speed [-]
+REV_LIMIT_BAND = 0.05
+
 
 class Engine(Component):
     """Torque source on ``flange`` (reaction on ``support``, grounded when unconnected).
@@ -16,7 +24,12 @@ class Engine(Component):
     idle_speed − ω``, ``dI/dt = e + (gov − raw)/(ki·0.1 s)`` (back-calculation anti-windup:
     the right-hand side stays continuous).  Below ``stall_speed`` the run fails (event
     ``engine stalled``).  ``T_max`` is the full-load table (speeds [rad/s], torques [N·m]),
-    held constant outside, clipped at 0.  It produces the signal ``<name>.torque`` [N·m]
+    held constant below its first speed, clipped at 0; above its last speed the rev
+    limiter cuts the fuel: ``T_max`` falls linearly to 0 over :data:`REV_LIMIT_BAND` (5 %)
+    of that speed and stays 0 (an engine control unit cuts injection at its rated speed
+    limit; a ramp, not a step, keeps the right-hand side continuous for the integrator).
+    The run gets a warning when the engine overspeeds
+    (:func:`clutchsim.driveline.metrics.launch_warnings`).  It produces the signal ``<name>.torque`` [N·m]
     (``T``: a launch controller's feed-forward); the throttle may be another component's
     signal (a driver model).
     """
@@ -28,10 +41,12 @@ class Engine(Component):
     params = (
         Param("drag0", "N·m", "friction torque", default=0.0, low=0.0),
         Param("drag1", "N·m·s/rad", "pumping loss coefficient", default=0.0, low=0.0),
-        Param("idle_speed", "rad/s", "idle target (0: no governor)", default=0.0, low=0.0),
+        Param("idle_speed", "rad/s", "idle target (0: no governor; 800 rpm = 83.8 rad/s)",
+              default=0.0, low=0.0, high=IDLE_SPEED_MAX),
         Param("kp", "1/(rad/s)", "governor proportional gain", default=0.0, low=0.0),
         Param("ki", "1/rad", "governor integral gain", default=0.0, low=0.0),
-        Param("stall_speed", "rad/s", "stall threshold", default=0.0, low=0.0),
+        Param("stall_speed", "rad/s", "stall threshold", default=0.0, low=0.0,
+              high=IDLE_SPEED_MAX),
     )
 
     def __init__(self, name, speeds, torques, throttle="throttle", **values):
@@ -50,15 +65,21 @@ class Engine(Component):
     def inputs(self):
         return (self.throttle,)
 
+    def input_ranges(self):
+        # the throttle is clipped to [0, 1] in the equations: a value outside is a mistake
+        return {self.throttle: (0.0, 1.0, "-", "its throttle (0 closed, 1 full load)")}
+
     def signals(self):
         return {"torque": "N·m"}
 
     def options(self):
-        return (self.governed, len(self.speeds), self.throttle)
+        return (self.governed, len(self.speeds) + 1, self.throttle)
 
     def pack(self):
         d = dict(self.values)
-        d["full_load"] = np.concatenate([self.speeds, self.torques])
+        # the rev limiter: one more point, torque 0 at REV_LIMIT_BAND above the last speed
+        top = self.speeds[-1] + REV_LIMIT_BAND * max(abs(self.speeds[-1]), 1.0)
+        d["full_load"] = np.concatenate([self.speeds, [top], self.torques, [0.0]])
         d["t_aw"] = max(self.ki, 1e-12) * 0.1
         return d
 

@@ -23,9 +23,15 @@ from ..component import Component
 from ..spec import Param, check_table
 from ..wear import WearLaw
 
+#: the tables of a friction element and the least value each may hold: a clamp force
+#: and a friction coefficient's factor are never negative (the one place these rules live:
+#: the chain's friction elements read them too)
+TABLE_LOW = {"clamp_table": 0.0, "mu_temperature": 0.0, "mu_slip": 0.0}
+
 
 def _table(owner, key, tab):
-    return None if tab is None else check_table(owner, key, tab[0], tab[1])
+    return None if tab is None else check_table(owner, key, tab[0], tab[1],
+                                                low=TABLE_LOW[key])
 
 
 def static_capacity(model: FrictionModel) -> float:
@@ -104,6 +110,16 @@ class _FrictionElement(Component):
     def reads_force(self) -> bool:
         """Is its command a clamp force [N] (``clamp_reference`` > 0)?"""
         return self.commanded and self.values.get("clamp_reference", 0.0) > 0.0
+
+    def input_ranges(self):
+        # COM, the normalised actuation of seed eqs. 1-2 (not a pedal position read through
+        # a clamp table, nor a clamp force [N]); below 0 it is an open clutch (the capacity
+        # is clipped at 0, as the normalised normal force of Modelica's clutches, whose
+        # CoupledClutches example drives one with a cosine)
+        if self.commanded and not self.reads_force and self.clamp_table is None:
+            what = "its actuation COM (1 fully engaged, 0 or below open)"
+            return {self.command: (-1.0, 1.0, "-", what)}
+        return {}
 
     @property
     def lockable(self) -> bool:
