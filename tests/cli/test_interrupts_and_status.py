@@ -81,7 +81,7 @@ def test_sigterm_during_a_sweep_keeps_the_chunks_to_resume(tmp_path, capsys, mon
 
 
 #: a run whose integration takes ~25 s (10 million steps of at most 10 µs) once compiled
-LONG = ["run", "--model", "coulomb-robust", "--no-plots", "--set", "solver.dt_out=0.1",
+LONG = ["run", "--model", "coulomb-robust", "--no-plots", "--set", "solver.dt_out=0.01",
         "--option", "h_max=1e-5", "--option", "max_steps=20000000",
         "--set", "scenario.t_end=100"]
 
@@ -101,9 +101,9 @@ def _tree(d):
 def earlier_output(tmp_path_factory):
     """A finished run's output directory (its run also compiles or loads the plant)."""
     out = tmp_path_factory.mktemp("signals") / "o"
-    p = _clutchsim(*LONG[:-6], "--set", "scenario.t_end=0.5", "--out", str(out))
-    assert p.wait(timeout=600) == 0, p.stderr.read()
-    p.stderr.close()
+    with _clutchsim(*LONG[:-6], "--set", "scenario.t_end=0.5", "--out", str(out)) as p:
+        err = p.stderr.read()
+        assert p.wait(timeout=600) == 0, err
     return out
 
 

@@ -94,13 +94,16 @@ def test_chain_energy_accounts_are_declared_quadratures_and_nothing_depends_on_t
     from clutchsim.core.system import call_rhs
     from clutchsim.driveline.chain import ENERGY_STATES
     _sc, sys_, _inputs = _launch()
-    assert sys_.quadratures == len(ENERGY_STATES)
-    assert sys_.state_names[-len(ENERGY_STATES):] == ENERGY_STATES
+    # the accounts, then each friction element's own friction work
+    works = tuple(n for n in sys_.state_names if n.startswith("W_friction_"))
+    assert works == ("W_friction_clutch",)
+    assert sys_.quadratures == len(ENERGY_STATES) + len(works)
+    assert sys_.state_names[-sys_.quadratures:] == ENERGY_STATES + works
     y = sys_.y0.copy()
     u = np.array([0.3, 0.5])[:len(sys_.input_names)]
     base = np.empty_like(y)
     call_rhs(sys_.tag, 0.7, y, u, sys_.params, base)
-    for k in range(len(ENERGY_STATES)):
+    for k in range(sys_.quadratures):
         y2 = y.copy()
         y2[-1 - k] += 123.0
         dy = np.empty_like(y)

@@ -133,6 +133,9 @@ def test_launch_with_dmf_moves_the_isolating_mode_below_idle():
     for ring in ("stuck", "slipping"):
         y = pt.y.copy()
         y[names.index("dmf.locked")] = 0.0 if ring == "slipping" else 1.0
+        # slipping: sliding forward (a constant friction torque); an unlocked ring left in
+        # its stuck mode would hold by its stick torque, as the exact Jacobian says
+        y[names.index("dmf.mode")] = 1.0 if ring == "slipping" else 0.0
         lin = linearise(pt.system, pt.t_s, y, pt.u, constraints=pt.constraints)
         found[ring] = [m.frequency_hz for m in modes(lin) if m.frequency_hz > 0.0]
     estimate = np.sqrt(400.0 * (1 / 0.09 + 1 / (0.06 + 0.015 + 0.01))) / (2 * np.pi)
