@@ -3,23 +3,34 @@
 from __future__ import annotations
 
 import argparse
+import logging
 
 from ..cli import SimulationFailed, UserError, emit_json
 from ._common import write_command
+
+log = logging.getLogger("clutchsim")
 
 HELP = """\
 examples:
   clutchsim durability examples/durability/passenger_car.toml --out dur/ --json
   clutchsim durability examples/durability/hot_climate.toml --cycles 200 --full --out hot/
+  # a facing that wears 20,000 times faster: the end of life in tens of cycles (exit 0)
+  clutchsim durability examples/durability/accelerated_wear.toml --out worn/ --json
 
 outputs in DIR: durability.csv (per recorded cycle: wear, clamp force, capacity, peak
 temperature, friction work, simulated or extrapolated), summary.json {"kind":
-"durability", "cycles", "simulated_cycles", "wear_mm", "clamp_force_end_N",
-"capacity_end_Nm", "life_cycles" (null when the reserve is not used up), "wall_s", ...},
-durability.png, command.txt.  DIR is written as DIR.partial and renamed when complete.
+"durability", "outcome" (completed, end_of_life, failed), "cycles", "cycles_done",
+"simulated_cycles", "wear_mm", "clamp_force_end_N", "capacity_end_Nm", "life_cycles"
+(null while the clutch lasts), "end_of_life" {"cycle", "criterion" (wear_reserve: the
+reserve is used up; capacity or engagement: a manoeuvre fails with the worn lining and
+completes with a new one, the capacity below the new clutch's or not), "wear_mm",
+"clamp_force_N", "capacity_Nm", ...}, "failure", "wall_s", ...},
+durability.png, command.txt.  DIR is written as DIR.partial and renamed when complete;
+the study so far is written in every case.
 
-exit status: 0 done (a worn-out clutch is a result: life_cycles), 1 a manoeuvre did not
-complete, 2 bad input.
+exit status: 0 done (the end of life is a result: outcome end_of_life, life_cycles), 1 a
+manoeuvre failed with a new lining too (not wear: outcome failed; the finished cycles are
+written), 2 bad input.
 """
 
 
@@ -46,15 +57,12 @@ def run(args) -> int:
 
     from .._util import check_output_dir
     from ..core.result import atomic_directory, atomic_write
-    from ..durability import DurabilityFailed, load_duty, run_durability, write_durability
+    from ..durability import describe_end, load_duty, run_durability, write_durability
     if args.cycles is not None and args.cycles < 1:
         raise UserError(f"--cycles {args.cycles}: must be >= 1")
     check_output_dir(args.out)
     duty = load_duty(args.duty)
-    try:
-        res = run_durability(duty, args.cycles, accelerated=args.accelerated)
-    except DurabilityFailed as exc:
-        raise SimulationFailed(str(exc)) from None
+    res = run_durability(duty, args.cycles, accelerated=args.accelerated)
     summary = res.summary()
     with atomic_directory(args.out) as part:
         write_durability(res, part, plots=not args.no_plots)
@@ -63,4 +71,9 @@ def run(args) -> int:
         write_command(part, args.argv)
     if args.json:
         emit_json(summary)
+    if res.outcome == "failed":
+        raise SimulationFailed(f"{describe_end(res)} ({res.cycles_done} finished cycles "
+                               f"written to {args.out})")
+    if res.outcome == "end_of_life":
+        log.warning("%s", describe_end(res))
     return 0
