@@ -33,8 +33,25 @@ of the cycle-start temperatures and of the wear per cycle are extrapolated with 
 of their last two changes (per node; clipped to [0, 0.999]).  A block is at most as long
 as all cycles before it (the simulated cycles thin out geometrically) and adds at most
 ``BLOCK_WEAR`` of the wear reserve (the clamp force, and with it the slip work, changes
-with the wear).  A worn-out clutch (``wear >= reserve``) is a reported end of life:
-``life_cycles``.
+with the wear).
+
+End of life.  The study stops, with the life reported (``life_cycles``, ``end_of_life``:
+the cycle, the criterion, the wear, clamp force and capacity there) and the curve so far
+kept, at the first of
+
+* ``"wear_reserve"``: the wear reaches the reserve (``wear >= reserve``);
+* a manoeuvre does not complete (the engine stalls, the clutch never locks up, ...) and the
+  same manoeuvre, from the same temperatures with a new lining (wear 0), does: the worn
+  clutch can no longer do the job, which *is* its end of life.  The criterion says how the
+  wear ended it: ``"capacity"`` when the capacity has fallen below the new clutch's (the
+  diaphragm spring past its peak), ``"engagement"`` otherwise (the wear moved the engaged
+  position, so the duty's fixed pedal profile clamps earlier and harder: a stall, a jerk).
+
+A manoeuvre that fails with a new lining too fails for another reason (the duty, the
+temperatures, the solver): the study stops with ``outcome = "failed"`` and ``failure``
+(the cycle, the manoeuvre, the run's outcome and message), keeping the finished cycles.
+In the accelerated mode an end of life found in the probe after a block lies within that
+block (at most ``BLOCK_WEAR`` of the reserve, or as many cycles as before it, earlier).
 """
 
 from __future__ import annotations
@@ -47,8 +64,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["BLOCK_WEAR", "PROBE", "DurabilityFailed", "DurabilityResult", "Duty", "load_duty",
-           "run_durability"]
+__all__ = ["BLOCK_WEAR", "PROBE", "DurabilityResult", "Duty", "describe_end", "load_duty",
+           "run_durability", "write_durability"]
 
 #: a block of extrapolated cycles adds at most this fraction of the wear reserve
 BLOCK_WEAR = 0.02
@@ -56,8 +73,13 @@ BLOCK_WEAR = 0.02
 PROBE = 3
 
 
-class DurabilityFailed(RuntimeError):
-    """A manoeuvre run that did not complete (the study stops there)."""
+class _ManoeuvreFailed(Exception):
+    """A manoeuvre run that did not complete, with the wear and temperatures it started
+    from (the study stops there; :func:`run_durability` tells wear from other causes)."""
+
+    def __init__(self, runner, result, theta: dict, wear: float):
+        super().__init__(result.message)
+        self.runner, self.result, self.theta, self.wear = runner, result, theta, wear
 
 
 @dataclass(frozen=True)
@@ -203,9 +225,9 @@ class _Runner:
         self.heat_node = self.comp[self.clutch].heat[0][0]
         self.thermal = [c for c in self.net.components if getattr(c, "thermal", False)]
 
-    def run(self, theta: dict, wear: float):
+    def simulate(self, theta: dict, wear: float):
+        """The manoeuvre's run from the temperatures ``theta`` [°C] and the wear [m]."""
         from .core import simulate
-        from .driveline.metrics import energy_balance
         sc = self.man.scenario
         comps = []
         for c in self.net.components:
@@ -216,10 +238,16 @@ class _Runner:
             comps.append(c)
         system = self.plan.system(comps, inputs0=self.u0, name=sc.name)
         inputs = {n: sc.inputs[n] for n in system.input_names}
-        res = simulate(system, (0.0, sc.t_end), inputs, solver=sc.solver, options=sc.options)
+        return simulate(system, (0.0, sc.t_end), inputs, solver=sc.solver, options=sc.options)
+
+    def run(self, theta: dict, wear: float):
+        """(end temperatures after the rest, end wear, peak temperature, energy balance,
+        friction work) of the manoeuvre; :class:`_ManoeuvreFailed` when it did not
+        complete."""
+        from .driveline.metrics import energy_balance
+        res = self.simulate(theta, wear)
         if res.status != "completed":
-            raise DurabilityFailed(f"manoeuvre {self.man.name!r} ({sc.file}) did not "
-                                   f"complete: {res.message}")
+            raise _ManoeuvreFailed(self, res, theta, wear)
         th_end = {c.name: float(res[f"theta_{c.name}"][-1]) for c in self.thermal}
         th_end = self.cool(th_end, self.man.rest)
         peak = float(np.max(res[f"theta_{self.heat_node}"]))
@@ -253,27 +281,41 @@ class _Runner:
 
 @dataclass(frozen=True)
 class DurabilityResult:
-    """A durability study: per simulated cycle, and the summary (:meth:`summary`)."""
+    """A durability study: per finished cycle, and the summary (:meth:`summary`).
+
+    ``outcome``: ``"completed"`` (every cycle run, the clutch still in service),
+    ``"end_of_life"`` (``life_cycles`` and ``end_of_life`` say when and why) or
+    ``"failed"`` (a manoeuvre failed for a reason other than wear: ``failure``).  The wear,
+    clamp force and capacity are those at the end (of the cycles, of life, or where the
+    failed manoeuvre started); ``history`` holds the finished cycles either way.
+    """
 
     duty: str
     mode: str
     cycles: int
+    cycles_done: int
     simulated_cycles: int
-    history: dict            # arrays over simulated cycles: cycle, wear_m, clamp_force_N, ...
+    history: dict            # arrays over recorded cycles: cycle, wear_m, clamp_force_N, ...
     wear_m: float
     clamp_force_end_N: float
     capacity_end_Nm: float
+    outcome: str
     life_cycles: int | None
+    end_of_life: dict | None
+    failure: dict | None
     max_energy_balance_rel: float
     wall_s: float
     units: dict = field(default_factory=lambda: dict(UNITS))
 
     def summary(self) -> dict:
+        peak = self.history["peak_theta_C"]
         return {"kind": "durability", "duty": self.duty, "mode": self.mode,
-                "cycles": self.cycles, "simulated_cycles": self.simulated_cycles,
+                "outcome": self.outcome, "cycles": self.cycles,
+                "cycles_done": self.cycles_done, "simulated_cycles": self.simulated_cycles,
                 "wear_mm": self.wear_m * 1e3, "clamp_force_end_N": self.clamp_force_end_N,
                 "capacity_end_Nm": self.capacity_end_Nm, "life_cycles": self.life_cycles,
-                "peak_theta_C": float(np.max(self.history["peak_theta_C"])),
+                "end_of_life": self.end_of_life, "failure": self.failure,
+                "peak_theta_C": float(np.max(peak)) if len(peak) else None,
                 "max_energy_balance_rel": self.max_energy_balance_rel,
                 "wall_s": self.wall_s}
 
@@ -322,7 +364,6 @@ def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
     done = 0
     hist = {k: [] for k in UNITS}
     worst = 0.0
-    life = None
 
     def one_cycle(theta, wear):
         nonlocal worst
@@ -346,19 +387,41 @@ def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
                      ("simulated", 1.0 if simulated else 0.0)):
             hist[k].append(float(v))
 
+    def end(cycle, criterion, wear, failed=None):
+        F, cap = _clamp(duty, fe, wear)
+        doc = {"cycle": cycle, "criterion": criterion, "wear_mm": wear * 1e3,
+               "clamp_force_N": F, "capacity_Nm": cap}
+        if failed is not None:
+            doc.update(manoeuvre=failed.runner.man.name, run_outcome=failed.result.outcome,
+                       message=failed.result.message)
+        return doc
+
     sims = 0
+    eol = failure = None
     run = []             # consecutive simulated cycles since the last block: (start θ, dw)
-    while done < cycles and life is None:
+    while done < cycles and eol is None and failure is None:
         start = np.array(list(theta.values()))
         w_before = wear
-        theta, wear, peak, work = one_cycle(theta, wear)
+        try:
+            theta, wear, peak, work = one_cycle(theta, wear)
+        except _ManoeuvreFailed as exc:
+            sims += 1
+            wear = exc.wear
+            fresh = exc.runner.simulate(exc.theta, 0.0)
+            if fresh.status == "completed":      # a new lining does it: worn out
+                worn = _clamp(duty, fe, wear)[1] < _clamp(duty, fe, 0.0)[1]
+                eol = end(done + 1, "capacity" if worn else "engagement", wear, exc)
+            else:
+                failure = {k: v for k, v in end(done + 1, None, wear, exc).items()
+                           if k in ("cycle", "manoeuvre", "run_outcome", "message")}
+            break
         sims += 1
         done += 1
         record(done, wear, peak, work, True)
         if progress is not None:
             progress(done, cycles)
         if wear >= law.reserve:
-            life = done
+            eol = end(done, "wear_reserve", wear)
             break
         run.append((start, wear - w_before))
         if not accelerated or len(run) < PROBE or done >= cycles:
@@ -367,9 +430,9 @@ def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
         # cycle decay geometrically (a linear thermal network under a periodic load), ratio
         # r from the last three cycles; the block is at most as long as all cycles so far
         (_th0, dw0), (th1, dw1), (th2, dw2) = run[-3:]
-        end = np.array(list(theta.values()))
-        r_th = _ratio(th2 - th1, end - th2)
-        d2 = end - th2
+        end_th = np.array(list(theta.values()))
+        r_th = _ratio(th2 - th1, end_th - th2)
+        d2 = end_th - th2
         r = _ratio(np.array([dw1 - dw0]), np.array([dw2 - dw1]))[0]
         n = min(cycles - done, done)
         if dw2 > 0.0:
@@ -380,18 +443,37 @@ def run_durability(duty, cycles: int | None = None, *, accelerated: bool = True,
         hit = np.flatnonzero(wear + total >= law.reserve)
         if hit.size:
             n = int(hit[0]) + 1
-            life = done + n
         wear += float(total[n - 1])
         geo = np.where(r_th > 0.0, r_th * (1.0 - r_th ** n) / np.maximum(1.0 - r_th, 1e-300),
                        0.0)
-        theta = {k: float(v) for k, v in zip(theta, end + d2 * geo)}
+        theta = {k: float(v) for k, v in zip(theta, end_th + d2 * geo)}
         done += n
         record(done, wear, peak, work, False)
+        if hit.size:
+            eol = end(done, "wear_reserve", wear)
         run = []
     F, cap = _clamp(duty, fe, wear)
-    return DurabilityResult(duty.name, "accelerated" if accelerated else "full", cycles, sims,
-                            {k: np.asarray(v) for k, v in hist.items()}, wear, F, cap, life,
+    outcome = "failed" if failure else "end_of_life" if eol else "completed"
+    return DurabilityResult(duty.name, "accelerated" if accelerated else "full", cycles,
+                            done, sims, {k: np.asarray(v) for k, v in hist.items()}, wear, F,
+                            cap, outcome, None if eol is None else eol["cycle"], eol, failure,
                             worst, time.perf_counter() - t0)
+
+
+def describe_end(res: DurabilityResult) -> str:
+    """One line: how the study ended (life and its criterion, or the failure)."""
+    if res.outcome == "failed":
+        f = res.failure
+        return (f"failed in cycle {f['cycle']}: manoeuvre {f['manoeuvre']!r} "
+                f"({f['run_outcome']}) also fails with a new lining: {f['message']}")
+    if res.outcome == "end_of_life":
+        e = res.end_of_life
+        why = ("wear reserve used up" if e["criterion"] == "wear_reserve" else
+               f"{e['criterion']}: manoeuvre {e['manoeuvre']!r} fails with the worn lining "
+               f"({e['message']}) and completes with a new one")
+        return (f"end of life in cycle {e['cycle']} ({why}; wear {e['wear_mm']:.3f} mm, "
+                f"clamp force {e['clamp_force_N']:.0f} N, capacity {e['capacity_Nm']:.0f} N·m)")
+    return "life not reached"
 
 
 def write_durability(res: DurabilityResult, directory, *, plots: bool = True) -> None:
@@ -425,9 +507,8 @@ def write_durability(res: DurabilityResult, directory, *, plots: bool = True) ->
     for a in ax[1]:
         a.set_xlabel("cycle")
     ax[0, 0].legend()
-    life = "not reached" if res.life_cycles is None else f"{res.life_cycles} cycles"
-    fig.suptitle(f"{res.duty}: {res.cycles} cycles ({res.mode}, {res.simulated_cycles} "
-                 f"simulated); life {life}")
+    fig.suptitle(f"{res.duty}: {res.cycles_done} of {res.cycles} cycles ({res.mode}, "
+                 f"{res.simulated_cycles} simulated); {describe_end(res)}")
     fig.tight_layout()
     atomic_write(directory / "durability.png", lambda p: fig.savefig(p, dpi=110,
                                                                     format="png"))

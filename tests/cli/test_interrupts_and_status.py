@@ -17,8 +17,10 @@ FAST = ["--set", "scenario.t_end=1.3", "--set", "solver.dt_out=0.005", "-q"]
 
 
 def test_run_exits_1_when_any_model_fails_and_the_json_says_which(tmp_path, capsys):
-    # the default launch runs three models; the naive switching model chatters at lock-up
-    code = main(["run", "--out", str(tmp_path / "o"), "--json", "--no-plots", "-q"])
+    # three models on the default launch; the naive switching model chatters at lock-up
+    models = ["--model", "mykhailevych2020", "--model", "coulomb-robust", "--model",
+              "coulomb-naive"]
+    code = main(["run", *models, "--out", str(tmp_path / "o"), "--json", "--no-plots", "-q"])
     captured = capsys.readouterr()
     assert code == 1, captured.err
     doc = json.loads(captured.out)

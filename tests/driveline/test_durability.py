@@ -23,7 +23,8 @@ HOT = ('"thermal[0].ambient=45", "thermal[1].ambient=45", "thermal[0].theta0=120
        '"thermal[1].theta0=120"')
 
 
-def _duty(tmp_path, sets=HOT, rest=20.0, count=1, manoeuvre="launch", extra=""):
+def _duty(tmp_path, sets=HOT, rest=20.0, count=1, manoeuvre="launch", extra="",
+          scenario=EXAMPLES / "launch_wear.toml"):
     f = tmp_path / "duty.toml"
     f.write_text(f"""[duty]
 name = "test duty"
@@ -33,7 +34,7 @@ clamp_force = 4000.0
 
 [[manoeuvre]]
 name = "launch"
-scenario = "{EXAMPLES / 'launch_wear.toml'}"
+scenario = "{scenario}"
 set = [{sets}]
 rest = {rest}
 {extra}
@@ -90,6 +91,61 @@ def test_worn_out_clutch_is_a_reported_end_of_life(tmp_path):
     assert full.wear_m >= 1.5e-3 and full.simulated_cycles == full.life_cycles
     assert abs(acc.life_cycles - full.life_cycles) <= 2
     assert acc.summary()["life_cycles"] == acc.life_cycles
+    for res in (full, acc):
+        assert res.outcome == "end_of_life" and res.end_of_life["criterion"] == "wear_reserve"
+        assert res.end_of_life["cycle"] == res.life_cycles == res.cycles_done
+
+
+def test_wear_that_makes_a_manoeuvre_fail_is_the_end_of_life(tmp_path):
+    """The 5 % start at 35 % throttle stalls the engine once the wear has moved the engaged
+    position far enough (the same pedal clamps earlier and harder), while a new lining
+    completes it: the end of life (criterion "engagement": the capacity has not fallen),
+    with the curve so far and the state there; exit status 0 with the outputs written."""
+    f = _duty(tmp_path, sets='"coupling[0].wear.k_w=6e-9", "vehicle.grade=5"', rest=40.0)
+    res = run_durability(f, accelerated=True)
+    eol = res.end_of_life
+    assert res.outcome == "end_of_life" and res.failure is None, res.summary()
+    assert eol["criterion"] == "engagement" and "stalled" in eol["message"]
+    assert res.life_cycles == eol["cycle"] == res.cycles_done + 1 < res.cycles
+    assert 0.0 < res.wear_m < 1.5e-3 and eol["wear_mm"] == pytest.approx(res.wear_m * 1e3)
+    assert eol["clamp_force_N"] == res.clamp_force_end_N > 4000.0
+    assert eol["capacity_Nm"] == res.capacity_end_Nm >= 240.0
+    h = res.history
+    assert h["cycle"][-1] == res.cycles_done and np.all(np.diff(h["wear_m"]) > 0)
+    out = tmp_path / "o"
+    p = _cli(str(f), "--out", str(out), "--json", "--no-plots")
+    assert p.returncode == 0, p.stderr
+    doc = json.loads(p.stdout)
+    assert doc == json.loads((out / "summary.json").read_text())
+    assert doc["outcome"] == "end_of_life" and doc["life_cycles"] == res.life_cycles
+    assert "end of life in cycle" in p.stderr and "engagement" in p.stderr
+    rows = (out / "durability.csv").read_text().splitlines()
+    assert len(rows) == 2 + len(h["cycle"])
+
+
+def test_a_failure_not_due_to_wear_keeps_the_finished_cycles_and_exits_1(tmp_path):
+    """A lining that grabs when hot (μ ×1.6 from 40 to 50 °C) with no rest between launches:
+    the temperature climbs until the 5 % start stalls the engine, with a new lining too, so
+    the study fails (not an end of life): exit status 1, the finished cycles written."""
+    text = (EXAMPLES / "launch_wear.toml").read_text()
+    hot = tmp_path / "grabby.toml"
+    hot.write_text("\n".join(
+        "mu_temperature = { theta = [20.0, 40.0, 50.0], factor = [1.0, 1.0, 1.6] }"
+        if line.startswith("mu_temperature") else line for line in text.splitlines()))
+    f = _duty(tmp_path, sets='"vehicle.grade=5"', rest=0.0, scenario=hot)
+    out = tmp_path / "o"
+    p = _cli(str(f), "--out", str(out), "--json", "--no-plots", "--full")
+    assert p.returncode == 1, p.stderr
+    doc = json.loads(p.stdout)
+    assert doc["outcome"] == "failed" and doc["life_cycles"] is None
+    assert doc["end_of_life"] is None and doc["failure"]["manoeuvre"] == "launch"
+    assert "stalled" in doc["failure"]["message"]
+    assert 1 <= doc["cycles_done"] == doc["failure"]["cycle"] - 1 < 200
+    assert json.loads((out / "summary.json").read_text()) == doc
+    rows = (out / "durability.csv").read_text().splitlines()
+    assert len(rows) == 2 + doc["cycles_done"]
+    err = [ln for ln in p.stderr.splitlines() if ln.strip()]
+    assert "also fails with a new lining" in err[-1] and str(out) in err[-1]
 
 
 @pytest.mark.parametrize("name", ["passenger_car", "hot_climate"])
@@ -133,6 +189,7 @@ def test_cli_json_and_outputs(tmp_path):
               "capacity_end_Nm", "life_cycles", "wall_s"):
         assert k in doc, k
     assert doc["kind"] == "durability" and doc["cycles"] == 30 and doc["life_cycles"] is None
+    assert doc["outcome"] == "completed" and doc["cycles_done"] == 30
     assert doc["wear_mm"] > 0
     for name in ("durability.csv", "durability.png", "summary.json", "command.txt"):
         assert (out / name).exists(), name

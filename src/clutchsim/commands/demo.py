@@ -10,7 +10,8 @@ from ._common import add_force_flag
 HELP = """\
 examples:
   clutchsim demo                          # writes clutchsim-out/demo and its report.html
-  clutchsim demo --out /tmp/demo --json   # the summary as one JSON document
+  # chatter detection stops the naive model (outcome "chatter"); the other two lock up
+  clutchsim demo --out demo/ --json       # the summary as one JSON document
 
 The launch compares the seed paper's model (6) (mykhailevych2020, clamp reset) with the
 robust stick/slip switching model and the naive switching model, which chatter detection

@@ -3,25 +3,36 @@
 from __future__ import annotations
 
 import argparse
+import logging
 
 from ..cli import SimulationFailed, UserError, emit_json
 from ._common import add_force_flag, write_command
+
+log = logging.getLogger("clutchsim")
 
 HELP = """\
 examples:
   clutchsim durability examples/durability/passenger_car.toml --out dur/ --json
   clutchsim durability examples/durability/hot_climate.toml --cycles 200 --full --out hot/
+  # a facing that wears 20,000 times faster: the end of life in tens of cycles (exit 0)
+  clutchsim durability examples/durability/accelerated_wear.toml --out worn/ --json
 
 outputs in DIR: durability.csv (per recorded cycle: wear, clamp force, capacity, peak
 temperature, friction work, simulated or extrapolated), summary.json {"kind":
-"durability", "cycles", "simulated_cycles", "wear_mm", "clamp_force_end_N",
-"capacity_end_Nm", "life_cycles" (null when the reserve is not used up), "wall_s", ...},
+"durability", "outcome" (completed, end_of_life, failed), "cycles", "cycles_done",
+"simulated_cycles", "wear_mm", "clamp_force_end_N", "capacity_end_Nm", "life_cycles"
+(null while the clutch lasts), "end_of_life" {"cycle", "criterion" (wear_reserve: the
+reserve is used up; capacity or engagement: a manoeuvre fails with the worn lining and
+completes with a new one, the capacity below the new clutch's or not), "wear_mm",
+"clamp_force_N", "capacity_Nm", ...}, "failure", "wall_s", ...},
 durability.png, command.txt.  DIR is written as DIR.partial and put in place when
 complete; an existing DIR is replaced only when it is empty or holds an earlier
-`clutchsim durability` output (--force: write beside other files, which are kept).
+`clutchsim durability` output (--force: write beside other files, which are kept).  The
+study so far is written in every case.
 
-exit status: 0 done (a worn-out clutch is a result: life_cycles), 1 a manoeuvre did not
-complete, 2 bad input.
+exit status: 0 done (the end of life is a result: outcome end_of_life, life_cycles), 1 a
+manoeuvre failed with a new lining too (not wear: outcome failed; the finished cycles are
+written), 2 bad input.
 """
 
 
@@ -56,12 +67,9 @@ def _run(args, out) -> int:
     import json
 
     from .._util import atomic_write
-    from ..durability import DurabilityFailed, load_duty, run_durability, write_durability
+    from ..durability import describe_end, load_duty, run_durability, write_durability
     duty = load_duty(args.duty)
-    try:
-        res = run_durability(duty, args.cycles, accelerated=args.accelerated)
-    except DurabilityFailed as exc:
-        raise SimulationFailed(str(exc)) from None
+    res = run_durability(duty, args.cycles, accelerated=args.accelerated)
     summary = res.summary()
     with out.build() as part:
         write_durability(res, part, plots=not args.no_plots)
@@ -70,4 +78,9 @@ def _run(args, out) -> int:
         write_command(part, args.argv)
     if args.json:
         emit_json(summary)
+    if res.outcome == "failed":
+        raise SimulationFailed(f"{describe_end(res)} ({res.cycles_done} finished cycles "
+                               f"written to {args.out})")
+    if res.outcome == "end_of_life":
+        log.warning("%s", describe_end(res))
     return 0

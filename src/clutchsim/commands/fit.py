@@ -16,12 +16,15 @@ HELP = """\
 examples:
   clutchsim fit examples/fit_emps.toml --model lugre --out emps_lugre/ --json
   clutchsim fit examples/fit_emps.toml --model tanh --params F_c,sigma2,M,offset --out cv/
-  clutchsim fit examples/fit_emps.toml --model lugre --option rtol=1e-9 --option wall_time=60 \\
+  clutchsim fit examples/fit_emps.toml --model tanh --option rtol=1e-9 --option wall_time=60 \\
       --out tight/
-  clutchsim fit examples/fit_brfd_loads.toml --model dahl --out loads/ --validate a.npz b.npz
-  clutchsim fit test.npz --model lugre --plant rig-velocity --input v --output F \\
-      --column v=v --column F=F --scale v=0.0254 --scale F=4448.222 \\
-      --params F_c,F_s,sigma0 --bounds sigma0=1e4:1e8 --validate other.npz --out brfd/
+  clutchsim fit examples/fit_brfd_loads.toml --model dahl --out loads/ --json
+  # a CSV record (here two written by the rig), fitted, then validated on the other one
+  clutchsim rig --model tanh --velocity "sine(0.05, 0.5)" --t-end 8 --out rec.csv
+  clutchsim rig --model tanh --velocity "sine(0.08, 0.3)" --t-end 8 --out other.csv
+  clutchsim fit rec.csv --model tanh --plant rig-velocity --input v --output F \\
+      --time "time [s]" --column "v=v [m/s]" --column "F=F [N]" --params F_c,sigma2 \\
+      --bounds sigma2=0:10 --validate other.csv --out rec_fit/
 
 DATA is a CSV/TXT, NPZ or MAT file, or a TOML fit specification (see
 docs/identification.md); command-line options override the specification.  A

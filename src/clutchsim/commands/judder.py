@@ -15,7 +15,8 @@ examples:
   clutchsim judder                                     # the default launch at t = 0
   clutchsim judder examples/launch.toml --at 0.9 --json
   clutchsim judder --model coulomb-robust --at 3 --out modes/
-  clutchsim judder --at 0.9 --set "clutch.friction.k_din=0.8" --element clutch
+  clutchsim judder --at 0.9 --set "coupling[0].friction.overrides.k_din=0.8" \
+      --element clutch
   clutchsim judder --at 3 --frf throttle:a_vehicle --f-min 0.5 --f-max 100 --json
 
 The scenario is simulated from 0 to --at (default 0), its inputs frozen there, and the

@@ -9,8 +9,9 @@ from ..cli import UserError, emit_json
 
 HELP = """\
 examples:
-  clutchsim report launch/                     # rebuild launch/report.html, print its path
-  clutchsim report drift/ --title "Drift, 3 models" --json    # {"report": "drift/report.html"}
+  clutchsim bench drift --model lugre --out drift/   # any output directory of clutchsim
+  clutchsim report drift/                      # rebuild drift/report.html, print its path
+  clutchsim report drift/ --title "Drift, LuGre" --json    # {"report": "drift/report.html"}
 
 The report is one HTML file (figures embedded, no network access, opens from disk) with the
 status and warnings, metrics, parameters, scenario, solver statistics, figures and a list

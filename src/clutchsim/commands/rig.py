@@ -18,8 +18,10 @@ examples:
   clutchsim rig --model lugre --force 0 --spring 2 --pull-speed 0.1 --t-end 30 --json
   clutchsim rig --model mykhailevych2020 --set reset=zero --velocity "ramp(0, 1, 0.01)" \\
                 --t-end 2 --out ramp.csv
+  # a torque table (time [s], torque [N·m]): the clutch sticks until it passes T_stat = 240
   clutchsim rig --model mykhailevych2020 --params mykhailevych2020_clutch \\
-                --domain rotational --mass 0.2 --force torque.csv --t-end 5
+                --domain rotational --mass 0.2 --force examples/rig_torque.csv --t-end 5 \\
+                --out breakaway.csv
 
 --scale multiplies the friction capacity (normal-load ratio N(t)/N_ref [-], >= 0;
 same syntax as --force).  --v0 starts the force-driven body moving: the friction

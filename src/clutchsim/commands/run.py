@@ -21,8 +21,10 @@ HELP = """\
 examples:
   clutchsim run --out launch/                          # the default passenger-car launch
   clutchsim run examples/hill_start.toml --out hill/ --json
+  # exit 1: chatter detection stops the naive model at lock-up (cmp/ holds both runs)
   clutchsim run examples/launch.toml --model coulomb-robust --model coulomb-naive --out cmp/
-  clutchsim run examples/launch.toml --set vehicle.grade=12 --out steep/
+  clutchsim run examples/launch.toml --set vehicle.grade=12 \
+      --set 'inputs.throttle="0.1 + ramp(0.3, 0.5, 0.5)"' --out steep/   # 12 %: more throttle
   clutchsim run examples/launch.toml --option rtol=1e-8 --option wall_time=30 --out tight/
 
 outputs in DIR: timeseries.csv and timeseries.parquet (first model; one file per model with

@@ -12,11 +12,13 @@ log = logging.getLogger("clutchsim")
 
 HELP = """\
 examples:
-  clutchsim sweep examples/launch.toml --vary vehicle.mass=1100:1700:7 \\
-      --vary vehicle.grade=0:12:5 --out mass_grade/
+  clutchsim sweep examples/launch.toml --vary vehicle.mass=1100:1700:4 \\
+      --vary vehicle.grade=0:6:4 --out mass_grade/
+  # Monte Carlo: phi0 about its value (1 mrad, 10 %), 2000 seeded samples; all lock up
   clutchsim sweep examples/launch.toml --vary vehicle.mass='uniform(1100,1700)' \\
-      --vary 'coupling[0].friction.overrides.phi0=normal(0.2,0.01)' --samples 2000 --seed 1 \\
-      --metrics lockup_time_s,slip_energy_J --out mc/
+      --vary 'coupling[0].friction.overrides.phi0=normal(0.001,0.0001)' --samples 2000 \\
+      --seed 1 --metrics lockup_time_s,slip_energy_J --out mc/
+  # on a Dask cluster; exit 2 when no scheduler answers at that address
   clutchsim sweep examples/launch.toml --vary vehicle.mass=1100:1700:50 --out big/ \\
       --dask tcp://scheduler:8786
 
