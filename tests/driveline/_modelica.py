@@ -12,11 +12,11 @@ flags ``startForward``/``startBackward`` are excluded, as the reference README s
   row of the reference, where ``range = max(ref) − min(ref)``.  Our signal is interpolated
   linearly, on the matching side of an event: the reference writes each event instant twice
   (left, then right limit), and so do we; the left row is compared with our left limit, the
-  right row with our right limit.  Reference times are first mapped onto ours by the
-  piecewise-linear warp that takes each matched mode switch of the reference to ours
-  (CSV-compare's "aligned event times"; each anchor moves by at most SWITCH_TOL, and a
-  signal that jumps at an event — a mass hitting its stop — is otherwise compared with the
-  wrong side for the few microseconds the two event times differ).
+  right row with our right limit.  Around each matched mode switch the reference
+  times are first mapped onto ours (CSV-compare's "aligned event times"): the switch
+  instant goes to ours, linearly within twice their difference (at most SWITCH_TOL) of it,
+  so that a signal that jumps at the event (a mass hitting its stop) is compared on the
+  same side; rows farther away keep their time.
 * a ``mode`` signal (−1 backward sliding, 0 stuck, +1 forward sliding, 2 free): the
   sequence of switches must be the same, each within SWITCH_TOL (1e-3 s).  Ours is read as
   2 where the element's capacity ``capacity_<element>`` is ≤ 0 (Modelica: normal force ≤ 0),
@@ -236,11 +236,17 @@ def _compare_modes(name, kind, ref_sw, our_sw):
 
 
 def warp(t, anchors, t_end):
-    """Reference times mapped onto ours through the matched switches (monotone)."""
+    """Reference times mapped onto ours around each matched switch: ``t_ref`` goes to
+    ``t_ours``, linearly within ``2·|t_ours − t_ref|`` of it; farther rows keep their time
+    (a switch that Dymola locates early does not shift the trajectory before it)."""
     pts = [(0.0, 0.0)]
     for a, b in sorted(anchors):
-        if a > pts[-1][0] and b > pts[-1][1]:
-            pts.append((a, b))
+        d = 2.0 * abs(b - a)
+        if d == 0.0:
+            continue
+        for x, y in ((a - d, a - d), (a, b), (a + d, a + d)):
+            if x > pts[-1][0] and y > pts[-1][1]:
+                pts.append((x, y))
     if t_end > pts[-1][0]:
         pts.append((t_end, t_end))
     xa, xb = np.array(pts).T
