@@ -78,6 +78,10 @@ N_STATS = 8
 N_SAMPLES = 4
 #: golden-section probes of a valley of a sampled event function (0.618^40 of the step)
 VALLEY_PROBES = 40
+#: a valley counts as a crossing when it reaches past zero by more than this fraction of
+#: the largest |g| in the step (less is round-off: a slip that starts at 0 after a reset
+#: and reads 4e-21 with the wrong sign a moment later)
+VALLEY_DEPTH = 1e-12
 
 
 @jit
@@ -261,10 +265,10 @@ def _g_at(tag, bank, p, dkind, dense, t, h, t_ref, tq, ytmp, u, uc, g, stats):
 
 
 @jit
-def _valley(tag, bank, p, dkind, dense, t, h, t_ref, k, sigma, lo, hi, ytmp, u, uc, g,
-            stats):
+def _valley(tag, bank, p, dkind, dense, t, h, t_ref, k, sigma, lo, hi, depth, ytmp, u, uc,
+            g, stats):
     """``(time, sigma·g_k there)`` where ``sigma·g_k`` is least in [lo, hi] (golden section
-    on the dense output; it stops at the first probe on or past zero)."""
+    on the dense output; it stops at the first probe below ``-depth``)."""
     r = 0.6180339887498949
     x1 = hi - r * (hi - lo)
     x2 = lo + r * (hi - lo)
@@ -273,7 +277,7 @@ def _valley(tag, bank, p, dkind, dense, t, h, t_ref, k, sigma, lo, hi, ytmp, u, 
     _g_at(tag, bank, p, dkind, dense, t, h, t_ref, x2, ytmp, u, uc, g, stats)
     f2 = sigma * g[k]
     for _ in range(VALLEY_PROBES):
-        if f1 <= 0.0 or f2 <= 0.0 or math.isnan(f1) or math.isnan(f2):
+        if f1 < -depth or f2 < -depth or math.isnan(f1) or math.isnan(f2):
             break
         if f1 < f2:
             hi = x2
@@ -315,13 +319,16 @@ def _sharpen(tag, bank, p, dkind, dense, t, h, t_ref, g_old, g_samp, ts, ns, ytm
     g at t (index -1) and at the samples ``ts[0 .. ns-1]`` (the last is the step end).  The
     valley is searched when the parabola through the lowest value and its two neighbours
     (at an end of the step: its next two) turns inside their span at no more than half
-    that lowest value."""
+    that lowest value; its bottom counts when it is past zero by more than VALLEY_DEPTH of
+    the largest |g| in the step."""
     for k in range(g_old.shape[0]):
         if g_old[k] == 0.0:
             continue
         sigma = 1.0 if g_old[k] > 0.0 else -1.0
         low = -1
+        big = abs(g_old[k])
         for j in range(ns):
+            big = max(big, abs(g_samp[j, k]))
             if not sigma * g_samp[j, k] > 0.0:
                 low = -2                # a sign change: the scan finds it
                 break
@@ -339,9 +346,10 @@ def _sharpen(tag, bank, p, dkind, dense, t, h, t_ref, g_old, g_samp, ts, ns, ytm
             continue
         lo = t if low <= 0 else ts[low - 1]
         hi = ts[low] if low == ns - 1 else ts[low + 1]
-        tq, fq = _valley(tag, bank, p, dkind, dense, t, h, t_ref, k, sigma, lo, hi, ytmp,
-                         u, uc, g, stats)
-        if fq <= 0.0:
+        depth = VALLEY_DEPTH * big
+        tq, fq = _valley(tag, bank, p, dkind, dense, t, h, t_ref, k, sigma, lo, hi, depth,
+                         ytmp, u, uc, g, stats)
+        if fq < -depth:
             i = min(max(low, 0), ns - 2)      # an interior sample inside [lo, hi]
             ts[i] = tq
             _g_at(tag, bank, p, dkind, dense, t, h, t_ref, tq, ytmp, u, uc, g_samp[i],
