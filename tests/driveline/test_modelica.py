@@ -76,13 +76,13 @@ def test_sampling_takes_the_side_of_an_event():
 
 
 def test_switches_merge_one_instant_and_keep_their_interval():
-    t = np.array([0.0, 1.0, 1.0, 1.0, 2.0, 3.0, 3.0, 3.0 + 5e-13, 3.0 + 5e-13])
-    m = np.array([-1, -1, 0, 1, 1, 2, -1, -1, 2])
+    t = np.array([0.0, 1.0, 1.0, 1.0, 2.0, 3.0, 4.0, 4.0, 4.0 + 5e-13, 4.0 + 5e-13])
+    m = np.array([-1, -1, 0, 1, 1, 2, 2, -1, -1, 2])
     # -1 -> 0 -> +1 at one instant is one switch; 1 -> 2 between rows 2 s and 3 s; a
     # switch undone 5e-13 s later is dropped, and reported when asked
     undone = []
     assert switches(t, m, undone) == [(1.0, 1.0, -1, 1), (2.0, 3.0, 1, 2)]
-    assert undone == [3.0]
+    assert undone == [4.0]
     row, _ = _compare_modes("m", "mode", switches(t, m), switches(t, m, []), undone)
     assert not row.ok and "undo themselves" in row.detail
 
