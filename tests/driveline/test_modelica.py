@@ -1,153 +1,96 @@
-"""Modelica reference examples (MSL 4.x, Dymola DASSL, CSV-compare tube 2e-3).
+"""Modelica reference examples (MSL 4.x, Dymola DASSL) under the strict criterion of issue 34.
 
 CoupledClutches, OneWayClutch, OneWayClutchDisengaged and LossyGearDemo1/2/3 run from the
-scenario files in ``examples/`` and are compared with the published reference results:
-the times at which the switching element locks and frees, and the speeds (relative
-deviation over the whole run, within the tube 2e-3 of the signal's range).
+scenario files in ``examples/`` and every signal of each reference's
+``comparisonSignals.txt`` is compared by the shared harness ``_modelica.py``: values within
+1e-3 of the signal's range, mode switches within 1e-3 s (the historic bounds, MSL's 2e-3
+tube and our 1e-4 s on located switches, hold as well).  OneWayClutch's freewheel locks
+for 3.2 µs at 1.5 s (a dip of its relative speed to -2.4e-10 rad/s inside one step): the
+integrator's valley search finds it (``tests/core/test_narrow_dip_events.py``).
 """
 
+import dataclasses
+
 import numpy as np
-import pandas as pd
 import pytest
-from _dl_paths import EXAMPLES, shared_dir
+from _modelica import (
+    CASES,
+    HISTORIC_TUBE,
+    SIGNAL_TOL,
+    _compare_modes,
+    compare,
+    derived_mode,
+    reference_mode,
+    sample,
+    switches,
+)
 
-from clutchsim.scenario import run_scenario
-
-REF = shared_dir() / "reference" / "modelica" / "Modelica" / "Mechanics" / "Rotational" / "Examples"
-
-#: reference mode switches of CoupledClutches (README of the reference folder)
-SWITCHES = {
-    "clutch1": [("stop", 0.7916582843), ("breakaway", 0.8311085061), ("stop", 0.9068491375),
-                ("breakaway", 1.0002958599)],
-    "clutch2": [("stop", 0.7096214638)],
-    "clutch3": [("stop", 1.1439696304)],
-}
-TUBE = 2e-3
-SWITCH_TOL = 1e-4     # s
-
-
-def reference(name):
-    path = REF / name / f"{name}.csv"
-    if not path.exists():
-        pytest.skip(f"Modelica reference results not found at {path} "
-                    "(set CLUTCHSIM_SHARED to the shared folder)")
-    return pd.read_csv(path)
-
-
-def reference_speeds(path):
-    ref = pd.read_csv(path).drop_duplicates("time", keep="last")
-    w1 = ref["J1.w"].to_numpy()
-    w2 = w1 + ref["clutch1.w_rel"].to_numpy()     # J2.w = J1.w + clutch1.w_rel, ...
-    w3 = w2 + ref["clutch2.w_rel"].to_numpy()
-    w4 = w3 + ref["clutch3.w_rel"].to_numpy()
-    return ref["time"].to_numpy(), (w1, w2, w3, w4)
-
-
-def test_coupled_clutches_robust_matches_modelica(modelica_csv):
-    r = run_scenario(EXAMPLES / "coupled_clutches.toml", "coulomb-robust")
-    res = r.result
-    assert res.status == "completed", res.message
-    for clutch, expected in SWITCHES.items():
-        # before its command steps up an element is free (Modelica mode 2): its
-        # zero-capacity break-away at the first torque is not a mode switch there
-        t_on = {"clutch1": 0.0, "clutch2": 0.4, "clutch3": 0.9}[clutch]
-        got = [(e.name.split(": ")[1], e.t) for e in res.events
-               if e.name.startswith(clutch + ":") and t_on < e.t < 1.25]
-        assert [k for k, _ in got] == [k for k, _ in expected], (clutch, got)
-        for (_, t_got), (_, t_ref) in zip(got, expected):
-            assert abs(t_got - t_ref) < SWITCH_TOL, (clutch, t_got, t_ref)
-    t_ref, speeds = reference_speeds(modelica_csv)
-    for k, w_ref in enumerate(speeds, start=1):
-        w = np.interp(t_ref, res.t, res[f"omega_J{k}"])
-        # tube 2e-3 relative to the signal's range, away from event instants
-        assert np.max(np.abs(w - w_ref)) <= TUBE * max(np.max(np.abs(w_ref)), 1.0), k
-
-
-def stuck_switches(t, w, tol=1e-8):
-    """[(kind, time)] where |w| comes to rest ('lock', first row at rest) and leaves it
-    ('release', last row at rest); event rows of the reference appear twice."""
-    rest = np.abs(w) <= tol
-    out = []
-    for i in range(1, len(w)):
-        if rest[i] and not rest[i - 1]:
-            out.append(("lock", float(t[i])))
-        elif rest[i - 1] and not rest[i]:
-            out.append(("release", float(t[i - 1])))
-    return rest[0], out
-
-
-def our_switches(res, element):
-    """[(kind, time)] from the element's lock flag (outputs are recorded on both sides of
-    every event)."""
-    lk = res[f"{element}.locked"] > 0.5
-    out = []
-    for i in range(1, len(lk)):
-        if lk[i] != lk[i - 1]:
-            out.append(("lock" if lk[i] else "release", float(res.t[i])))
-    return bool(lk[0]), out
-
-
-#: example -> (reference name, element, reference slip signal, speeds: ours <- reference)
-CASES = {
-    "one_way_clutch": ("OneWayClutch", "oneWayClutch", "oneWayClutch.w_rel",
-                       {"inertiaIn": ("inertiaIn.w",), "inertiaOut": ("inertiaIn.w",
-                                                                       "oneWayClutch.w_rel")}),
-    "one_way_clutch_disengaged": ("OneWayClutchDisengaged", "oneWayClutch",
-                                  "oneWayClutch.w_rel",
-                                  {"inertiaIn": ("inertiaIn.w",),
-                                   "inertiaOut": ("inertiaIn.w", "oneWayClutch.w_rel")}),
-    "lossy_gear_demo1": ("LossyGearDemo1", "gear", "Inertia2.w", {"Inertia2": ("Inertia2.w",)}),
-    "lossy_gear_demo2": ("LossyGearDemo2", "gear", "Inertia2.w", {"Inertia2": ("Inertia2.w",)}),
-    "lossy_gear_demo3": ("LossyGearDemo3", "gear", "Inertia2.w", {"Inertia2": ("Inertia2.w",)}),
-}
-
-#: reference lock/release pairs that our run lacks: at 1.4997-1.5000 s the OneWayClutch
-#: reference locks for 3 ms because its relative speed reaches zero just before the drive
-#: torque changes sign at 1.5 s; ours only touches zero at 1.5 s (a double root, minimum
-#: -2e-10 rad/s, that the event detection does not resolve), within the 2e-5 rad/s speed
-#: deviation; see docs/validation-modelica.md
-NEAR_TANGENT = {"one_way_clutch": [(1.4997, 1.5001)]}
+#: the located mode switches match to this (the historic bound of these tests) [s]
+LOCATED_SWITCH_TOL = 1e-4
+#: ... except the freewheel's 3.2-µs lock of OneWayClutch at 1.4999986 s, which Dymola
+#: locates at 1.4997028 s (its DASSL error, 1e-5 rad/s, on a dip 2.4e-10 rad/s deep)
+LOOSER = {("one_way_clutch", "oneWayClutch (stuck/sliding)"): 5e-4}
 
 
 @pytest.mark.parametrize("example", list(CASES))
-def test_switching_examples_match_modelica(example):
-    ref_name, element, slip_col, speeds = CASES[example]
-    ref_all = reference(ref_name)
-    r = run_scenario(EXAMPLES / f"{example}.toml")
-    res = r.result
-    assert res.status == "completed", res.message
-    assert r.metrics["energy_balance_rel"] <= 1e-8
-    # lock / release instants of the element
-    _rest0, expected = stuck_switches(ref_all["time"].to_numpy(), ref_all[slip_col].to_numpy())
-    for lo, hi in NEAR_TANGENT.get(example, []):
-        expected = [(k, t) for k, t in expected if not lo <= t <= hi]
-        w = res[f"w_slip_{element}"][(res.t >= lo) & (res.t <= hi)]
-        assert -1e-8 < np.min(w) < 1e-4     # a touch of zero slip, no backward slip
-    locked0, got = our_switches(res, element)
-    if expected and expected[0] == ("release", 0.0):   # starts stuck, frees at t = 0
-        expected = expected[1:]
-        assert got[:1] == [("release", 0.0)] or not locked0, got
-        got = got[1:] if got[:1] == [("release", 0.0)] else got
-    assert [k for k, _ in got] == [k for k, _ in expected], (got, expected)
-    for (_, t_got), (_, t_ref) in zip(got, expected):
-        assert abs(t_got - t_ref) < SWITCH_TOL, (t_got, t_ref)
-    # speeds inside the tube
-    ref = ref_all.drop_duplicates("time", keep="last")
-    t_ref = ref["time"].to_numpy()
-    for node, cols in speeds.items():
-        w_ref = sum(ref[c].to_numpy() for c in cols)
-        w = np.interp(t_ref, res.t, res[f"omega_{node}"])
-        assert np.max(np.abs(w - w_ref)) <= TUBE * np.max(np.abs(w_ref)), node
+def test_every_comparison_signal_matches_modelica(example):
+    report = compare(CASES[example])
+    assert report.result.status == "completed", report.result.message
+    assert report.metrics["energy_balance_rel"] <= 1e-8
+    assert not report.failures, "\n".join(report.failures) + "\n" + report.table()
+    for row in report.rows:
+        if row.kind == "value":
+            assert row.error <= min(SIGNAL_TOL, HISTORIC_TUBE), row
+        else:
+            assert row.error <= LOOSER.get((example, row.signal), LOCATED_SWITCH_TOL), row
 
 
-def test_lossy_gear_mode_sequence_matches_modelica():
-    """gear.mode of LossyGearDemo1: -1 rolling backward, 0 stuck, +1 forward."""
-    ref = reference("LossyGearDemo1")
-    res = run_scenario(EXAMPLES / "lossy_gear_demo1.toml").result
-    mode = res["gear.mode"]
-    ref_seq = [int(m) for i, m in enumerate(ref["gear.mode"]) if i == 0
-               or m != ref["gear.mode"].iloc[i - 1]]
-    our_seq = [int(m) for i, m in enumerate(mode) if i == 0 or m != mode[i - 1]]
-    assert our_seq == ref_seq == [0, -1, 0, 1, 0, -1]
-    # the loss power is never negative: the gear only dissipates
-    assert np.min(res["P_gear"]) >= -1e-9
+def test_a_signal_without_a_mapping_fails():
+    case = CASES["lossy_gear_demo3"]
+    signals = dict(case.signals)
+    del signals["Inertia2.phi"]
+    report = compare(dataclasses.replace(case, signals=signals))
+    assert report.failures == [
+        "Inertia2.phi: no mapping to our result (a signal we cannot express fails)"]
+
+
+def test_a_wrong_mapping_or_mode_fails():
+    """A flipped sign fails its value check; a mode read from the wrong element fails its
+    switch sequence."""
+    case = CASES["coupled_clutches"]
+    signals = dict(case.signals)
+    signals["clutch2.w_rel"] = {"omega_J2": 1.0, "omega_J3": -1.0}
+    signals["clutch3.mode"] = signals["clutch2.mode"]
+    failures = compare(dataclasses.replace(case, signals=signals)).failures
+    assert [f.split(":")[0] for f in failures] == ["clutch3.mode", "clutch2.w_rel"]
+
+
+def test_sampling_takes_the_side_of_an_event():
+    """Rows written twice at an event: the left limit from the left, the right limit from
+    the right; between rows, linear."""
+    t = np.array([0.0, 1.0, 1.0, 2.0])
+    y = np.array([0.0, 1.0, 5.0, 6.0])
+    assert sample(t, y, np.array([1.0]), False)[0] == 1.0
+    assert sample(t, y, np.array([1.0]), True)[0] == 5.0
+    assert sample(t, y, np.array([0.5, 1.5]), True).tolist() == [0.5, 5.5]
+
+
+def test_switches_merge_one_instant_and_keep_their_interval():
+    t = np.array([0.0, 1.0, 1.0, 1.0, 2.0, 3.0, 4.0, 4.0, 4.0 + 5e-13, 4.0 + 5e-13])
+    m = np.array([-1, -1, 0, 1, 1, 2, 2, -1, -1, 2])
+    # -1 -> 0 -> +1 at one instant is one switch; 1 -> 2 between rows 2 s and 3 s; a
+    # switch undone 5e-13 s later is dropped, and reported when asked
+    undone = []
+    assert switches(t, m, undone) == [(1.0, 1.0, -1, 1), (2.0, 3.0, 1, 2)]
+    assert undone == [4.0]
+    row, _ = _compare_modes("m", "mode", switches(t, m), switches(t, m, []), undone)
+    assert not row.ok and "undo themselves" in row.detail
+
+
+def test_reference_mode_in_effect_and_derived():
+    """A sliding mode held at a residual speed between two events is stuck; a stretch that
+    moves keeps its mode."""
+    t = np.array([0.0, 0.5, 1.0, 1.0, 1.5, 2.0])
+    slip = np.array([0.0, 5e-11, 5e-11, 5e-11, 0.3, 0.6])
+    assert reference_mode(t, np.ones(6), slip).tolist() == [0, 0, 0, 1, 1, 1]
+    assert derived_mode(t, slip).tolist() == [0, 0, 0, 1, 1, 1]

@@ -12,7 +12,11 @@ Events are checked at the end of each step.  The event functions are sampled ins
 only where a crossing could hide between two same-sign ends: on the first step after the
 start, an event or a breakpoint (no history yet; a reset may leave ``g`` exactly on zero),
 when ``g`` starts exactly on zero, or when ``g`` ends the step close to zero compared with
-how much it changed over this step and the previous one (:func:`_may_hide_crossing`).
+how much it changed over this step and the previous one (:func:`_may_hide_crossing`).  A
+sampled ``g`` that keeps its sign but whose samples fit a parabola that turns inside the
+step at no more than half its lowest sample has its least value searched on the dense output
+(:func:`_valley`); where that is past zero, it becomes a sample, so that the two crossings
+of a dip far narrower than the step (a freewheel that locks for microseconds) are found.
 """
 
 from __future__ import annotations
@@ -73,6 +77,12 @@ N_STATS = 8
 # event functions are sampled at this many points of a step that needs it (the last one
 # is the step end)
 N_SAMPLES = 4
+#: golden-section probes of a valley of a sampled event function (0.618^40 of the step)
+VALLEY_PROBES = 40
+#: a valley counts as a crossing when it reaches past zero by more than this fraction of
+#: the largest |g| in the step (less is round-off: a slip that starts at 0 after a reset
+#: and reads 4e-21 with the wrong sign a moment later)
+VALLEY_DEPTH = 1e-12
 
 
 @jit
@@ -247,6 +257,108 @@ def _locate(tag, bank, p, dkind, dense, t, h, t_ref, k, ta, tb, ga, gb, tol, ytm
 
 
 @jit
+def _g_at(tag, bank, p, dkind, dense, t, h, t_ref, tq, ytmp, u, uc, g, stats):
+    """The event functions at ``tq`` inside the step [t, t + h], into ``g``."""
+    dense_eval(dkind, dense, (tq - t) / h, ytmp)
+    inputs_at(bank, tq, t_ref, u, uc)
+    system_events(tag, tq, ytmp, u, p, g)
+    stats[S_EV_CALLS] += 1
+
+
+@jit
+def _valley(tag, bank, p, dkind, dense, t, h, t_ref, k, sigma, lo, hi, depth, ytmp, u, uc,
+            g, stats):
+    """``(time, sigma·g_k there)`` where ``sigma·g_k`` is least in [lo, hi] (golden section
+    on the dense output; it stops at the first probe below ``-depth``)."""
+    r = 0.6180339887498949
+    x1 = hi - r * (hi - lo)
+    x2 = lo + r * (hi - lo)
+    _g_at(tag, bank, p, dkind, dense, t, h, t_ref, x1, ytmp, u, uc, g, stats)
+    f1 = sigma * g[k]
+    _g_at(tag, bank, p, dkind, dense, t, h, t_ref, x2, ytmp, u, uc, g, stats)
+    f2 = sigma * g[k]
+    for _ in range(VALLEY_PROBES):
+        if f1 < -depth or f2 < -depth or math.isnan(f1) or math.isnan(f2):
+            break
+        if f1 < f2:
+            hi = x2
+            x2 = x1
+            f2 = f1
+            x1 = hi - r * (hi - lo)
+            _g_at(tag, bank, p, dkind, dense, t, h, t_ref, x1, ytmp, u, uc, g, stats)
+            f1 = sigma * g[k]
+        else:
+            lo = x1
+            x1 = x2
+            f1 = f2
+            x2 = lo + r * (hi - lo)
+            _g_at(tag, bank, p, dkind, dense, t, h, t_ref, x2, ytmp, u, uc, g, stats)
+            f2 = sigma * g[k]
+    if f1 <= f2 or math.isnan(f2):
+        return x1, f1
+    return x2, f2
+
+
+@jit
+def _vertex(x0, y0, x1, y1, x2, y2):
+    """``(x, y)`` of the lowest point of the parabola through three points (``y = inf``
+    where it opens downward or is a line)."""
+    d1 = (y1 - y0) / (x1 - x0)
+    d2 = (y2 - y1) / (x2 - x1)
+    a = (d2 - d1) / (x2 - x0)
+    if not a > 0.0:
+        return x1, math.inf
+    x = 0.5 * (x0 + x1) - d1 / (2.0 * a)
+    return x, y0 + d1 * (x - x0) + a * (x - x0) * (x - x1)
+
+
+@jit
+def _sharpen(tag, bank, p, dkind, dense, t, h, t_ref, g_old, g_samp, ts, ns, ytmp, u, uc,
+             g, stats):
+    """Replace a sample by the bottom of a valley of an event function that dips past zero
+    between samples of one sign (see the module docstring); once per step.  The values are
+    g at t (index -1) and at the samples ``ts[0 .. ns-1]`` (the last is the step end).  The
+    valley is searched when the parabola through the lowest value and its two neighbours
+    (at an end of the step: its next two) turns inside their span at no more than half
+    that lowest value; its bottom counts when it is past zero by more than VALLEY_DEPTH of
+    the largest |g| in the step."""
+    for k in range(g_old.shape[0]):
+        if g_old[k] == 0.0:
+            continue
+        sigma = 1.0 if g_old[k] > 0.0 else -1.0
+        low = -1
+        big = abs(g_old[k])
+        for j in range(ns):
+            big = max(big, abs(g_samp[j, k]))
+            if not sigma * g_samp[j, k] > 0.0:
+                low = -2                # a sign change: the scan finds it
+                break
+            if sigma * g_samp[j, k] < sigma * (g_old[k] if low == -1 else g_samp[low, k]):
+                low = j
+        if low == -2:
+            continue
+        c = min(max(low, 0), ns - 2)    # the middle one of three neighbouring points
+        x0 = t if c == 0 else ts[c - 1]
+        y0 = sigma * (g_old[k] if c == 0 else g_samp[c - 1, k])
+        xv, yv = _vertex(x0, y0, ts[c], sigma * g_samp[c, k], ts[c + 1],
+                         sigma * g_samp[c + 1, k])
+        b = sigma * (g_old[k] if low == -1 else g_samp[low, k])
+        if not (x0 < xv < ts[c + 1] and yv <= 0.5 * b):
+            continue
+        lo = t if low <= 0 else ts[low - 1]
+        hi = ts[low] if low == ns - 1 else ts[low + 1]
+        depth = VALLEY_DEPTH * big
+        tq, fq = _valley(tag, bank, p, dkind, dense, t, h, t_ref, k, sigma, lo, hi, depth,
+                         ytmp, u, uc, g, stats)
+        if fq < -depth:
+            i = min(max(low, 0), ns - 2)      # an interior sample inside [lo, hi]
+            ts[i] = tq
+            _g_at(tag, bank, p, dkind, dense, t, h, t_ref, tq, ytmp, u, uc, g_samp[i],
+                  stats)
+            return
+
+
+@jit
 def _controller_factor(ctrl, q, e, e_old, e_older, h, h_old, first):
     """``h_new / h`` after an accepted step with error norm ``e`` (see controllers.py)."""
     kind = ctrl[C_KIND]
@@ -338,7 +450,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     n_k = max(s_stages, 1)
     n_ring = max(ch_n, 1)
     ws = np.zeros(9 * n + n_k * n + 5 * n + 2 * n * n + n_in + 2 + n_outputs
-                  + (5 + N_SAMPLES) * n_ev + n_ring + max(n_factor, 1))
+                  + (5 + N_SAMPLES) * n_ev + N_SAMPLES + n_ring + max(n_factor, 1))
     iws = np.zeros(n + n_k + 1, dtype=np.int64)
     vec = _block(ws, 0, 9, n)
     y, y_new, ytmp, ftmp, f1, err, f0, dfdt, y_ev = (vec[0], vec[1], vec[2], vec[3], vec[4],
@@ -358,6 +470,8 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     o += 5 * n_ev
     g_samp = _block(ws, o, N_SAMPLES, n_ev)
     o += N_SAMPLES * n_ev
+    ts = borrowed(ws[o:o + N_SAMPLES])     # the times of the samples of g in a step
+    o += N_SAMPLES
     u = borrowed(ws[o:o + n_in])
     o += n_in
     uc = borrowed(ws[o:o + 2])     # (t, t_ref) of the inputs held in u
@@ -688,13 +802,18 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 dense_ready = True
                 for j in range(ns - 1):
                     s = (j + 1.0) / ns
+                    ts[j] = t + s * h
                     dense_eval(dkind, dense, s, ytmp)
                     inputs_at(bank, t + s * h, t_ref, u, uc)
                     system_events(tag, t + s * h, ytmp, u, p, g_samp[j])
                     stats[S_EV_CALLS] += 1
+            ts[ns - 1] = t_new
             for k in range(n_ev):
                 g_samp[ns - 1, k] = g_new[k]
                 g_seg[k] = g_old[k]
+            if sample:
+                _sharpen(tag, bank, p, dkind, dense, t, h, t_ref, g_old, g_samp, ts, ns, ytmp,
+                         u, uc, g_tmp, stats)
             # Scan [t_seg, t_new] for the earliest crossing.  An event whose reset passes
             # (Action.PASS: nothing changed and the right-hand side is smooth there) is
             # logged and the scan goes on past it in the same step; any other action
@@ -710,7 +829,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     ga = g_seg[k]
                     ta = t_seg
                     for j in range(ns):
-                        tb = t_new if j == ns - 1 else t + (j + 1.0) / ns * h
+                        tb = ts[j]
                         if tb <= t_seg:
                             continue
                         gb = g_samp[j, k]
