@@ -116,13 +116,15 @@ class Plan:
                 self.angle_states.append((n, len(sn)))
                 sn.append(f"{dom.position}_{asm.node_names[n]}")
                 su.append(dom.position_unit)
-        # each friction element's own friction work (the total is W_friction)
-        for c in self.fes:
+        # each friction element's own friction work, where there are several (one alone is
+        # W_friction, given as the output W_friction_<name>: no state of its own to carry)
+        works = self.fes if len(self.fes) > 1 else []
+        for c in works:
             self.state_index[(c.name, "work")] = len(sn)
             sn.append(f"W_friction_{c.name}")
             su.append("J")
         self.n_quadratures = (len(ENERGY) + len(self.wearing) + len(self.angle_states)
-                              + len(self.fes))
+                              + len(works))
         self.state_names, self.state_units = tuple(sn), tuple(su)
         self.n = len(sn)
         # ---- parameter layout

@@ -224,8 +224,9 @@ class _R:
         for i, (_name, acc) in enumerate(ENERGY):
             L.append(f"dy[{P.y_energy + i}] = {' + '.join(pw[acc]) or '0.0'}")
         for c in self.fe:                    # each element's own friction work
-            e = P.fe_index[c.name]
-            L.append(f"dy[{P.state_index[(c.name, 'work')]}] = fT{e} * s{e}")
+            if (c.name, "work") in P.state_index:
+                e = P.fe_index[c.name]
+                L.append(f"dy[{P.state_index[(c.name, 'work')]}] = fT{e} * s{e}")
         for c in P.wearing:                  # lining wear (network/wear.py)
             L += self.wear_rate(c)
             L.append(f"dy[{P.state_index[(c.name, 'wear')]}] = kw{P.fe_index[c.name]} * "
@@ -249,10 +250,11 @@ class _R:
                 L.append(f"lam{r} = {' + '.join(terms)}")
         return L
 
-    def work_rows(self, c) -> tuple[int, int]:
-        """The rows a friction element's power ``fT·s`` goes to: ``W_friction`` and the
-        element's own ``W_friction_<name>``."""
-        return (self.P.y_energy + 1, self.P.state_index[(c.name, "work")])
+    def work_rows(self, c) -> tuple[int, ...]:
+        """The rows a friction element's power ``fT·s`` goes to: ``W_friction`` and, where
+        the plant has several friction elements, the element's own ``W_friction_<name>``."""
+        own = self.P.state_index.get((c.name, "work"))
+        return (self.P.y_energy + 1,) if own is None else (self.P.y_energy + 1, own)
 
     def wear_rate(self, c) -> list[str]:
         """``kw<e> = k(θ)/area`` and ``dkw<e> = d(kw)/dθ`` (:mod:`clutchsim.network.wear`)."""
@@ -726,6 +728,10 @@ class _R:
         b.append(f"out[{len(names)}] = {' + '.join(self.g.springs) or '0.0'}")
         names.append("E_spring")
         units.append("J")
+        if len(self.fe) == 1:               # the only friction element's work: the total
+            b.append(f"out[{len(names)}] = y[{P.y_energy + 1}]")
+            names.append(f"W_friction_{self.fe[0].name}")
+            units.append("J")
         P.output_names, P.output_units = tuple(names), tuple(units)
         return L + _ind(b) + [""]
 
