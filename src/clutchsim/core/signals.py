@@ -69,12 +69,9 @@ class Signal:
     def __call__(self, t) -> np.ndarray:
         """Evaluate at times ``t`` [s] (right-continuous at jumps)."""
         bank = build_bank([self])
-        t = np.atleast_1d(np.asarray(t, dtype=float))
+        t = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
         out = np.empty_like(t)
-        u = np.zeros(1)
-        for i, ti in enumerate(t):
-            eval_inputs(bank, ti, ti, u)
-            out[i] = u[0]
+        _eval_series(bank, t, out)      # one compiled call, not one per time
         return out
 
     def _encode(self) -> tuple[int, list[float], np.ndarray | None, np.ndarray | None]:
@@ -446,3 +443,13 @@ def eval_inputs(bank, t, t_ref, u):
             ch_last = ch
         else:
             u[ch] += val
+
+
+@jit
+def _eval_series(bank, t, out):
+    """The bank's first channel at each of the times ``t`` into ``out`` (what
+    :meth:`Signal.__call__` returns)."""
+    u = np.zeros(max(bank.n_channels, 1))
+    for i in range(t.shape[0]):
+        eval_inputs(bank, t[i], t[i], u)
+        out[i] = u[0]
