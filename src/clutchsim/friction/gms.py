@@ -187,7 +187,7 @@ def gms_force(p, z, v, F_e, scale, dz):
     for i in range(n):
         k = p[9 + i]
         zi = z[i]
-        d = _gms_element(zi, v, k, p[9 + n + i], C, s, 0.0, band)[0]
+        d, _d_z, _d_v = _gms_element(zi, v, k, p[9 + n + i], C, s, 0.0, band)
         dz[i] = d
         total += k * zi + p[6] * d
     return scale * (total + p[7] * v)
@@ -200,7 +200,9 @@ def gms_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     F = gms_force(p, z, v, F_e, scale, dz)
     n = int(p[0])
     s, _, ds = stribeck_partials(v, p[2], p[3], p[4], p[5])
-    Jz[:, :] = 0.0
+    for i in range(n):                  # (a loop, not a slice: printable as C)
+        for j in range(n + 1):
+            Jz[i, j] = 0.0
     dF_dv = p[7]
     total = 0.0
     for i in range(n):
