@@ -450,7 +450,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     n_k = max(s_stages, 1)
     n_ring = max(ch_n, 1)
     ws = np.zeros(9 * n + n_k * n + 5 * n + 2 * n * n + n_in + 2 + n_outputs
-                  + (5 + N_SAMPLES) * n_ev + N_SAMPLES + n_ring + max(n_factor, 1))
+                  + (6 + N_SAMPLES) * n_ev + N_SAMPLES + n_ring + max(n_factor, 1))
     iws = np.zeros(n + n_k + 1, dtype=np.int64)
     vec = _block(ws, 0, 9, n)
     y, y_new, ytmp, ftmp, f1, err, f0, dfdt, y_ev = (vec[0], vec[1], vec[2], vec[3], vec[4],
@@ -465,9 +465,9 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     o += n * n
     M = _block(ws, o, n, n)
     o += n * n
-    gv = _block(ws, o, 5, n_ev)
-    g_old, g_new, g_prev, g_tmp, g_seg = gv[0], gv[1], gv[2], gv[3], gv[4]
-    o += 5 * n_ev
+    gv = _block(ws, o, 6, n_ev)
+    g_old, g_new, g_prev, g_tmp, g_seg, g_pre = gv[0], gv[1], gv[2], gv[3], gv[4], gv[5]
+    o += 6 * n_ev
     g_samp = _block(ws, o, N_SAMPLES, n_ev)
     o += N_SAMPLES * n_ev
     ts = borrowed(ws[o:o + N_SAMPLES])     # the times of the samples of g in a step
@@ -821,6 +821,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
             t_seg = t
             ended = DONE
             action = _PASS
+            pending = False
             te = t_new
             while True:
                 k_first = -1
@@ -878,10 +879,25 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     cap, owners, rows = _more_rows(owners, cap)
                 _row(rows, n_out, te, y_ev, u, out)
                 n_out += 1
+                # g before the reset: an event that crossed together with this one (two
+                # twin clutches slipping through zero at one instant, within the location
+                # tolerance) and is still past zero after the reset keeps its value from
+                # before the crossing, so that it fires next, at te (the scan below when
+                # the reset passes, else the check of events due at one instant)
+                system_events(tag, te, y_ev, u, p, g_pre)
                 log, action, ended = _apply_event(tag, te, y_ev, u, p, k_first, log, ring,
                                                   ch_n, ch_window, stats)
+                for k in range(n_ev):
+                    g_tmp[k] = g_seg[k]
                 system_events(tag, te, y_ev, u, p, g_seg)
-                stats[S_EV_CALLS] += 1
+                stats[S_EV_CALLS] += 2
+                pending = False
+                for k in range(n_ev):
+                    if (k != k_first and g_tmp[k] != 0.0
+                            and _crossed(g_tmp[k], g_pre[k], ev_dir[k])
+                            and _crossed(g_tmp[k], g_seg[k], ev_dir[k])):
+                        g_seg[k] = g_tmp[k]
+                        pending = True
                 if ended != DONE or action != _PASS:
                     break
                 t_seg = te
@@ -906,6 +922,8 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                         cap, owners, rows = _more_rows(owners, cap)
                     _row(rows, n_out, t, y, u, out)
                     n_out += 1
+                    check_jump = True
+                if pending:
                     check_jump = True
                 h = h_next
                 continue

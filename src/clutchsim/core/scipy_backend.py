@@ -31,6 +31,12 @@ from .system import call_events, call_outputs, call_reset, call_rhs
 _METHOD = {"scipy-radau": "Radau", "scipy-lsoda": "LSODA", "scipy-rk45": "RK45"}
 
 
+def _crossed(a: float, b: float, direction: float) -> bool:
+    """Did a function cross zero from ``a`` to ``b`` in ``direction`` (+1 upward, -1
+    downward, 0 either; a root reached counts, as for scipy's events)?"""
+    return bool((direction >= 0 and a < 0.0 <= b) or (direction <= 0 and a > 0.0 >= b))
+
+
 def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
     from .simulate import assemble
 
@@ -86,12 +92,67 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
         ev.direction = system.event_directions[k]
         return ev
 
+    def fire_due(k, t, y, t_ref, ref, before):
+        """Fire event ``k`` at ``t`` (``y`` is reset in place), then every other event due
+        at this instant, in turn: one whose (banded) function crossed from ``ref`` to
+        ``before`` (its value before the first reset) and is still past zero after the
+        resets.  Scipy stops at the first root, and the restart, which begins past the
+        other one, would never see it (twin clutches slipping through zero at once).
+        Returns the banded values after the last reset and, when the run ends here,
+        ``(status, message, event, source)``."""
+        u_t = inputs_at(t, t_ref)
+        done: set[int] = set()
+        while True:
+            done.add(k)
+            # the side the function is left on: opposite to where it came from
+            if ref[k] != 0.0:
+                side[k] = -np.sign(ref[k])
+            action = int(call_reset(tag, t, y, u_t, p, k))
+            name, source = system.event_names[k], system.event_sources[k]
+            events.append(Event(t, name, ACTION_WORDS[action], source))
+            record(t, y, t_ref, rows)
+            last_event_times.append(t)
+            n_ch, window = opts.chatter_events, opts.chatter_window_for(t1 - t0)
+            if n_ch and len(last_event_times) > n_ch and \
+                    t - last_event_times[-n_ch - 1] <= window:
+                message = (f"chatter detected: {n_ch} events within {window:g} s, "
+                           f"the last of them '{name}' at t = {t:.9g} s")
+                return None, (Outcome.CHATTER, message, name, source)
+            if action in (Action.STOP, Action.FAIL):
+                if action == Action.STOP:
+                    return None, (Outcome.STOPPED,
+                                  f"stopped by event '{name}' at t = {t:.9g} s", name, source)
+                return None, (Outcome.EVENT_FAILED, f"{name} at t = {t:.9g} s", name, source)
+            call_events(tag, t, y, u_t, p, g)
+            after = g + side * band
+            k = next((j for j in range(n_ev) if j not in done and ref[j] != 0.0
+                      and _crossed(ref[j], before[j], system.event_directions[j])
+                      and _crossed(ref[j], after[j], system.event_directions[j])), -1)
+            if k < 0:
+                return after, None
+
+    armed_after = None      # the banded event values the last reset left (see fire_due)
     for a, b in itertools.pairwise(edges):
         t_ref = 0.5 * (a + b)
         if t >= b:
             continue
         rhs = make_rhs(t_ref)
         while t < b:
+            if armed_after is not None and t >= mute_until:
+                # an event that crossed while the events were muted, just after the one
+                # fired (twins crossing within scipy's root tolerance): it fires now
+                call_events(tag, t, y, inputs_at(t, t_ref), p, g)
+                now = g + side * band
+                ref, armed_after = armed_after, None
+                k = next((j for j in range(n_ev) if _crossed(
+                    ref[j], now[j], system.event_directions[j])), -1)
+                if k >= 0:
+                    armed_after, end = fire_due(k, t, y, t_ref, ref, now)
+                    if end is not None:
+                        status, message, ended_by, source = end
+                        break
+                    mute_until = t + 1e-10 * max(1.0, abs(t))
+                    continue
             t_stop = b
             evs = [make_event(k, t_ref) for k in range(n_ev)] if t >= mute_until else []
             if t < mute_until:
@@ -128,29 +189,10 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
                 continue
             k = min(fired, key=lambda kk: sol.t_events[kk][0])
             t, y = float(sol.t_events[k][0]), sol.y_events[k][0].copy()
-            # the side the function is left on: opposite to where it came from
-            if start[k] != 0.0:
-                side[k] = -np.sign(start[k])
-            action = int(call_reset(tag, t, y, inputs_at(t, t_ref), p, k))
-            events.append(Event(t, system.event_names[k], ACTION_WORDS[action],
-                                system.event_sources[k]))
-            record(t, y, t_ref, rows)
-            last_event_times.append(t)
-            n_ch = opts.chatter_events
-            if n_ch and len(last_event_times) > n_ch and \
-                    t - last_event_times[-n_ch - 1] <= opts.chatter_window_for(t1 - t0):
-                status = Outcome.CHATTER
-                ended_by, source = system.event_names[k], system.event_sources[k]
-                message = (f"chatter detected: {n_ch} events within "
-                           f"{opts.chatter_window_for(t1 - t0):g} s, "
-                           f"the last of them '{system.event_names[k]}' at t = {t:.9g} s")
-                break
-            if action in (Action.STOP, Action.FAIL):
-                status = Outcome.STOPPED if action == Action.STOP else Outcome.EVENT_FAILED
-                ended_by, source = system.event_names[k], system.event_sources[k]
-                message = (f"stopped by event '{system.event_names[k]}' at t = {t:.9g} s"
-                           if action == Action.STOP
-                           else f"{system.event_names[k]} at t = {t:.9g} s")
+            call_events(tag, t, y, inputs_at(t, t_ref), p, g)
+            armed_after, end = fire_due(k, t, y, t_ref, start, g + side * band)
+            if end is not None:
+                status, message, ended_by, source = end
                 break
             # step off the root before events are armed again (scipy would re-detect it)
             mute_until = t + 1e-10 * max(1.0, abs(t))

@@ -139,16 +139,28 @@ static void core_exit_init(Instance *m) {
 }
 
 /* One event (see the top of the file); returns the status. */
+/* The event iteration at one instant: every event due fires, in turn.  One that crossed
+   with the event just fired and is still on its far side after that reset keeps its old
+   sign, so that the next pass fires it; the rest start from the values the reset left.
+   (Several events are due at one instant at t0 or at an input jump: two clutches that
+   both break away when their command drops; with one event per pass the second one's
+   crossing was recorded as its new sign and lost.)  At most 2 passes per indicator, as
+   the native integrator's own iteration. */
 static int core_event(Instance *m, int *values_changed, int *terminate) {
-    double g[ONE(CS_NZ)];
-    int k;
+    double g[ONE(CS_NZ)], g_before[ONE(CS_NZ)], keep[ONE(CS_NZ)];
+    int pending[ONE(CS_NZ)];
+    int k, j, pass, any = 0;
     *values_changed = 0;
     *terminate = 0;
     indicators(m, g);
-    for (k = 0; k < CS_NZ; k++)
-        if (crossed(cs_event_dir[k], m->g_last[k], g[k])) break;
-    if (k < CS_NZ) {
-        int action = cs_reset(m->t, m->y, m->u, m->p, k);
+    for (pass = 0; pass < 2 * CS_NZ + 1; pass++) {
+        int action;
+        for (k = 0; k < CS_NZ; k++)
+            if (crossed(cs_event_dir[k], m->g_last[k], g[k])) break;
+        if (k == CS_NZ) break;
+        any = 1;
+        memcpy(g_before, g, sizeof g);
+        action = cs_reset(m->t, m->y, m->u, m->p, k);
         changed(m);
         logf_(m, ST_OK, "events", "t = %.9g s: event %s (%s)", m->t, cs_event_names[k],
               action == ACTION_STATE_CHANGED ? "reset"
@@ -162,8 +174,17 @@ static int core_event(Instance *m, int *values_changed, int *terminate) {
             m->mode = MODE_TERMINATED;
             return action == ACTION_FAIL ? ST_ERROR : ST_OK;
         }
+        indicators(m, g);
+        for (j = 0; j < CS_NZ; j++) {
+            pending[j] = j != k && crossed(cs_event_dir[j], m->g_last[j], g_before[j])
+                         && crossed(cs_event_dir[j], m->g_last[j], g[j]);
+            keep[j] = m->g_last[j];
+        }
+        record_signs(m);  /* after the reset: the next crossing starts from here ... */
+        for (j = 0; j < CS_NZ; j++)
+            if (pending[j]) m->g_last[j] = keep[j];   /* ... but for the pending ones */
     }
-    record_signs(m);      /* after the reset: the next crossing starts from here */
+    if (!any) record_signs(m);
     return ST_OK;
 }
 
