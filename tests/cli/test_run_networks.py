@@ -199,3 +199,21 @@ def test_compare_is_refused_on_a_network_that_is_not_a_launch(tmp_path):
     lines = [ln for ln in p.stderr.splitlines() if ln.strip() and "NumExpr" not in ln]
     assert "scenario.compare" in lines[-1] and "not a launch" in lines[-1], lines
     assert not out.exists() and not Path(str(out) + ".partial").exists()
+
+
+def test_a_launch_keeps_its_launch_summary(tmp_path):
+    """The default launch: ``models`` keyed by the friction model, the launch metrics, the
+    launch figure (docs/outputs.md, "A launch")."""
+    out = tmp_path / "launch"
+    p = _run("--model", "coulomb-robust", "--set", "scenario.t_end=0.3", "--out", str(out),
+             "--json")
+    assert p.returncode == 0, p.stderr
+    doc = json.loads(p.stdout)
+    assert set(doc) == {"kind", "scenario", "file", "models", "failed"}
+    m = doc["models"]["coulomb-robust"]
+    assert {"lockup_time_s", "slip_energy_J", "engine_dip_rpm", "vdv_mps175",
+            "energy_balance_rel"} <= set(m)
+    assert not RUN_KEYS - {"t_end_s", "speeds", "energies", "friction_elements",
+                           "temperatures", "located_events"} - set(m)
+    assert (out / "launch_coulomb-robust.png").is_file()
+    assert not list(out.glob("network_*.png"))
