@@ -18,10 +18,10 @@ def test_run_coupled_clutches_json_and_outputs(tmp_path):
     p = _run("examples/coupled_clutches.toml", "--out", str(out), "--json")
     assert p.returncode == 0, p.stderr
     doc = json.loads(p.stdout)
-    m = doc["models"]["coulomb-robust"]
+    m = doc["runs"]["CoupledClutches"]        # not a launch: named by the scenario
     assert m["completed"] and m["energy_balance_rel"] < 1e-6
     for f in ("timeseries.csv", "timeseries.parquet", "summary.json",
-              "launch_coulomb-robust.png"):
+              "network_CoupledClutches.png"):
         assert (out / f).exists(), f
     assert not Path(str(out) + ".partial").exists()
     header = (out / "timeseries.csv").read_text().splitlines()[0]
@@ -47,6 +47,6 @@ def test_run_option_overrides_the_solver_table(tmp_path):
     p = _run("examples/coupled_clutches.toml", "--option", "max_steps=20", "--out", str(out),
              "--json", "--no-plots")
     assert p.returncode == 1, p.stderr
-    m = json.loads(p.stdout)["models"]["coulomb-robust"]
+    m = json.loads(p.stdout)["runs"]["CoupledClutches"]
     assert not m["completed"] and m["outcome"] == "budget", m
     assert "20" in m["message"]

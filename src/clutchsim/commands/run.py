@@ -26,11 +26,18 @@ examples:
   clutchsim run examples/launch.toml --set vehicle.grade=12 \
       --set 'inputs.throttle="0.1 + ramp(0.3, 0.5, 0.5)"' --out steep/   # 12 %: more throttle
   clutchsim run examples/launch.toml --option rtol=1e-8 --option wall_time=30 --out tight/
+  clutchsim run examples/one_way_clutch.toml --out owc/ --json   # not a launch: its summary
 
 outputs in DIR: timeseries.csv and timeseries.parquet (first model; one file per model with
-several), summary.json {"models": {NAME: {"outcome", "warnings", metric: value}}, "failed":
-[NAME, ...]}, launch_<model>.png and, with several models, comparison.png, command.txt and
-report.html, and .clutchsim-output.json (the manifest: kind and files).  DIR is written
+several), summary.json, the figures, command.txt and report.html, and
+.clutchsim-output.json (the manifest: kind and files).  A launch (the scenario's clutch
+element is a friction clutch, and the network has a vehicle or an engine) gets
+summary.json {"models": {MODEL: {"outcome", "warnings", metric: value}}, "failed":
+[MODEL, ...]}, launch_<model>.png and, with several models, comparison.png.  Any other
+network gets summary.json {"runs": {LABEL: {"outcome", "warnings", "speeds",
+"energies", "friction_elements", "temperatures", "located_events", ...}}, "failed": [LABEL,
+...]} and network_<label>.png; LABEL is the scenario's name, or the model's where several
+models are compared (docs/outputs.md lists every key).  DIR is written
 as DIR.partial and put in place when complete; Ctrl-C or SIGTERM removes DIR.partial.
 An existing DIR is replaced only when it is empty or holds an earlier `clutchsim run`
 output; clutchsim never deletes a file it did not write (--force: write beside them).
@@ -83,8 +90,7 @@ def _run(args, out) -> int:
     try:
         with out.build() as part:
             summary = write_runs(sc, models, part, plots=not args.no_plots, progress=bar)
-            summary["failed"] = [n for n, m in summary["models"].items()
-                                 if not m["completed"]]
+            summary["failed"] = [n for n, m in _runs(summary).items() if not m["completed"]]
             atomic_write(part / "summary.json", lambda p: p.write_text(
                 json.dumps(summary, indent=2, allow_nan=False, default=float)))
             write_command(part, args.argv)
@@ -96,13 +102,18 @@ def _run(args, out) -> int:
         emit_json(summary)
     failed = summary["failed"]
     if failed:
-        m = summary["models"]
+        m = _runs(summary)
         if len(models) == 1:
             raise SimulationFailed(m[failed[0]]["message"])
         raise SimulationFailed(f"{len(failed)} of {len(models)} models did not complete: "
                                + "; ".join(f"{n} ({m[n]['outcome']}): {m[n]['message']}"
                                            for n in failed))
     return 0
+
+
+def _runs(summary: dict) -> dict:
+    """The runs of a summary: a launch's ``models``, any other network's ``runs``."""
+    return summary["models"] if "models" in summary else summary["runs"]
 
 
 __all__ = ["UserError", "register", "run"]

@@ -6,7 +6,8 @@ into :class:`Sections`, which :mod:`clutchsim.report.html` then draws.
 Rules
 -----
 * a mapping whose values are all mappings (``{"models": {MODEL: {metric: value}}}``) or a
-  list of mappings is a *record table*: one row per key, one column per scalar entry;
+  list of mappings is a *record table*: one row per key, one column per scalar entry
+  (an empty list is no entry: a column of nothing is not drawn);
   mapping-valued entries of the rows (``{MODEL: {"D1": {...}, "D2": {...}}}``) become one
   further table per sub-key;
 * any other mapping gives a key/value table of its scalar entries, and its mapping or list
@@ -241,6 +242,8 @@ def _records(records: dict, path, out: Sections) -> None:
             failed.add(i)
         row = {}
         for k, v in rest.items():
+            if isinstance(v, list) and not v:     # nothing to show (a run without events)
+                continue
             if is_scalar(v):
                 row[k] = v
                 if k not in columns:

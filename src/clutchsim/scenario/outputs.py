@@ -1,14 +1,17 @@
-"""Write the outputs of scenario runs: time series, summary.json, figures."""
+"""Write the outputs of scenario runs: time series, summary.json, figures (a launch's, or
+any network's: docs/outputs.md)."""
 
 from __future__ import annotations
 
 import json
 import logging
+import re
 from pathlib import Path
 
 from .._util import atomic_write
+from ..analysis.network_summary import network_summary
 
-__all__ = ["write_runs"]
+__all__ = ["file_label", "write_runs"]
 
 log = logging.getLogger("clutchsim")
 
@@ -17,33 +20,50 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
                progress=None) -> dict:
     """Run ``scenario`` once per friction model and write the results into ``directory``.
 
-    Writes ``timeseries[_MODEL].csv`` / ``.parquet`` (units in the column names),
-    ``summary.json`` (``{"scenario", "file", "models": {MODEL: metrics}}``), a copy of the
-    scenario text as ``scenario.toml``, and with ``plots`` one ``launch_MODEL.png`` per model
-    (``motion_MODEL.png`` for a translational network: positions, velocities, friction)
-    and, for several models, ``comparison.png``; a run with gear lash, a dual-mass flywheel
-    or a torque converter also gets ``components_MODEL.png``.  Returns the summary.
-    ``progress``, if given, is called as ``progress(done, total)`` after each model.  The caller makes
-    the directory atomic (see :meth:`clutchsim._util.OutputDir.build`).
+    A launch (:func:`clutchsim.scenario.run.is_launch`: a friction clutch with a vehicle or
+    an engine) gets ``summary.json`` ``{"kind", "scenario", "file", "models": {MODEL:
+    launch metrics}}``, one ``launch_MODEL.png`` per model and, for several models,
+    ``comparison.png``.  Any other network gets ``summary.json`` ``{"kind", "scenario",
+    "file", "runs": {LABEL: summary}}`` (:func:`clutchsim.analysis.network_summary.network_summary`)
+    and one ``network_LABEL.png`` per run (:func:`clutchsim.plot.network.plot_network`):
+    LABEL is the scenario's name for one run, the model's name where several models are
+    compared.  Both write ``timeseries[_MODEL].csv`` / ``.parquet`` (units in the column
+    names), a copy of the scenario text as ``scenario.toml``, and with ``plots`` the
+    figures of gear lash, dual-mass flywheels or torque converters
+    (``components_LABEL.png``) and of an actuation chain.  The keys: docs/outputs.md.
+    Returns the summary.  ``progress``, if given, is called as ``progress(done, total)``
+    after each model.  The caller makes the directory atomic (see
+    :meth:`clutchsim._util.OutputDir.build`).
     """
-    from .run import run_scenario
+    from .run import is_launch, run_scenario
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     models = list(models) or [None]
-    summary: dict = {"kind": "run", "scenario": scenario.name, "file": scenario.file,
-                     "models": {}}
+    launch = is_launch(scenario.system(models[0]).metadata["kinds"], scenario.clutch)
+    if scenario.compare and not launch:
+        scenario.fail(f"= {scenario.compare!r} compares the quality of two launches, but "
+                      f"this network is not a launch (its element {scenario.clutch!r} is not "
+                      "a friction clutch driving a vehicle or driven by an engine); remove "
+                      "the key", "scenario.compare")
+    key = "models" if launch else "runs"
+    summary: dict = {"kind": "run", "scenario": scenario.name, "file": scenario.file, key: {}}
     runs = {}
     for i, m in enumerate(models):
         if progress is not None:
             progress(i, len(models))
         log.info("running %s with %s ...", scenario.name, m or "its own model")
         lr = run_scenario(scenario, m)
-        runs[lr.model] = lr.result
-        summary["models"][lr.model] = lr.metrics
+        if launch:
+            label, doc = lr.model, lr.metrics
+        else:
+            label = scenario.name if len(models) == 1 else (lr.model or str(m))
+            doc = network_summary(lr.result)
+        runs[label] = lr.result
+        summary[key][label] = doc
         suffix = "" if len(models) == 1 else f"_{lr.model}"
         lr.result.to_csv(directory / f"timeseries{suffix}.csv")
         lr.result.to_parquet(directory / f"timeseries{suffix}.parquet")
-        log.info("  %s: %s", lr.model, lr.metrics["message"])
+        log.info("  %s: %s", label, doc["message"])
     if progress is not None:
         progress(len(models), len(models))
     atomic_write(directory / "summary.json",
@@ -52,29 +72,42 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
     if getattr(scenario, "text", None):
         atomic_write(directory / "scenario.toml", lambda p: Path(p).write_text(scenario.text))
     if plots:
-        from ..plot._style import save_png
-        from ..plot.components import plot_components
-        from ..plot.launch import plot_comparison, plot_launch
-        from ..plot.translational import plot_motion
-        for name, res in runs.items():
-            if res.metadata.get("domain") == "translational":   # masses: their motion
-                fig, _ = plot_motion(res)
-                save_png(fig, directory / f"motion_{name}.png")
-                continue
-            fig, _ = plot_launch(res, clutch=scenario.clutch)
-            save_png(fig, directory / f"launch_{name}.png")
-            # lash, dual-mass flywheels, torque converters: their own figure
-            if any(s.startswith(("contact_", "T_spring_", "speed_ratio_")) for s in res.signals):
-                made = plot_components(res)
-                if made is not None:
-                    save_png(made[0], directory / f"components_{name}.png")
-        if len(runs) > 1:
-            fig, _ = plot_comparison(runs, clutch=scenario.clutch)
-            save_png(fig, directory / "comparison.png")
-        _actuation_figures(scenario, runs, directory)
+        _run_figures(scenario, runs, directory, launch)
     if scenario.compare:
         _compare_launch(scenario, runs, summary, directory, plots)
     return summary
+
+
+def file_label(label: str) -> str:
+    """``label`` (a model's or a scenario's name) as a part of a file name: ASCII letters,
+    digits, ``.``, ``-`` and ``_`` ("run" if nothing is left)."""
+    return re.sub(r"[^A-Za-z0-9._-]+", "_", label).strip("._") or "run"
+
+
+def _run_figures(scenario, runs, directory, launch: bool) -> None:
+    """The figure of each run (``launch_MODEL.png`` or ``network_LABEL.png``), of its gear
+    lash, dual-mass flywheels or torque converters, of its actuation chain, and for
+    several launches their comparison."""
+    from ..plot._style import save_png
+    from ..plot.components import plot_components
+    from ..plot.launch import plot_comparison, plot_launch
+    from ..plot.network import plot_network
+    for name, res in runs.items():
+        if launch:
+            fig, _ = plot_launch(res, clutch=scenario.clutch)
+            save_png(fig, directory / f"launch_{name}.png")
+        else:
+            fig, _ = plot_network(res)
+            save_png(fig, directory / f"network_{file_label(name)}.png")
+        # lash, dual-mass flywheels, torque converters: their own figure
+        if any(s.startswith(("contact_", "T_spring_", "speed_ratio_")) for s in res.signals):
+            made = plot_components(res)
+            if made is not None:
+                save_png(made[0], directory / f"components_{file_label(name)}.png")
+    if launch and len(runs) > 1:
+        fig, _ = plot_comparison(runs, clutch=scenario.clutch)
+        save_png(fig, directory / "comparison.png")
+    _actuation_figures(scenario, runs, directory)
 
 
 def _actuation_figures(scenario, runs, directory) -> None:
@@ -91,7 +124,8 @@ def _actuation_figures(scenario, runs, directory) -> None:
     for name, res in runs.items():
         panels = actuation_signals(res)
         if panels:
-            save_png(plot_actuation(res, panels)[0], directory / f"actuation_{name}.png")
+            save_png(plot_actuation(res, panels)[0],
+                     directory / f"actuation_{file_label(name)}.png")
 
 
 def _compare_launch(scenario, runs, summary, directory, plots) -> None:

@@ -1,6 +1,9 @@
 """Run a scenario: resolve it, pick the friction model, build the plant and its inputs,
 simulate, and compute the warnings and launch metrics
-(:func:`clutchsim.driveline.metrics.analyse_run`: one compiled call per run)."""
+(:func:`clutchsim.driveline.metrics.analyse_run`: one compiled call per run).
+
+Whether a run is a launch is decided here, in one place (:func:`is_launch`): the outputs
+of ``clutchsim run`` (launch metrics and figure, or the summary of any network) follow it."""
 
 from __future__ import annotations
 
@@ -13,8 +16,24 @@ from ..core import Result, SolverOptions, simulate
 from ..driveline.metrics import analyse_run, grid_problem
 from .loader import resolve_scenario
 
-__all__ = ["LaunchResult", "batch_reason", "engine_max_speed", "expects_lockup",
-           "lining_geometry", "run_batch", "run_scenario", "surface_node"]
+__all__ = ["LAUNCH_DRIVES", "LaunchResult", "batch_reason", "engine_max_speed",
+           "expects_lockup", "is_launch", "lining_geometry", "run_batch", "run_scenario",
+           "surface_node"]
+
+#: component kinds that make a network with a friction clutch a launch: what the launch
+#: metrics read (a vehicle: comfort, jerk, lock-up shock; an engine: dip, flare, stall)
+LAUNCH_DRIVES = ("vehicle", "engine")
+
+
+def is_launch(kinds, clutch: str) -> bool:
+    """Whether a network is a launch, the rule ``clutchsim run`` and its outputs follow:
+    its element ``clutch`` (``[scenario] clutch``) is a friction clutch (kind ``"clutch"``,
+    not a brake, a one-way clutch or a lossy gear) and it has a vehicle or an engine
+    (:data:`LAUNCH_DRIVES`).  ``kinds``: component name -> kind, as a network plant's
+    ``metadata["kinds"]`` (:class:`~clutchsim.core.Result`, :class:`~clutchsim.core.System`)
+    gives it.  A launch gets the launch metrics and figure, any other network the summary
+    of :func:`clutchsim.analysis.network_summary.network_summary` (docs/outputs.md)."""
+    return kinds.get(clutch) == "clutch" and any(k in LAUNCH_DRIVES for k in kinds.values())
 
 
 @dataclass(frozen=True)
@@ -61,7 +80,8 @@ def run_system(scenario, system, model: str | None = None, *, solver: str | None
     res = simulate(system, (0.0, scenario.t_end), inputs, solver=solver or scenario.solver,
                    options=opts)
     name = system.metadata["models"].get(scenario.clutch, model or "")
-    res, metrics = analyse_run(res, scenario.clutch, expect_lockup=expects_lockup(scenario),
+    res, metrics = analyse_run(res, scenario.clutch,
+                               expect_lockup=expects_lockup(scenario, system.metadata["kinds"]),
                                friction=_is_friction_clutch(scenario),
                                lining=lining_geometry(scenario),
                                engine_max_radps=engine_max_speed(scenario),
@@ -103,7 +123,7 @@ def run_batch(scenario, system, variants, *, options: SolverOptions | None = Non
                         np.array([v[1] for v in variants]), clutch=scenario.clutch,
                         solver=scenario.solver,
                         options=options if options is not None else scenario.options,
-                        expect_lockup=expects_lockup(scenario),
+                        expect_lockup=expects_lockup(scenario, system.metadata["kinds"]),
                         friction=_is_friction_clutch(scenario),
                         lining=lining_geometry(scenario),
                         engine_max_radps=engine_max_speed(scenario),
@@ -163,11 +183,12 @@ def lining_geometry(scenario) -> tuple | None:
     return None
 
 
-def expects_lockup(scenario) -> bool:
+def expects_lockup(scenario, kinds) -> bool:
     """Whether ``scenario`` expects its clutch element to lock up: ``[scenario]
-    expect_lockup``, by default true when that element is a friction clutch (a launch) and
-    false for the other kinds (a one-way clutch, a lossy gear, a brake)."""
+    expect_lockup``, by default true when its network (``kinds``: component name -> kind)
+    is a launch (:func:`is_launch`) and false for any other (a one-way clutch, a lossy
+    gear, a brake, or a friction clutch with neither a vehicle nor an engine)."""
     value = scenario.data.get("scenario", {}).get("expect_lockup")
     if value is not None:
         return bool(value)
-    return _is_friction_clutch(scenario)
+    return is_launch(kinds, scenario.clutch)

@@ -309,7 +309,8 @@ def _observed(scenario, net) -> tuple:
     sweep's ``--option``: they are not compared)."""
     from .run import expects_lockup, lining_geometry
     return (scenario.t_end, scenario.solver, scenario.clutch, scenario.models,
-            tuple(scenario.inputs), lining_geometry(scenario), expects_lockup(scenario),
+            tuple(scenario.inputs), lining_geometry(scenario),
+            expects_lockup(scenario, {c.name: c.kind for c in net.components}),
             net.connections, net.name)
 
 
