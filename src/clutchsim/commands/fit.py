@@ -7,8 +7,15 @@ import logging
 import math
 from pathlib import Path
 
-from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_force_flag, add_option_flag, solver_option_items, write_command
+from ._common import (
+    SimulationFailed,
+    UserError,
+    add_force_flag,
+    add_option_flag,
+    emit_json,
+    solver_option_items,
+    write_command,
+)
 
 log = logging.getLogger("clutchsim")
 

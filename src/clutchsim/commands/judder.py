@@ -5,8 +5,14 @@ from __future__ import annotations
 import argparse
 import logging
 
-from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_force_flag, add_option_flag, scenario_with_options
+from ._common import (
+    SimulationFailed,
+    UserError,
+    add_force_flag,
+    add_option_flag,
+    emit_json,
+    scenario_with_options,
+)
 
 log = logging.getLogger("clutchsim")
 

@@ -5,8 +5,14 @@ from __future__ import annotations
 import argparse
 import logging
 
-from ..cli import UserError, emit_json
-from ._common import add_limit_flags, add_option_flag, solver_option_items, write_command
+from ._common import (
+    UserError,
+    add_limit_flags,
+    add_option_flag,
+    emit_json,
+    solver_option_items,
+    write_command,
+)
 
 log = logging.getLogger("clutchsim")
 
