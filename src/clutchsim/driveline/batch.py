@@ -38,7 +38,8 @@ from ..core import System
 from ..core import loop as drv
 from ..core.compile_notice import compile_notice
 from ..core.loop import now
-from ..core.simulate import apply_violations, prepare_runs, run_end, run_stats
+from ..core.result import apply_violations
+from ..core.simulate import prepare_runs, run_end, run_stats
 from ..network.invariants import N_CHECKS, N_R, scan
 from .chain import ENERGY_STATES
 from .metrics import LOCK_HOLD, LOCK_SLIP, RunSummary, metrics_of, warnings_of
