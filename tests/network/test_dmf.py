@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from test_network import _jac_fd
 
+from clutchsim.analysis.launch_metrics import energy_balance
 from clutchsim.core import SolverOptions, simulate
 from clutchsim.core.signals import Sine
-from clutchsim.driveline.metrics import energy_balance
 from clutchsim.friction import CoulombRobust, LuGre, TanhFriction
 from clutchsim.network import Network
 from clutchsim.network.components import DualMassFlywheel, TorqueSource

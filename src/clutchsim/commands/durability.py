@@ -1,4 +1,4 @@
-"""``clutchsim durability``: lining wear over a duty cycle (clutchsim.durability)."""
+"""``clutchsim durability``: lining wear over a duty cycle (clutchsim.studies.durability)."""
 
 from __future__ import annotations
 
@@ -66,7 +66,7 @@ def _run(args, out) -> int:
     import json
 
     from .._util import atomic_write
-    from ..durability import describe_end, load_duty, run_durability, write_durability
+    from ..studies.durability import describe_end, load_duty, run_durability, write_durability
     duty = load_duty(args.duty)
     res = run_durability(duty, args.cycles, accelerated=args.accelerated)
     summary = res.summary()

@@ -554,7 +554,7 @@ def prepare_runs(system: System, t_span, inputs: Mapping | None = None, *,
     runs of ``system`` and of its variants (other parameter vectors and initial states of
     the same layout: :meth:`System.with_values`) over ``t_span`` with ``inputs``: for a
     caller that runs many variants from its own compiled loop (a sweep's chunk,
-    :func:`clutchsim.driveline.batch.launch_batch`).  ``.args`` holds None for the
+    :func:`clutchsim.analysis.launch_batch.launch_batch`).  ``.args`` holds None for the
     initial state and the parameter vector (``args[6]``, ``args[7]``);
     ``.chatter_window`` is what :func:`run_end` needs.  The system, span, solver and
     options are checked as :func:`simulate` checks them (compiled methods only), and the
