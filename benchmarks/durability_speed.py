@@ -16,7 +16,7 @@ import statistics
 import time
 from pathlib import Path
 
-from clutchsim.durability import load_duty, run_durability
+from clutchsim.studies.durability import load_duty, run_durability
 
 DUTY = Path(__file__).resolve().parents[1] / "examples" / "durability" / "passenger_car.toml"
 

@@ -22,7 +22,7 @@ one warm-up call), in milliseconds:
 * ``sweep_python_ms_per_run`` (unless ``--no-sweep``): ``sweep(None, {mass, grade},
   samples=--sweep-runs, workers=1, load=False)``, the process CPU time minus the compiled
   batch loops' thread CPU time (``sweep_loop_ms_per_run``: integrator and metrics kernel
-  of each variant, ``clutchsim.driveline.batch``), per run (the variant's parameter vector
+  of each variant, ``clutchsim.analysis.launch_batch``), per run (the variant's parameter vector
   and initial state, the row, the chunk files, and the sweep's fixed cost spread over the
   runs); ``sweep_runs_per_s_1_thread`` its runs per wall second.  Its split, means over
   the runs of that sweep (thread CPU): ``sweep_variant_values_ms_per_run`` (the variant's
@@ -77,7 +77,7 @@ def main():
     from clutchsim.analysis import judder_amplitude
     from clutchsim.analysis import launch_quality as lq
     sim_mod = importlib.import_module("clutchsim.core.simulate")
-    from clutchsim.driveline import metrics as dm
+    from clutchsim.analysis import launch_metrics as dm
     from clutchsim.scenario import resolve_scenario
     from clutchsim.scenario import run as run_mod
 
@@ -128,7 +128,7 @@ def main():
         "vdv_mps175": lambda: lq.vdv_mps175(t, aw),
         "rms(aw)": lambda: lq.rms(t, aw),
         "jerk_mps3": lambda: lq.jerk_mps3(t, acc),
-        "lockup_time (driveline.metrics._lockup_time)": lambda: dm._lockup_time(res, clutch),
+        "lockup_time (launch_metrics._lockup_time)": lambda: dm._lockup_time(res, clutch),
         "engagement_start_s": lambda: lq.engagement_start_s(t, res[f"T_friction_{clutch}"]),
         "lockup_shock_mps2": lambda: lq.lockup_shock_mps2(t, acc, t_lock),
         "friction_densities": lambda: lq.friction_densities(t, res[f"P_{clutch}"], 1e4),
@@ -140,24 +140,25 @@ def main():
     out["parts_ms"] = {k: _min_ms(f, a.calls) for k, f in parts.items()}
 
     if not a.no_sweep:
-        from clutchsim.sweeps import sweep
+        from clutchsim.studies.sweeps import SweepOptions, SweepSpec, sweep
+        one = SweepOptions(workers=1)
         parts = _sweep_parts(run_mod, dm)
         with tempfile.TemporaryDirectory(prefix="clutchsim-overhead-") as d:
-            sweep(None, VARY, samples=2, seed=1, out=os.path.join(d, "warm"), load=False,
-                  workers=1)
+            sweep(None, SweepSpec(VARY, samples=2, seed=1), one, out=os.path.join(d, "warm"),
+                  load=False)
             inner.clear()
             for v in parts.values():
                 v.clear()
             c0 = time.process_time_ns()
-            sweep(None, VARY, samples=2, seed=2, out=os.path.join(d, "two"), load=False,
-                  workers=1)
+            sweep(None, SweepSpec(VARY, samples=2, seed=2), one, out=os.path.join(d, "two"),
+                  load=False)
             fixed = time.process_time_ns() - c0 - sum(parts["loop"])
             inner.clear()
             for v in parts.values():
                 v.clear()
             c0, w0 = time.process_time_ns(), time.perf_counter()
-            sweep(None, VARY, samples=a.sweep_runs, seed=1, out=os.path.join(d, "s"),
-                  load=False, workers=1)
+            sweep(None, SweepSpec(VARY, samples=a.sweep_runs, seed=1), one,
+                  out=os.path.join(d, "s"), load=False)
             cpu, wall = time.process_time_ns() - c0, time.perf_counter() - w0
             n = a.sweep_runs
             loop = sum(parts["loop"])
@@ -179,7 +180,7 @@ def main():
 def _sweep_parts(run_mod, dm) -> dict:
     """Wrap the variant's values (``VariantPlan.values``), ``run_batch`` and the compiled
     batch loop with thread CPU timers; returns their lists of times [ns]."""
-    from clutchsim.driveline import batch
+    from clutchsim.analysis import launch_batch as batch
     from clutchsim.scenario import variants
     parts: dict = {"values": [], "run_batch": [], "loop": []}
 

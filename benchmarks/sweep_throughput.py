@@ -26,7 +26,7 @@ run: the ``wall_s`` metric), ``idle_core_fraction`` (1 − CPU time / (cores × 
 core time this process left unused, to the other processes of a shared machine, to the
 GIL, or to the tail of the last chunks) and ``load_avg_1min`` at the end.
 
-The variants of a chunk run in one compiled call (``clutchsim.driveline.batch``: the
+The variants of a chunk run in one compiled call (``clutchsim.analysis.launch_batch``: the
 integrator and the metrics kernel for each, ``batched_runs`` of them), so the Python time
 per run is what is left outside it: ``python_ms_per_run`` = (this process's CPU time −
 the batches' compiled wall time, ``batch_loop_ms_per_run``) per run of the ``runs`` sweep
@@ -59,17 +59,19 @@ VARY = {"vehicle.mass": "uniform(1100, 1500)", "vehicle.grade": "uniform(0, 8)"}
 def _warm_worker():
     """Load the compiled launch plant and the sweep's batch loop in this (worker)
     process: a sweep of two default launches, in the worker itself."""
-    from clutchsim.sweeps import sweep
+    from clutchsim.studies.sweeps import SweepOptions, sweep
     with tempfile.TemporaryDirectory(prefix="clutchsim-warm-") as d:
-        res = sweep(None, {"vehicle.mass": [1200.0, 1300.0]}, out=os.path.join(d, "w"),
-                    workers=1, load=False)
+        res = sweep(None, {"vehicle.mass": [1200.0, 1300.0]}, SweepOptions(workers=1),
+                    out=os.path.join(d, "w"), load=False)
     return res.batched_runs == 2 and res.status_counts == {"completed": 2}
 
 
-def run(out, n, **kw):
-    from clutchsim.sweeps import sweep
+def run(out, n, metrics=None, **options):
+    """A sweep of ``n`` samples (``options``: SweepOptions' fields); (wall [s], result)."""
+    from clutchsim.studies.sweeps import SweepOptions, SweepSpec, sweep
     t0 = time.perf_counter()
-    res = sweep(None, VARY, samples=n, seed=1, out=out, load=False, **kw)
+    res = sweep(None, SweepSpec(VARY, samples=n, seed=1, metrics=metrics),
+                SweepOptions(**options), out=out, load=False)
     return time.perf_counter() - t0, res
 
 
@@ -87,7 +89,7 @@ def main():
     tmp = tempfile.TemporaryDirectory(prefix="clutchsim-bench-")
     d = tmp.name
     run(os.path.join(d, "warm"), 2, workers=1)          # compile / load the numba cache
-    from clutchsim.sweeps import DEFAULT_METRICS
+    from clutchsim.studies.sweeps import DEFAULT_METRICS
     cpu0 = time.process_time()
     wall, res = run(os.path.join(d, "main"), a.runs, metrics=[*DEFAULT_METRICS, "wall_s"])
     cpu = time.process_time() - cpu0
@@ -124,7 +126,7 @@ def main():
         cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                dashboard_address=None)
         client = Client(cluster)
-        client.run(lambda: __import__("clutchsim.sweeps.runner"))
+        client.run(lambda: __import__("clutchsim.studies.sweeps.runner"))
         warm = client.run(_warm_worker)                      # every worker loads the cache
         if not all(warm.values()):
             print(f"warm-up launch failed on a worker: {warm}", file=sys.stderr)

@@ -27,7 +27,7 @@ sys.path.insert(0, str(ROOT / "src"))
 from clutchsim.core.options import DEFAULT_METHOD
 from clutchsim.data import moving_average, read_measurements, shared_dir
 from clutchsim.friction import make_model
-from clutchsim.identify import evaluate, fit, load_spec
+from clutchsim.identify import FitOptions, FitProblem, evaluate, fit, load_spec
 from clutchsim.identify.parameters import apply_to_model
 from clutchsim.plot._style import new_figure, save_png
 from clutchsim.plot.fit import plot_fit, plot_loop, plot_residuals
@@ -58,6 +58,7 @@ def run_emps(log) -> dict:
     common = dict(input=f["input"], output=f["output"], plant="emps",
                   solver=spec.solver.get("method", DEFAULT_METHOD),
                   options={k: v for k, v in spec.solver.items() if k != "method"})
+    columns, solving = _fit_common(common, f)
     rows = []
     # the authors' IDIM values, simulated in our closed loop (no fit)
     published = make_model("tanh", F_c=20.39, v_t=1e-3, sigma2=203.5)
@@ -79,8 +80,8 @@ def run_emps(log) -> dict:
         opts.update(plant or {})
         params = params or list(entry["params"])
         bounds = {k: tuple(v) for k, v in entry.get("bounds", {}).items() if k in params}
-        res = fit(model, data, params=params, bounds=bounds, plant_options=opts,
-                  tol=float(f.get("tol", 1e-8)), **common)
+        res = fit(model, data, FitProblem(params=params, bounds=bounds, plant_options=opts,
+                                          **columns), FitOptions(**solving))
         fits[case] = res
         rows.append({"case": case, "model": name, "parameters": _params(res),
                      "nrmse": res.nrmse_fit, **res.fit_trace.metrics,
@@ -114,6 +115,14 @@ EMPS_SPLIT = 12.464
 EMPS_CV = {"tanh": ["F_c", "sigma2", "M", "offset", "tau_v"]}
 
 
+def _fit_common(common: dict, f: dict) -> tuple[dict, dict]:
+    """``common`` (evaluate's keywords) as FitProblem's and FitOptions' keywords."""
+    columns = {k: common[k] for k in ("input", "output", "plant")}
+    solving = {"solver": common["solver"], "solver_options": common["options"],
+               "tol": float(f.get("tol", 1e-8))}
+    return columns, solving
+
+
 def _emps_cross(spec, data, common, log) -> list[dict]:
     """Two-fold cross-validation on the estimation record (the benchmark's validation record
     is held out): fit on one half, simulate the other.  The second half continues the first,
@@ -121,7 +130,7 @@ def _emps_cross(spec, data, common, log) -> list[dict]:
     at a reversal there, q_ref at rest); the first half starts at rest.  C+V is fitted with the
     mass, offset and velocity lag; the dynamic models hold that fold's C+V plant."""
     halves = {"first": data.window(None, EMPS_SPLIT), "second": data.window(EMPS_SPLIT, None)}
-    f = spec.fit
+    columns, solving = _fit_common(common, spec.fit)
     rows = []
     for fold, other, initial in (("first", "second", "fit-end"), ("second", "first", "rest")):
         plant = dict(spec.plant.options)
@@ -130,9 +139,9 @@ def _emps_cross(spec, data, common, log) -> list[dict]:
             params = EMPS_CV.get(name) or list(entry["params"])
             opts = {**plant, **(entry["plant_start"] if name == "tanh" else {})}
             bounds = {k: tuple(v) for k, v in entry.get("bounds", {}).items() if k in params}
-            res = fit(model, halves[fold], params=params, bounds=bounds, plant_options=opts,
-                      tol=float(f.get("tol", 1e-8)), validate=[halves[other]],
-                      validate_initial=initial, **common)
+            res = fit(model, halves[fold], FitProblem(params=params, bounds=bounds,
+                                                      plant_options=opts, **columns),
+                      FitOptions(**solving), validate=[halves[other]], validate_initial=initial)
             if name == "tanh":
                 plant.update({k: res.parameters[k] for k in ("M", "offset", "tau_v")})
             val = res.validation[0]
@@ -200,9 +209,9 @@ def run_brfd(log) -> dict:
         out["tests"].append({k: r[k] for k in ("file", "kind", "freq_hz", "amplitude_in",
                                                "tension_lb")})
     for name, (start, params, bounds) in BRFD_MODELS.items():
-        res = fit(make_model(name, **start), data, input="x", output="F", params=params,
-                  bounds=bounds, plant="rig-velocity", plant_options=plant, validate=val,
-                  starts=2, seed=0, tol=1e-6)
+        res = fit(make_model(name, **start), data, FitProblem(input="x", output="F",
+                  params=params, bounds=bounds, plant="rig-velocity", plant_options=plant),
+                  FitOptions(starts=2, seed=0, tol=1e-6), validate=val)
         out["models"][name] = {"parameters": dict(res.parameters), "stderr": dict(res.stderr),
                                "nrmse_fit": res.nrmse_fit,
                                "nrmse_validation": [v.nrmse for v in res.validation],
@@ -254,10 +263,10 @@ def run_brfd_loads(log, single: dict | None = None) -> dict:
             model = apply_to_model(model, {k: v for k, v in
                                            single["models"][name]["parameters"].items()
                                            if k in params})
-        res = fit(model, records, input=spec.fit["input"], output=spec.fit["output"],
+        res = fit(model, records, FitProblem(input=spec.fit["input"], output=spec.fit["output"],
                   params=params, bounds={k: tuple(v) for k, v in entry["bounds"].items()},
                   plant=spec.plant, per_record=spec.fit["per_record"], inputs=spec.inputs,
-                  weights=spec.weights(), validate=val, tol=float(spec.fit["tol"]))
+                  weights=spec.weights()), FitOptions(tol=float(spec.fit["tol"])), validate=val)
         out["models"][name] = {"parameters": dict(res.parameters), "stderr": dict(res.stderr),
                                "nrmse_fit": [r.nrmse for r in res.records],
                                "nrmse_pooled": res.nrmse_pooled,
@@ -316,10 +325,10 @@ def run_tribo(log) -> dict:
     for name, (start, params, bounds) in TRIBO_MODELS.items():
         try:
             # the later strokes continue the fit window: they start from its end state
-            res = fit(make_model(name, **start), data, input="x", output="F", params=params,
-                      bounds={**bounds, "offset": (-0.5, 0.5)}, plant="rig-velocity",
-                      plant_options=plant, tol=1e-6, validate=[later],
-                      validate_initial="fit-end")
+            res = fit(make_model(name, **start), data, FitProblem(input="x", output="F",
+                      params=params, bounds={**bounds, "offset": (-0.5, 0.5)},
+                      plant="rig-velocity", plant_options=plant), FitOptions(tol=1e-6),
+                      validate=[later], validate_initial="fit-end")
         except RuntimeError as exc:
             log(f"tribo {name}: failed: {exc}")
             out["models"][name] = {"error": str(exc)}

@@ -27,13 +27,14 @@ _EXPORTS = {
     "make_rig": "rig",
     "run_rig": "rig",
     "run_scenario": "scenario",
-    "sweep": "sweeps",
+    **dict.fromkeys(("SweepOptions", "SweepSpec", "sweep"), "studies.sweeps"),
 }
 
 __all__ = [  # noqa: RUF022  (the names of _EXPORTS, in its order)
     "Constant", "Pulse", "Ramp", "Result", "Sine", "SolverOptions", "Step", "System", "Table",
     "register_system", "simulate", "MODELS", "describe_models", "get_model_class",
-    "load_parameter_set", "make_model", "make_rig", "run_rig", "run_scenario", "sweep", "__version__",
+    "load_parameter_set", "make_model", "make_rig", "run_rig", "run_scenario", "SweepOptions",
+    "SweepSpec", "sweep", "__version__",
 ]
 
 

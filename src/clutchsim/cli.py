@@ -20,13 +20,13 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import json
 import logging
 import os
 import signal
 import sys
 
 from ._version import __version__
+from .commands._common import SimulationFailed, UserError, emit_json
 
 __all__ = ["SimulationFailed", "Terminated", "UserError", "emit_json", "main"]
 
@@ -47,14 +47,6 @@ exit status: 0 success, 1 a simulation did not complete, 2 bad input.
 """
 
 log = logging.getLogger("clutchsim")
-
-
-class UserError(Exception):
-    """A mistake in the command line, a scenario file or input data (exit status 2)."""
-
-
-class SimulationFailed(Exception):
-    """A simulation that did not complete (exit status 1)."""
 
 
 class Terminated(BaseException):
@@ -91,22 +83,6 @@ def _one_line(exc: BaseException) -> str:
     if len(msg) > MAX_MESSAGE:
         msg = msg[:MAX_MESSAGE] + f"... ({len(msg):,} characters)"
     return msg
-
-
-def emit_json(document) -> None:
-    """Print exactly one JSON document on stdout."""
-    sys.stdout.write(json.dumps(document, indent=2, default=_json_default, allow_nan=False))
-    sys.stdout.write("\n")
-    sys.stdout.flush()
-
-
-def _json_default(obj):
-    import numpy as np
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
 def _available():

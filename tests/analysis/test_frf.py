@@ -9,9 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from clutchsim.analysis import frequency_grid, frf_analysis
+from clutchsim.analysis import frequency_grid
 from clutchsim.analysis.frf import ratio_unit
 from clutchsim.scenario import run_scenario
+from clutchsim.studies.frf import frf_analysis
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -163,7 +164,7 @@ FINE = ["solver.rtol=1e-9", "solver.atol=1e-11", "solver.dt_out=0.0005"]
 def launch_base():
     """The default launch (model (6)), locked from 1.12 s on, run to 4 s at tight tolerances;
     and its shuffle mode at 3 s (for the transient the sine leaves)."""
-    from clutchsim.analysis import judder_analysis
+    from clutchsim.studies.judder import judder_analysis
     shuffle = next(m for m in judder_analysis(None, None, 3.0).modes
                    if 1.0 < m.frequency_hz < 10.0)
     return run_scenario(None, overrides=FINE).result, shuffle.eigenvalue

@@ -8,8 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from clutchsim.analysis import OperatingPointError, judder_amplitude, judder_analysis
+from clutchsim.analysis import OperatingPointError, judder_amplitude
 from clutchsim.core import Result, Stats
+from clutchsim.studies.judder import judder_analysis
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -98,8 +99,8 @@ def test_judder_amplitude_measures_a_band_oscillation_during_slip():
 
 
 def test_judder_map_grid_table_and_figure(tmp_path):
-    from clutchsim.analysis import judder_map
     from clutchsim.plot.judder import plot_map
+    from clutchsim.studies.judder import judder_map
     jm = judder_map(None, "coulomb-robust", x=("coupling[1].d", [0.05, 3.0]),
                     y=("vehicle.grade", [0.0, 10.0]), classic="x")
     assert jm.damping_ratio.shape == (2, 2) and jm.stable.all()

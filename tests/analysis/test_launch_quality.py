@@ -226,8 +226,8 @@ def test_default_launch_metrics_and_weighted_signal(tmp_path):
 
 
 def test_quality_metrics_of_a_built_result_and_non_finite_values():
+    from clutchsim.analysis.launch_metrics import _quality
     from clutchsim.core.result import Result, Stats
-    from clutchsim.driveline.metrics import _quality
     t = np.linspace(0.0, 2.0, 1001)
     slip = np.where(t < 1.0, 20.0 * (1.0 - t), 0.0)
     cap = np.clip(300.0 * (t - 0.2), 0.0, 240.0)

@@ -57,7 +57,7 @@ def test_sigterm_during_a_run_removes_the_partial_directory(tmp_path, capsys, mo
 
 
 def test_sigterm_during_a_sweep_keeps_the_chunks_to_resume(tmp_path, capsys, monkeypatch):
-    from clutchsim.sweeps import backends
+    from clutchsim.studies.sweeps import backends
     real = backends.run_chunk
     calls = {"n": 0}
 

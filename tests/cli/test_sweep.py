@@ -7,7 +7,7 @@ import json
 import pytest
 
 from clutchsim.cli import main
-from clutchsim.sweeps import read_results
+from clutchsim.studies.sweeps import read_results
 
 BASE = ["--set", "scenario.t_end=1.3", "--set", "solver.dt_out=0.005", "-q"]
 

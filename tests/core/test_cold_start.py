@@ -30,7 +30,7 @@ def test_import_clutchsim_loads_nothing_heavy_until_a_name_is_used():
             clutchsim.no_such_name
         except AttributeError as exc:
             missing = str(exc)
-        print(before, "clutchsim.sweeps" in sys.modules, "run_rig" in dir(clutchsim),
+        print(before, "clutchsim.studies.sweeps" in sys.modules, "run_rig" in dir(clutchsim),
               missing)
     """)
     assert out == ("[] False True module 'clutchsim' has no attribute 'no_such_name'")

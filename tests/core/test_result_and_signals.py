@@ -37,6 +37,15 @@ def test_signals_by_name_and_with_units(res):
     assert res.success and res.stats.steps > 0 and res.stats.rhs_evals > res.stats.steps
 
 
+def test_notebook_view_shows_status_signals_and_escapes_text(res):
+    page = res._repr_html_()
+    assert page.count("<tr>") == 6 and "completed" in page and "x [m]" in page
+    assert f"{res.stats.steps} / {res.stats.events}" in page
+    odd = dataclasses.replace(res, warnings=("a < b & c",))
+    page = odd._repr_html_()
+    assert page.count("<tr>") == 7 and "a &lt; b &amp; c" in page and "a < b" not in page
+
+
 def test_frame_csv_and_parquet_round_trip_keep_units(res, tmp_path):
     frame = res.to_frame()
     assert list(frame.columns) == ["time [s]", "x [m]", "v [m/s]", "F [N]"]

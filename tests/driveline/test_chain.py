@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
+from clutchsim.analysis.launch_metrics import energy_balance
 from clutchsim.core import Constant, SolverOptions, simulate
 from clutchsim.driveline import Chain, FrictionElement, Gear, Inertia, SpringDamper, ThermalNode
-from clutchsim.driveline.metrics import energy_balance
 from clutchsim.friction import make_model
 
 OPTS = SolverOptions(rtol=1e-9, atol=1e-10)

@@ -1,4 +1,4 @@
-"""Durability runs (clutchsim.durability, ``clutchsim durability``): the accelerated mode
+"""Durability runs (clutchsim.studies.durability, ``clutchsim durability``): the accelerated mode
 against the full cycle-by-cycle run, the end of life, the energy balance of every run,
 the clamp force after wear, and bad duty files."""
 
@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from clutchsim.durability import load_duty, run_durability
 from clutchsim.scenario import ScenarioError
+from clutchsim.studies.durability import load_duty, run_durability
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLES = REPO / "examples"

@@ -12,8 +12,8 @@ import pytest
 from _dl_paths import EXAMPLES
 
 from clutchsim import run_scenario
+from clutchsim.analysis.launch_metrics import DT_OUT_MAX_S
 from clutchsim.core import SolverOptions
-from clutchsim.driveline.metrics import DT_OUT_MAX_S
 from clutchsim.scenario import ScenarioError, load_scenario
 
 LAUNCH = EXAMPLES / "launch.toml"

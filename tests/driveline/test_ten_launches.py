@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from _dl_paths import EXAMPLES
 
-from clutchsim.driveline.metrics import energy_balance
+from clutchsim.analysis.launch_metrics import energy_balance
 from clutchsim.scenario import load_scenario, run_scenario
 
 PERIOD = 12.0        # s between launches (examples/ten_launches.toml)

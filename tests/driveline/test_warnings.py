@@ -7,7 +7,7 @@ import pytest
 from _dl_paths import EXAMPLES
 
 from clutchsim import run_scenario
-from clutchsim.driveline.metrics import LOCK_SLIP, STEP_RATE_LIMIT
+from clutchsim.analysis.launch_metrics import LOCK_SLIP, STEP_RATE_LIMIT
 
 LAUNCH = EXAMPLES / "launch.toml"
 F = "coupling[0].friction.overrides."
@@ -75,11 +75,11 @@ def test_a_clutch_that_never_locks_and_expect_lockup():
 
 
 def test_sweep_rows_carry_outcome_and_warnings(tmp_path):
-    from clutchsim.sweeps import read_results, sweep
+    from clutchsim.studies.sweeps import SweepSpec, read_results, sweep
     # a sliding level of 30 N·m cannot carry the engine (never locks: a warning); 192 N·m
-    res = sweep(LAUNCH, {"coupling[0].friction.alternatives.coulomb-robust.F_c": "30,192"},
-                model="coulomb-robust", out=tmp_path / "s", plots=False,
-                overrides=["scenario.t_end=1.5", "solver.dt_out=0.005"])
+    res = sweep(LAUNCH, SweepSpec(vary={"coupling[0].friction.alternatives.coulomb-robust.F_c":
+                "30,192"}, model="coulomb-robust", overrides=["scenario.t_end=1.5",
+                "solver.dt_out=0.005"]), out=tmp_path / "s", plots=False)
     t = read_results(tmp_path / "s")
     assert list(t["outcome"]) == ["completed", "completed"]
     weak, strong = list(t["warnings"][0]), list(t["warnings"][1])

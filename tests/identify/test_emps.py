@@ -11,7 +11,7 @@ from _identify_helpers import shared_file
 from clutchsim.core import SolverOptions, Table, simulate
 from clutchsim.data import Measurement, read_measurements
 from clutchsim.friction import make_model
-from clutchsim.identify import evaluate, fit, load_spec, make_emps
+from clutchsim.identify import FitOptions, FitProblem, evaluate, fit, load_spec, make_emps
 
 ROOT = Path(__file__).resolve().parents[2]
 GAINS = {"gtau": 35.15, "kp": 160.18, "kv": 243.45}
@@ -31,10 +31,10 @@ def test_emps_synthetic_coulomb_viscous_recovery():
     q = np.round(q / 5e-8) * 5e-8                      # the encoder quantum of the benchmark
     data = Measurement.from_arrays(t, q=q, q_ref=q_ref)
     start = truth.with_(F_c=12.0, sigma2=300.0)
-    out = fit(start, data, input="q_ref", output="q", plant="emps", solver="dopri5",
-              plant_options={**GAINS, "M": 95.0, "offset": 0.0, "tau_v": 0.0015},
-              params=["F_c", "sigma2", "offset"], tol=1e-6,
-              bounds={"F_c": (1.0, 100.0), "sigma2": (10.0, 1000.0)})
+    out = fit(start, data, FitProblem(input="q_ref", output="q", plant="emps",
+              plant_options={**GAINS, "M": 95.0, "offset": 0.0, "tau_v": 0.0015}, params=["F_c",
+              "sigma2", "offset"], bounds={"F_c": (1.0, 100.0), "sigma2": (10.0, 1000.0)}),
+              FitOptions(solver="dopri5", tol=1e-6))
     p = out.parameters
     assert p["F_c"] == pytest.approx(20.0, rel=0.01)
     assert p["sigma2"] == pytest.approx(200.0, rel=0.01)
@@ -68,9 +68,9 @@ def test_coulomb_viscous_fit_on_the_benchmark_record(emps_data):
     """C+V fit on the first 8 s, plant held at the spec's values: close to the IDIM values."""
     spec = load_spec(ROOT / "examples" / "fit_emps.toml")
     res = fit(make_model("tanh", F_c=15.0, v_t=1e-3, sigma2=150.0), emps_data.window(0, 8),
-              input="q_ref", output="q", plant="emps", solver="dopri5", tol=1e-6,
-              plant_options=dict(spec.plant.options), params=["F_c", "sigma2"],
-              bounds={"F_c": (1.0, 100.0), "sigma2": (10.0, 1000.0)})
+              FitProblem(input="q_ref", output="q", plant="emps",
+              plant_options=dict(spec.plant.options), params=["F_c", "sigma2"], bounds={"F_c":
+              (1.0, 100.0), "sigma2": (10.0, 1000.0)}), FitOptions(solver="dopri5", tol=1e-6))
     assert res.parameters["F_c"] == pytest.approx(20.4, rel=0.1)
     assert res.parameters["sigma2"] == pytest.approx(203.0, rel=0.1)
     assert res.nrmse_fit < 0.0045                   # whole record, 5 parameters: 0.0030

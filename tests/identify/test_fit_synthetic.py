@@ -7,7 +7,7 @@ import pytest
 from _identify_helpers import synthetic_force_record, synthetic_velocity_record
 
 from clutchsim.friction import make_model
-from clutchsim.identify import fit
+from clutchsim.identify import FitOptions, FitProblem, fit
 
 T = np.linspace(0.0, 2.0, 2001)
 V = 0.05 * np.sin(2 * np.pi * T) * (1 - np.exp(-T / 0.1))
@@ -24,8 +24,8 @@ def test_lugre_velocity_drive_recovers_parameters():
     data = synthetic_velocity_record(make_model("lugre", **truth), T, V, noise=0.01, seed=1)
     start = make_model("lugre", **{**truth, "F_c": 0.7, "F_s": 1.2, "sigma0": 3e3,
                                    "sigma2": 10.0})
-    res = fit(start, data, input="v", output="F", plant="rig-velocity",
-              params=["F_c", "F_s", "sigma0", "sigma2"])
+    res = fit(start, data, FitProblem(input="v", output="F", plant="rig-velocity",
+              params=["F_c", "F_s", "sigma0", "sigma2"]))
     _close(res, truth, {"F_c": 0.02, "F_s": 0.03, "sigma0": 0.1, "sigma2": 0.1})
     assert res.nrmse_fit < 0.02 and res.r2_fit > 0.999
     assert set(res.stderr) == {"F_c", "F_s", "sigma0", "sigma2"}
@@ -40,7 +40,7 @@ def test_coulomb_viscous_force_drive_recovers_parameters_within_stderr():
     truth = {"F_c": 1.0, "v_t": 1e-3, "sigma2": 0.4}
     data = synthetic_force_record(make_model("tanh", **truth), t, f, noise=1e-5, seed=2)
     res = fit(make_model("tanh", **{**truth, "F_c": 0.6, "sigma2": 1.0}), data,
-              input="f", output="x", params=["F_c", "sigma2"], plant="rig-force")
+              FitProblem(input="f", output="x", params=["F_c", "sigma2"], plant="rig-force"))
     _close(res, truth, {"F_c": 0.005, "sigma2": 0.02})
     for name in ("F_c", "sigma2"):
         assert abs(res.parameters[name] - truth[name]) < 6 * res.stderr[name]
@@ -52,9 +52,8 @@ def test_model6_velocity_drive_recovers_parameters():
                                      noise=0.01, seed=3)
     start = make_model("mykhailevych2020", **{**truth, "T_stat": 1.2, "k_din": 0.8,
                                               "phi0": 4e-5, "k_v": 4.0})
-    res = fit(start, data, input="v", output="F", plant="rig-velocity",
-              params=["T_stat", "k_din", "phi0", "k_v"],
-              bounds={"k_din": (0.1, 1.0)})
+    res = fit(start, data, FitProblem(input="v", output="F", plant="rig-velocity",
+              params=["T_stat", "k_din", "phi0", "k_v"], bounds={"k_din": (0.1, 1.0)}))
     _close(res, truth, {"T_stat": 0.03, "k_din": 0.03, "phi0": 0.15, "k_v": 0.1})
 
 
@@ -63,10 +62,11 @@ def test_fit_is_deterministic_for_a_seed_and_uses_validation():
     model = make_model("tanh", **truth)
     data = synthetic_velocity_record(model, T, V, noise=0.02, seed=4)
     other = synthetic_velocity_record(model, T, 0.5 * V, noise=0.02, seed=5)
-    kw = {"input": "v", "output": "F", "plant": "rig-velocity", "params": ["F_c", "sigma2"],
-          "starts": 3, "seed": 7, "validate": other, "t_span": (0.0, 1.0)}
-    a = fit(model.with_(F_c=2.0), data, **kw)
-    b = fit(model.with_(F_c=2.0), data, **kw)
+    problem = FitProblem(input="v", output="F", plant="rig-velocity",
+                         params=["F_c", "sigma2"], t_span=(0.0, 1.0))
+    options = FitOptions(starts=3, seed=7)
+    a = fit(model.with_(F_c=2.0), data, problem, options, validate=other)
+    b = fit(model.with_(F_c=2.0), data, problem, options, validate=other)
     assert dict(a.parameters) == dict(b.parameters)
     assert [s["start"] for s in a.starts] == [s["start"] for s in b.starts]
     assert len(a.starts) == 3 and a.starts[0]["start"]["F_c"] == pytest.approx(2.0)
@@ -85,8 +85,8 @@ def test_tuple_elements_and_plant_offset_can_be_fitted():
                       v_s=1e-2, sigma1=0.0, sigma2=1.0)
     data = synthetic_velocity_record(base, T, V, noise=0.005, seed=6)
     data = data.with_column("F", data["F"] + 0.2)
-    res = fit(base.with_(k=(1e4, 1e4)), data, input="v", output="F", plant="rig-velocity",
-              params=["k[0]", "offset"], bounds={"offset": (-1.0, 1.0)})
+    res = fit(base.with_(k=(1e4, 1e4)), data, FitProblem(input="v", output="F",
+              plant="rig-velocity", params=["k[0]", "offset"], bounds={"offset": (-1.0, 1.0)}))
     assert res.parameters["k[0]"] == pytest.approx(3e4, rel=0.1)
     assert res.parameters["offset"] == pytest.approx(0.2, abs=0.01)
     assert res.model.k[0] == pytest.approx(res.parameters["k[0]"])
@@ -110,15 +110,16 @@ def test_bad_arguments_raise_clear_errors(kw, message):
     data = {"t": T[:50], "v": V[:50], "F": np.sin(T[:50])}
     args = {"input": "v", "output": "F", "plant": "rig-velocity"}
     args.update(kw)
+    starts = args.pop("starts", 1)
     with pytest.raises(ValueError, match=message):
-        fit(make_model("lugre"), data, **args)
+        fit(make_model("lugre"), data, FitProblem(**args), FitOptions(starts=starts))
 
 
 def test_parameter_starting_at_zero_needs_bounds():
     data = {"t": T[:50], "v": V[:50], "F": np.sin(T[:50])}
     with pytest.raises(ValueError, match=r"'sigma2' starts at 0: give its bounds"):
-        fit(make_model("tanh", sigma2=0.0), data, input="v", output="F",
-            plant="rig-velocity", params=["sigma2"])
+        fit(make_model("tanh", sigma2=0.0), data, FitProblem(input="v", output="F",
+            plant="rig-velocity", params=["sigma2"]))
 
 
 def test_undetermined_parameters_have_no_standard_error():
@@ -149,8 +150,8 @@ def test_presliding_models_recover_parameters(name, truth, start, params, rel):
     """Dahl and elasto-plastic (fitted to the BRFD and micro-tribometer records) are
     identifiable from a noisy imposed-velocity record too."""
     data = synthetic_velocity_record(make_model(name, **truth), T, V, noise=0.01, seed=3)
-    res = fit(make_model(name, **{**truth, **start}), data, input="v", output="F",
-              plant="rig-velocity", params=params)
+    res = fit(make_model(name, **{**truth, **start}), data, FitProblem(input="v", output="F",
+              plant="rig-velocity", params=params))
     _close(res, truth, rel)
     assert res.nrmse_fit < 0.02
 
@@ -161,9 +162,9 @@ def test_values_at_a_bound_and_unidentifiable_parameters_are_flagged():
     data = synthetic_velocity_record(make_model("stribeck", **truth), T, V, noise=1e-3,
                                      seed=6)
     start = make_model("stribeck", **{**truth, "F_s": 1.3, "v_s": 5e-3, "sigma2": 0.3})
-    res = fit(start, data, input="v", output="F", plant="rig-velocity",
-              params=["F_c", "F_s", "v_s", "sigma2"],
-              bounds={"sigma2": (0.0, 1.0), "v_s": (1e-4, 1e-1)})
+    res = fit(start, data, FitProblem(input="v", output="F", plant="rig-velocity",
+              params=["F_c", "F_s", "v_s", "sigma2"], bounds={"sigma2": (0.0, 1.0), "v_s":
+              (1e-4, 1e-1)}))
     p = res.parameters
     assert p["F_c"] == pytest.approx(1.0, rel=1e-2)
     assert abs(p["F_s"] - p["F_c"]) <= 1e-3 * p["F_c"]           # no drop found

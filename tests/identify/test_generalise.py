@@ -10,7 +10,7 @@ from _identify_helpers import synthetic_velocity_record
 from clutchsim.data import Measurement
 from clutchsim.data.column_expr import evaluate_column
 from clutchsim.friction import make_model
-from clutchsim.identify import InputSpec, evaluate, fit
+from clutchsim.identify import FitOptions, FitProblem, InputSpec, evaluate, fit
 
 T = np.linspace(0.0, 2.0, 1001)
 V = 0.05 * np.sin(2 * np.pi * T)
@@ -31,10 +31,10 @@ def test_joint_fit_separates_constant_and_load_proportional_friction():
     offsets are fitted once per record; validation at s = 1 is predicted from them."""
     recs = [_record(0.5, offset=0.2, seed=1), _record(1.5, offset=-0.1, seed=2)]
     start = make_model("tanh", **{**TRUTH, "F_c": 1.0, "sigma2": 1.0})
-    res = fit(start, recs, input="v", output="F", plant="rig-velocity",
-              plant_options={"scale": "s", "load_fraction": 0.9},
-              params=["F_c", "sigma2", "load_fraction"], per_record=["offset"],
-              bounds={"offset": (-1.0, 1.0)}, validate=[_record(1.0, offset=0.05, seed=3)])
+    res = fit(start, recs, FitProblem(input="v", output="F", plant="rig-velocity",
+              plant_options={"scale": "s", "load_fraction": 0.9}, params=["F_c", "sigma2",
+              "load_fraction"], per_record=["offset"], bounds={"offset": (-1.0, 1.0)}),
+              validate=[_record(1.0, offset=0.05, seed=3)])
     p = res.parameters
     assert p["F_c"] == pytest.approx(2.0, rel=0.01)
     assert p["load_fraction"] == pytest.approx(LAMBDA, abs=0.01)
@@ -56,9 +56,9 @@ def test_one_record_at_one_load_cannot_separate_the_two_parts():
     friction level fitted, λ is flagged unidentified (no standard error)."""
     rec = _record(1.5, seed=4)
     start = make_model("tanh", **{**TRUTH, "F_c": 1.0, "sigma2": 1.0})
-    res = fit(start, rec, input="v", output="F", plant="rig-velocity",
-              plant_options={"scale": "s", "load_fraction": 0.9},
-              params=["F_c", "sigma2", "load_fraction"], bounds={"F_c": (0.5, 10.0)})
+    res = fit(start, rec, FitProblem(input="v", output="F", plant="rig-velocity",
+              plant_options={"scale": "s", "load_fraction": 0.9}, params=["F_c", "sigma2",
+              "load_fraction"], bounds={"F_c": (0.5, 10.0)}))
     p = res.parameters
     cap = 1 - p["load_fraction"] + 1.5 * p["load_fraction"]
     assert p["F_c"] * cap == pytest.approx(2.0 * (0.4 + 0.6 * 1.5), rel=0.01)
@@ -75,8 +75,8 @@ def test_declared_force_input_and_a_record_that_lacks_it():
     other = Measurement.from_arrays(T, source="without Fx", v=rec["v"], F=rec["F"])
     inputs = [InputSpec("Fx", "force", gain=2.0, unit="N")]
     start = make_model("tanh", **{**TRUTH, "F_c": 1.0})
-    res = fit(start, data, input="v", output="F", plant="rig-velocity", inputs=inputs,
-              params=["F_c", "sigma2"], validate=[other])
+    res = fit(start, data, FitProblem(input="v", output="F", plant="rig-velocity",
+              inputs=inputs, params=["F_c", "sigma2"]), validate=[other])
     assert res.parameters["F_c"] == pytest.approx(2.0, rel=0.01)
     assert res.nrmse_fit < 0.01 and res.validation[0].nrmse < 0.01
     assert any("without Fx" in n and "'Fx'" in n and "taken as 0" in n for n in res.notes)
@@ -86,8 +86,8 @@ def test_declared_force_input_and_a_record_that_lacks_it():
     with pytest.raises(ValueError, match=r"inputs: declared input column 'Fy' \(to force\) is "
                                          r"in none of the records \(fitting: with Fx; "
                                          r"validation: without Fx\); columns: F, Fx, v"):
-        fit(start, data, input="v", output="F", plant="rig-velocity", params=["F_c"],
-            inputs=[InputSpec("Fy", "force")], validate=[other])
+        fit(start, data, FitProblem(input="v", output="F", plant="rig-velocity", params=["F_c"],
+            inputs=[InputSpec("Fy", "force")]), validate=[other])
     with pytest.raises(ValueError, match="to = 'controller' is not available for plant "
                                          "'rig-velocity'"):
         evaluate(res.model, data, input="v", output="F", plant="rig-velocity",
@@ -104,20 +104,20 @@ def test_validation_from_the_fit_end_state_and_warmup():
                        sigma2=2.0)
     whole = synthetic_velocity_record(truth, t, v, noise=0.002, seed=6)
     first, second = whole.window(0.0, 1.5), whole.window(1.5, 4.0)
-    kw = {"input": "v", "output": "F", "plant": "rig-velocity", "params": ["F_c"],
-          "validate": [second]}
-    rest = fit(truth.with_(F_c=0.8), first, **kw)
-    end = fit(truth.with_(F_c=0.8), first, validate_initial="fit-end", **kw)
-    warm = fit(truth.with_(F_c=0.8), first, validate_warmup=0.5, **kw)
+    problem = FitProblem(input="v", output="F", plant="rig-velocity", params=["F_c"])
+    kw = {"validate": [second]}
+    rest = fit(truth.with_(F_c=0.8), first, problem, **kw)
+    end = fit(truth.with_(F_c=0.8), first, problem, validate_initial="fit-end", **kw)
+    warm = fit(truth.with_(F_c=0.8), first, problem, validate_warmup=0.5, **kw)
     assert rest.parameters["F_c"] == pytest.approx(1.0, rel=0.01)
     assert end.validation[0].nrmse < 0.02 < rest.validation[0].nrmse
     assert warm.validation[0].nrmse < 0.02
     assert warm.validation[0].t[0] >= 2.0 - 1e-12        # the warm-up is not compared
     assert any("end of" in n for n in end.notes)
-    given = fit(truth.with_(F_c=0.8), first, validate_initial=[0.0], **kw)
+    given = fit(truth.with_(F_c=0.8), first, problem, validate_initial=[0.0], **kw)
     assert given.validation[0].nrmse == pytest.approx(rest.validation[0].nrmse, rel=1e-6)
     with pytest.raises(ValueError, match="validate_initial has 2 entries; lugre has 1 state"):
-        fit(truth, first, validate_initial=[0.0, 1.0], **kw)
+        fit(truth, first, problem, validate_initial=[0.0, 1.0], **kw)
 
 
 def test_fit_end_continues_the_motion_of_a_force_driven_record():
@@ -130,10 +130,11 @@ def test_fit_end_continues_the_motion_of_a_force_driven_record():
     truth = make_model("coulomb-robust", F_c=1.0, F_s=1.0, sigma2=0.0)
     whole = synthetic_force_record(truth, t, 3.0 * np.sin(np.pi * t), noise=1e-5, seed=8)
     first, second = whole.window(0.0, 1.6), whole.window(1.6, 4.0)
-    kw = {"input": "f", "output": "x", "plant": "rig-force", "params": ["F_c"],
-          "validate": [second], "bounds": {"F_c": (0.5, 2.0)}}
-    end = fit(truth.with_(F_c=0.8), first, validate_initial="fit-end", **kw)
-    rest = fit(truth.with_(F_c=0.8), first, **kw)
+    problem = FitProblem(input="f", output="x", plant="rig-force", params=["F_c"],
+                         bounds={"F_c": (0.5, 2.0)})
+    kw = {"validate": [second]}
+    end = fit(truth.with_(F_c=0.8), first, problem, validate_initial="fit-end", **kw)
+    rest = fit(truth.with_(F_c=0.8), first, problem, **kw)
     assert end.parameters["F_c"] == pytest.approx(1.0, rel=1e-3)
     assert end.validation[0].nrmse < 1e-3 and rest.validation[0].nrmse > 0.1
     note = next(n for n in end.notes if "end of" in n)
@@ -150,8 +151,8 @@ def test_joint_fit_refuses_mixed_sampling_rates():
     b = Measurement.from_arrays(t2, source="coarse", v=np.interp(t2, T, a["v"]),
                                 F=np.interp(t2, T, a["F"]), s=np.ones(t2.size))
     with pytest.raises(ValueError, match="different sampling intervals.*coarse.*resample"):
-        fit(make_model("tanh", **TRUTH), [a, b], input="v", output="F", plant="rig-velocity",
-            params=["F_c"])
+        fit(make_model("tanh", **TRUTH), [a, b], FitProblem(input="v", output="F",
+            plant="rig-velocity", params=["F_c"]))
 
 
 def test_column_expressions():
@@ -176,11 +177,12 @@ def test_solver_options_as_one_object_or_a_mapping_over_the_fit_defaults():
     from clutchsim.core import SolverOptions
     from clutchsim.identify import FIT_SOLVER_DEFAULTS, solver_options
     rec = _record(1.0, seed=7)
-    kw = {"input": "v", "output": "F", "plant": "rig-velocity", "params": ["F_c"],
-          "plant_options": {"scale": "s"}}
+    problem = FitProblem(input="v", output="F", plant="rig-velocity", params=["F_c"],
+                         plant_options={"scale": "s"})
     start = make_model("tanh", **{**TRUTH, "F_c": 1.0})
-    mapping = fit(start, rec, options={"rtol": 1e-8, "atol": 1e-9}, **kw)
-    one = fit(start, rec, options=SolverOptions(**FIT_SOLVER_DEFAULTS, atol=1e-9), **kw)
+    mapping = fit(start, rec, problem, FitOptions(solver_options={"rtol": 1e-8, "atol": 1e-9}))
+    one = fit(start, rec, problem,
+              FitOptions(solver_options=SolverOptions(**FIT_SOLVER_DEFAULTS, atol=1e-9)))
     assert one.parameters["F_c"] == pytest.approx(mapping.parameters["F_c"], rel=1e-9)
     # the defaults: atol from the output scale unless given; an object is taken as it is
     base, auto = solver_options()
@@ -194,8 +196,8 @@ def test_solver_options_as_one_object_or_a_mapping_over_the_fit_defaults():
     assert solver_options(given) == (given, False)
     with pytest.raises(ValueError, match=r"unknown solver option 'rtoll' \(did you mean "
                        r"'rtol'\?\); options: rtol, atol"):
-        fit(start, rec, options={"rtoll": 1e-8}, **kw)
+        fit(start, rec, problem, FitOptions(solver_options={"rtoll": 1e-8}))
     with pytest.raises(TypeError, match="options must be a SolverOptions or a mapping"):
-        fit(start, rec, options=1e-8, **kw)
+        fit(start, rec, problem, FitOptions(solver_options=1e-8))
     with pytest.raises(TypeError, match="rtol"):
-        fit(start, rec, rtol=1e-8, **kw)            # the loose tolerances are gone
+        fit(start, rec, problem, rtol=1e-8)            # the loose tolerances are gone

@@ -8,7 +8,7 @@ from _identify_helpers import shared_file
 
 from clutchsim.data import read_measurements
 from clutchsim.friction import make_model
-from clutchsim.identify import evaluate, fit
+from clutchsim.identify import FitOptions, FitProblem, evaluate, fit
 
 
 @pytest.fixture(scope="module")
@@ -25,11 +25,12 @@ def test_microtribometer_elastoplastic_presliding_fit(tribo):
     """Reported: NRMSE 0.056 on 8.5-50.78 s, F_c = 2.40 N, sigma0 = 4.2e4 N/m, z_ba = 20 µm."""
     start = make_model("elastoplastic", F_c=2.2, F_s=2.3, v_s=1e-4, sigma0=5e4, sigma1=10.0,
                        sigma2=0.0, z_ba=2e-5)
-    res = fit(start, tribo.window(8.5, 30.78), input="x", output="F", plant="rig-velocity",
-              plant_options={"differentiate": True, "smooth": 5, "scale": "s"},
-              params=["F_c", "sigma0", "z_ba", "offset"], tol=1e-6,
-              bounds={"F_c": (0.5, 5.0), "sigma0": (1e3, 1e7), "z_ba": (1e-7, 1e-3),
-                      "offset": (-0.5, 0.5)},
+    problem = FitProblem(input="x", output="F", plant="rig-velocity",
+                         plant_options={"differentiate": True, "smooth": 5, "scale": "s"},
+                         params=["F_c", "sigma0", "z_ba", "offset"],
+                         bounds={"F_c": (0.5, 5.0), "sigma0": (1e3, 1e7), "z_ba": (1e-7, 1e-3),
+                                 "offset": (-0.5, 0.5)})
+    res = fit(start, tribo.window(8.5, 30.78), problem, FitOptions(tol=1e-6),
               validate=[tribo.window(8.5, 50.78)])
     assert res.nrmse_fit < 0.056 * 1.25
     assert res.nrmse_validation < 0.056 * 1.25

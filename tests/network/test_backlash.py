@@ -8,8 +8,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from test_network import _jac_fd
 
+from clutchsim.analysis.launch_metrics import energy_balance
 from clutchsim.core import SolverOptions, simulate
-from clutchsim.driveline.metrics import energy_balance
 from clutchsim.network import Network
 from clutchsim.network.components import ElastoBacklash, Inertia, TorqueSource
 

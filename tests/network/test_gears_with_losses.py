@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from clutchsim.analysis.launch_metrics import energy_balance
 from clutchsim.core import SolverOptions, simulate
 from clutchsim.core.system import call_jac, call_rhs
-from clutchsim.driveline.metrics import energy_balance
 from clutchsim.network import Network, NetworkError, compile_network
 from clutchsim.network import components as nc
 from clutchsim.scenario import resolve_scenario, run_scenario

@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from clutchsim.analysis.frf import frf_analysis
 from clutchsim.core import SolverOptions, simulate
 from clutchsim.network import Network, compile_network
 from clutchsim.network import components as nc
 from clutchsim.scenario import run_scenario
+from clutchsim.studies.frf import frf_analysis
 
 SCENARIO = """
 [scenario]

@@ -1,4 +1,4 @@
-"""A sweep's chunk runs as one compiled batch (clutchsim.driveline.batch), and its rows are
+"""A sweep's chunk runs as one compiled batch (clutchsim.analysis.launch_batch), and its rows are
 those of the variants run one by one, to the bit: completed, stalled, chatter and
 warned runs alike.  What the batch cannot run (traces, a controller) runs one by one."""
 
@@ -10,11 +10,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from clutchsim.driveline.batch import batch_supported, launch_batch
+from clutchsim.analysis.launch_batch import batch_supported, launch_batch
 from clutchsim.scenario import load_scenario
 from clutchsim.scenario.run import batch_reason
 from clutchsim.scenario.variants import VariantPlan
-from clutchsim.sweeps import DEFAULT_METRICS, backends, runner, sweep
+from clutchsim.studies.sweeps import (
+    DEFAULT_METRICS,
+    SweepOptions,
+    SweepSpec,
+    backends,
+    runner,
+    sweep,
+)
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -22,8 +29,9 @@ MODEL = "mykhailevych2020"
 BASE = ["scenario.t_end=1.3", "solver.dt_out=0.005"]
 
 
-def _sweep(tmp_path, monkeypatch, name, batch, **kw):
-    """``sweep(**kw)`` with the batch on or off; returns (table, runs batched)."""
+def _sweep(tmp_path, monkeypatch, name, batch, scenario=None, chunk_size=None, **kw):
+    """``sweep(scenario, SweepSpec(**kw))`` with the batch on or off; returns (table, runs
+    batched)."""
     counted = {"batched": 0}
     original = runner.run_chunk
 
@@ -32,7 +40,8 @@ def _sweep(tmp_path, monkeypatch, name, batch, **kw):
         counted["batched"] += out["batched"]
         return out
     monkeypatch.setattr(backends, "run_chunk", run_chunk)
-    res = sweep(out=tmp_path / name, workers=1, **kw)
+    res = sweep(scenario, SweepSpec(**kw), SweepOptions(workers=1, chunk_size=chunk_size),
+                out=tmp_path / name)
     return res.table, counted["batched"]
 
 

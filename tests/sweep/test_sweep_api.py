@@ -9,8 +9,16 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-import clutchsim.sweeps as S
-from clutchsim.sweeps import SweepError, make_design, parse_vary, read_results, sweep
+import clutchsim.studies.sweeps as S
+from clutchsim.studies.sweeps import (
+    SweepError,
+    SweepOptions,
+    SweepSpec,
+    make_design,
+    parse_vary,
+    read_results,
+    sweep,
+)
 
 # a short launch (lock-up at ~1.1 s) keeps each run to a fraction of a second
 BASE = ["scenario.t_end=1.3", "solver.dt_out=0.005"]
@@ -52,9 +60,11 @@ def test_random_keys_need_samples_and_seed():
 
 def test_unknown_key_suggests_the_closest(tmp_path):
     with pytest.raises(SweepError, match="did you mean 'mass'"):
-        sweep(None, {"vehicle.mas": "1000:1200:2"}, overrides=BASE, out=tmp_path / "s")
+        sweep(None, SweepSpec(vary={"vehicle.mas": "1000:1200:2"}, overrides=BASE),
+              out=tmp_path / "s")
     with pytest.raises(SweepError, match="vehicle.mass"):
-        sweep(None, {"vehicle.mass": "-5:1200:2"}, overrides=BASE, out=tmp_path / "s")
+        sweep(None, SweepSpec(vary={"vehicle.mass": "-5:1200:2"}, overrides=BASE),
+              out=tmp_path / "s")
 
 
 def test_a_table_key_on_a_network_scenario_names_the_component_key(tmp_path):
@@ -65,13 +75,14 @@ def test_a_table_key_on_a_network_scenario_names_the_component_key(tmp_path):
     comps = load_scenario(path).data["component"]
     i = next(i for i, c in enumerate(comps) if c.get("type") == "vehicle")
     with pytest.raises(SweepError, match=rf"did you mean component\[{i}\]\.mass\?"):
-        sweep(path, {"vehicle.mass": "1200:1400:2"}, out=tmp_path / "s")
+        sweep(path, SweepSpec(vary={"vehicle.mass": "1200:1400:2"}), out=tmp_path / "s")
 
 
 @pytest.fixture(scope="module")
 def grid_sweep(tmp_path_factory):
     out = tmp_path_factory.mktemp("grid") / "sweep"
-    return sweep(None, GRID, overrides=BASE, out=out, chunk_size=2, workers=2, plots=True)
+    return sweep(None, SweepSpec(vary=GRID, overrides=BASE), SweepOptions(chunk_size=2,
+                 workers=2), out=out, plots=True)
 
 
 def test_failing_variants_are_rows_and_the_sweep_goes_on(grid_sweep):
@@ -101,33 +112,40 @@ def test_2d_grid_round_trips_through_parquet_with_units(grid_sweep):
 
 def test_a_directory_holding_another_sweep_is_refused(grid_sweep):
     with pytest.raises(SweepError, match="different sweep.*another --out"):
-        sweep(None, {"vehicle.mass": "1100:1500:3"}, overrides=BASE, out=grid_sweep.path)
+        sweep(None, SweepSpec(vary={"vehicle.mass": "1100:1500:3"}, overrides=BASE),
+              out=grid_sweep.path)
 
 
 def test_an_interrupted_sweep_resumes_with_one_row_per_variant(tmp_path):
     vary = {"vehicle.mass": "uniform(1100, 1500)"}
-    kw = {"samples": 6, "seed": 7, "overrides": BASE, "out": tmp_path / "s", "chunk_size": 2,
-              "workers": 1, "metrics": ["lockup_time_s", "slip_energy_J"]}
+    spec = SweepSpec(vary=vary, samples=6, seed=7, overrides=BASE,
+                     metrics=["lockup_time_s", "slip_energy_J"])
+    kw = {"out": tmp_path / "s"}
+    options = SweepOptions(chunk_size=2, workers=1)
 
     def stop_after_two(done, total):
         if done >= 4:
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        sweep(None, vary, progress=stop_after_two, **kw)
+        sweep(None, spec, options, progress=stop_after_two, **kw)
     assert len(list((tmp_path / "s" / "chunks").glob("*.parquet"))) == 2
     assert not (tmp_path / "s" / "results.parquet").exists()
-    res = sweep(None, vary, **kw)
+    res = sweep(None, spec, options, **kw)
     assert (res.chunks, res.chunks_skipped) == (3, 2)
     assert list(res.table["run"]) == list(range(6))
-    again = sweep(None, vary, **kw)   # complete: nothing re-run, same table
+    again = sweep(None, spec, options, **kw)   # complete: nothing re-run, same table
     assert again.chunks_skipped == 3 and again.table.equals(res.table)
-    fresh = sweep(None, vary, **{**kw, "out": tmp_path / "fresh"})
+    fresh = sweep(None, spec, options, **{**kw, "out": tmp_path / "fresh"})
     assert fresh.table.equals(res.table)
 
 
-def test_callable_module():
-    assert S.sweep is sweep or callable(S)
+def test_the_public_sweep_is_the_studies_function():
+    import clutchsim
+    from clutchsim.studies.sweeps import api
+    assert clutchsim.sweep is S.sweep is api.sweep
+    assert (clutchsim.SweepSpec, clutchsim.SweepOptions) == (api.SweepSpec, api.SweepOptions)
+    assert not callable(S)
 
 
 # ------------------------------------------------------------------ Dask
@@ -143,10 +161,11 @@ def dask_client():
 
 
 def test_dask_gives_the_same_table_as_in_process(tmp_path, dask_client):
-    kw = {"samples": 4, "seed": 11, "overrides": BASE, "chunk_size": 3,
-              "vary": {"vehicle.mass": "uniform(1100, 1500)", "vehicle.grade": "0,30"}}
-    local = sweep(None, out=tmp_path / "threads", **kw)
-    remote = sweep(None, out=tmp_path / "dask", backend=dask_client, **kw)
+    spec = SweepSpec(samples=4, seed=11, overrides=BASE,
+                     vary={"vehicle.mass": "uniform(1100, 1500)", "vehicle.grade": "0,30"})
+    local = sweep(None, spec, SweepOptions(chunk_size=3), out=tmp_path / "threads")
+    remote = sweep(None, spec, SweepOptions(chunk_size=3, backend=dask_client),
+                   out=tmp_path / "dask")
     assert len(local.table) == 8
     assert remote.table.equals(local.table)
     assert remote.manifest["sweep_id"] == local.manifest["sweep_id"]
@@ -158,6 +177,7 @@ def test_a_dask_address_that_does_not_answer_fails_fast(tmp_path):
         port = s.getsockname()[1]
     t0 = time.perf_counter()
     with pytest.raises(SweepError, match="no Dask scheduler answered.*within 2 s"):
-        sweep(None, {"vehicle.mass": "1100:1500:2"}, overrides=BASE, out=tmp_path / "s",
-              backend="dask", address=f"tcp://127.0.0.1:{port}", connect_timeout=2.0)
+        sweep(None, SweepSpec(vary={"vehicle.mass": "1100:1500:2"}, overrides=BASE),
+              SweepOptions(backend="dask", address=f"tcp://127.0.0.1:{port}",
+              connect_timeout=2.0), out=tmp_path / "s")
     assert time.perf_counter() - t0 < 15

@@ -14,7 +14,7 @@ import pytest
 
 from clutchsim.scenario import run_scenario
 from clutchsim.scenario.loader import toml_value
-from clutchsim.sweeps import DEFAULT_METRICS, sweep
+from clutchsim.studies.sweeps import DEFAULT_METRICS, SweepOptions, SweepSpec, sweep
 
 BASE = ["scenario.t_end=1.3", "solver.dt_out=0.005"]
 MODEL = "mykhailevych2020"
@@ -26,8 +26,8 @@ VARY = {"vehicle.mass": "uniform(1000, 1700)", "vehicle.grade": "uniform(0, 12)"
 @pytest.fixture(scope="module")
 def table(tmp_path_factory):
     out = tmp_path_factory.mktemp("rows") / "s"
-    return sweep(None, VARY, samples=10, seed=5, model=MODEL, overrides=BASE, out=out,
-                 chunk_size=3, workers=2).table
+    return sweep(None, SweepSpec(vary=VARY, samples=10, seed=5, model=MODEL, overrides=BASE),
+                 SweepOptions(chunk_size=3, workers=2), out=out).table
 
 
 def _alone(row) -> dict:
@@ -56,6 +56,6 @@ def test_each_row_is_its_variant_run_alone(table):
 
 
 def test_chunking_and_threads_do_not_change_a_row(table, tmp_path):
-    one = sweep(None, VARY, samples=10, seed=5, model=MODEL, overrides=BASE,
-                out=tmp_path / "one", workers=1).table
+    one = sweep(None, SweepSpec(vary=VARY, samples=10, seed=5, model=MODEL, overrides=BASE),
+                SweepOptions(workers=1), out=tmp_path / "one").table
     assert one.equals(table)

@@ -10,7 +10,7 @@ import pytest
 from clutchsim.scenario import ScenarioError, load_scenario
 from clutchsim.scenario.run import run_system
 from clutchsim.scenario.variants import VariantPlan
-from clutchsim.sweeps import sweep
+from clutchsim.studies.sweeps import SweepOptions, SweepSpec, sweep
 
 BASE = ["scenario.t_end=1.3", "solver.dt_out=0.005"]
 MODEL = "mykhailevych2020"
@@ -94,8 +94,9 @@ def test_a_bad_value_of_a_direct_key_goes_to_the_loader(plan, key, valid, bad, w
 
 def test_sweep_rows_of_bad_values_are_errors_naming_key_and_rule(tmp_path):
     # normal(900, 900) with seed 1 draws 1211, 1639, 1197 and -273 kg
-    res = sweep(None, {"vehicle.mass": "normal(900, 900)"}, samples=4, seed=1,
-                overrides=BASE, out=tmp_path / "s", metrics=["lockup_time_s"], workers=1)
+    res = sweep(None, SweepSpec(vary={"vehicle.mass": "normal(900, 900)"}, samples=4, seed=1,
+                overrides=BASE, metrics=["lockup_time_s"]), SweepOptions(workers=1),
+                out=tmp_path / "s")
     t = res.table
     bad = t["vehicle.mass"] <= 0
     assert bad.sum() == 1 and (t["status"][~bad] == "completed").all()

@@ -1,5 +1,7 @@
-"""Analyses of a plant beyond time simulation: linearisation, modes, judder, frequency
-response."""
+"""Post-processing of a plant and its results: linearisation, modes, frequency response,
+the launch metrics of a run and the compiled batch that computes them, the judder band.
+Studies that run scenarios (judder maps, a scenario's frequency response, sweeps,
+durability) are in :mod:`clutchsim.studies`."""
 
 from .frf import (
     FrequencyResponse,
@@ -7,10 +9,10 @@ from .frf import (
     StateSpace,
     frequency_grid,
     frequency_response,
-    frf_analysis,
     state_space,
 )
-from .judder import JudderMap, JudderResult, judder_amplitude, judder_analysis, judder_map
+from .judder_band import JUDDER_BAND_HZ, judder_amplitude
+from .launch_metrics import ENERGY_STATES, energy_balance, launch_metrics
 from .linear import (
     ElementPoint,
     LinearModel,
@@ -23,7 +25,7 @@ from .linear import (
     operating_point,
 )
 
-__all__ = ["ElementPoint", "FrequencyResponse", "JudderMap", "JudderResult", "LinearModel", "Mode",
-           "OperatingPoint", "OperatingPointError", "Peak", "StateSpace", "element_points",
-           "frequency_grid", "frequency_response", "frf_analysis", "judder_amplitude",
-           "judder_analysis", "judder_map", "linearise", "modes", "operating_point", "state_space"]
+__all__ = ["ENERGY_STATES", "JUDDER_BAND_HZ", "ElementPoint", "FrequencyResponse", "LinearModel",
+           "Mode", "OperatingPoint", "OperatingPointError", "Peak", "StateSpace", "element_points",
+           "energy_balance", "frequency_grid", "frequency_response", "judder_amplitude",
+           "launch_metrics", "linearise", "modes", "operating_point", "state_space"]

@@ -1,7 +1,7 @@
 """Compiled launch metrics: the formulas of :mod:`clutchsim.analysis.launch_quality` and
 :func:`clutchsim.analysis.judder.judder_amplitude` as numba functions over sampled arrays,
 and :func:`launch_kernel`, which computes every metric and warning test of a driveline run
-in one call (:mod:`clutchsim.driveline.metrics`).
+in one call (:mod:`clutchsim.analysis.launch_metrics`).
 
 The arithmetic is numpy's and scipy's, operation for operation, so the values are the
 same to the last bit where the operations are the same:
@@ -164,12 +164,6 @@ def interp(x, xp, fp):
                     r = fp[j]
             out[i] = r
     return out
-
-
-@jit
-def interp1(xv, xp, fp):
-    """``np.interp`` at one point."""
-    return interp(np.array([xv]), xp, fp)[0]
 
 
 @jit
@@ -628,7 +622,7 @@ def judder(t_s, torque, cap, w, lo, hi, slip):
 
 @jit
 def held(t, w, cap, locked, lock_slip, hold):
-    """``driveline.metrics._held``: the locked flag set after the start, or a slip below
+    """``launch_metrics._held``: the locked flag set after the start, or a slip below
     ``lock_slip`` for ``hold`` seconds on end while engaged."""
     n = t.size
     for i in range(locked.size):
@@ -678,7 +672,7 @@ def launch_kernel(t, a, tf, w, cap, locked, p, omega, tj, theta, ev, wd_sos, wd_
         return k, aw
     has_wc = w.size > 0 and cap.size > 0
     cmax = np.max(cap) if cap.size else 0.0
-    # lock-up (driveline.metrics._lockup_time), only for a clutch that held (else the
+    # lock-up (launch_metrics._lockup_time), only for a clutch that held (else the
     # last sample of a slip that just fell through lock_slip at the run's end would count)
     k[K_HELD] = 1.0 if held(t, w, cap, locked, lock_slip, hold) else 0.0
     if has_wc and cmax > 0 and k[K_HELD] == 1.0:
@@ -718,7 +712,7 @@ def launch_kernel(t, a, tf, w, cap, locked, p, omega, tj, theta, ev, wd_sos, wd_
         k[K_FLARE] = flare
     if tj.size and has_wc:
         k[K_JUDDER] = judder(t, tj, cap, w, band_lo, band_hi, judder_slip)
-    # the warnings' tests (driveline.metrics._ringing, launch_warnings; K_HELD above)
+    # the warnings' tests (launch_metrics._ringing, launch_warnings; K_HELD above)
     k[K_RING] = 0.0
     if has_wc:
         k[K_CAP_MAX] = cmax
@@ -770,7 +764,7 @@ def energy_balance(w_in, losses, ke, pe):
     in, ``losses`` the final values of the other energy accounts (in their order), ``ke``
     and ``pe`` the kinetic and spring energies over the run; ``residual = w_in -
     ΔE_kinetic - ΔE_spring - Σ losses``, ``scale = max(|w_in|, max ke, 1e-30)``
-    (:func:`clutchsim.driveline.metrics.energy_balance`)."""
+    (:func:`clutchsim.analysis.launch_metrics.energy_balance`)."""
     d_ke = ke[ke.size - 1] - ke[0]
     d_pe = pe[pe.size - 1] - pe[0]
     total = 0.0

@@ -13,7 +13,8 @@ state is its row of the basis of the linearised states (exact).
 channel (a load torque on an inertia [N·m], a clutch command [-] i.e. a clamp-load
 oscillation, the throttle [-]) to one output (``a_vehicle``, a torque ``T_<name>``, a
 speed ``omega_<inertia>``, any output or linearised state) over a frequency grid;
-:func:`frf_analysis` does it for a scenario at an operating time (docs/judder.md).
+:func:`clutchsim.studies.frf.frf_analysis` does it for a scenario at an operating time
+(docs/judder.md).
 """
 
 from __future__ import annotations
@@ -27,19 +28,16 @@ from ..core.system import System, closest
 from .linear import (
     FD_STEP,
     LinearModel,
-    _continuous,
     _jacobian_fd,
     _outputs,
     _readonly,
     _rhs,
     _steps,
-    linearise,
     modes,
-    operating_point,
 )
 
 __all__ = ["DEFAULT_BAND_HZ", "DEFAULT_POINTS", "FrequencyResponse", "Peak", "StateSpace",
-           "frequency_grid", "frequency_response", "frf_analysis", "ratio_unit", "state_space"]
+           "frequency_grid", "frequency_response", "ratio_unit", "state_space"]
 
 #: default frequency grid [Hz]: below the shuffle mode (~3 Hz) to above model (6)'s contact
 #: mode (~650 Hz) of a passenger-car driveline
@@ -324,34 +322,3 @@ def _peaks(f: np.ndarray, resp: np.ndarray, H) -> tuple[Peak, ...]:
             out.append(Peak(fk, mk))
         j = k + 1
     return tuple(out)
-
-
-def frf_analysis(scenario=None, model: str | None = None, at: float = 0.0, *, input: str,
-                 output: str, freqs_hz=None, overrides=None) -> FrequencyResponse:
-    """The frequency response from ``input`` to ``output`` of ``scenario``'s driveline with
-    ``model`` on its clutch, linearised at ``at`` [s] (as
-    :func:`~clutchsim.analysis.judder_analysis`: simulated to ``at``, inputs frozen,
-    locked elements merged).  ``freqs_hz``: the grid [Hz] (default
-    :func:`frequency_grid`'s).  The names are checked before the simulation.
-    """
-    from ..scenario import resolve_scenario
-    scenario = resolve_scenario(scenario, overrides)
-    if model is None and scenario.models:
-        model = scenario.models[0]
-    f = frequency_grid() if freqs_hz is None else _frequencies(freqs_hz)
-
-    def check(system):
-        cont = [system.state_names[j] for j in _continuous(system)]
-        _check_names(input, output, system.input_names, (*system.output_names, *cont),
-                     f"{system.name} ({scenario.file})")
-
-    point = operating_point(scenario, model, at, check=check)
-    lin = linearise(point.system, point.t_s, point.y, point.u,
-                    constraints=point.constraints)
-    if output in point.system.state_names and output not in \
-            {point.system.state_names[j] for j in lin.continuous}:
-        raise ValueError(f"output {output!r} is a discrete value held at the operating point "
-                         f"t = {point.t_s:g} s (frozen, not linearised): it has no response")
-    ss = state_space(point.system, lin, point.y, point.u)
-    name = point.system.metadata.get("models", {}).get(scenario.clutch, model or "")
-    return frequency_response(ss, input, output, f).with_model(str(name))

@@ -4,7 +4,7 @@ Every function takes time [s] and signal arrays (SI units; the unit is in the ar
 name) sampled on a possibly non-uniform grid that may hold the same time twice (the
 driveline output grid holds a sample before and after each located event).  The
 formulas and their sources are in ``docs/launch-quality.md``;
-:func:`clutchsim.driveline.metrics.launch_metrics` applies them to a driveline run.
+:func:`clutchsim.analysis.launch_metrics.launch_metrics` applies them to a driveline run.
 
 Filters run on a uniform grid: the signal is interpolated linearly onto
 ``t0, t0 + dt, ...`` with :data:`FILTER_DT_S` (a 2 kHz rate, 20 times the W_d band limit

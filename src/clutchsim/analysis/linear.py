@@ -40,7 +40,6 @@ __all__ = [
     "linearise",
     "modes",
     "operating_point",
-    "rigid_constraints",
 ]
 
 #: state-name suffixes of discrete mode flags (frozen, not linearised)
@@ -160,7 +159,6 @@ class OperatingPoint:
     u: np.ndarray
     elements: tuple[ElementPoint, ...]
     steps: int = 0
-    constraints: tuple = ()
 
     def element(self, name: str) -> ElementPoint:
         for e in self.elements:
@@ -406,28 +404,6 @@ def _inputs_at(scenario, system: System, t: float) -> np.ndarray:
                      for n in system.input_names])
 
 
-def rigid_constraints(chain, system: System, y) -> tuple[dict, ...]:
-    """The speed relations ``omega_b - omega_a/r = 0`` of the rigid gears of ``chain``
-    (gears, gearboxes at their current ratio, lossy gears: their loss acts as a brake on
-    a rigid gear), from its public description, for :func:`linearise`.  None for a
-    network plant, whose states are already independent speeds."""
-    from ..driveline.components import Gear, Gearbox, LossyGear
-    if "network" in system.metadata:
-        return ()       # a network plant has no redundant speeds: rigid parts are solved
-    out = []
-    names = system.state_names
-    for k, c in enumerate(chain.couplings):
-        if not isinstance(c, (Gear, Gearbox, LossyGear)):
-            continue
-        if isinstance(c, Gearbox):
-            r = float(y[names.index(f"ratio_{c.name}")])
-        else:
-            r = float(c.ratio)
-        a, b = chain.inertias[k].name, chain.inertias[k + 1].name
-        out.append({f"omega_{b}": 1.0, f"omega_{a}": -1.0 / r})
-    return tuple(out)
-
-
 def operating_point(scenario, model: str | None = None, t: float = 0.0, *,
                     elements=None, check=None) -> OperatingPoint:
     """Simulate ``scenario`` with ``model`` on its clutch from 0 to ``t`` [s] and return
@@ -448,9 +424,8 @@ def operating_point(scenario, model: str | None = None, t: float = 0.0, *,
                          f"t <= {scenario.t_end:g} or raise t_end")
     if model is None and scenario.models:
         model = scenario.models[0]
-    chain = scenario.chain(model)
     u0 = {n: float(np.asarray(s(0.0)).ravel()[0]) for n, s in scenario.inputs.items()}
-    system = chain.build(u0)
+    system = scenario.chain(model).build(u0)
     if check is not None:
         check(system)
     steps = 0
@@ -469,5 +444,4 @@ def operating_point(scenario, model: str | None = None, t: float = 0.0, *,
         steps = res.stats.steps
     u = _inputs_at(scenario, system, t)
     elems = element_points(system, t, y, u, elements)
-    return OperatingPoint(system, t, _readonly(y), _readonly(u), elems, steps,
-                          rigid_constraints(chain, system, y))
+    return OperatingPoint(system, t, _readonly(y), _readonly(u), elems, steps)

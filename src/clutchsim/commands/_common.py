@@ -1,14 +1,42 @@
-"""What several subcommands share: the size-limit flags, command.txt, the run check."""
+"""What several subcommands share: the errors that set the exit status, the one JSON
+document, the size-limit flags, command.txt, the run check.  :mod:`clutchsim.cli` imports
+from here, never the other way round."""
 
 from __future__ import annotations
 
+import json
+import sys
 from dataclasses import replace
 from pathlib import Path
 
 from .._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
 
-__all__ = ["add_force_flag", "add_limit_flags", "checked_scenario", "solver_option_items",
-           "write_command"]
+__all__ = ["SimulationFailed", "UserError", "add_force_flag", "add_limit_flags",
+           "checked_scenario", "emit_json", "solver_option_items", "write_command"]
+
+
+class UserError(Exception):
+    """A mistake in the command line, a scenario file or input data (exit status 2)."""
+
+
+class SimulationFailed(Exception):
+    """A simulation that did not complete (exit status 1)."""
+
+
+def emit_json(document) -> None:
+    """Print exactly one JSON document on stdout."""
+    sys.stdout.write(json.dumps(document, indent=2, default=_json_default, allow_nan=False))
+    sys.stdout.write("\n")
+    sys.stdout.flush()
+
+
+def _json_default(obj):
+    import numpy as np
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
 def _positive_int(text: str) -> int:
@@ -78,7 +106,6 @@ def scenario_with_options(sc, items: list[str]):
     key or value)."""
     if not items:
         return sc
-    from ..cli import UserError
     from ..scenario.loader import with_solver_options
     try:
         return with_solver_options(sc, solver_option_items(items))
@@ -89,7 +116,6 @@ def scenario_with_options(sc, items: list[str]):
 def solver_option_items(items: list[str]) -> dict:
     """``--option KEY=VALUE`` items as a mapping for ``SolverOptions.from_mapping`` (values
     are numbers except ``controller``; from_mapping names unknown keys and bad values)."""
-    from ..cli import UserError
     from ..core import SolverOptions
     raw = {}
     for item in items:

@@ -6,8 +6,7 @@ import argparse
 import json
 import logging
 
-from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_force_flag, write_command
+from ._common import SimulationFailed, UserError, add_force_flag, emit_json, write_command
 
 log = logging.getLogger("clutchsim")
 

@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..cli import emit_json
-from ._common import add_force_flag
+from ._common import add_force_flag, emit_json
 
 HELP = """\
 examples:

@@ -1,12 +1,11 @@
-"""``clutchsim durability``: lining wear over a duty cycle (clutchsim.durability)."""
+"""``clutchsim durability``: lining wear over a duty cycle (clutchsim.studies.durability)."""
 
 from __future__ import annotations
 
 import argparse
 import logging
 
-from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_force_flag, write_command
+from ._common import SimulationFailed, UserError, add_force_flag, emit_json, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -67,7 +66,7 @@ def _run(args, out) -> int:
     import json
 
     from .._util import atomic_write
-    from ..durability import describe_end, load_duty, run_durability, write_durability
+    from ..studies.durability import describe_end, load_duty, run_durability, write_durability
     duty = load_duty(args.duty)
     res = run_durability(duty, args.cycles, accelerated=args.accelerated)
     summary = res.summary()

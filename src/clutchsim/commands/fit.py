@@ -7,8 +7,15 @@ import logging
 import math
 from pathlib import Path
 
-from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_force_flag, add_option_flag, solver_option_items, write_command
+from ._common import (
+    SimulationFailed,
+    UserError,
+    add_force_flag,
+    add_option_flag,
+    emit_json,
+    solver_option_items,
+    write_command,
+)
 
 log = logging.getLogger("clutchsim")
 
@@ -178,24 +185,23 @@ def _from_spec(args):
     model = model.with_(**model_starts) if model_starts else model
     options.update({k: v for k, v in starts.items() if k not in model_starts})
     options.update(_pairs(args.plant_option, "plant-option", _auto))
-    kw = {"input": args.input or f["input"], "output": args.output or f["output"],
-          "params": params, "bounds": bounds, "fixed": fixed,
-          "plant": args.plant or spec.plant.kind, "plant_options": options,
-          "signal": f.get("signal"),
-          "starts": args.starts or int(f.get("starts", 1)),
-          "seed": args.seed if args.seed is not None else int(f.get("seed", 0)),
-          "options": {k: v for k, v in spec.solver.items() if k != "method"}
-          | solver_option_items(args.option),
-          "inputs": spec.inputs, "per_record": list(f.get("per_record", [])),
-          "weights": spec.weights(),
-          "validate_initial": spec.validation_initial(model),
-          "validate_warmup": float(spec.validate.get("warmup", 0.0))}
-    for key in ("max_nfev", "diff_step", "tol"):
-        if key in f:
-            kw[key] = f[key]
+    from ..identify import FitOptions, FitProblem
+    problem = FitProblem(input=args.input or f["input"], output=args.output or f["output"],
+                         params=params, bounds=bounds, fixed=fixed,
+                         plant=args.plant or spec.plant.kind, plant_options=options,
+                         signal=f.get("signal"), inputs=spec.inputs,
+                         per_record=f.get("per_record", []), weights=spec.weights())
+    search = {key: f[key] for key in ("max_nfev", "diff_step", "tol") if key in f}
     if args.solver or "method" in spec.solver:      # else fit()'s default, the core's
-        kw["solver"] = args.solver or spec.solver["method"]
-    return model, data, validate, kw
+        search["solver"] = args.solver or spec.solver["method"]
+    fit_options = FitOptions(
+        starts=args.starts or int(f.get("starts", 1)),
+        seed=args.seed if args.seed is not None else int(f.get("seed", 0)),
+        solver_options={k: v for k, v in spec.solver.items() if k != "method"}
+        | solver_option_items(args.option), **search)
+    validation = {"validate_initial": spec.validation_initial(model),
+                  "validate_warmup": float(spec.validate.get("warmup", 0.0))}
+    return model, data, validate, problem, fit_options, validation
 
 
 def _from_data(args):
@@ -222,14 +228,14 @@ def _from_data(args):
                                       if k in cls.parameter_info})
     options = {k: v for k, v in starts.items() if k not in cls.parameter_info}
     options.update(_pairs(args.plant_option, "plant-option", _auto))
-    kw = {"input": args.input, "output": args.output, "params": args.params.split(","),
-          "bounds": _bounds(args.bounds), "fixed": _pairs(args.fixed, "fixed"),
-          "plant": args.plant or "rig-force", "plant_options": options,
-          "starts": args.starts or 1, "seed": args.seed or 0,
-          "options": solver_option_items(args.option)}
-    if args.solver:
-        kw["solver"] = args.solver
-    return model, data, validate, kw
+    from ..identify import FitOptions, FitProblem
+    problem = FitProblem(input=args.input, output=args.output, params=args.params.split(","),
+                         bounds=_bounds(args.bounds), fixed=_pairs(args.fixed, "fixed"),
+                         plant=args.plant or "rig-force", plant_options=options)
+    fit_options = FitOptions(starts=args.starts or 1, seed=args.seed or 0,
+                             solver_options=solver_option_items(args.option),
+                             **({"solver": args.solver} if args.solver else {}))
+    return model, data, validate, problem, fit_options, {}
 
 
 def run(args) -> int:
@@ -243,17 +249,15 @@ def run(args) -> int:
 def _run(args, out) -> int:
     from ..identify import fit
     path = Path(args.data)
-    if path.suffix.lower() == ".toml":
-        model, data, validate, kw = _from_spec(args)
-    else:
-        model, data, validate, kw = _from_data(args)
+    read = _from_spec if path.suffix.lower() == ".toml" else _from_data
+    model, data, validate, problem, fit_options, validation = read(args)
     sources = [d.source for d in (data if isinstance(data, list) else [data])]
-    log.info("fitting %s (%s) to %s: %s", model.name, kw["plant"], ", ".join(sources),
-             ", ".join(kw["params"]))
+    log.info("fitting %s (%s) to %s: %s", model.name, problem.plant, ", ".join(sources),
+             ", ".join(problem.params))
     try:
         from ..progress import progress_for
-        result = fit(model, data, validate=validate or None,
-                     progress=progress_for(args, "simulations"), **kw)
+        result = fit(model, data, problem, fit_options, validate=validate or None,
+                     progress=progress_for(args, "simulations"), **validation)
     except RuntimeError as exc:
         raise SimulationFailed(str(exc)) from None
     from ..identify.outputs import write_outputs
@@ -261,7 +265,7 @@ def _run(args, out) -> int:
     with out.build() as part:
         files = write_outputs(result, part, plots=not args.no_plots,
                               unit=(data[0] if isinstance(data, list) else data).units.get(
-                                  kw["output"], ""))
+                                  problem.output, ""))
         write_command(part, args.argv)
         build_report(part)
     files = {name: Path(args.out) / path.name for name, path in files.items()}

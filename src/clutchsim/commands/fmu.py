@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import logging
 
-from ..cli import UserError, emit_json
+from ._common import UserError, emit_json
 
 log = logging.getLogger("clutchsim")
 

@@ -5,8 +5,14 @@ from __future__ import annotations
 import argparse
 import logging
 
-from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_force_flag, add_option_flag, scenario_with_options
+from ._common import (
+    SimulationFailed,
+    UserError,
+    add_force_flag,
+    add_option_flag,
+    emit_json,
+    scenario_with_options,
+)
 
 log = logging.getLogger("clutchsim")
 
@@ -124,8 +130,9 @@ def run(args) -> int:
 def _dispatch(args, out) -> int:
     import sys
 
-    from ..analysis import OperatingPointError, judder_analysis
+    from ..analysis import OperatingPointError
     from ..scenario import load_scenario
+    from ..studies.judder import judder_analysis
     if args.frf is not None:
         return _run_frf(args, out)
     for flag in ("f_min", "f_max", "points"):
@@ -192,7 +199,8 @@ def _axis(text: str):
 
 def _run_map(args, out) -> int:
 
-    from ..analysis import OperatingPointError, judder_map
+    from ..analysis import OperatingPointError
+    from ..studies.judder import judder_map
     if len(args.map) != 2:
         raise UserError(f"--map: give it exactly twice (x and y axes), got {len(args.map)}")
     if args.element:
@@ -223,9 +231,10 @@ def _run_map(args, out) -> int:
 def _run_frf(args, out) -> int:
     import sys
 
-    from ..analysis import OperatingPointError, frequency_grid, frf_analysis
+    from ..analysis import OperatingPointError, frequency_grid
     from ..analysis.frf import DEFAULT_BAND_HZ, DEFAULT_POINTS
     from ..scenario import load_scenario
+    from ..studies.frf import frf_analysis
     for flag, bad in (("--map", args.map is not None), ("--element", bool(args.element)),
                       ("--classic", args.classic is not None)):
         if bad:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..cli import emit_json
+from ._common import emit_json
 
 HELP = """\
 examples:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..cli import UserError, emit_json
+from ._common import UserError, emit_json
 
 HELP = """\
 examples:

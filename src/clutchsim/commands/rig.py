@@ -7,8 +7,14 @@ import contextlib
 import logging
 import math
 
-from ..cli import SimulationFailed, UserError, emit_json
-from ._common import add_limit_flags, add_option_flag, solver_option_items
+from ._common import (
+    SimulationFailed,
+    UserError,
+    add_limit_flags,
+    add_option_flag,
+    emit_json,
+    solver_option_items,
+)
 
 log = logging.getLogger("clutchsim")
 

@@ -5,12 +5,14 @@ from __future__ import annotations
 import argparse
 import logging
 
-from ..cli import SimulationFailed, UserError, emit_json
 from ._common import (
+    SimulationFailed,
+    UserError,
     add_force_flag,
     add_limit_flags,
     add_option_flag,
     checked_scenario,
+    emit_json,
     scenario_with_options,
     write_command,
 )

@@ -5,8 +5,14 @@ from __future__ import annotations
 import argparse
 import logging
 
-from ..cli import UserError, emit_json
-from ._common import add_limit_flags, add_option_flag, solver_option_items, write_command
+from ._common import (
+    UserError,
+    add_limit_flags,
+    add_option_flag,
+    emit_json,
+    solver_option_items,
+    write_command,
+)
 
 log = logging.getLogger("clutchsim")
 
@@ -96,18 +102,19 @@ def run(args) -> int:
 def _run(args, out) -> int:
     from ..progress import progress_for
     from ..report import build_report
-    from ..sweeps import sweep
+    from ..studies.sweeps import SweepOptions, SweepSpec, sweep
     metrics = [m.strip() for m in args.metrics.split(",") if m.strip()] \
         if args.metrics else None
-    backend = "dask" if args.dask else "threads"
-    res = sweep(args.scenario, args.vary, samples=args.samples, seed=args.seed,
-                metrics=metrics, model=args.model, overrides=args.set, out=out,
-                backend=backend, workers=args.workers, address=args.dask or "local",
-                connect_timeout=args.connect_timeout, chunk_size=args.chunk_size,
-                keep_traces=args.keep_traces, plots=not args.no_plots, load=not args.no_plots,
-                options=solver_option_items(args.option),
-                progress=progress_for(args, "runs"), max_runs=args.max_runs,
-                max_output_rows=args.max_output_rows)
+    spec = SweepSpec(vary=args.vary or (), samples=args.samples, seed=args.seed,
+                     metrics=metrics, model=args.model, overrides=args.set or (),
+                     solver_options=solver_option_items(args.option),
+                     keep_traces=args.keep_traces)
+    options = SweepOptions(backend="dask" if args.dask else "threads", workers=args.workers,
+                           address=args.dask or "local", connect_timeout=args.connect_timeout,
+                           chunk_size=args.chunk_size, max_runs=args.max_runs,
+                           max_output_rows=args.max_output_rows)
+    res = sweep(args.scenario, spec, options, out=out, plots=not args.no_plots,
+                load=not args.no_plots, progress=progress_for(args, "runs"))
     write_command(res.path, args.argv)
     build_report(res.path)
     bad = {k: v for k, v in res.outcome_counts.items() if k != "completed"}

@@ -2,7 +2,7 @@
 
 :func:`clutchsim.core.simulate` calls :func:`integrate` once per run from Python.  A caller
 that runs many variants of one system in one compiled call (a sweep's chunk:
-:mod:`clutchsim.driveline.batch`) calls it from numba instead, with the arguments
+:mod:`clutchsim.analysis.launch_batch`) calls it from numba instead, with the arguments
 :func:`clutchsim.core.simulate.prepare_runs` builds, and reads its counters at the
 ``S_*`` slots.  :func:`now` is the monotonic clock the loop's wall-time budget reads.
 """

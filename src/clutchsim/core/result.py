@@ -13,7 +13,8 @@ import numpy as np
 from .._util import atomic_write
 from .status import Outcome
 
-__all__ = ["Event", "Events", "Result", "Stats"]
+__all__ = ["Event", "Events", "Result", "Stats", "apply_violations", "assemble",
+           "check_invariants"]
 
 
 @dataclass(frozen=True)
@@ -224,7 +225,7 @@ class Result:
     def build(cls, t, columns: list[tuple[str, str, np.ndarray]], **kw) -> Result:
         """A result from its times and ``(name, unit, values)`` columns.  Read-only
         float64 arrays (views of the integrator's output blocks, which
-        :func:`~clutchsim.core.simulate.assemble` makes read-only) are kept as they are;
+        :func:`~clutchsim.core.result.assemble` makes read-only) are kept as they are;
         anything else is copied into a new read-only array."""
         names = [name for name, _, _ in columns]
         return cls._of(_frozen(t), names, [unit for _, unit, _ in columns],
@@ -317,5 +318,78 @@ class Result:
                 f"{self.stats.events} events, solver={self.solver!r})")
 
     def _repr_html_(self) -> str:
-        from ..report import result_html
-        return result_html(self)
+        """A notebook's view: the status line and the summary as a small table (the
+        richer page with statistics and every signal is
+        :func:`clutchsim.report.result_html`)."""
+        from html import escape
+        rows = (("outcome", str(self.outcome)), ("message", self.message),
+                ("solver", self.solver), ("t", f"{self.t[0]:g} .. {self.t[-1]:g} s"),
+                ("signals", ", ".join(f"{n} [{u}]" if u else n
+                                      for n, u in self.units.items())),
+                ("steps / events", f"{self.stats.steps} / {self.stats.events}"),
+                *(("warning", w) for w in self.warnings))
+        body = "".join(f"<tr><th style='text-align:left'>{escape(k)}</th>"
+                       f"<td style='text-align:left'>{escape(str(v))}</td></tr>"
+                       for k, v in rows)
+        return (f"<div class='clutchsim-result'><b>{escape(str(self.system))}: "
+                f"{escape(str(self.status))}</b><table>{body}</table></div>")
+
+
+def check_invariants(system, ts, ys, outs, outcome: Outcome, message: str,
+                     warnings: tuple, tolerances) -> tuple[Outcome, str, tuple, str]:
+    """Run the plant's physics checks (:attr:`System.invariants`) on a run's rows with the
+    solver's ``(rtol, atol)``: ``(outcome, message, warnings, source)`` after them.  A
+    fatal violation turns a run that completed (or stopped as intended) into
+    :attr:`Outcome.INVARIANT_VIOLATED`, its message naming the part, the check, the time
+    and the values (``source``: the part); the others become warnings."""
+    if system.invariants is None or tolerances is None:
+        return outcome, message, warnings, ""
+    return apply_violations(system.invariants(ts, ys, outs, *tolerances), outcome, message,
+                            warnings)
+
+
+def apply_violations(found, outcome: Outcome, message: str, warnings: tuple
+                     ) -> tuple[Outcome, str, tuple, str]:
+    """:func:`check_invariants` for the violations ``found`` (a run's physics checks, or a
+    batch's, which scans each run in its compiled loop)."""
+    if not found:
+        return outcome, message, warnings, ""
+    found = sorted(found, key=lambda v: v.t)
+    fatal = [v for v in found if v.fatal]
+    soft = tuple(f"physics check: {v.text}" for v in found if not v.fatal)
+    source = ""
+    if fatal and outcome in (Outcome.COMPLETED, Outcome.STOPPED):
+        v = fatal[0]
+        outcome, source = Outcome.INVARIANT_VIOLATED, v.element
+        message = (f"invariant violated: {v.text}; the result is not physical (a friction "
+                   "element must dissipate and slide with its slip): do not use its numbers"
+                   + (f"; {len(fatal) - 1} more" if len(fatal) > 1 else ""))
+    elif fatal:
+        soft = tuple(f"physics check: {v.text}" for v in fatal) + soft
+    return outcome, message, tuple(warnings) + soft, source
+
+
+def assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver, *,
+             event: str = "", warnings: tuple[str, ...] = (), event_source: str = "",
+             tolerances: tuple[float, float] | None = None) -> Result:
+    """Build a :class:`Result` from raw output arrays (shared by all backends).  The
+    arrays are made read-only and the result's columns are views of them (no copies).
+    With the solver's ``tolerances`` ``(rtol, atol)`` the plant's physics checks run on
+    the rows (:func:`check_invariants`)."""
+    outcome, message, warnings, source = check_invariants(
+        system, ts, ys, outs, outcome, message, warnings, tolerances)
+    if source:
+        event, event_source = "", source
+    blocks = []
+    for a in (ts, ys, us, outs):
+        if a.dtype != np.float64:
+            a = a.astype(np.float64)
+        a.flags.writeable = False
+        blocks.append(a)
+    ts, ys, us, outs = blocks
+    return Result.of_blocks(ts, system.state_names + system.input_names + system.output_names,
+                            system.state_units + system.input_units + system.output_units,
+                            (ys, us, outs), outcome=outcome, message=message, stats=stats,
+                            events=events, solver=solver, system=system.name,
+                            metadata=system.metadata, event=event, warnings=warnings,
+                            event_source=event_source)

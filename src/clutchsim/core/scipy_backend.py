@@ -23,7 +23,7 @@ import time
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .result import Event, Stats
+from .result import Event, Stats, assemble
 from .signals import eval_inputs
 from .status import ACTION_WORDS, Action, Outcome
 from .system import call_events, call_outputs, call_reset, call_rhs
@@ -38,8 +38,6 @@ def _crossed(a: float, b: float, direction: float) -> bool:
 
 
 def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
-    from .simulate import assemble
-
     # a copy: a plant may switch its values at scheduled events (a gear shift)
     tag, p = system.tag, system.params.copy()
     n_in, n_ev, n_outp = len(system.input_names), system.n_events, len(system.output_names)

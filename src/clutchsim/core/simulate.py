@@ -18,13 +18,12 @@ from .compile_notice import compile_notice
 from .controllers import StepController
 from .methods import EXPLICIT, get_method
 from .options import DEFAULT_METHOD, SolverOptions, check_solver
-from .result import Events, Result, Stats
+from .result import Events, Result, Stats, assemble
 from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
 from .system import System, call_jac, closest, factor_size, has_jacobian, kernels
 
-__all__ = ["RunEnd", "apply_violations", "check_invariants", "interrupts_deferred",
-           "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
+__all__ = ["RunEnd", "interrupts_deferred", "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
 
 def _check_span(t_span) -> tuple[float, float]:
     try:
@@ -555,7 +554,7 @@ def prepare_runs(system: System, t_span, inputs: Mapping | None = None, *,
     runs of ``system`` and of its variants (other parameter vectors and initial states of
     the same layout: :meth:`System.with_values`) over ``t_span`` with ``inputs``: for a
     caller that runs many variants from its own compiled loop (a sweep's chunk,
-    :func:`clutchsim.driveline.batch.launch_batch`).  ``.args`` holds None for the
+    :func:`clutchsim.analysis.launch_batch.launch_batch`).  ``.args`` holds None for the
     initial state and the parameter vector (``args[6]``, ``args[7]``);
     ``.chatter_window`` is what :func:`run_end` needs.  The system, span, solver and
     options are checked as :func:`simulate` checks them (compiled methods only), and the
@@ -567,63 +566,3 @@ def prepare_runs(system: System, t_span, inputs: Mapping | None = None, *,
     for fn in prep.args[0]:
         fn.__wrapper_address__()
     return prep
-
-
-def check_invariants(system: System, ts, ys, outs, outcome: Outcome, message: str,
-                     warnings: tuple, tolerances) -> tuple[Outcome, str, tuple, str]:
-    """Run the plant's physics checks (:attr:`System.invariants`) on a run's rows with the
-    solver's ``(rtol, atol)``: ``(outcome, message, warnings, source)`` after them.  A
-    fatal violation turns a run that completed (or stopped as intended) into
-    :attr:`Outcome.INVARIANT_VIOLATED`, its message naming the part, the check, the time
-    and the values (``source``: the part); the others become warnings."""
-    if system.invariants is None or tolerances is None:
-        return outcome, message, warnings, ""
-    return apply_violations(system.invariants(ts, ys, outs, *tolerances), outcome, message,
-                            warnings)
-
-
-def apply_violations(found, outcome: Outcome, message: str, warnings: tuple
-                     ) -> tuple[Outcome, str, tuple, str]:
-    """:func:`check_invariants` for the violations ``found`` (a run's physics checks, or a
-    batch's, which scans each run in its compiled loop)."""
-    if not found:
-        return outcome, message, warnings, ""
-    found = sorted(found, key=lambda v: v.t)
-    fatal = [v for v in found if v.fatal]
-    soft = tuple(f"physics check: {v.text}" for v in found if not v.fatal)
-    source = ""
-    if fatal and outcome in (Outcome.COMPLETED, Outcome.STOPPED):
-        v = fatal[0]
-        outcome, source = Outcome.INVARIANT_VIOLATED, v.element
-        message = (f"invariant violated: {v.text}; the result is not physical (a friction "
-                   "element must dissipate and slide with its slip): do not use its numbers"
-                   + (f"; {len(fatal) - 1} more" if len(fatal) > 1 else ""))
-    elif fatal:
-        soft = tuple(f"physics check: {v.text}" for v in fatal) + soft
-    return outcome, message, tuple(warnings) + soft, source
-
-
-def assemble(system, ts, ys, us, outs, outcome, message, stats, events, solver, *,
-             event: str = "", warnings: tuple[str, ...] = (), event_source: str = "",
-             tolerances: tuple[float, float] | None = None) -> Result:
-    """Build a :class:`Result` from raw output arrays (shared by all backends).  The
-    arrays are made read-only and the result's columns are views of them (no copies).
-    With the solver's ``tolerances`` ``(rtol, atol)`` the plant's physics checks run on
-    the rows (:func:`check_invariants`)."""
-    outcome, message, warnings, source = check_invariants(
-        system, ts, ys, outs, outcome, message, warnings, tolerances)
-    if source:
-        event, event_source = "", source
-    blocks = []
-    for a in (ts, ys, us, outs):
-        if a.dtype != np.float64:
-            a = a.astype(np.float64)
-        a.flags.writeable = False
-        blocks.append(a)
-    ts, ys, us, outs = blocks
-    return Result.of_blocks(ts, system.state_names + system.input_names + system.output_names,
-                            system.state_units + system.input_units + system.output_units,
-                            (ys, us, outs), outcome=outcome, message=message, stats=stats,
-                            events=events, solver=solver, system=system.name,
-                            metadata=system.metadata, event=event, warnings=warnings,
-                            event_source=event_source)

@@ -1,10 +1,11 @@
-"""Driveline: chain components (translated into networks) and the launch metrics of a run.
+"""Driveline: chain components (translated into networks).  The launch metrics of a run
+are :mod:`clutchsim.analysis.launch_metrics`.
 
 Running a scenario is :func:`clutchsim.scenario.run_scenario` (also
 ``clutchsim.run_scenario``): this package does not import :mod:`clutchsim.scenario`.
 """
 
-from .chain import ENERGY_STATES, Chain
+from .chain import Chain
 from .components import (
     Brake,
     Engine,
@@ -18,10 +19,8 @@ from .components import (
     ThermalNode,
     Vehicle,
 )
-from .metrics import energy_balance, launch_metrics
 
 __all__ = [
-    "ENERGY_STATES",
     "Brake",
     "Chain",
     "Engine",
@@ -34,6 +33,4 @@ __all__ = [
     "SpringDamper",
     "ThermalNode",
     "Vehicle",
-    "energy_balance",
-    "launch_metrics",
 ]

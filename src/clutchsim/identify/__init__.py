@@ -10,6 +10,8 @@ from .emps import EMPSPlant, make_emps
 from .fit import (
     FIT_SOLVER_DEFAULTS,
     INITIAL_STATES,
+    FitOptions,
+    FitProblem,
     FitResult,
     Trace,
     evaluate,
@@ -26,6 +28,8 @@ __all__ = [
            "INPUT_TARGETS",
            "PLANTS",
            "EMPSPlant",
+           "FitOptions",
+           "FitProblem",
            "FitResult",
            "FitSpec",
            "InputSpec",

@@ -52,8 +52,8 @@ from ..friction.base import FrictionModel
 from .parameters import ParameterSpace, apply_to_model, model_parameter_names, model_value
 from .plants import POST, PlantSpec, Setup, absent_input, build_setup
 
-__all__ = ["FIT_SOLVER_DEFAULTS", "INITIAL_STATES", "FitResult", "Trace", "evaluate", "fit",
-           "nrmse", "simulate_setup", "solver_options"]
+__all__ = ["FIT_SOLVER_DEFAULTS", "INITIAL_STATES", "FitOptions", "FitProblem", "FitResult",
+           "Trace", "evaluate", "fit", "nrmse", "simulate_setup", "solver_options"]
 
 #: solver options of every simulation of a fit or an evaluation where ``options`` does not
 #: set them (the one place they are written); ``atol`` is then set for each record from its
@@ -579,24 +579,12 @@ def _initial_state(initial, model: FrictionModel):
 
 
 # ---------------------------------------------------------------- fit
-def fit(model: FrictionModel | str, data, *, input: str, output: str,
-        params: Sequence[str], bounds: Mapping[str, tuple[float, float]] | None = None,
-        fixed: Mapping[str, float] | None = None, starts: int | Sequence[Mapping] = 1,
-        plant: str | PlantSpec = "rig-force", plant_options: Mapping | None = None,
-        signal: str | None = None, seed: int = 0, validate=None,
-        solver: str = DEFAULT_METHOD, options: SolverOptions | Mapping | None = None,
-        diff_step: float = 1e-5, max_nfev: int = 200, max_workers: int = 2, tol: float = 1e-8,
-        t_span: tuple[float | None, float | None] | None = None, progress=None,
-        inputs=(), per_record: Sequence[str] = (), weights: Sequence[float] | None = None,
-        validate_initial=None, validate_warmup: float = 0.0) -> FitResult:
-    """Fit friction (and plant) parameters to one or several measured records by output error.
+@dataclass(frozen=True)
+class FitProblem:
+    """What :func:`fit` fits: the measured columns, the parameters and the plant.
 
-    Parameters
+    Attributes
     ----------
-    model : FrictionModel or str
-        Model with the start values (a name uses its default parameter set).
-    data : Measurement, mapping of arrays (with ``"t"``) or path, or a list of them
-        Fitting record(s); a list is fitted jointly (see the module notes).
     input, output : str
         Measured columns: the plant's driving input and the compared output.
     params : sequence of str
@@ -608,32 +596,82 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         applies to each record's copy.
     fixed : mapping of str to float, optional
         Values set before fitting and held (model fields or plant parameters).
-    starts : int or sequence of mappings
-        Number of starts (the first is the model's values, the others uniform in the scaled
-        box from ``seed``), or explicit start points (partial mappings name -> value).
     plant : str or PlantSpec
         ``"rig-force"``, ``"rig-velocity"`` or ``"emps"`` (see :mod:`.plants`).
     plant_options : mapping, optional
         Plant options when ``plant`` is a string.
     signal : str, optional
         Simulated signal compared with ``output`` (default per plant: x, F, q).
+    inputs : sequence of InputSpec
+        Measured inputs beyond the drive signal, and where they enter (:mod:`.plants`).
+    per_record : sequence of str
+        Plant parameters fitted separately for each record (``name@1``, ``name@2``, ...).
+    weights : sequence of float, optional
+        Weight of each record in the cost (default equal).
+    t_span : (float or None, float or None), optional
+        Window of the data used [s] (validation records are used whole).
+    """
+
+    input: str
+    output: str
+    params: Sequence[str]
+    bounds: Mapping[str, tuple[float, float]] | None = None
+    fixed: Mapping[str, float] | None = None
+    plant: str | PlantSpec = "rig-force"
+    plant_options: Mapping | None = None
+    signal: str | None = None
+    inputs: Sequence = ()
+    per_record: Sequence[str] = ()
+    weights: Sequence[float] | None = None
+    t_span: tuple[float | None, float | None] | None = None
+
+    def __post_init__(self):
+        params = (self.params,) if isinstance(self.params, str) else tuple(self.params)
+        object.__setattr__(self, "params", params)
+        object.__setattr__(self, "per_record", tuple(self.per_record))
+        object.__setattr__(self, "inputs", tuple(self.inputs))
+        for name in ("bounds", "fixed", "plant_options"):
+            object.__setattr__(self, name, MappingProxyType(dict(getattr(self, name) or {})))
+        if self.input == self.output:
+            raise ValueError(f"input = output = {self.input!r}: the fit drives the plant with "
+                             "the input column and compares its response with the output "
+                             "column; name two different columns (e.g. --input v --output F)")
+        if not params and not self.per_record:
+            raise ValueError("params: give at least one parameter to fit")
+        if len(set(params)) != len(params):
+            raise ValueError(f"params: repeated names in {list(params)}")
+        both = [n for n in self.per_record if n in params]
+        if both:
+            raise ValueError(f"{both[0]!r} is in both params and per_record: list it once")
+
+    def plant_spec(self) -> PlantSpec:
+        """The plant, a :class:`PlantSpec` as given or built from the name and options."""
+        return self.plant if isinstance(self.plant, PlantSpec) else \
+            PlantSpec(self.plant, dict(self.plant_options))
+
+
+@dataclass(frozen=True)
+class FitOptions:
+    """How :func:`fit` searches and simulates (as :class:`~clutchsim.core.SolverOptions` is
+    to :func:`~clutchsim.core.simulate`).
+
+    Attributes
+    ----------
+    starts : int or sequence of mappings
+        Number of starts (the first is the model's values, the others uniform in the scaled
+        box from ``seed``), or explicit start points (partial mappings name -> value).
     seed : int
         Seed of the random starts (the fit is deterministic for a seed).
-    validate : data or sequence of data, optional
-        Records simulated with the fitted values (not used for fitting).
     solver : str
         Integrator of every simulation (a method of :mod:`clutchsim.core.methods`).
-    options : SolverOptions or mapping, optional
+    solver_options : SolverOptions or mapping, optional
         Tolerances and budgets of every simulation (its ``dt_out`` and ``max_output`` are
         set per record): a :class:`SolverOptions` as it is, or a mapping of solver options
         (``{"rtol": 1e-9, "wall_time": 60}``, the keys of a scenario's ``[solver]`` table)
         over :data:`FIT_SOLVER_DEFAULTS`, with atol from each record's output scale unless
         it is given.  See :func:`solver_options`.
     diff_step : float
-        Finite-difference step in scaled coordinates.
-    progress : callable, optional
-        Called as ``progress(done, total)`` after each simulation (``total`` is an upper
-        bound: the evaluation budget); see :mod:`clutchsim.progress`.
+        Finite-difference step in scaled coordinates [-].
     max_nfev : int
         Most residual evaluations per start (Jacobian columns not counted).
     max_workers : int
@@ -641,14 +679,50 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
     tol : float
         ``ftol`` and ``xtol`` of ``least_squares`` (relative change of cost and of the
         scaled parameters that ends a start).
-    t_span : (float or None, float or None), optional
-        Window of the data used (validation records are used whole).
-    inputs : sequence of InputSpec
-        Measured inputs beyond the drive signal, and where they enter (:mod:`.plants`).
-    per_record : sequence of str
-        Plant parameters fitted separately for each record (``name@1``, ``name@2``, ...).
-    weights : sequence of float, optional
-        Weight of each record in the cost (default equal).
+    """
+
+    starts: int | Sequence[Mapping] = 1
+    seed: int = 0
+    solver: str = DEFAULT_METHOD
+    solver_options: SolverOptions | Mapping | None = None
+    diff_step: float = 1e-5
+    max_nfev: int = 200
+    max_workers: int = 2
+    tol: float = 1e-8
+
+    def __post_init__(self):
+        if isinstance(self.starts, (int, np.integer)) and not isinstance(self.starts, bool):
+            if self.starts < 1:
+                raise ValueError(f"starts = {self.starts} must be >= 1")
+        else:
+            object.__setattr__(self, "starts", tuple(dict(pt) for pt in self.starts))
+            if not self.starts:
+                raise ValueError("starts: give at least one start point")
+        for name in ("max_nfev", "max_workers"):
+            if int(getattr(self, name)) < 1:
+                raise ValueError(f"{name} = {getattr(self, name)} must be >= 1")
+        for name in ("diff_step", "tol"):
+            if not float(getattr(self, name)) > 0.0:
+                raise ValueError(f"{name} = {getattr(self, name)} must be > 0")
+
+
+def fit(model: FrictionModel | str, data, problem: FitProblem,
+        options: FitOptions | None = None, *, validate=None, validate_initial=None,
+        validate_warmup: float = 0.0, progress=None) -> FitResult:
+    """Fit friction (and plant) parameters to one or several measured records by output error.
+
+    Parameters
+    ----------
+    model : FrictionModel or str
+        Model with the start values (a name uses its default parameter set).
+    data : Measurement, mapping of arrays (with ``"t"``) or path, or a list of them
+        Fitting record(s); a list is fitted jointly (see the module notes).
+    problem : FitProblem
+        The columns, the parameters fitted and held, their bounds, the plant.
+    options : FitOptions, optional
+        Starts, seed, solver and its options, the least-squares settings.
+    validate : data or sequence of data, optional
+        Records simulated with the fitted values (not used for fitting).
     validate_initial : "rest", "fit-end" or array, optional
         State the validation records start from: the plant's default (``"rest"``, None);
         the whole state (plant and friction: position, velocity, a controller's state, the
@@ -658,174 +732,244 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
         friction states (the plant starts as by default).
     validate_warmup : float
         Leading part of each validation record [s] simulated and left out of its error.
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each simulation (``total`` is an upper
+        bound: the evaluation budget); see :mod:`clutchsim.progress`.
 
     Returns
     -------
     FitResult
+
+    Examples
+    --------
+    >>> problem = FitProblem(input="v", output="F", params=["F_c", "F_s"])  # doctest: +SKIP
+    >>> res = fit("stribeck", "rig.csv", problem, FitOptions(starts=3))     # doctest: +SKIP
     """
     wall0 = time.perf_counter()
-    tolerances = solver_options(options)
+    options = FitOptions() if options is None else options
+    tolerances = solver_options(options.solver_options)
     model = make_model(model) if isinstance(model, str) else model
     if not isinstance(model, FrictionModel):
         raise TypeError(f"model must be a friction model or a model name, got "
                         f"{type(model).__name__}")
-    spec = plant if isinstance(plant, PlantSpec) else PlantSpec(plant, dict(plant_options or {}))
+    spec = problem.plant_spec()
+    meas_list, val_list = _records(data, validate, problem)
+    w = _record_weights(problem.weights, len(meas_list))
+    model, fixed_plant = _check_problem(problem, model, spec)
+    initial = _initial_state(validate_initial, model)
+    setups = [build_setup(spec, model, m, input=problem.input, output=problem.output,
+                          signal=problem.signal, inputs=problem.inputs) for m in meas_list]
+    names = [*problem.params,
+             *(f"{n}@{k + 1}" for n in problem.per_record for k in range(len(meas_list)))]
+    start = _start_values(model, setups, names, fixed_plant)
+    space, start_notes = _search_space(problem, spec, setups, names, start)
+    problems = [_Problem(model, s, names, fixed_plant, options.solver, tolerances, record=k + 1)
+                for k, s in enumerate(setups)]
+    points = _start_points(options, space, names, start, model, spec)
+    objective = _Objective(problems, setups, w, space, options, progress,
+                           budget=max(1, len(points) * options.max_nfev * (len(names) + 1)
+                                      * len(meas_list)))
+    best, starts = objective.solve(points, names)
+    values = space.to_physical(best.x)
+    fitted_model, plant_vals = problems[0].split(values)
+    reported = _reported_values(names, values, setups, problems, fitted_model)
+    traces = [prob.evaluate(values, s, m.source, spec.kind)
+              for prob, s, m in zip(problems, setups, meas_list)]
+    r_all = np.concatenate([tr.residual * f for tr, f in zip(traces, objective.factors)])
+    stderr = _standard_errors(best.jac, 1.0, r_all, space, best.x, names)
+    phys_bounds = {n: (float(a), float(b)) for n, a, b in
+                   zip(names, space.lower, space.upper)}
+    at_bound, unidentified, fit_warnings = _identifiability(
+        names, {n: float(v) for n, v in reported.items()}, phys_bounds, stderr, fitted_model)
+    notes = start_notes + [note for s in setups for note in s.notes]
+    val_traces = _validation_traces(val_list, problems, meas_list, values, fitted_model,
+                                    setups[0], names, fixed_plant, options, tolerances, spec,
+                                    problem, initial, validate_warmup, notes)
+    pooled = float(math.sqrt(sum(wk * tr.nrmse ** 2 for wk, tr in zip(w, traces))))
+    return FitResult(
+        model=fitted_model, model_name=fitted_model.name,
+        parameters=MappingProxyType(reported), stderr=MappingProxyType(stderr),
+        bounds=MappingProxyType(phys_bounds), at_bound=at_bound,
+        unidentified=unidentified, warnings=fit_warnings,
+        fixed=MappingProxyType(dict(problem.fixed)), plant=spec.kind,
+        plant_parameters=MappingProxyType(plant_vals), fit_trace=traces[0],
+        validation=tuple(val_traces), cost_history=np.array(objective.history),
+        starts=tuple(starts), evaluations=objective.n, failed_evaluations=objective.failed,
+        wall_time=time.perf_counter() - wall0, signal=setups[0].signal, input=problem.input,
+        output=problem.output, message=str(best.message), records=tuple(traces),
+        nrmse_pooled=pooled, notes=tuple(notes))
+
+
+def _records(data, validate, problem: FitProblem):
+    """The fitting records (windowed to ``problem.t_span``) and the validation records, as
+    measurements, checked: at least one, equal sampling, every measured input present."""
     items = list(data) if isinstance(data, (list, tuple)) else [data]
     if not items:
         raise ValueError("data: give at least one record")
     multi = len(items) > 1
     meas_list = [_as_measurement(d, f"data[{k}]" if multi else "data")
                  for k, d in enumerate(items)]
-    if t_span is not None:
-        meas_list = [m.window(*t_span) for m in meas_list]
+    if problem.t_span is not None:
+        meas_list = [m.window(*problem.t_span) for m in meas_list]
     _check_rates(meas_list)
     vitems = [] if validate is None else \
         list(validate) if isinstance(validate, (list, tuple)) else [validate]
     val_list = [_as_measurement(item, f"validate[{k}]") for k, item in enumerate(vitems)]
-    absent = absent_input(inputs, meas_list, val_list)
+    absent = absent_input(problem.inputs, meas_list, val_list)
     if absent:
         raise ValueError(f"inputs: {absent[1]}")
-    n_rec = len(meas_list)
+    return meas_list, val_list
+
+
+def _record_weights(weights, n_rec: int) -> np.ndarray:
+    """Each record's weight in the cost, normalised to sum 1."""
     w = np.ones(n_rec) if weights is None else np.asarray(weights, dtype=float).ravel()
     if w.size != n_rec or not np.all(np.isfinite(w)) or np.any(w < 0) or not w.sum() > 0:
         raise ValueError(f"weights = {list(np.ravel(weights))}: give one finite weight >= 0 "
                          f"per record ({n_rec}), not all zero")
-    w = w / w.sum()
-    params = list(params)
-    per_record = list(per_record)
-    for name in per_record:
+    return w / w.sum()
+
+
+def _check_problem(problem: FitProblem, model: FrictionModel, spec: PlantSpec):
+    """The names of ``problem`` checked against the model and plant; returns the model with
+    its fixed fields set and the fixed plant parameters."""
+    for name in problem.per_record:
         if name not in spec.parameters:
             raise ValueError(f"per_record: {name!r} is not a plant parameter of "
                              f"{spec.kind!r}{closest(name, spec.parameters)}; plant parameters: "
                              f"{', '.join(spec.parameters)}")
-        if name in params:
-            raise ValueError(f"{name!r} is in both params and per_record: list it once")
-    if input == output:
-        raise ValueError(f"input = output = {input!r}: the fit drives the plant with the input "
-                         "column and compares its response with the output column; name two "
-                         "different columns (e.g. --input v --output F)")
-    if not params and not per_record:
-        raise ValueError("params: give at least one parameter to fit")
-    if len(set(params)) != len(params):
-        raise ValueError(f"params: repeated names in {params}")
-    _check_names(params, model, spec, "params")
-    fixed = dict(fixed or {})
+    _check_names(problem.params, model, spec, "params")
+    fixed = problem.fixed
     _check_names([n.partition("@")[0] for n in fixed], model, spec, "fixed")
-    both = [n for n in fixed if n in params or n.partition("@")[0] in per_record]
+    both = [n for n in fixed if n in problem.params or n.partition("@")[0] in problem.per_record]
     if both:
         raise ValueError(f"parameter(s) {', '.join(both)} are both fitted and fixed")
     fixed_plant = {n: float(v) for n, v in fixed.items()
                    if n.partition("@")[0] in spec.parameters}
     model = apply_to_model(model, {n: v for n, v in fixed.items()
                                    if n.partition("@")[0] not in spec.parameters})
-    initial = _initial_state(validate_initial, model)
-    setups = [build_setup(spec, model, m, input=input, output=output, signal=signal,
-                          inputs=inputs) for m in meas_list]
-    names = params + [f"{n}@{k + 1}" for n in per_record for k in range(n_rec)]
-    start = _start_values(model, setups, names, fixed_plant)
-    bounds = dict(bounds or {})
-    for n in per_record:
+    return model, fixed_plant
+
+
+def _search_space(problem: FitProblem, spec: PlantSpec, setups, names, start):
+    """The bounded, scaled space of the fitted names (a ``per_record`` name's bound applies
+    to each copy) and the notes on start values outside their bounds."""
+    bounds = dict(problem.bounds)
+    for n in problem.per_record:
         if n in bounds:
             b = bounds.pop(n)
-            for k in range(n_rec):
+            for k in range(len(setups)):
                 bounds.setdefault(f"{n}@{k + 1}", b)
     space = ParameterSpace.build(names, start, bounds, _default_bounds(spec, setups, names))
-    start_notes = [f"start value {n} = {start[n]:.6g} lies outside its bounds "
-                   f"[{lo:.6g}, {hi:.6g}]: the fit starts from the nearest bound"
-                   for n, lo, hi in zip(names, space.lower, space.upper)
-                   if not lo <= start[n] <= hi]
-    problems = [_Problem(model, s, names, fixed_plant, solver, tolerances, record=k + 1)
-                for k, s in enumerate(setups)]
-    dens = [float(np.linalg.norm(s.normaliser)) for s in setups]
-    factors = [math.sqrt(wk) / d for wk, d in zip(w, dens)]
-    # a failed run counts as NRMSE = 3 for its record
-    penalties = [3.0 * math.sqrt(wk) * s.normaliser / d for wk, s, d in zip(w, setups, dens)]
-    counters = {"n": 0, "failed": 0, "best": math.inf}
-    history: list[float] = []
+    notes = [f"start value {n} = {start[n]:.6g} lies outside its bounds "
+             f"[{lo:.6g}, {hi:.6g}]: the fit starts from the nearest bound"
+             for n, lo, hi in zip(names, space.lower, space.upper)
+             if not lo <= start[n] <= hi]
+    return space, notes
 
-    lock = threading.Lock()
-    last: dict = {}
 
-    def evaluate(x):
-        values = space.to_physical(x)
+def _start_points(options: FitOptions, space: ParameterSpace, names, start, model, spec):
+    """The scaled start points: the model's values, then random ones from the seed, or the
+    explicit points of ``options.starts`` (names checked)."""
+    x_first = space.clip_inside(space.to_scaled(np.array([start[n] for n in names])))
+    if not isinstance(options.starts, tuple):
+        rng = np.random.default_rng(options.seed)
+        return [x_first] + [space.clip_inside(space.random(rng))
+                            for _ in range(options.starts - 1)]
+    points = []
+    for k, pt in enumerate(options.starts):
+        _check_names([n.partition("@")[0] for n in pt], model, spec, f"starts[{k}]")
+        bad = [n for n in pt if n not in names]
+        if bad:
+            raise ValueError(f"starts[{k}]: {', '.join(bad)} not fitted")
+        vals = np.array([float(pt.get(n, start[n])) for n in names])
+        points.append(space.clip_inside(space.to_scaled(vals)))
+    return points
+
+
+class _Objective:
+    """The weighted residual of all records over the scaled parameters, its forward-difference
+    Jacobian (columns in parallel threads: the integrator releases the GIL), and the counts
+    and best cost so far."""
+
+    def __init__(self, problems, setups, w, space: ParameterSpace, options: FitOptions,
+                 progress, budget: int):
+        self.problems, self.setups, self.space = problems, setups, space
+        self.options, self.progress, self.budget = options, progress, budget
+        dens = [float(np.linalg.norm(s.normaliser)) for s in setups]
+        self.factors = [math.sqrt(wk) / d for wk, d in zip(w, dens)]
+        # a failed run counts as NRMSE = 3 for its record
+        self.penalties = [3.0 * math.sqrt(wk) * s.normaliser / d
+                          for wk, s, d in zip(w, setups, dens)]
+        self.n = self.failed = 0
+        self.best = math.inf
+        self.history: list[float] = []
+        self._lock = threading.Lock()
+        self._last: dict = {}
+        self.workers = max(1, min(len(problems[0].names), os.cpu_count() or 1,
+                                  options.max_workers))
+
+    def evaluate(self, x) -> np.ndarray:
+        values = self.space.to_physical(x)
         parts = []
-        for prob, s, f, pen in zip(problems, setups, factors, penalties):
+        for prob, s, f, pen in zip(self.problems, self.setups, self.factors, self.penalties):
             try:
                 y = prob.run(values)
             except ValueError:      # a model constraint the repairs do not cover
                 y = None
-            with lock:
-                counters["n"] += 1
-                if y is None:
-                    counters["failed"] += 1
-                if progress is not None:
-                    progress(min(counters["n"], budget), budget)
+            with self._lock:
+                self.n += 1
+                self.failed += y is None
+                if self.progress is not None:
+                    self.progress(min(self.n, self.budget), self.budget)
             parts.append(pen if y is None else (y - s.measured) * f)
         return np.concatenate(parts)
 
-    def residual(x):
-        r = evaluate(x)
-        last["x"], last["r"] = x.copy(), r
-        cost = 0.5 * float(r @ r)
-        counters["best"] = min(counters["best"], cost)
-        history.append(counters["best"])
+    def residual(self, x) -> np.ndarray:
+        r = self.evaluate(x)
+        self._last["x"], self._last["r"] = x.copy(), r
+        self.best = min(self.best, 0.5 * float(r @ r))
+        self.history.append(self.best)
         return r
 
-    _, hi_s = space.scaled_bounds
-
-    def jacobian(x):
-        """Forward differences, columns in parallel threads (the integrator releases the GIL)."""
-        r0 = last["r"] if "x" in last and np.array_equal(last["x"], x) else residual(x)
-        steps = diff_step * np.maximum(1.0, np.abs(x))
+    def jacobian(self, x) -> np.ndarray:
+        last = self._last
+        r0 = last["r"] if "x" in last and np.array_equal(last["x"], x) else self.residual(x)
+        _, hi_s = self.space.scaled_bounds
+        steps = self.options.diff_step * np.maximum(1.0, np.abs(x))
         steps = np.where(x + steps > hi_s, -steps, steps)
 
         def column(j):
             xj = x.copy()
             xj[j] += steps[j]
-            return (evaluate(xj) - r0) / steps[j]
+            return (self.evaluate(xj) - r0) / steps[j]
 
-        cols = list(_pool(len(x)).map(column, range(len(x)))) if workers > 1 \
+        cols = list(_pool(len(x)).map(column, range(len(x)))) if self.workers > 1 \
             else [column(j) for j in range(len(x))]
         return np.column_stack(cols)
 
-    workers = max(1, min(len(names), os.cpu_count() or 1, max_workers))
-    rng = np.random.default_rng(seed)
-    x_first = space.clip_inside(space.to_scaled(np.array([start[n] for n in names])))
-    if isinstance(starts, (int, np.integer)) and not isinstance(starts, bool):
-        if starts < 1:
-            raise ValueError(f"starts = {starts} must be >= 1")
-        points = [x_first] + [space.clip_inside(space.random(rng)) for _ in range(starts - 1)]
-    else:
-        points = []
-        for k, pt in enumerate(starts):
-            _check_names([n.partition("@")[0] for n in pt], model, spec, f"starts[{k}]")
-            bad = [n for n in pt if n not in names]
-            if bad:
-                raise ValueError(f"starts[{k}]: {', '.join(bad)} not fitted")
-            vals = np.array([float(pt.get(n, start[n])) for n in names])
-            points.append(space.clip_inside(space.to_scaled(vals)))
-        if not points:
-            raise ValueError("starts: give at least one start point")
-    # an upper bound of the simulations (each Jacobian column is one) for the progress bar
-    budget = max(1, len(points) * max_nfev * (len(names) + 1) * n_rec)
-    best = None
-    records = []
-    for x0 in points:
-        n0 = counters["n"]
-        sol = least_squares(residual, x0, jac=jacobian, bounds=space.scaled_bounds,
-                            method="trf", max_nfev=max_nfev, x_scale=1.0, ftol=tol,
-                            xtol=tol)
-        records.append({"start": dict(zip(names, space.to_physical(x0).tolist())),
-                        "cost": float(sol.cost), "evaluations": counters["n"] - n0,
-                        "message": str(sol.message)})
-        if best is None or sol.cost < best.cost:
-            best = sol
-    if progress is not None:
-        progress(budget, budget)
-    assert best is not None
-    values = space.to_physical(best.x)
-    fitted_model, plant_vals = problems[0].split(values)
-    # report the values actually simulated (after order-constraint repairs)
+    def solve(self, points, names):
+        """``least_squares`` from every start: the best solution and a record per start."""
+        best, records = None, []
+        tol = self.options.tol
+        for x0 in points:
+            n0 = self.n
+            sol = least_squares(self.residual, x0, jac=self.jacobian,
+                                bounds=self.space.scaled_bounds, method="trf",
+                                max_nfev=self.options.max_nfev, x_scale=1.0, ftol=tol,
+                                xtol=tol)
+            records.append({"start": dict(zip(names, self.space.to_physical(x0).tolist())),
+                            "cost": float(sol.cost), "evaluations": self.n - n0,
+                            "message": str(sol.message)})
+            if best is None or sol.cost < best.cost:
+                best = sol
+        if self.progress is not None:
+            self.progress(self.budget, self.budget)
+        return best, records
+
+
+def _reported_values(names, values, setups, problems, fitted_model) -> dict:
+    """The values actually simulated (after order-constraint repairs), by name."""
     reported = {}
     for n in names:
         base, setup = _record_of(n, setups)
@@ -833,47 +977,35 @@ def fit(model: FrictionModel | str, data, *, input: str, output: str,
             reported[n] = problems[int(n.partition("@")[2] or 1) - 1].split(values)[1][base]
         else:
             reported[n] = model_value(fitted_model, n)
-    traces = [prob.evaluate(values, s, m.source, spec.kind)
-              for prob, s, m in zip(problems, setups, meas_list)]
-    r_all = np.concatenate([(tr.residual) * f for tr, f in zip(traces, factors)])
-    stderr = _standard_errors(best.jac, 1.0, r_all, space, best.x, names)
-    phys_bounds = {n: (float(a), float(b)) for n, a, b in
-                   zip(names, space.lower, space.upper)}
-    at_bound, unidentified, fit_warnings = _identifiability(
-        names, {n: float(v) for n, v in reported.items()}, phys_bounds, stderr, fitted_model)
-    notes = start_notes + [note for s in setups for note in s.notes]
-    val_traces = []
+    return reported
+
+
+def _validation_traces(val_list, problems, meas_list, values, fitted_model, setup0, names,
+                       fixed_plant, options: FitOptions, tolerances, spec, problem: FitProblem,
+                       initial, warmup: float, notes: list) -> list:
+    """The validation records simulated at the fitted values (``notes`` gets theirs)."""
+    if not val_list:
+        return []
     y_start = None
-    if val_list:
-        if isinstance(initial, str):     # "fit-end": the whole state, so that a record that
-            # continues the fitting one also continues its motion and its event states
-            last = problems[-1]
-            y_start = last.final_state(values)
-            if y_start is None:
-                raise RuntimeError(f"{meas_list[-1].source}: the simulation at the fitted "
-                                   "parameters did not complete (for the final state)")
-            initial = None
-            names_ = last.setup.system.state_names
-            notes.append(f"validation starts from the state at the end of "
-                         f"{meas_list[-1].source}: " + ", ".join(
-                             f"{n} = {z:.6g}" for n, z in zip(names_, y_start)))
-        val_problem = _Problem(fitted_model, setups[0], names, fixed_plant, solver,
-                               tolerances, record=0 if multi else 1)
-        for vm in val_list:
-            vs = build_setup(spec, fitted_model, vm, input=input, output=output,
-                             signal=signal, inputs=inputs, z0=initial, y0=y_start,
-                             warmup=validate_warmup)
-            notes.extend(vs.notes)
-            val_traces.append(val_problem.evaluate(values, vs, vm.source, spec.kind))
-    pooled = float(math.sqrt(sum(wk * tr.nrmse ** 2 for wk, tr in zip(w, traces))))
-    return FitResult(
-        model=fitted_model, model_name=fitted_model.name,
-        parameters=MappingProxyType(reported), stderr=MappingProxyType(stderr),
-        bounds=MappingProxyType(phys_bounds), at_bound=at_bound,
-        unidentified=unidentified, warnings=fit_warnings, fixed=MappingProxyType(fixed),
-        plant=spec.kind, plant_parameters=MappingProxyType(plant_vals), fit_trace=traces[0],
-        validation=tuple(val_traces), cost_history=np.array(history),
-        starts=tuple(records), evaluations=counters["n"],
-        failed_evaluations=counters["failed"], wall_time=time.perf_counter() - wall0,
-        signal=setups[0].signal, input=input, output=output, message=str(best.message),
-        records=tuple(traces), nrmse_pooled=pooled, notes=tuple(notes))
+    if isinstance(initial, str):     # "fit-end": the whole state, so that a record that
+        # continues the fitting one also continues its motion and its event states
+        last = problems[-1]
+        y_start = last.final_state(values)
+        if y_start is None:
+            raise RuntimeError(f"{meas_list[-1].source}: the simulation at the fitted "
+                               "parameters did not complete (for the final state)")
+        initial = None
+        names_ = last.setup.system.state_names
+        notes.append(f"validation starts from the state at the end of "
+                     f"{meas_list[-1].source}: " + ", ".join(
+                         f"{n} = {z:.6g}" for n, z in zip(names_, y_start)))
+    val_problem = _Problem(fitted_model, setup0, names, fixed_plant, options.solver,
+                           tolerances, record=0 if len(meas_list) > 1 else 1)
+    traces = []
+    for vm in val_list:
+        vs = build_setup(spec, fitted_model, vm, input=problem.input, output=problem.output,
+                         signal=problem.signal, inputs=problem.inputs, z0=initial, y0=y_start,
+                         warmup=warmup)
+        notes.extend(vs.notes)
+        traces.append(val_problem.evaluate(values, vs, vm.source, spec.kind))
+    return traces

@@ -232,7 +232,7 @@ def with_solver_options(scenario: Scenario, items) -> Scenario:
     from dataclasses import replace
     table = {k: v for k, v in scenario.data.get("solver", {}).items() if k != "method"}
     options = SolverOptions.from_mapping({**table, **dict(items)}, dt_out=0.0)
-    from ..driveline.metrics import grid_problem
+    from ..analysis.launch_metrics import grid_problem
     if grid_problem(options.dt_out):
         raise ValueError(grid_problem(options.dt_out))
     return replace(scenario, options=options)
@@ -448,7 +448,7 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
         options = SolverOptions.from_mapping(solver_tab, dt_out=0.0)
     except ValueError as exc:
         fail(str(exc), "solver")
-    from ..driveline.metrics import grid_problem
+    from ..analysis.launch_metrics import grid_problem
     if grid_problem(options.dt_out):
         fail(grid_problem(options.dt_out), "solver.dt_out")
     clutch = sc.get("clutch", "clutch")

@@ -1,6 +1,6 @@
 """Run a scenario: resolve it, pick the friction model, build the plant and its inputs,
 simulate, and compute the warnings and launch metrics
-(:func:`clutchsim.driveline.metrics.analyse_run`: one compiled call per run).
+(:func:`clutchsim.analysis.launch_metrics.analyse_run`: one compiled call per run).
 
 Whether a run is a launch is decided here, in one place (:func:`is_launch`): the outputs
 of ``clutchsim run`` (launch metrics and figure, or the summary of any network) follow it."""
@@ -12,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..analysis.actuation import controller_warnings, has_controller
+from ..analysis.launch_metrics import analyse_run, grid_problem
 from ..core import Result, SolverOptions, simulate
-from ..driveline.metrics import analyse_run, grid_problem
 from .loader import resolve_scenario
 
 __all__ = ["LAUNCH_DRIVES", "LaunchResult", "batch_reason", "engine_max_speed",
@@ -100,7 +100,7 @@ def batch_reason(scenario, system) -> str:
         return "a controller's stability check needs each run's result"
     if surface_node(scenario):
         return "the friction-surface temperature is read from each run's result"
-    from ..driveline.batch import batch_supported
+    from ..analysis.launch_batch import batch_supported
     return batch_supported(system, (0.0, scenario.t_end), scenario.clutch)
 
 
@@ -110,12 +110,12 @@ def run_batch(scenario, system, variants, *, options: SolverOptions | None = Non
     ``variants`` = ``[(params, y0, event_names or None), ...]``
     (:meth:`clutchsim.scenario.variants.VariantPlan.values`).  Returns ``(status,
     metrics)`` per variant, the status of its result and the metrics
-    :func:`run_system` gives for it (:func:`clutchsim.driveline.batch.launch_batch`).
+    :func:`run_system` gives for it (:func:`clutchsim.analysis.launch_batch.launch_batch`).
     Raises ValueError when they cannot be batched (:func:`batch_reason`)."""
     why = batch_reason(scenario, system)
     if why:
         raise ValueError(f"{system.name}: cannot run a batch: {why}")
-    from ..driveline.batch import launch_batch
+    from ..analysis.launch_batch import launch_batch
     _check_grid(scenario, options if options is not None else scenario.options)
     inputs = {n: scenario.inputs[n] for n in system.input_names}
     return launch_batch(system, (0.0, scenario.t_end), inputs,
@@ -132,7 +132,7 @@ def run_batch(scenario, system, variants, *, options: SolverOptions | None = Non
 
 def _check_grid(scenario, options: SolverOptions) -> None:
     """A ValueError when the launch metrics cannot be computed on the output grid of
-    ``options`` (:func:`clutchsim.driveline.metrics.grid_problem`; the scenario loader
+    ``options`` (:func:`clutchsim.analysis.launch_metrics.grid_problem`; the scenario loader
     refuses such a ``[solver] dt_out`` with its file and line)."""
     why = grid_problem(options.dt_out)
     if why:

@@ -29,7 +29,7 @@ class Engine(Component):
     of that speed and stays 0 (an engine control unit cuts injection at its rated speed
     limit; a ramp, not a step, keeps the right-hand side continuous for the integrator).
     The run gets a warning when the engine overspeeds
-    (:func:`clutchsim.driveline.metrics.launch_warnings`).  It produces the signal ``<name>.torque`` [N·m]
+    (:func:`clutchsim.analysis.launch_metrics.launch_warnings`).  It produces the signal ``<name>.torque`` [N·m]
     (``T``: a launch controller's feed-forward); the throttle may be another component's
     signal (a driver model).
     """

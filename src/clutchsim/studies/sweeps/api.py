@@ -6,16 +6,17 @@ import logging
 import math
 import tempfile
 import time
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
+from ..._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
 from .backends import DEFAULT_CONNECT_TIMEOUT, dask_client, run_dask, run_threads
 from .design import Grid, Normal, SweepError, Uniform, Values, key_unit, make_design, parse_vary
 from .runner import DEFAULT_METRICS, METRICS
 from .store import FORMAT, SweepStore, chunk_id, digest, read_results
 
-__all__ = ["SweepResult", "sweep"]
+__all__ = ["SweepOptions", "SweepResult", "SweepSpec", "sweep"]
 
 log = logging.getLogger("clutchsim")
 
@@ -36,7 +37,7 @@ class SweepResult:
     outcome_counts: dict = field(default_factory=dict)
     #: runs that completed with warnings (the ``warnings`` column says which)
     runs_with_warnings: int = 0
-    #: runs of this call that ran in compiled batches (:func:`~clutchsim.sweeps.runner.
+    #: runs of this call that ran in compiled batches (:func:`~clutchsim.studies.sweeps.runner.
     #: run_chunk`) and the wall time of those batches' compiled loops [s] (integrator
     #: and metrics kernel, summed over the workers)
     batched_runs: int = 0
@@ -70,9 +71,9 @@ def _probe_values(spec) -> list[float]:
 def _check_keys(sc, vary, model, max_rows: int, solver_items: dict) -> None:
     """Every key must be a scenario key the loader accepts (unknown: suggest the closest),
     and the extreme values must give runs within the output limit."""
-    from .._util import ResourceError, check_run_size
-    from ..scenario import ScenarioError, resolve_scenario
-    from ..scenario.loader import toml_value, with_solver_options
+    from ..._util import ResourceError, check_run_size
+    from ...scenario import ScenarioError, resolve_scenario
+    from ...scenario.loader import toml_value, with_solver_options
     for key, spec in vary.items():
         for v in _probe_values(spec):
             try:
@@ -101,20 +102,13 @@ def _component_hint(sc, key: str) -> str:
             f"{' or '.join(found)}?)")
 
 
-def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | None = None,
-          metrics=None, model: str | None = None, overrides=None, out=None,
-          backend="threads", workers: int | None = None, address: str = "local",
-          connect_timeout: float = DEFAULT_CONNECT_TIMEOUT, chunk_size: int | None = None,
-          keep_traces: bool = False, plots: bool = False, load: bool = True,
-          options=None,
-          progress=None, max_runs: int | None = DEFAULT_MAX_RUNS,
-          max_output_rows: int | None = DEFAULT_MAX_OUTPUT_ROWS) -> SweepResult:
-    """Simulate ``scenario`` once per variant and collect the launch metrics in a table.
+@dataclass(frozen=True)
+class SweepSpec:
+    """What a sweep runs: the variants of a scenario and the columns kept.  Everything here
+    is part of the sweep's identity (a directory resumes only the same spec).
 
-    Parameters
+    Attributes
     ----------
-    scenario : Scenario, str, Path or None
-        The base scenario (``None``: the packaged default launch).
     vary : mapping or sequence of str
         ``{"vehicle.mass": "1100:1500:5", "vehicle.grade": "uniform(0, 10)"}`` or the CLI
         form ``["vehicle.mass=1100:1500:5", ...]``.  Grid axes (``LO:HI:N``, value lists)
@@ -124,40 +118,94 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
         Number of random samples and the seed (the same seed gives the same table on every
         backend).
     metrics : sequence of str, optional
-        Columns to keep (default: all of :data:`~clutchsim.sweeps.METRICS` but ``wall_s``).
+        Columns to keep (default: all of :data:`~clutchsim.studies.sweeps.METRICS` but
+        ``wall_s``).
     model : str, optional
         Friction model of the clutch (default: the scenario's first).
-    overrides : sequence of str, optional
+    overrides : sequence of str
         ``key.path=value`` applied to the base scenario before the sweep.
-    out : str or Path, optional
-        Output directory (results.parquet, chunk files, sweep.json).  Re-running the same
-        sweep on it resumes; a directory holding another sweep is refused.  Default: a
-        temporary directory, removed afterwards.
-    backend : "threads", "dask" or a distributed.Client
-        ``threads``: this process, ``workers`` threads (default: all cores).  ``dask``: a
-        LocalCluster (``address="local"``) or the scheduler at ``address``.
-    connect_timeout : float
-        Seconds to wait for a Dask scheduler before giving up with an error.
-    chunk_size : int, optional
-        Runs per chunk (the unit of streaming and resume; default from the number of runs).
-    keep_traces : bool
-        Also write each run's time series to ``out/traces/run-NNNNNNN.parquet``.
-    options : mapping, optional
+    solver_options : mapping, optional
         Solver options of every run (``{"rtol": 1e-7, "wall_time": 30}``: the keys of
         :meth:`~clutchsim.core.SolverOptions.from_mapping`, the CLI's ``--option``), over
         the scenario's ``[solver]`` table and a varied ``solver.*`` key.
-    plots : bool
-        Write figures (heat map for 2-D grids, histograms and scatter for samples).
-    load : bool
-        Read the results table back into ``SweepResult.table``.
-    progress : callable, optional
-        ``progress(done_runs, total_runs)`` after each chunk.
+    keep_traces : bool
+        Also write each run's time series to ``out/traces/run-NNNNNNN.parquet``.
+    """
+
+    vary: Mapping | Sequence[str] = ()
+    samples: int | None = None
+    seed: int | None = None
+    metrics: Sequence[str] | None = None
+    model: str | None = None
+    overrides: Sequence[str] = ()
+    solver_options: Mapping | None = None
+    keep_traces: bool = False
+
+    def __post_init__(self):
+        object.__setattr__(self, "overrides", tuple(self.overrides or ()))
+        if self.metrics is not None:
+            object.__setattr__(self, "metrics", tuple(self.metrics))
+
+
+@dataclass(frozen=True)
+class SweepOptions:
+    """Where and how a sweep's runs execute, and the limits checked before any runs.  None
+    of it changes the table (every backend and chunk size gives the same rows).
+
+    Attributes
+    ----------
+    backend : "threads", "dask" or a distributed.Client
+        ``threads``: this process, ``workers`` threads (default: all cores).  ``dask``: a
+        LocalCluster (``address="local"``) or the scheduler at ``address``.
+    workers : int, optional
+        Threads, or Dask workers of a LocalCluster.
+    address : str
+        The Dask scheduler (``"local"``: start a LocalCluster).
+    connect_timeout : float
+        Seconds to wait for a Dask scheduler before giving up with an error [s].
+    chunk_size : int, optional
+        Runs per chunk (the unit of streaming and resume; default from the number of runs).
     max_runs : int or None
         Refuse a design of more runs (:class:`~clutchsim._util.ResourceError`, before any
         memory is allocated for it); ``None``: no limit.
     max_output_rows : int or None
         Refuse a base scenario (or an extreme of a varied key) whose fixed output grid has
         more rows per run; a run storing every step stores at most this many.
+    """
+
+    backend: object = "threads"
+    workers: int | None = None
+    address: str = "local"
+    connect_timeout: float = DEFAULT_CONNECT_TIMEOUT
+    chunk_size: int | None = None
+    max_runs: int | None = DEFAULT_MAX_RUNS
+    max_output_rows: int | None = DEFAULT_MAX_OUTPUT_ROWS
+
+
+def sweep(scenario=None, spec: SweepSpec | Mapping | Sequence[str] | None = None,
+          options: SweepOptions | None = None, *, out=None, plots: bool = False,
+          load: bool = True, progress=None) -> SweepResult:
+    """Simulate ``scenario`` once per variant and collect the launch metrics in a table.
+
+    Parameters
+    ----------
+    scenario : Scenario, str, Path or None
+        The base scenario (``None``: the packaged default launch).
+    spec : SweepSpec, or its ``vary`` alone
+        The variants and the columns (a mapping or sequence of ``key=spec`` strings is
+        ``SweepSpec(vary=...)``).
+    options : SweepOptions, optional
+        The backend, its workers, the chunk size and the size limits.
+    out : str or Path, optional
+        Output directory (results.parquet, chunk files, sweep.json).  Re-running the same
+        sweep on it resumes; a directory holding another sweep is refused.  Default: a
+        temporary directory, removed afterwards.
+    plots : bool
+        Write figures (heat map for 2-D grids, histograms and scatter for samples).
+    load : bool
+        Read the results table back into ``SweepResult.table``.
+    progress : callable, optional
+        ``progress(done_runs, total_runs)`` after each chunk.
 
     Returns
     -------
@@ -170,49 +218,9 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
     chunk (a Dask scheduler that does not answer, for one) removes the directory it
     created.
     """
-    from .. import __version__
-    from ..scenario import resolve_scenario
-    from ..scenario.loader import with_solver_options
-    scenario = resolve_scenario(scenario, overrides)
-    solver_items = dict(options or {})
-    try:
-        scenario = with_solver_options(scenario, solver_items)
-    except (TypeError, ValueError) as exc:
-        raise SweepError(f"--option: {exc}") from None
-    if model is None and scenario.models:
-        model = scenario.models[0]
-    vary = parse_vary(vary if vary is not None else {})
-    metrics = tuple(DEFAULT_METRICS if metrics is None else metrics)
-    for m in metrics:
-        if m not in METRICS:
-            from ..scenario.schema import suggest
-            raise SweepError(f"metric {m!r} is not known{suggest(m, METRICS)} (metrics: "
-                             f"{', '.join(METRICS)})")
-    if len(set(metrics)) != len(metrics):
-        raise SweepError(f"metrics listed twice: {', '.join(metrics)}")
-    design = make_design(vary, samples, seed, max_runs=max_runs)
-    rows = max_output_rows if max_output_rows is not None else 2**62
-    check_run_size(scenario.estimate(model), scenario.options,
-                   what=f"{scenario.file}: {model or 'its own model'}", max_rows=rows)
-    _check_keys(scenario, vary, model, rows, solver_items)
-    spec_texts = {k: s.text() for k, s in vary.items()}
-    identity = {"format": FORMAT, "scenario": scenario.data, "model": model,
-                "vary": spec_texts, "samples": samples if design.random_keys else None,
-                "seed": seed if design.random_keys else None, "metrics": list(metrics),
-                "keep_traces": bool(keep_traces)}
-    if solver_items:        # (absent when not given: the ids of earlier sweeps hold)
-        identity["options"] = solver_items
-    sweep_id = digest(identity)
-    units = {k: key_unit(scenario.data, k) for k in design.keys}
-    manifest = {"format": FORMAT, "sweep_id": sweep_id, "scenario_name": scenario.name,
-                "scenario_file": scenario.file, "scenario_sha": digest(scenario.data),
-                "model": model, "vary": spec_texts, "keys": list(design.keys),
-                "grid_keys": list(design.grid_keys), "random_keys": list(design.random_keys),
-                "samples": identity["samples"], "seed": identity["seed"],
-                "metrics": list(metrics), "keep_traces": bool(keep_traces), "units": units,
-                "options": solver_items,
-                "runs": design.n, "chunk_size": chunk_size or _default_chunk_size(design.n),
-                "clutchsim": __version__}
+    spec = spec if isinstance(spec, SweepSpec) else SweepSpec(vary=spec or ())
+    options = SweepOptions() if options is None else options
+    scenario, design, manifest = _plan(scenario, spec, options)
     tmp = None
     if out is None:
         tmp = tempfile.TemporaryDirectory(prefix="clutchsim-sweep-")
@@ -225,20 +233,70 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
         store = SweepStore(path, manifest)
         store.open()
         try:
-            result = _execute(store, scenario, design, manifest, backend, workers, address,
-                              connect_timeout, progress, keep_traces, max_output_rows)
+            result = _execute(store, scenario, design, manifest, options, progress)
         except BaseException:
             _after_failure(path, created, tmp is None)
             raise
         table = read_results(path) if (load or plots or tmp is not None) else None
         if plots:
-            from ..plot.sweep import write_figures
+            from ...plot.sweep import write_figures
             write_figures(path, table, manifest)
         return SweepResult(table=table, path=None if tmp else path, manifest=manifest,
                            **result)
     finally:
         if tmp is not None:
             tmp.cleanup()
+
+
+def _plan(scenario, spec: SweepSpec, options: SweepOptions):
+    """The scenario with the solver options, the design of the runs (checked against the
+    limits) and the manifest that identifies the sweep."""
+    from ..._version import __version__
+    from ...scenario import resolve_scenario
+    from ...scenario.loader import with_solver_options
+    scenario = resolve_scenario(scenario, list(spec.overrides) or None)
+    solver_items = dict(spec.solver_options or {})
+    try:
+        scenario = with_solver_options(scenario, solver_items)
+    except (TypeError, ValueError) as exc:
+        raise SweepError(f"--option: {exc}") from None
+    model = spec.model
+    if model is None and scenario.models:
+        model = scenario.models[0]
+    vary = parse_vary(spec.vary)
+    metrics = tuple(DEFAULT_METRICS if spec.metrics is None else spec.metrics)
+    for m in metrics:
+        if m not in METRICS:
+            from ...scenario.schema import suggest
+            raise SweepError(f"metric {m!r} is not known{suggest(m, METRICS)} (metrics: "
+                             f"{', '.join(METRICS)})")
+    if len(set(metrics)) != len(metrics):
+        raise SweepError(f"metrics listed twice: {', '.join(metrics)}")
+    design = make_design(vary, spec.samples, spec.seed, max_runs=options.max_runs)
+    rows = options.max_output_rows if options.max_output_rows is not None else 2**62
+    check_run_size(scenario.estimate(model), scenario.options,
+                   what=f"{scenario.file}: {model or 'its own model'}", max_rows=rows)
+    _check_keys(scenario, vary, model, rows, solver_items)
+    spec_texts = {k: s.text() for k, s in vary.items()}
+    identity = {"format": FORMAT, "scenario": scenario.data, "model": model,
+                "vary": spec_texts, "samples": spec.samples if design.random_keys else None,
+                "seed": spec.seed if design.random_keys else None, "metrics": list(metrics),
+                "keep_traces": bool(spec.keep_traces)}
+    if solver_items:        # (absent when not given: the ids of earlier sweeps hold)
+        identity["options"] = solver_items
+    sweep_id = digest(identity)
+    units = {k: key_unit(scenario.data, k) for k in design.keys}
+    manifest = {"format": FORMAT, "sweep_id": sweep_id, "scenario_name": scenario.name,
+                "scenario_file": scenario.file, "scenario_sha": digest(scenario.data),
+                "model": model, "vary": spec_texts, "keys": list(design.keys),
+                "grid_keys": list(design.grid_keys), "random_keys": list(design.random_keys),
+                "samples": identity["samples"], "seed": identity["seed"],
+                "metrics": list(metrics), "keep_traces": bool(spec.keep_traces), "units": units,
+                "options": solver_items,
+                "runs": design.n,
+                "chunk_size": options.chunk_size or _default_chunk_size(design.n),
+                "clutchsim": __version__}
+    return scenario, design, manifest
 
 
 def _after_failure(path: Path, created: bool, keep: bool) -> None:
@@ -265,9 +323,9 @@ def _resume_chunk_size(path: Path, manifest: dict) -> None:
             manifest["chunk_size"] = old.get("chunk_size", manifest["chunk_size"])
 
 
-def _execute(store, scenario, design, manifest, backend, workers, address,
-             connect_timeout, progress, keep_traces, max_output_rows) -> dict:
+def _execute(store, scenario, design, manifest, options: SweepOptions, progress) -> dict:
     t0 = time.perf_counter()
+    backend, workers, address = options.backend, options.workers, options.address
     size = manifest["chunk_size"]
     n_chunks = math.ceil(design.n / size)
     sid = manifest["sweep_id"]
@@ -290,8 +348,8 @@ def _execute(store, scenario, design, manifest, backend, workers, address,
              f" ({skipped} chunks already done, resuming)" if skipped else "")
     job = {"sweep_id": sid, "data": scenario.data, "text": scenario.text,
            "file": scenario.file, "model": manifest["model"], "keys": design.keys,
-           "metrics": tuple(manifest["metrics"]), "keep_traces": bool(keep_traces),
-           "max_output": max_output_rows, "options": manifest["options"]}
+           "metrics": tuple(manifest["metrics"]), "keep_traces": manifest["keep_traces"],
+           "max_output": options.max_output_rows, "options": manifest["options"]}
     counts: dict = {}
     outcomes: dict = {}
     state = {"done": done_runs, "warned": 0, "batched": 0, "loop": 0.0}
@@ -316,7 +374,7 @@ def _execute(store, scenario, design, manifest, backend, workers, address,
             run_threads(job, items, done, workers)
         elif backend == "dask" or hasattr(backend, "submit"):
             client, owned = (backend, False) if hasattr(backend, "submit") else \
-                dask_client(address, workers, connect_timeout)
+                dask_client(address, workers, options.connect_timeout)
             try:
                 run_dask(job, items, done, client, workers if owned else None)
             finally:

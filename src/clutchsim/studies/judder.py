@@ -1,35 +1,23 @@
-"""Judder: the modes of a slipping driveline, and a time-domain judder metric.
+"""Judder studies: the modes of a slipping driveline at an operating time of a scenario,
+and the judder margin over a grid of scenario variants.
 
 :func:`judder_analysis` linearises a scenario's driveline at an operating time and reports
 every mode and every switching element's friction slope (docs/judder.md).  The classic
 criterion: the slipping mode loses its damping when the driveline damping plus the
-friction slope ``dT/dω`` falls below zero.
-
-:func:`judder_amplitude` is the time-domain metric of every run (``judder_amplitude_Nm``
-in :func:`~clutchsim.driveline.metrics.launch_metrics`): the amplitude of the clutch torque's
-oscillation in the first-mode band while the clutch slips.
+friction slope ``dT/dω`` falls below zero.  :func:`judder_map` repeats it over a 2-D grid
+of scenario keys.  The time-domain metric of a run is
+:func:`clutchsim.analysis.judder_band.judder_amplitude`.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import _kernels as _k
-from .linear import LinearModel, Mode, OperatingPoint, linearise, modes, operating_point
+from ..analysis.linear import LinearModel, Mode, OperatingPoint, linearise, modes, operating_point
 
-__all__ = ["JUDDER_BAND_HZ", "JudderMap", "JudderResult", "judder_amplitude", "judder_analysis",
-           "judder_map"]
-
-#: default first-mode band of a passenger-car driveline while the clutch slips [Hz]: the
-#: first torsional mode with the clutch slipping (the disc and gearbox on the damper
-#: spring against the vehicle) lies at ~5-20 Hz; 2-30 Hz keeps it with margin and leaves
-#: out the slow engagement ramp and the fast contact modes.
-JUDDER_BAND_HZ = (2.0, 30.0)
-#: slip below which the clutch counts as held [rad/s] (as the lock-up metric)
-_SLIP = 1.0
+__all__ = ["JudderMap", "JudderResult", "judder_analysis", "judder_map"]
 
 
 @dataclass(frozen=True)
@@ -76,35 +64,9 @@ def judder_analysis(scenario=None, model: str | None = None, at: float = 0.0, *,
     if model is None and scenario.models:
         model = scenario.models[0]
     point = operating_point(scenario, model, at, elements=elements)
-    lin = linearise(point.system, point.t_s, point.y, point.u,
-                    constraints=point.constraints)
+    lin = linearise(point.system, point.t_s, point.y, point.u)
     name = point.system.metadata.get("models", {}).get(scenario.clutch, model or "")
     return JudderResult(str(name), point, lin, modes(lin))
-
-
-def judder_amplitude(res, clutch: str = "clutch", band=JUDDER_BAND_HZ) -> float | None:
-    """Amplitude [N·m] of the clutch torque ``T_<clutch>``'s oscillation in ``band`` [Hz]
-    while the clutch slips.
-
-    The window runs from the first to the last sample where the engaged clutch (capacity
-    above 5 % of its largest) slips faster than 1 rad/s.  The torque is resampled
-    uniformly (20 samples per period of the band's upper edge), its linear trend removed,
-    band-passed (the DFT bins in ``band``) and its amplitude given as ``√2·RMS`` (the
-    amplitude of a sine of the same power; the RMS from the bins by Parseval).  0 for a
-    torque without oscillation in the band; None when the run has no such clutch outputs,
-    never slips while engaged, or slips for less than one period of the band's lower edge.
-    Compiled: :func:`clutchsim.analysis._kernels.judder`.
-    """
-    lo, hi = (float(b) for b in band)
-    if not 0.0 < lo < hi:
-        raise ValueError(f"band = {band!r} Hz must satisfy 0 < low < high")
-    names = (f"T_{clutch}", f"w_slip_{clutch}", f"capacity_{clutch}")
-    if not all(n in res.signals for n in names) or res.t.size < 3:
-        return None
-    t = np.ascontiguousarray(res.t, dtype=float)
-    torque, w, cap = (np.ascontiguousarray(res[n], dtype=float) for n in names)
-    v = _k.judder(t, torque, cap, w, lo, hi, _SLIP)
-    return None if math.isnan(v) else float(v)
 
 
 @dataclass(frozen=True)

@@ -161,7 +161,7 @@ def parse_spec(spec, key: str = "") -> object:
     if m:
         name, args = m.group(1), [a for a in m.group(2).split(",")]
         if name not in _RANDOM:
-            from ..scenario.schema import suggest
+            from ...scenario.schema import suggest
             raise SweepError(f"{where}: unknown distribution {name!r}{suggest(name, _RANDOM)} "
                              f"(known: {', '.join(_RANDOM)})")
         if len(args) != 2:
@@ -205,7 +205,7 @@ def parse_vary(items) -> dict:
 
 def key_unit(data: dict, key: str) -> str:
     """The unit of a scenario key from the schema ("" if the schema does not say)."""
-    from ..scenario.schema import SECTIONS, key_spec
+    from ...scenario.schema import SECTIONS, key_spec
     parts = re.findall(r"([A-Za-z0-9_\-]+)(?:\[(\d+)\])?", key)
     if not parts or parts[0][0] not in SECTIONS:
         return ""
@@ -218,7 +218,7 @@ def key_unit(data: dict, key: str) -> str:
     if len(rest) == 3 and rest[0] == "friction" and rest[1] == "overrides" and \
             isinstance(table, list) and index and int(index) < len(table):
         try:
-            from ..friction import get_model_class
+            from ...friction import get_model_class
             model = table[int(index)].get("friction", {}).get("model")
             return get_model_class(model).unit_of(rest[2], "rotational")
         except (ValueError, KeyError, TypeError):   # reported by the validation
@@ -270,7 +270,7 @@ def make_design(vary: dict, samples: int | None = None, seed: int | None = None,
         raise SweepError("random samples need a seed (--seed S) so the sweep can be repeated "
                          "and resumed")
     if max_runs is not None:
-        from .._util import check_run_count
+        from ..._util import check_run_count
         check_run_count(design_size(vary, samples), max_runs)
     axes = [grid[k].values() for k in grid]
     n_grid = math.prod(len(a) for a in axes) if axes else 1
@@ -287,8 +287,3 @@ def make_design(vary: dict, samples: int | None = None, seed: int | None = None,
     keys = tuple(vary)
     return Design(keys, {k: np.asarray(cols[k], dtype=float) for k in keys},
                   tuple(grid), tuple(rand), n_grid * n_rand)
-
-
-def spec_text(spec) -> str:
-    return spec.text()
-

@@ -103,13 +103,13 @@ class Duty:
 
 
 def _fail(file, text, problem, key):
-    from .scenario.errors import ScenarioError, find_line
+    from ..scenario.errors import ScenarioError, find_line
     raise ScenarioError(problem, file=file, key=key, line=find_line(text, key) if key else None)
 
 
 def load_duty(path) -> Duty:
     """Load and check a duty file; errors name the file, the line and the key."""
-    from .scenario import load_scenario
+    from ..scenario import load_scenario
     path = Path(path)
     text = path.read_text()
     file = str(path)
@@ -180,7 +180,7 @@ def load_duty(path) -> Duty:
                 fail(f"unknown key {k!r}; keys: manoeuvre, count", f"{key}.{k}")
         name = c.get("manoeuvre")
         if name not in mans:
-            from .scenario.schema import suggest
+            from ..scenario.schema import suggest
             fail(f"= {name!r} is not a manoeuvre{suggest(str(name), list(mans))} "
                  f"(manoeuvres: {', '.join(mans)})", f"{key}.manoeuvre")
         count = c.get("count", 1)
@@ -211,7 +211,7 @@ class _Runner:
     """One manoeuvre, compiled once, run from a carried state."""
 
     def __init__(self, man: Manoeuvre, model):
-        from .network import compile_network
+        from ..network import compile_network
         sc = man.scenario
         self.man = man
         self.clutch = sc.clutch
@@ -227,7 +227,7 @@ class _Runner:
 
     def simulate(self, theta: dict, wear: float):
         """The manoeuvre's run from the temperatures ``theta`` [°C] and the wear [m]."""
-        from .core import simulate
+        from ..core import simulate
         sc = self.man.scenario
         comps = []
         for c in self.net.components:
@@ -244,7 +244,7 @@ class _Runner:
         """(end temperatures after the rest, end wear, peak temperature, energy balance,
         friction work) of the manoeuvre; :class:`_ManoeuvreFailed` when it did not
         complete."""
-        from .driveline.metrics import energy_balance
+        from ..analysis.launch_metrics import energy_balance
         res = self.simulate(theta, wear)
         if res.status != "completed":
             raise _ManoeuvreFailed(self, res, theta, wear)
@@ -327,7 +327,7 @@ UNITS = {"cycle": "-", "wear_m": "m", "clamp_force_N": "N", "capacity_Nm": "N·m
 def _clamp(duty, fe, wear):
     """(clamp force [N], capacity [N·m]) of the engaged clutch ``fe`` after ``wear`` [m]
     (cold: μ at its reference)."""
-    from .network.components.friction import static_capacity
+    from ..network.components.friction import static_capacity
     x = 1.0 + fe.wear.shift * wear
     if fe.clamp_table is None:
         f = 1.0
@@ -479,7 +479,7 @@ def describe_end(res: DurabilityResult) -> str:
 def write_durability(res: DurabilityResult, directory, *, plots: bool = True) -> None:
     """``durability.csv`` (with a units row) and, with ``plots``, ``durability.png``:
     wear, clamp force, capacity and peak temperature over the cycles."""
-    from ._util import atomic_write
+    from .._util import atomic_write
     directory = Path(directory)
     keys = list(UNITS)
     rows = [",".join(keys), ",".join(UNITS[k] for k in keys)]

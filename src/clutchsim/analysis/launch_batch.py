@@ -9,7 +9,7 @@ metrics.analyse_run` calls) on the run's own output arrays, keeping only the num
 sweep's table row needs: the integrator's end code and counters, the kernel's values and
 the energy balance.  Python then builds each row from those numbers with the functions
 the single run uses (:func:`clutchsim.core.simulate.run_end`,
-:func:`~clutchsim.driveline.metrics.warnings_of`, :func:`~clutchsim.driveline.metrics.
+:func:`~clutchsim.analysis.launch_metrics.warnings_of`, :func:`~clutchsim.analysis.launch_metrics.
 metrics_of`), so a batch gives the rows a run-by-run sweep gives, to the bit
 (``tests/sweep/test_batch.py``), without a :class:`~clutchsim.core.Result`, its
 columns, or one interpreter round trip per variant.
@@ -30,23 +30,22 @@ import numba
 import numpy as np
 
 from .._jit import jit
-from ..analysis import _kernels as _k
-from ..analysis import launch_quality as lq
-from ..analysis.judder import _SLIP as _JUDDER_SLIP
-from ..analysis.judder import JUDDER_BAND_HZ
 from ..core import System
 from ..core import loop as drv
 from ..core.compile_notice import compile_notice
 from ..core.loop import now
-from ..core.simulate import apply_violations, prepare_runs, run_end, run_stats
+from ..core.result import apply_violations
+from ..core.simulate import prepare_runs, run_end, run_stats
 from ..network.invariants import N_CHECKS, N_R, scan
-from .chain import ENERGY_STATES
-from .metrics import LOCK_HOLD, LOCK_SLIP, RunSummary, metrics_of, warnings_of
+from . import _kernels as _k
+from . import launch_quality as lq
+from .judder_band import JUDDER_BAND_HZ, JUDDER_SLIP_RAD_S
+from .launch_metrics import ENERGY_STATES, LOCK_HOLD, LOCK_SLIP, RunSummary, metrics_of, warnings_of
 
 __all__ = ["batch_supported", "launch_batch"]
 
 #: the signals the batch reads, in the order of its column table: the launch kernel's
-#: (see :class:`clutchsim.driveline.metrics._Run`), then the energy accounts
+#: (see :class:`clutchsim.analysis.launch_metrics._Run`), then the energy accounts
 _KERNEL_SIGNALS = ("a_vehicle", "T_friction_{c}", "w_slip_{c}", "capacity_{c}", "{c}.locked",
                    "P_{c}", "omega_engine", "T_{c}", "theta")
 _ENERGY_SIGNALS = (*ENERGY_STATES, "E_kinetic", "E_spring")
@@ -203,7 +202,7 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
     """Run the variants ``params[r]``, ``y0[r]`` of ``system`` over ``t_span`` with
     ``inputs`` in one compiled call and return ``(status, metrics)`` per variant: the
     status of its run and the metrics dict that
-    :func:`~clutchsim.driveline.metrics.analyse_run` gives for it (warnings included).
+    :func:`~clutchsim.analysis.launch_metrics.analyse_run` gives for it (warnings included).
 
     ``params`` (n, len(system.params)) and ``y0`` (n, system.n_states): float arrays, one
     row per variant, checked finite.  ``event_names``: per variant its event names where
@@ -253,7 +252,7 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
     args = (a[0], a[1], a[2], a[3], t0, t1, Y0, P, a[8], a[9], a[10], a[11], a[12], a[13],
             cols, mine, np.empty((0, 1)), wd_sos, wd_zi, lp_sos, lp_zi,
             lq.FILTER_DT_S, lq.FILTER_MAX_SAMPLES, LOCK_SLIP, LOCK_HOLD, lq.SHOCK_WINDOW_S,
-            lq.ENGAGE_THRESHOLD_REL, area, lo, hi, _JUDDER_SLIP, inv_el, inv_speeds, inv_wf,
+            lq.ENGAGE_THRESHOLD_REL, area, lo, hi, JUDDER_SLIP_RAD_S, inv_el, inv_speeds, inv_wf,
             inv_passive, float(opts.rtol), float(opts.atol), K, iv, fv, V)
     _entry(prep.fixed_key, args)(*args)
     kinds = system.metadata.get("kinds", {})

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._util import atomic_write
+from ..._util import atomic_write
 from .design import SweepError
 from .runner import METRICS, result_columns
 

@@ -14,16 +14,18 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from ..analysis import _kernels as _k
-from ..analysis import launch_quality as lq
-from ..analysis.judder import _SLIP as _JUDDER_SLIP
-from ..analysis.judder import JUDDER_BAND_HZ
 from ..core import Outcome, Result
-from .chain import ENERGY_STATES
+from . import _kernels as _k
+from . import launch_quality as lq
+from .judder_band import JUDDER_BAND_HZ, JUDDER_SLIP_RAD_S
 
-__all__ = ["DT_OUT_MAX_S", "LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "RunSummary",
+__all__ = ["DT_OUT_MAX_S", "ENERGY_STATES", "LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "RunSummary",
            "analyse_run", "energy_balance", "grid_problem", "launch_metrics", "launch_warnings", "metrics_of",
            "warnings_of", "with_weighted_acceleration"]
+
+#: energy-account states of a launch driveline (integrals) [J]: the work put in, then the
+#: losses and stores it goes to (:func:`energy_balance`)
+ENERGY_STATES = ("W_in", "W_friction", "W_damping", "W_road", "E_grade", "W_sync")
 
 #: steps per simulated second above which a run is warned about [1/s].  The shipped
 #: scenarios take 7 to 1,900 (measured: default launch 365-530, ten launches 440-610, tip-out
@@ -112,7 +114,7 @@ class _Run:
             col(f"capacity_{clutch}"), col(f"{clutch}.locked"), col(f"P_{clutch}"),
             col("omega_engine"), col(f"T_{clutch}"), col(temps[0]) if temps else _EMPTY, ev,
             wd_sos, wd_zi, lp_sos, lp_zi, lq.FILTER_DT_S, lq.FILTER_MAX_SAMPLES, LOCK_SLIP,
-            LOCK_HOLD, lq.SHOCK_WINDOW_S, lq.ENGAGE_THRESHOLD_REL, area, lo, hi, _JUDDER_SLIP)
+            LOCK_HOLD, lq.SHOCK_WINDOW_S, lq.ENGAGE_THRESHOLD_REL, area, lo, hi, JUDDER_SLIP_RAD_S)
 
 
 def with_weighted_acceleration(res: Result) -> Result:
@@ -147,7 +149,7 @@ class RunSummary(NamedTuple):
     :func:`warnings_of`): the run's end and statistics, and the launch kernel's values
     ``k`` at the ``_kernels.K_*`` slots.  Built from a :class:`~clutchsim.core.Result` by
     :func:`summary` or, for a sweep's chunk run in one compiled call, from its arrays
-    (:mod:`clutchsim.driveline.batch`)."""
+    (:mod:`clutchsim.analysis.launch_batch`)."""
 
     status: str             #: "completed", "stopped" or "failed"
     outcome: Outcome

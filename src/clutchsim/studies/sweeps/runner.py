@@ -56,8 +56,8 @@ def run_variant(job: dict, values: tuple, plan=None, options=None) -> tuple[dict
     its solver options with the output cap applied (:func:`_capped`), when the caller
     (:func:`run_chunk`, once per chunk) already has them.
     """
-    from ..scenario.loader import with_solver_options
-    from ..scenario.run import run_system
+    from ...scenario.loader import with_solver_options
+    from ...scenario.run import run_system
     row: dict = {"status": "error", "outcome": "error", "message": "", "warnings": []}
     frame = None
     try:
@@ -115,8 +115,8 @@ def variant_plan(job: dict):
         with _PLANS_LOCK:
             plan = _PLANS.get(job["sweep_id"])
             if plan is None:
-                from ..scenario.loader import parse_scenario, with_solver_options
-                from ..scenario.variants import VariantPlan
+                from ...scenario.loader import parse_scenario, with_solver_options
+                from ...scenario.variants import VariantPlan
                 sc = with_solver_options(parse_scenario(job["data"], text=job["text"],
                                                         file=job["file"]), job.get("options"))
                 plan = VariantPlan(sc, job["model"])
@@ -129,7 +129,7 @@ def variant_plan(job: dict):
 def result_columns(keys, metrics) -> tuple:
     """The columns of the results, in their order: the run, the varied keys, the run's
     status, outcome, message and warnings, the metrics (the one place that lays them out:
-    :func:`clutchsim.sweeps.store.table_schema` types them, :func:`run_chunk` fills them)."""
+    :func:`clutchsim.studies.sweeps.store.table_schema` types them, :func:`run_chunk` fills them)."""
     return ("run", *keys, "status", "outcome", "message", "warnings", *metrics)
 
 
@@ -183,7 +183,7 @@ def run_chunk(job: dict, runs: list) -> dict:
 def _run_batched(job: dict, plan, options, runs: list) -> tuple[dict, float]:
     """``({run_id: row}, loop wall time [s])`` of the runs of ``runs`` that are values on
     the plan's network, run as one batch (none when the scenario cannot be batched)."""
-    from ..scenario.run import run_batch
+    from ...scenario.run import run_batch
     if plan.batch_reason:
         return {}, 0.0
     ids, variants = [], []
