@@ -9,9 +9,21 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from .._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
 from .backends import DEFAULT_CONNECT_TIMEOUT, dask_client, run_dask, run_threads
-from .design import Grid, Normal, SweepError, Uniform, Values, key_unit, make_design, parse_vary
+from .design import (
+    Design,
+    Grid,
+    Normal,
+    SweepError,
+    Uniform,
+    Values,
+    key_unit,
+    make_design,
+    parse_vary,
+)
 from .runner import DEFAULT_METRICS, METRICS
 from .store import FORMAT, SweepStore, chunk_id, digest, read_results
 
@@ -67,14 +79,15 @@ def _probe_values(spec) -> list[float]:
     return [spec.a, spec.b]
 
 
-def _check_keys(sc, vary, model, max_rows: int, solver_items: dict) -> None:
+def _check_keys(sc, probes: dict, model, max_rows: int, solver_items: dict) -> None:
     """Every key must be a scenario key the loader accepts (unknown: suggest the closest),
-    and the extreme values must give runs within the output limit."""
+    and the extreme values (``probes``: key -> values to try) must give runs within the
+    output limit."""
     from .._util import ResourceError, check_run_size
     from ..scenario import ScenarioError, resolve_scenario
     from ..scenario.loader import toml_value, with_solver_options
-    for key, spec in vary.items():
-        for v in _probe_values(spec):
+    for key, values in probes.items():
+        for v in values:
             try:
                 probe = with_solver_options(resolve_scenario(sc, [f"{key}={toml_value(v)}"]),
                                             solver_items)
@@ -106,7 +119,7 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
           backend="threads", workers: int | None = None, address: str = "local",
           connect_timeout: float = DEFAULT_CONNECT_TIMEOUT, chunk_size: int | None = None,
           keep_traces: bool = False, plots: bool = False, load: bool = True,
-          options=None,
+          options=None, design: Design | None = None,
           progress=None, max_runs: int | None = DEFAULT_MAX_RUNS,
           max_output_rows: int | None = DEFAULT_MAX_OUTPUT_ROWS) -> SweepResult:
     """Simulate ``scenario`` once per variant and collect the launch metrics in a table.
@@ -142,6 +155,11 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
         Runs per chunk (the unit of streaming and resume; default from the number of runs).
     keep_traces : bool
         Also write each run's time series to ``out/traces/run-NNNNNNN.parquet``.
+    design : Design, optional
+        The variants as a table computed by the caller (an uncertainty study's samples,
+        :mod:`clutchsim.studies.uq`) instead of ``vary``, ``samples`` and ``seed``: run
+        ``i`` is ``design.row(i)``; the sweep's id holds a hash of the table, so the same
+        design resumes.
     options : mapping, optional
         Solver options of every run (``{"rtol": 1e-7, "wall_time": 30}``: the keys of
         :meth:`~clutchsim.core.SolverOptions.from_mapping`, the CLI's ``--option``), over
@@ -181,7 +199,15 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
         raise SweepError(f"--option: {exc}") from None
     if model is None and scenario.models:
         model = scenario.models[0]
-    vary = parse_vary(vary if vary is not None else {})
+    given = design is not None
+    if given:
+        if vary is not None or samples is not None or seed is not None:
+            raise SweepError("give either a design or vary/samples/seed, not both")
+        from .._util import check_run_count
+        if max_runs is not None:
+            check_run_count(design.n, max_runs)
+    else:
+        vary = parse_vary(vary if vary is not None else {})
     metrics = tuple(DEFAULT_METRICS if metrics is None else metrics)
     for m in metrics:
         if m not in METRICS:
@@ -190,16 +216,24 @@ def sweep(scenario=None, vary=None, *, samples: int | None = None, seed: int | N
                              f"{', '.join(METRICS)})")
     if len(set(metrics)) != len(metrics):
         raise SweepError(f"metrics listed twice: {', '.join(metrics)}")
-    design = make_design(vary, samples, seed, max_runs=max_runs)
+    if not given:
+        design = make_design(vary, samples, seed, max_runs=max_runs)
+        probes = {k: _probe_values(s) for k, s in vary.items()}
+        spec_texts = {k: s.text() for k, s in vary.items()}
+    else:
+        probes = {k: sorted({float(np.min(c)), float(np.max(c))}) if len(c) else []
+                  for k, c in design.columns.items()}
+        spec_texts = {k: "design" for k in design.keys}
     rows = max_output_rows if max_output_rows is not None else 2**62
     check_run_size(scenario.estimate(model), scenario.options,
                    what=f"{scenario.file}: {model or 'its own model'}", max_rows=rows)
-    _check_keys(scenario, vary, model, rows, solver_items)
-    spec_texts = {k: s.text() for k, s in vary.items()}
+    _check_keys(scenario, probes, model, rows, solver_items)
     identity = {"format": FORMAT, "scenario": scenario.data, "model": model,
                 "vary": spec_texts, "samples": samples if design.random_keys else None,
                 "seed": seed if design.random_keys else None, "metrics": list(metrics),
                 "keep_traces": bool(keep_traces)}
+    if given:
+        identity["design"] = design.digest()
     if solver_items:        # (absent when not given: the ids of earlier sweeps hold)
         identity["options"] = solver_items
     sweep_id = digest(identity)

@@ -1,0 +1,1 @@
+"""Studies built on many runs of a scenario: uncertainty quantification (:mod:`.uq`)."""
