@@ -5,10 +5,16 @@ from __future__ import annotations
 
 import argparse
 import logging
-import math
 
-from ..cli import UserError, emit_json
-from ._common import add_limit_flags, add_option_flag, solver_option_items, write_command
+from ..cli import emit_json
+from ._common import (
+    add_limit_flags,
+    add_option_flag,
+    add_sweep_flags,
+    check_sweep_flags,
+    solver_option_items,
+    write_command,
+)
 
 log = logging.getLogger("clutchsim")
 
@@ -78,13 +84,7 @@ def register(sub, common):
                    help="over_temperature event: the friction-surface temperature (else "
                    "the heat node's) above this [°C] (default 300)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    p.add_argument("--address", metavar="local|tcp://HOST:PORT", help="run on Dask: a "
-                   "LocalCluster or the scheduler at this address")
-    p.add_argument("--workers", type=int, metavar="N", help="threads (in-process) or Dask "
-                   "workers of a local cluster (default: all cores)")
-    p.add_argument("--connect-timeout", type=float, default=10.0, metavar="S",
-                   help="seconds to wait for a Dask scheduler (default 10)")
-    p.add_argument("--chunk-size", type=int, metavar="N", help="runs per chunk")
+    add_sweep_flags(p, "--address")
     p.add_argument("--no-plots", action="store_true", help="skip the figures")
     p.add_argument("--json", action="store_true", help="print the study on stdout")
     add_limit_flags(p, runs=True)
@@ -92,13 +92,7 @@ def register(sub, common):
 
 def run(args) -> int:
     from .._util import claim_output_dir
-    if args.workers is not None and args.workers < 1:
-        raise UserError(f"--workers {args.workers}: must be >= 1")
-    if args.chunk_size is not None and args.chunk_size < 1:
-        raise UserError(f"--chunk-size {args.chunk_size}: must be >= 1")
-    if not (math.isfinite(args.connect_timeout) and args.connect_timeout > 0):
-        raise UserError(f"--connect-timeout {args.connect_timeout!r}: must be a finite "
-                        "number of seconds > 0")
+    check_sweep_flags(args)
     with claim_output_dir(args.out, "uq", in_place=True) as out:
         return _run(args, out.path)
 
