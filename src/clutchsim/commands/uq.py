@@ -20,12 +20,13 @@ log = logging.getLogger("clutchsim")
 
 HELP = """\
 examples:
-  # how often does a launch on a 0-8 % grade stall the engine? (Monte Carlo, 2000 runs)
+  # how often does a launch on a 0-8 % grade stall the engine? (2000 random runs)
   clutchsim uq --vary 'vehicle.grade=uniform(0,8)' --vary 'vehicle.mass=normal(1500,50)' \\
       --samples 2000 --seed 1 --out grade_mc/ --json
-  # which input drives the lock-up time? Sobol' indices, 1024 * (4 + 2) runs
-  clutchsim uq --method sobol --samples 1024 --seed 1 --out sobol/ \\
-      --vary 'vehicle.grade=uniform(0,1.5)' --vary 'vehicle.mass=tol(1400±100,cpk=1.33)' \\
+  # which input drives the lock-up time? Sobol' indices, 32 * (4 + 2) runs (512 or more
+  # base samples for tight intervals)
+  clutchsim uq --method sobol --samples 32 --seed 1 --out sobol/ \\
+      --vary 'vehicle.grade=uniform(0,1.5)' --vary 'vehicle.mass=tol(1300±100,cpk=1.33)' \\
       --vary 'inertia[0].J=tnormal(0.15,0.01,0.12,0.18)' \\
       --vary 'coupling[0].friction.overrides.phi0=lognormal(0.001,0.1)'
   # correlated inputs (rank correlation, Gaussian copula), Latin hypercube
@@ -68,8 +69,8 @@ def register(sub, common):
                    help="rank correlation of two inputs (repeatable; mc and lhs)")
     p.add_argument("--method", default="mc", choices=("mc", "lhs", "sobol", "morris"),
                    help="Monte Carlo (default), Latin hypercube, Sobol' indices, Morris")
-    p.add_argument("--samples", type=int, default=1000, metavar="N",
-                   help="samples (default 1000; see below)")
+    p.add_argument("--samples", type=int, metavar="N", help="samples (default: 1000 for "
+                   "mc and lhs, 1024 for sobol, 20 for morris; see below)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="seed (default 0)")
     p.add_argument("--metrics", metavar="M1,M2", help="metric columns (default: all but "
                    "wall_s)")

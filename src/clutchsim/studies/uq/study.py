@@ -20,12 +20,15 @@ from ..._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS
 from ...sweeps.design import Design
 from .inputs import UQInputError, correlation_matrix, parse_correlation, parse_inputs
 
-__all__ = ["METHODS", "OUTCOMES", "UQResult", "clopper_pearson", "make_samples",
-           "read_columns", "study", "study_runs", "uq", "write_study"]
+__all__ = ["DEFAULT_SAMPLES", "METHODS", "OUTCOMES", "UQResult", "clopper_pearson",
+           "make_samples", "read_columns", "study", "study_runs", "uq", "write_study"]
 
 log = logging.getLogger("clutchsim")
 
 METHODS = ("mc", "lhs", "sobol", "morris")
+#: ``samples`` of each method when none is given: runs (mc, lhs), base samples (sobol),
+#: trajectories (morris)
+DEFAULT_SAMPLES = {"mc": 1000, "lhs": 1000, "sobol": 1024, "morris": 20}
 #: the runs' ``outcome`` names (:class:`clutchsim.core.Outcome`, ``stalled`` for an engine
 #: stall, ``error`` for parameters the run refused), each given a probability
 OUTCOMES = ("completed", "stopped", "stalled", "event_failed", "budget", "wall_time",
@@ -85,6 +88,9 @@ class UQResult:
     run_wall_s: float = 0.0
     chunks_resumed: int = 0
     batched_runs: int = 0
+    #: the wall time of the compiled batches (integrator and metrics kernel), summed over
+    #: the workers [s]
+    batch_loop_wall_s: float = 0.0
 
     def to_dict(self) -> dict:
         """The study as plain JSON types (the ``--json`` document)."""
@@ -102,7 +108,8 @@ class UQResult:
         doc["skipped"] = _thaw(self.skipped)
         doc.update(path=str(self.path) if self.path else None, wall_s=self.wall_s,
                    run_wall_s=self.run_wall_s, chunks_resumed=self.chunks_resumed,
-                   batched_runs=self.batched_runs)
+                   batched_runs=self.batched_runs,
+                   batch_loop_wall_s=self.batch_loop_wall_s)
         return doc
 
 
@@ -327,7 +334,8 @@ def study(inputs, evaluate, *, method: str = "mc", samples: int, seed: int,
     ``evaluate(design) -> (columns, info)``: ``columns`` maps ``"outcome"`` to ``(codes,
     names)`` (an int array and the names it indexes) and every metric to a float array
     (NaN: no value), one entry per run of ``design`` in its order; ``info`` may hold
-    ``path``, ``wall_s``, ``chunks_resumed``, ``batched_runs`` and ``units``.  Everything is
+    ``path``, ``wall_s``, ``chunks_resumed``, ``batched_runs``, ``batch_loop_wall_s`` and
+    ``units``.  Everything is
     checked before ``evaluate`` is called.  Returns the result and the columns (for the
     figures)."""
     from ..._util import check_run_count
@@ -376,11 +384,12 @@ def study(inputs, evaluate, *, method: str = "mc", samples: int, seed: int,
         units=_freeze(info.get("units", {})), path=info.get("path"),
         wall_s=time.perf_counter() - t0, run_wall_s=float(info.get("wall_s", 0.0)),
         chunks_resumed=int(info.get("chunks_resumed", 0)),
-        batched_runs=int(info.get("batched_runs", 0)))
+        batched_runs=int(info.get("batched_runs", 0)),
+        batch_loop_wall_s=float(info.get("batch_loop_wall_s", 0.0)))
     return result, cols
 
 
-def read_columns(path, keys, metrics) -> dict:
+def read_columns(path, metrics) -> dict:
     """The study's columns from a sweep's results.parquet: the outcome dictionary-encoded
     (codes and names: no Python string per run), the metrics as float arrays (NaN: no
     value)."""
@@ -445,7 +454,7 @@ def write_study(path, result: UQResult) -> list[Path]:
     return files
 
 
-def uq(scenario=None, vary=None, *, method: str = "mc", samples: int = 1000,
+def uq(scenario=None, vary=None, *, method: str = "mc", samples: int | None = None,
        seed: int = 0, correlation=None, metrics=None, model: str | None = None,
        overrides=None, options=None, out=None, backend="threads",
        workers: int | None = None, address: str = "local", connect_timeout: float = 10.0,
@@ -466,7 +475,8 @@ def uq(scenario=None, vary=None, *, method: str = "mc", samples: int = 1000,
         scheme, ``samples`` base samples, a power of 2: ``samples * (d + 2)`` runs) or
         Morris screening (``samples`` trajectories: ``samples * (d + 1)`` runs).
     samples, seed : int
-        The samples and the seed (the same seed gives the same runs on every backend).
+        The samples (default :data:`DEFAULT_SAMPLES` of the method) and the seed (the same
+        seed gives the same runs on every backend).
     correlation : mapping or sequence of str
         Rank correlations ``{("a", "b"): 0.5}`` or ``["a,b=0.5"]`` (mc and lhs; a
         Gaussian copula).
@@ -499,15 +509,18 @@ def uq(scenario=None, vary=None, *, method: str = "mc", samples: int = 1000,
                     options=options, progress=progress, max_runs=max_runs,
                     max_output_rows=max_output_rows)
         if res.path is not None:
-            cols = read_columns(res.path, design.keys, metrics)
+            cols = read_columns(res.path, metrics)
         else:
             cols = _frame_columns(res.table, metrics)
         units = {m: METRICS[m][0] for m in metrics}
         units.update(res.manifest.get("units", {}))
         info = {"path": res.path, "wall_s": res.wall_s, "batched_runs": res.batched_runs,
+                "batch_loop_wall_s": res.batch_loop_wall_s,
                 "chunks_resumed": res.chunks_skipped, "units": units}
         return cols, info
 
+    if samples is None:
+        samples = DEFAULT_SAMPLES.get(method, 1000)
     result, cols = study(vary if vary is not None else {}, evaluate, method=method,
                          samples=samples, seed=seed, correlation=correlation,
                          judder_threshold_Nm=judder_threshold_Nm,
