@@ -171,7 +171,7 @@ OUTPUT_KINDS = {
     "sweep": ("sweep.json", "chunks", "traces", "results.parquet", "*.png", "command.txt",
               "report.html"),
     "uq": ("sweep.json", "chunks", "results.parquet", "uq.json", "probabilities.csv",
-           "quantiles.csv", "sensitivity.csv", "uq_*.png", "command.txt"),
+           "quantiles.csv", "sensitivity.csv", "uq_*.png", "command.txt", "report.html"),
 }
 
 

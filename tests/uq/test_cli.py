@@ -48,7 +48,8 @@ def test_monte_carlo_study_of_stalls_with_json_and_resume(tmp_path, capsys):
     assert set(doc) >= {"samples", "probabilities", "quantiles"} and "sobol" not in doc
     files = {p.name for p in out.iterdir()}
     assert {"uq.json", "probabilities.csv", "quantiles.csv", "uq_probabilities.png",
-            "uq_distributions.png", "uq_convergence.png", "command.txt"} <= files
+            "uq_distributions.png", "uq_convergence.png", "command.txt", "report.html"} <= files
+    assert "clutchsim uq report: mc, 120 runs" in (out / "report.html").read_text()
     # the same command resumes: nothing runs again, the same answers
     assert main([*argv, "--no-plots"]) == 0
     again = json.loads(capsys.readouterr().out)

@@ -42,7 +42,8 @@ N*(d+2) runs for d inputs) or trajectories (morris: N*(d+1) runs).
 outputs in DIR: the sweep's files (results.parquet: one row per run, sweep.json, chunks/;
 an interrupted study resumes when the same command is repeated), uq.json (the --json
 document and the convergence of every estimate), probabilities.csv, quantiles.csv,
-sensitivity.csv (sobol, morris), uq_*.png, command.txt.
+sensitivity.csv (sobol, morris), uq_*.png, command.txt and report.html (all of it on one
+page).
 --json prints {"method", "samples" (runs), "base_samples", "seed", "inputs", "correlation",
 "thresholds", "probabilities" {event: {"p", "ci95", "count"}}, "quantiles" {metric: {"p05",
 "p50", "p95", "mean", "std", "n"}}, "sobol" {metric: {key: {"S1", "S1_ci95", "ST",
@@ -100,6 +101,7 @@ def run(args) -> int:
 
 def _run(args, out) -> int:
     from ..progress import progress_for
+    from ..report import build_report
     from ..studies.uq import uq
     metrics = [m.strip() for m in args.metrics.split(",") if m.strip()] \
         if args.metrics else None
@@ -113,6 +115,8 @@ def _run(args, out) -> int:
              progress=progress_for(args, "runs"), max_runs=args.max_runs,
              max_output_rows=args.max_output_rows)
     write_command(res.path, args.argv)
+    build_report(res.path, title=f"clutchsim uq report: {res.method}, {res.samples} runs "
+                 f"over {', '.join(res.inputs)}")
     happened = {k: f"{v['p']:.3g} [{v['ci95'][0]:.3g}, {v['ci95'][1]:.3g}]"
                 for k, v in res.probabilities.items() if v["count"]}
     log.info("uq: %s, %d runs in %.1f s (%.0f runs/s) -> %s; P: %s", res.method, res.samples,
