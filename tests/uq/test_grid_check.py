@@ -27,10 +27,10 @@ def test_sobol_agrees_with_a_dense_grid_variance_decomposition():
     r = uq(None, {"vehicle.mass": f"uniform({MASS[0]},{MASS[1]})",
                   "vehicle.grade": f"uniform({GRADE[0]},{GRADE[1]})"},
            method="sobol", samples=256, seed=3, metrics=["lockup_time_s"])
-    for key in s1:
+    for key, first in s1.items():
         got = r.sobol["lockup_time_s"][key]
         lo, hi = got["S1_ci95"]
-        assert lo - 0.01 <= s1[key] <= hi + 0.01, (key, s1[key], got)
+        assert lo - 0.01 <= first <= hi + 0.01, (key, first, got)
         lo, hi = got["ST_ci95"]
         assert lo - 0.01 <= st[key] <= hi + 0.01, (key, st[key], got)
     # the mass dominates the lock-up time of this launch, the grade adds a little
