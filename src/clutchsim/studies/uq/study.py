@@ -392,16 +392,18 @@ def study(inputs, evaluate, *, method: str = "mc", samples: int, seed: int,
 def read_columns(path, metrics) -> dict:
     """The study's columns from a sweep's results.parquet: the outcome dictionary-encoded
     (codes and names: no Python string per run), the metrics as float arrays (NaN: no
-    value)."""
+    value).  Read one column at a time, so that only one column is held twice (Arrow and
+    numpy) at any moment."""
     import pyarrow as pa
     import pyarrow.compute as pc
     import pyarrow.parquet as pq
-    table = pq.read_table(Path(path) / "results.parquet", columns=["outcome", *metrics])
-    enc = pc.dictionary_encode(table["outcome"]).combine_chunks()
+    f = pq.ParquetFile(Path(path) / "results.parquet")
+    enc = pc.dictionary_encode(f.read(columns=["outcome"])["outcome"]).combine_chunks()
     cols = {"outcome": (enc.indices.to_numpy(zero_copy_only=False).astype(np.int32),
                         enc.dictionary.to_pylist())}
+    del enc
     for m in metrics:
-        c = pc.fill_null(table[m].cast(pa.float64()), float("nan"))
+        c = pc.fill_null(f.read(columns=[m])[m].cast(pa.float64()), float("nan"))
         cols[m] = c.to_numpy()
     return cols
 
