@@ -170,6 +170,8 @@ OUTPUT_KINDS = {
     "demo": ("launch", "drift", "demo.json", "report.html"),
     "sweep": ("sweep.json", "chunks", "traces", "results.parquet", "*.png", "command.txt",
               "report.html"),
+    "uq": ("sweep.json", "chunks", "results.parquet", "uq.json", "probabilities.csv",
+           "quantiles.csv", "sensitivity.csv", "uq_*.png", "command.txt", "report.html"),
 }
 
 

@@ -32,7 +32,7 @@ __all__ = ["SimulationFailed", "Terminated", "UserError", "emit_json", "main"]
 
 #: subcommand modules, in the order ``--help`` lists them
 COMMANDS = ("models", "rig", "bench", "run", "judder", "demo", "sweep", "fit", "report",
-            "fmu", "durability")
+            "fmu", "durability", "uq")
 
 EPILOG = """\
 examples:

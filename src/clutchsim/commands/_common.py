@@ -12,7 +12,8 @@ from pathlib import Path
 from .._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
 
 __all__ = ["SimulationFailed", "UserError", "add_force_flag", "add_limit_flags",
-           "checked_scenario", "emit_json", "solver_option_items", "write_command"]
+           "add_sweep_flags", "check_sweep_flags", "checked_scenario", "emit_json",
+           "solver_option_items", "write_command"]
 
 
 class UserError(Exception):
@@ -61,6 +62,33 @@ def add_limit_flags(p, *, runs: bool = False) -> None:
         g.add_argument("--max-runs", type=_positive_int, default=DEFAULT_MAX_RUNS,
                        metavar="N", help=f"most runs of the sweep (default "
                        f"{DEFAULT_MAX_RUNS:,})")
+
+
+def add_sweep_flags(p, flag: str) -> None:
+    """Where the runs of a sweep run (sweep, uq): ``flag`` (``--dask`` or ``--address``,
+    dest ``address``: a Dask LocalCluster or scheduler), ``--workers``,
+    ``--connect-timeout`` and ``--chunk-size``; :func:`check_sweep_flags` checks them."""
+    p.add_argument(flag, dest="address", metavar="local|tcp://HOST:PORT", help="run on "
+                   "Dask: a LocalCluster or the scheduler at this address")
+    p.add_argument("--workers", type=int, metavar="N", help="threads (in-process) or Dask "
+                   "workers of a local cluster (default: all cores)")
+    p.add_argument("--connect-timeout", type=float, default=10.0, metavar="S",
+                   help="seconds to wait for a Dask scheduler (default 10)")
+    p.add_argument("--chunk-size", type=int, metavar="N", help="runs per chunk")
+
+
+def check_sweep_flags(args) -> None:
+    """The flags of :func:`add_sweep_flags`: UserError (exit 2) for a bad value."""
+    import math
+
+    from ..cli import UserError
+    if args.workers is not None and args.workers < 1:
+        raise UserError(f"--workers {args.workers}: must be >= 1")
+    if args.chunk_size is not None and args.chunk_size < 1:
+        raise UserError(f"--chunk-size {args.chunk_size}: must be >= 1")
+    if not (math.isfinite(args.connect_timeout) and args.connect_timeout > 0):
+        raise UserError(f"--connect-timeout {args.connect_timeout!r}: must be a finite "
+                        "number of seconds > 0")
 
 
 def add_force_flag(p) -> None:

@@ -6,9 +6,10 @@ import argparse
 import logging
 
 from ._common import (
-    UserError,
     add_limit_flags,
     add_option_flag,
+    add_sweep_flags,
+    check_sweep_flags,
     emit_json,
     solver_option_items,
     write_command,
@@ -72,29 +73,15 @@ def register(sub, common):
     p.add_argument("--keep-traces", action="store_true", help="also write every run's time "
                    "series (traces/)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    p.add_argument("--dask", metavar="local|tcp://HOST:PORT", help="run on Dask: a "
-                   "LocalCluster or an existing scheduler")
-    p.add_argument("--workers", type=int, metavar="N", help="threads (in-process) or Dask "
-                   "workers of a local cluster (default: all cores)")
-    p.add_argument("--connect-timeout", type=float, default=10.0, metavar="S",
-                   help="seconds to wait for a Dask scheduler (default 10)")
-    p.add_argument("--chunk-size", type=int, metavar="N", help="runs per chunk")
+    add_sweep_flags(p, "--dask")
     p.add_argument("--no-plots", action="store_true", help="skip the figures")
     p.add_argument("--json", action="store_true", help="print a summary on stdout")
     add_limit_flags(p, runs=True)
 
 
 def run(args) -> int:
-    import math
-
     from .._util import claim_output_dir
-    if args.workers is not None and args.workers < 1:
-        raise UserError(f"--workers {args.workers}: must be >= 1")
-    if args.chunk_size is not None and args.chunk_size < 1:
-        raise UserError(f"--chunk-size {args.chunk_size}: must be >= 1")
-    if not (math.isfinite(args.connect_timeout) and args.connect_timeout > 0):
-        raise UserError(f"--connect-timeout {args.connect_timeout!r}: must be a finite "
-                        "number of seconds > 0")
+    check_sweep_flags(args)
     with claim_output_dir(args.out, "sweep", in_place=True) as out:
         return _run(args, out.path)
 
@@ -109,8 +96,9 @@ def _run(args, out) -> int:
                      metrics=metrics, model=args.model, overrides=args.set or (),
                      solver_options=solver_option_items(args.option),
                      keep_traces=args.keep_traces)
-    options = SweepOptions(backend="dask" if args.dask else "threads", workers=args.workers,
-                           address=args.dask or "local", connect_timeout=args.connect_timeout,
+    options = SweepOptions(backend="dask" if args.address else "threads",
+                           workers=args.workers, address=args.address or "local",
+                           connect_timeout=args.connect_timeout,
                            chunk_size=args.chunk_size, max_runs=args.max_runs,
                            max_output_rows=args.max_output_rows)
     res = sweep(args.scenario, spec, options, out=out, plots=not args.no_plots,

@@ -10,9 +10,21 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from ..._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
 from .backends import DEFAULT_CONNECT_TIMEOUT, dask_client, run_dask, run_threads
-from .design import Grid, Normal, SweepError, Uniform, Values, key_unit, make_design, parse_vary
+from .design import (
+    Design,
+    Grid,
+    Normal,
+    SweepError,
+    Uniform,
+    Values,
+    key_unit,
+    make_design,
+    parse_vary,
+)
 from .runner import DEFAULT_METRICS, METRICS
 from .store import FORMAT, SweepStore, chunk_id, digest, read_results
 
@@ -68,14 +80,15 @@ def _probe_values(spec) -> list[float]:
     return [spec.a, spec.b]
 
 
-def _check_keys(sc, vary, model, max_rows: int, solver_items: dict) -> None:
+def _check_keys(sc, probes: dict, model, max_rows: int, solver_items: dict) -> None:
     """Every key must be a scenario key the loader accepts (unknown: suggest the closest),
-    and the extreme values must give runs within the output limit."""
+    and the extreme values (``probes``: key -> values to try) must give runs within the
+    output limit."""
     from ..._util import ResourceError, check_run_size
     from ...scenario import ScenarioError, resolve_scenario
     from ...scenario.loader import toml_value, with_solver_options
-    for key, spec in vary.items():
-        for v in _probe_values(spec):
+    for key, values in probes.items():
+        for v in values:
             try:
                 probe = with_solver_options(resolve_scenario(sc, [f"{key}={toml_value(v)}"]),
                                             solver_items)
@@ -130,6 +143,11 @@ class SweepSpec:
         the scenario's ``[solver]`` table and a varied ``solver.*`` key.
     keep_traces : bool
         Also write each run's time series to ``out/traces/run-NNNNNNN.parquet``.
+    design : Design, optional
+        The variants as a table computed by the caller (an uncertainty study's samples,
+        :mod:`clutchsim.studies.uq`) instead of ``vary``, ``samples`` and ``seed``: run
+        ``i`` is ``design.row(i)``; the sweep's id holds a hash of the table, so the same
+        design resumes.
     """
 
     vary: Mapping | Sequence[str] = ()
@@ -140,6 +158,7 @@ class SweepSpec:
     overrides: Sequence[str] = ()
     solver_options: Mapping | None = None
     keep_traces: bool = False
+    design: Design | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "overrides", tuple(self.overrides or ()))
@@ -263,7 +282,10 @@ def _plan(scenario, spec: SweepSpec, options: SweepOptions):
     model = spec.model
     if model is None and scenario.models:
         model = scenario.models[0]
-    vary = parse_vary(spec.vary)
+    given = spec.design is not None
+    if given and (spec.vary or spec.samples is not None or spec.seed is not None):
+        raise SweepError("give either a design or vary/samples/seed, not both")
+    vary = {} if given else parse_vary(spec.vary)
     metrics = tuple(DEFAULT_METRICS if spec.metrics is None else spec.metrics)
     for m in metrics:
         if m not in METRICS:
@@ -272,16 +294,28 @@ def _plan(scenario, spec: SweepSpec, options: SweepOptions):
                              f"{', '.join(METRICS)})")
     if len(set(metrics)) != len(metrics):
         raise SweepError(f"metrics listed twice: {', '.join(metrics)}")
-    design = make_design(vary, spec.samples, spec.seed, max_runs=options.max_runs)
+    if given:
+        from ..._util import check_run_count
+        design = spec.design
+        if options.max_runs is not None:
+            check_run_count(design.n, options.max_runs)
+        probes = {k: sorted({float(np.min(c)), float(np.max(c))}) if len(c) else []
+                  for k, c in design.columns.items()}
+        spec_texts = {k: "design" for k in design.keys}
+    else:
+        design = make_design(vary, spec.samples, spec.seed, max_runs=options.max_runs)
+        probes = {k: _probe_values(s) for k, s in vary.items()}
+        spec_texts = {k: s.text() for k, s in vary.items()}
     rows = options.max_output_rows if options.max_output_rows is not None else 2**62
     check_run_size(scenario.estimate(model), scenario.options,
                    what=f"{scenario.file}: {model or 'its own model'}", max_rows=rows)
-    _check_keys(scenario, vary, model, rows, solver_items)
-    spec_texts = {k: s.text() for k, s in vary.items()}
+    _check_keys(scenario, probes, model, rows, solver_items)
     identity = {"format": FORMAT, "scenario": scenario.data, "model": model,
                 "vary": spec_texts, "samples": spec.samples if design.random_keys else None,
                 "seed": spec.seed if design.random_keys else None, "metrics": list(metrics),
                 "keep_traces": bool(spec.keep_traces)}
+    if given:
+        identity["design"] = design.digest()
     if solver_items:        # (absent when not given: the ids of earlier sweeps hold)
         identity["options"] = solver_items
     sweep_id = digest(identity)

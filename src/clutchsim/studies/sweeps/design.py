@@ -239,6 +239,14 @@ class Design:
     def row(self, i: int) -> tuple:
         return tuple(float(self.columns[k][i]) for k in self.keys)
 
+    def digest(self) -> str:
+        """A hash of the keys and every value (the identity of a design given as a table)."""
+        import hashlib
+        h = hashlib.sha256(repr(self.keys).encode())
+        for k in self.keys:
+            h.update(np.ascontiguousarray(self.columns[k], dtype=np.float64).tobytes())
+        return h.hexdigest()
+
 
 def design_size(vary: dict, samples: int | None = None) -> int:
     """The number of runs of a design, computed without building it."""
