@@ -80,8 +80,6 @@ def add_sweep_flags(p, flag: str) -> None:
 def check_sweep_flags(args) -> None:
     """The flags of :func:`add_sweep_flags`: UserError (exit 2) for a bad value."""
     import math
-
-    from ..cli import UserError
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers {args.workers}: must be >= 1")
     if args.chunk_size is not None and args.chunk_size < 1:

@@ -6,12 +6,12 @@ from __future__ import annotations
 import argparse
 import logging
 
-from ..cli import emit_json
 from ._common import (
     add_limit_flags,
     add_option_flag,
     add_sweep_flags,
     check_sweep_flags,
+    emit_json,
     solver_option_items,
     write_command,
 )
