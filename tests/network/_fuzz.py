@@ -36,11 +36,9 @@ from clutchsim.network.components import (
     Inertia,
     LossyGear,
     OneWayClutch,
-    Planetary,
     SpringDamper,
     TorqueSource,
 )
-from clutchsim.network.components.friction import static_capacity
 
 T_END = 0.6
 #: the loose run and the tight rerun
@@ -95,7 +93,7 @@ def _model(draw, T):
     name = draw(st.sampled_from(sorted(MODELS)))
     peak = draw(st.sampled_from([1.0, 1.1, 1.3]))
     base = make_model(name)
-    k = T / static_capacity(base)
+    k = T / base.static_capacity()
     over = {"coulomb-naive": dict(F_c=T, F_s=peak * T),
             "coulomb-robust": dict(F_c=T, F_s=peak * T),
             "karnopp": dict(F_c=T, F_s=peak * T)}.get(name)
