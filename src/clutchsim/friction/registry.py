@@ -13,6 +13,7 @@ import difflib
 from dataclasses import dataclass
 from typing import Any
 
+from .atan import AtanFriction
 from .base import (
     DOMAINS,
     EXPECTED,
@@ -89,6 +90,7 @@ MODELS: dict[str, type[FrictionModel]] = register(
     ElastoPlastic,
     GMS,
     Mykhailevych2020,
+    AtanFriction,
 )
 
 
