@@ -26,7 +26,6 @@ on its own against one-sided (``v -> 0+``) differences, as the kernels document.
 from __future__ import annotations
 
 import dataclasses
-import importlib
 import math
 import warnings
 
@@ -149,10 +148,8 @@ def _stopped(m, z, v):
 
 # --------------------------------------------------------------------- kernels
 def _kernels(m):
-    """The model's own compiled force and Jacobian kernels."""
-    base = m.name.replace("-", "_")
-    module = importlib.import_module(f"clutchsim.friction.{base}")
-    return getattr(module, f"{base}_force"), getattr(module, f"{base}_jacobian")
+    """The model's own compiled force and Jacobian kernels (as it declares them)."""
+    return m.kernels.force, m.kernels.jacobian
 
 
 def _call_force(kernel, p, z, v, F_e, scale):
