@@ -5,6 +5,7 @@
     python scripts/phenomena_matrix.py --render-only  # re-render the docs from the JSON
     python scripts/phenomena_matrix.py --reclassify   # re-apply the rules to the JSON metrics
     python scripts/phenomena_matrix.py --check        # exit 1 if the docs differ from the JSON
+    python scripts/phenomena_matrix.py --new          # measure only the models the JSON lacks
 
 Measuring runs the benchmarks curves, drift, breakaway, presliding and lag on each
 registered friction model with its default parameter set
@@ -19,7 +20,9 @@ registered friction model with its default parameter set
 The Markdown is a pure function of the JSON, so ``--render-only`` and the tests rebuild it
 without simulating.  ``--reclassify`` keeps the measured metrics (and their version and
 date) but rebuilds the verdicts, literature and notes with the current code, for a change
-of the rules or of the texts that needs no new measurement.  Every file is written atomically.  The first run compiles the rig
+of the rules or of the texts that needs no new measurement.  ``--new`` measures only the
+registered models the JSON does not have yet (a new model: docs/models/README.md) and adds
+them, keeping the other models' measured metrics, version and date.  Every file is written atomically.  The first run compiles the rig
 kernels (tens of seconds per model); later runs load them from numba's cache.
 """
 
@@ -87,14 +90,19 @@ def main(argv=None) -> int:
                            "(no simulation), then write the JSON and the docs")
     mode.add_argument("--check", action="store_true",
                       help="exit 1 if a generated file differs from what the JSON gives")
+    mode.add_argument("--new", action="store_true",
+                      help="measure only the registered models the JSON lacks and add them")
     ap.add_argument("--docs", type=Path, default=DOCS, help="docs directory (default: %(default)s)")
     args = ap.parse_args(argv)
     json_path = args.docs / "phenomena.json"
 
-    if args.render_only or args.check or args.reclassify:
+    if args.render_only or args.check or args.reclassify or args.new:
         data = json.loads(json_path.read_text(encoding="utf-8"))
-    if args.reclassify:
+    if args.reclassify or args.new:
         metrics = [metrics_from_report(data, model) for model in data["models"]]
+        if args.new:
+            metrics += measure_all([m for m in MODELS if m not in data["models"]],
+                                   solver=data["solver"])
         data = build_report(metrics, version=data["clutchsim_version"], date=data["date"],
                             solver=data["solver"])
     elif not (args.render_only or args.check):

@@ -187,7 +187,7 @@ def test_committed_json_covers_every_model_and_literature(committed):
     assert list(committed["models"]) == list(MODELS)
     for model, entry in committed["models"].items():
         assert entry["literature"] == {k: {"expected": e, "text": t}
-                                       for k, (e, t) in ph.LITERATURE[model].items()}
+                                       for k, (e, t) in MODELS[model].phenomena.items()}
     assert committed["clutchsim_version"] and committed["date"]
 
 

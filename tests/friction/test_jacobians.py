@@ -26,7 +26,6 @@ on its own against one-sided (``v -> 0+``) differences, as the kernels document.
 from __future__ import annotations
 
 import dataclasses
-import importlib
 import math
 import warnings
 
@@ -92,32 +91,15 @@ def _model(name, params):
 
 # --------------------------------------------------------------------- model scales
 def _scales(m):
-    """Typical scales (force level, velocity, one per state) of model ``m``."""
-    name = m.name
-    if name == "mykhailevych2020":
-        return m.T_stat, m.omega0, [m.phi0]
-    if name == "rotational-friction":
-        return m.F_brk, m.v_brk / 10.0, []
-    F = m.F_c
-    if name == "tanh":
-        return F, m.v_t, []
-    if name == "stribeck":
-        return F, min(m.v_t, m.v_s), []
-    if name == "karnopp":
-        return F, m.DV, []
-    if name == "coulomb-naive":
-        return F, 1e-3, []
-    if name == "coulomb-robust":
-        return F, m.v_s if m.v_s > 0.0 else 1e-3, [1.0]
-    if name == "dahl":
-        return F, 1e-3, [m.F_c / m.sigma0]
-    if name == "gms":
-        return F, m.v_s, [a * m.F_s / k for a, k in zip(m.alpha, m.k)]
-    return F, m.v_s, [m.F_c / m.sigma0]   # lugre, elastoplastic
+    """Typical scales (force level, velocity, one per state) the model declares."""
+    sc = m.typical_scales()
+    return sc.force, sc.velocity, list(sc.states)
 
 
-#: states that are discrete (change only at events): their columns must be exactly zero
-DISCRETE = {"coulomb-robust": (0,)}
+def _discrete(m):
+    """States that are discrete (change only at events): their columns must be exactly
+    zero.  A lockable model's one state is its mode."""
+    return (0,) if m.lockable else ()
 
 
 def _clip_zone(F_e, scale, F_s):
@@ -166,10 +148,8 @@ def _stopped(m, z, v):
 
 # --------------------------------------------------------------------- kernels
 def _kernels(m):
-    """The model's own compiled force and Jacobian kernels."""
-    base = m.name.replace("-", "_")
-    module = importlib.import_module(f"clutchsim.friction.{base}")
-    return getattr(module, f"{base}_force"), getattr(module, f"{base}_jacobian")
+    """The model's own compiled force and Jacobian kernels (as it declares them)."""
+    return m.kernels.force, m.kernels.jacobian
 
 
 def _call_force(kernel, p, z, v, F_e, scale):
@@ -254,7 +234,7 @@ def _model_check(m, x, one_sided=(), skip=()):
     p, nz = m.pack(), m.n_states
     F_scale, V, Z = _scales(m)
     S = np.array([*Z, V, F_scale, 1.0])
-    discrete = DISCRETE.get(m.name, ())
+    discrete = _discrete(m)
     columns = [j for j in range(nz + 3) if j not in discrete and j not in skip]
     J_fd = _fd(lambda y: _call_force(force, p, *_args(y, nz)), x, STEP * S, columns,
                piece=lambda y: _piece(m, *_args(y, nz)), one_sided=one_sided)
@@ -290,7 +270,7 @@ def _points(draw, m, v_zero=False):
         v = 0.0
     else:
         v = V * 10.0 ** draw(st.floats(-2.0, math.log10(30.0))) * draw(st.sampled_from([-1, 1]))
-    if m.name == "coulomb-robust":
+    if m.lockable:
         z = [float(draw(st.sampled_from([-1.0, 0.0, 1.0])))]
     elif m.name == "mykhailevych2020":
         z = [3.0 * Z[0] * draw(unit)]
@@ -426,7 +406,7 @@ def test_dispatcher_agrees_with_each_model_kernel(name):
             (rng.uniform(-1e-5, 1e-5, nz), 3e-4, 0.4, 1.0),
             (rng.uniform(-1e-5, 1e-5, nz), -2e-3, -1.7, 0.5),
             (np.zeros(nz), 0.0, 0.9, 1.3))]:
-        if name == "coulomb-robust":
+        if m.lockable:
             x[0] = 1.0
         own = _call_jac(jac, m.pack(), *_args(x, nz))
         dz = np.full(nz, np.nan)
@@ -469,7 +449,7 @@ def test_rig_jacobian_matches_finite_differences(label, name, params, drive, dom
     S = np.array([F_scale / k, V, *Z]) if drive == "force" else np.array([F_scale / k, *Z])
     rates = [V, F_scale / mass] + [V] * nz if drive == "force" else [V] * (1 + nz)
     typical = np.outer(rates, 1.0 / S)
-    discrete = [j + n - nz for j in DISCRETE.get(name, ())]
+    discrete = [j + n - nz for j in _discrete(m)]
 
     def contact(y, u, t):
         """The friction model's arguments (z, v, F_e, scale) in the rig at y."""

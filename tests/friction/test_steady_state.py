@@ -39,40 +39,22 @@ def test_lugre_steady_state_minimum():
     assert model.steady_state_force(1e-9) == pytest.approx(1.5, abs=1e-8)  # -> F_s as v -> 0+
 
 
-def _formula(model, v):
-    """The steady sliding force written out independently from the model code."""
-    name, P = model.name, model
-    s = math.copysign(1.0, v)
-    if name in ("coulomb-naive",):
-        return P.F_c * s
-    if name == "coulomb-robust":
-        return P.F_c * s + P.sigma2 * v  # default set: no Stribeck term (v_s = 0)
-    if name == "karnopp":
-        return P.F_c * s + P.sigma2 * v
-    if name == "tanh":
-        return P.F_c * math.tanh(v / P.v_t) + P.sigma2 * v
-    if name == "dahl":
-        return P.F_c * s
-    if name in ("stribeck", "lugre", "elastoplastic", "gms"):
-        g = P.F_c + (P.F_s - P.F_c) * math.exp(-((abs(v) / P.v_s) ** P.delta))
-        smooth = math.tanh(v / P.v_t) if name == "stribeck" else s
-        return g * smooth + P.sigma2 * v
-    if name == "rotational-friction":
-        x = v / (P.v_brk * math.sqrt(2))
-        return (math.sqrt(2 * math.e) * (P.F_brk - P.F_c) * math.exp(-x * x) * x
-                + P.F_c * math.tanh(10 * v / P.v_brk) + P.f * v)  # fmt: skip
-    if name == "mykhailevych2020":
-        T_din = P.k_din * P.T_stat
-        return s * (T_din + (P.T_stat - T_din) * math.exp(-(abs(v / P.omega0) ** P.p))) + P.k_v * v
-    raise AssertionError(name)
-
-
 @pytest.mark.parametrize("v", VELOCITIES)
-def test_steady_force_sign_and_formula(default_model, v):
+def test_steady_force_sign_and_scale(default_model, v):
     F = float(default_model.steady_state_force(v))
     assert math.copysign(1.0, F) == math.copysign(1.0, v) and F != 0.0
-    assert F == pytest.approx(_formula(default_model, v), rel=1e-12)
     assert float(default_model.steady_state_force(v, scale=0.37)) == pytest.approx(0.37 * F)
+
+
+def test_steady_force_matches_the_formula_written_out(default_model):
+    """The model's declared ``steady_checks`` (forces written out independently of its
+    code, with its default set) on both sides of zero: F_ss is odd."""
+    checks = type(default_model).steady_checks
+    assert len(checks) >= 3 and {math.copysign(1.0, v) for v, _ in checks} == {-1.0, 1.0}
+    for v, expected in checks:
+        assert float(default_model.steady_state_force(v)) == pytest.approx(expected, rel=1e-12)
+        assert float(default_model.steady_state_force(-v)) == pytest.approx(-expected,
+                                                                            rel=1e-12)
 
 
 @pytest.mark.parametrize("v", VELOCITIES)
@@ -110,7 +92,7 @@ def test_scale_zero_is_free_for_any_state(default_model, v, force):
     rng = np.random.default_rng(7)
     for _ in range(20):
         z = rng.normal(scale=1e-3, size=default_model.n_states)
-        if default_model.name == "coulomb-robust":
+        if default_model.lockable:
             z = rng.integers(-1, 2, size=1).astype(float)
         F_e = float(rng.normal(scale=10.0))
         F, dz = force(default_model, z, v, F_e=F_e, scale=0.0)
@@ -122,7 +104,7 @@ def test_forces_proportional_to_scale_in_dynamic_states(default_model, force):
     rng = np.random.default_rng(3)
     for _ in range(10):
         z = rng.normal(scale=5e-6, size=default_model.n_states)
-        if default_model.name == "coulomb-robust":
+        if default_model.lockable:
             z = np.array([1.0])
         v = float(rng.normal(scale=0.01))
         F1, dz1 = force(default_model, z, v, scale=1.0)

@@ -120,7 +120,6 @@ from clutchsim.network.components import (
     TranslationalSpringDamper,
     Vehicle,
 )
-from clutchsim.network.plant import _JUMP_CODES
 from clutchsim.network.wear import WearLaw
 
 STEP = 1e-4          # h_j = STEP·S_j
@@ -193,7 +192,7 @@ def _random_model(name: str, rng, force: float = 1.0):
 
 FRICTION_MODELS = sorted(MODELS)
 #: models whose plant has no exact Jacobian (the integrators difference it)
-NO_JACOBIAN = sorted(n for n in MODELS if MODELS[n].code in _JUMP_CODES)
+NO_JACOBIAN = sorted(n for n in MODELS if MODELS[n].jumps)
 
 
 # ------------------------------------------------------------------ builders

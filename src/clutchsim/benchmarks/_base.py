@@ -12,7 +12,13 @@ import numpy as np
 
 from ..core import Outcome, Result, SolverOptions
 from ..core.system import closest
-from ..friction import FrictionModel, get_model_class, load_parameter_set
+from ..friction import (
+    MODELS,
+    FrictionModel,
+    get_model_class,
+    list_parameter_sets,
+    load_parameter_set,
+)
 
 __all__ = [
     "STIFF_OPTIONS",
@@ -159,6 +165,26 @@ def entry_from_spec(spec: str) -> ModelEntry:
     desc = set_name + "".join(f", {k}={v:g}" if isinstance(v, float) else f", {k}={v}"
                               for k, v in overrides.items())
     return ModelEntry(spec, model, f"{cls.name} ({desc})")
+
+
+def models_where(test) -> tuple[str, ...]:
+    """The registered models (names, in registry order) whose class passes ``test``: a
+    benchmark's applicable models follow from what the models declare, never a list of
+    names."""
+    return tuple(name for name, cls in MODELS.items() if test(cls))
+
+
+def force_driven(cls) -> bool:
+    """Can a force-driven rig in newtons run the model: has it a translational parameter
+    set?  (A model whose numbers exist only in N·m, with levels of tens of N·m, is out of
+    reach of protocols whose forces are a few newtons.)"""
+    return bool(list_parameter_sets(cls.name, "translational"))
+
+
+def velocity_driven(cls) -> bool:
+    """Can a velocity-driven rig run the model: is its force defined without the stick
+    force (a switching model held at a given slip has no force to report while stuck)?"""
+    return not cls.uses_stick_force
 
 
 def resolve_models(models, default: Sequence[str], applicable: Sequence[str] | None = None

@@ -14,7 +14,14 @@ import numpy as np
 
 from ..core import Ramp
 from ..rig import run_rig
-from ._base import STIFF_OPTIONS, BenchmarkResult, failure, resolve_models
+from ._base import (
+    STIFF_OPTIONS,
+    BenchmarkResult,
+    failure,
+    force_driven,
+    models_where,
+    resolve_models,
+)
 
 __all__ = ["DEFAULT_MODELS", "RATES", "breakaway_force", "run_breakaway"]
 
@@ -22,8 +29,8 @@ RATES = (1.0, 2.0, 5.0, 10.0, 20.0, 50.0)   # N/s
 U_END = 3.0   # N
 
 DEFAULT_MODELS = ("coulomb-robust", "lugre", "elastoplastic", "mykhailevych2020")
-APPLICABLE = ("coulomb-naive", "coulomb-robust", "karnopp", "tanh", "stribeck", "dahl",
-              "lugre", "elastoplastic", "gms", "mykhailevych2020")
+#: force-driven rig (a ramp to a few newtons)
+APPLICABLE = models_where(force_driven)
 
 
 def breakaway_force(res) -> float:

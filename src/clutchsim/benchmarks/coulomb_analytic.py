@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 
 from ..core import SolverOptions, Step, simulate
-from ._base import BenchmarkResult, failure, resolve_models, sample
+from ._base import BenchmarkResult, failure, models_where, resolve_models, sample
 from .two_mass import make_two_mass
 
 __all__ = ["FORCE", "REFERENCES", "analytic_stick_time", "run_coulomb_analytic"]
@@ -34,7 +34,8 @@ FORCE = Step(T2, -F_PUSH, offset=F_PUSH)
 OPTIONS = SolverOptions(rtol=1e-10, atol=1e-12, event_tol=1e-12)
 
 DEFAULT_MODELS = ("coulomb-robust",)
-APPLICABLE = ("coulomb-robust",)
+#: the analytic stick and re-stick need a model that truly sticks: a lockable one
+APPLICABLE = models_where(lambda cls: cls.lockable)
 REFERENCES = {"coulomb-robust": {"stick_time_s": 0.035124, "restick_time_s": 0.31492,
                                  "x1_restick_m": 3.9556}}
 

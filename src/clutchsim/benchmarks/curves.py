@@ -32,7 +32,7 @@ from scipy.optimize import minimize_scalar
 
 from ..core import Ramp, Sine
 from ..rig import run_rig
-from ._base import STIFF_OPTIONS, BenchmarkResult, failure, resolve_models
+from ._base import STIFF_OPTIONS, BenchmarkResult, failure, models_where, resolve_models
 
 __all__ = ["DEFAULT_MODELS", "REFERENCES", "VELOCITY_GRID", "curve_metrics", "run_curves"]
 
@@ -42,9 +42,7 @@ SEED_MODEL = "mykhailevych2020"
 
 DEFAULT_MODELS = ("coulomb-robust", "karnopp", "tanh", "stribeck", "dahl", "lugre",
                   "elastoplastic", "gms", "mykhailevych2020")
-APPLICABLE = ("coulomb-naive", "coulomb-robust", "karnopp", "tanh", "stribeck",
-              "rotational-friction", "dahl", "lugre", "elastoplastic", "gms",
-              "mykhailevych2020")
+APPLICABLE = models_where(lambda cls: True)
 #: friction-models.md T1 (exact algebra on LuGre Table I)
 REFERENCES = {"lugre": {"f_static": 1.5, "f_kinetic": 1.0,
                         "stribeck_min": {"value": 1.001261, "speed": 2.986e-3}}}

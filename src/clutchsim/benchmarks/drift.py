@@ -23,7 +23,7 @@ import numpy as np
 
 from ..core import Result, Signal, Sine, Step
 from ..rig import run_rig
-from ._base import STIFF_OPTIONS, BenchmarkResult, failure, resolve_models, sample
+from ._base import STIFF_OPTIONS, BenchmarkResult, failure, models_where, resolve_models, sample
 
 __all__ = [
     "APPLICABLE",
@@ -46,9 +46,7 @@ D2_SINE = (0.5, 20.0)
 
 DEFAULT_MODELS = ("coulomb-robust", "dahl", "lugre", "elastoplastic",
                   "mykhailevych2020", "mykhailevych2020,reset=zero")
-APPLICABLE = ("coulomb-naive", "coulomb-robust", "karnopp", "tanh", "stribeck",
-              "rotational-friction", "dahl", "lugre", "elastoplastic", "gms",
-              "mykhailevych2020")
+APPLICABLE = models_where(lambda cls: True)
 #: [C] values of friction-models.md §3 T6 and T11 (independent re-implementation)
 REFERENCES = {
     "lugre": {"D1_drift_per_cycle_m": 6.637e-6, "D1_x10_m": 73.439e-6, "D1_x20_m": 139.809e-6},

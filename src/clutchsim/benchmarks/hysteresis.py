@@ -23,7 +23,7 @@ import numpy as np
 
 from ..core import Sine, SolverOptions
 from ..rig import run_rig
-from ._base import BenchmarkResult, failure, resolve_models
+from ._base import BenchmarkResult, failure, models_where, resolve_models, velocity_driven
 
 __all__ = ["DEFAULT_MODELS", "REGIMES", "loop_metrics", "run_hysteresis"]
 
@@ -36,8 +36,7 @@ OPTIONS = SolverOptions(rtol=1e-8, atol=1e-12, h_max=2e-3, dt_out=1e-3, max_step
 
 DEFAULT_MODELS = ("tanh", "dahl", "lugre", "elastoplastic", "mykhailevych2020")
 #: velocity-driven rig: the switching models (stuck = zero force) do not apply
-APPLICABLE = ("tanh", "stribeck", "rotational-friction", "dahl", "lugre", "elastoplastic",
-              "gms", "mykhailevych2020")
+APPLICABLE = models_where(velocity_driven)
 
 
 def loop_metrics(res, period: float = 1.0 / FREQ) -> dict:

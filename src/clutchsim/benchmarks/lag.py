@@ -17,7 +17,7 @@ import numpy as np
 
 from ..core import Sine, SolverOptions
 from ..rig import run_rig
-from ._base import BenchmarkResult, failure, resolve_models
+from ._base import BenchmarkResult, failure, models_where, resolve_models, velocity_driven
 
 __all__ = ["DEFAULT_MODELS", "OMEGAS", "loop_width", "run_lag"]
 
@@ -28,8 +28,8 @@ OPTIONS = SolverOptions(rtol=1e-8, atol=1e-12, h_max=1e-3, max_steps=400_000,
                         wall_time=30.0)
 
 DEFAULT_MODELS = ("stribeck", "dahl", "lugre", "elastoplastic", "mykhailevych2020")
-APPLICABLE = ("tanh", "stribeck", "rotational-friction", "dahl", "lugre", "elastoplastic",
-              "gms", "mykhailevych2020")
+#: velocity-driven rig
+APPLICABLE = models_where(velocity_driven)
 
 
 def velocity_signal(omega: float):

@@ -9,7 +9,8 @@ Three steps, each a separate function so that the docs can be rebuilt without si
    (``yes``, ``no`` or ``n/a``), with the evidence and the rule used.  It is pure: no
    simulation, only arithmetic on the metrics and the named :class:`Thresholds`.
 3. :func:`build_report` collects metrics, verdicts, thresholds and the literature
-   expectation (:data:`LITERATURE`) into JSON-ready data; :func:`render_matrix` and
+   expectation (each model's declared ``phenomena``,
+   :class:`~clutchsim.friction.Expectation`) into JSON-ready data; :func:`render_matrix` and
    :func:`render_model_section` render Markdown from that data alone, and
    :func:`splice_section` puts a rendered section into a model page between
    :data:`BEGIN_MARKER` and :data:`END_MARKER`.
@@ -53,13 +54,14 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ..core import Outcome
+from ..friction import MODELS
+from ..friction import PHENOMENA as _PHENOMENA
 from ._base import freeze, thaw
 
 __all__ = [
     "BEGIN_MARKER",
     "BENCHES",
     "END_MARKER",
-    "LITERATURE",
     "NOTES",
     "PHENOMENA",
     "THRESHOLDS",
@@ -81,15 +83,9 @@ __all__ = [
     "verdicts_from_report",
 ]
 
-#: phenomenon key -> title, in the order of the matrix columns
-PHENOMENA: Mapping[str, str] = MappingProxyType({
-    "stiction": "Stiction",
-    "stribeck": "Stribeck effect",
-    "presliding": "Pre-sliding displacement",
-    "lag": "Frictional lag",
-    "varying_breakaway": "Varying break-away force",
-    "no_drift": "No drift under biased vibration",
-})
+#: phenomenon key -> title, in the order of the matrix columns (the models' vocabulary,
+#: :data:`clutchsim.friction.PHENOMENA`)
+PHENOMENA: Mapping[str, str] = MappingProxyType(dict(_PHENOMENA))
 
 #: the benchmarks :func:`measure_model` runs
 BENCHES = ("curves", "drift", "breakaway", "presliding", "lag")
@@ -700,62 +696,6 @@ def classify(metrics: ModelMetrics, thresholds: Thresholds = THRESHOLDS
 
 # --------------------------------------------------------------------------- literature
 
-#: Literature expectation per model and phenomenon, as the model pages stated it before
-#: the measurement: ``(category, text)`` with category ``"yes"``, ``"no"`` or
-#: ``"depends"`` (on a parameter or an option).  Used only for the comparison column,
-#: never by the rules.
-LITERATURE: Mapping[str, Mapping[str, tuple[str, str]]] = MappingProxyType({
-    "coulomb-naive": {
-        "stiction": ("yes", "yes (in theory; chatters numerically at lock-up)"),
-        "stribeck": ("no", "no"), "presliding": ("no", "no"), "lag": ("no", "no"),
-        "varying_breakaway": ("no", "no"),
-        "no_drift": ("yes", "yes (stuck means frozen) if the solver could stick")},
-    "coulomb-robust": {
-        "stiction": ("yes", "yes"), "stribeck": ("depends", "optional (static)"),
-        "presliding": ("no", "no"), "lag": ("no", "no"), "varying_breakaway": ("no", "no"),
-        "no_drift": ("yes", "yes (stuck means frozen)")},
-    "karnopp": {
-        "stiction": ("yes", "yes"), "stribeck": ("no", "no"), "presliding": ("no", "no"),
-        "lag": ("no", "no"), "varying_breakaway": ("no", "no"),
-        "no_drift": ("yes", "yes (within the window the body is held)")},
-    "tanh": {
-        "stiction": ("no", "no (creep)"), "stribeck": ("no", "no"),
-        "presliding": ("no", "no"), "lag": ("no", "no"), "varying_breakaway": ("no", "no"),
-        "no_drift": ("no", "no")},
-    "stribeck": {
-        "stiction": ("no", "no (creep; needs a switch)"), "stribeck": ("yes", "yes"),
-        "presliding": ("no", "no"), "lag": ("no", "no"), "varying_breakaway": ("no", "no"),
-        "no_drift": ("no", "no")},
-    "rotational-friction": {
-        "stiction": ("no", "no (creep)"), "stribeck": ("yes", "yes"),
-        "presliding": ("no", "no"), "lag": ("no", "no"), "varying_breakaway": ("no", "no"),
-        "no_drift": ("no", "no")},
-    "dahl": {
-        "stiction": ("no", "no"), "stribeck": ("no", "no"), "presliding": ("yes", "yes"),
-        "lag": ("no", "no"), "varying_breakaway": ("no", "no"),
-        "no_drift": ("no", "no (16.7 µm/cycle in drift test D1)")},
-    "lugre": {
-        "stiction": ("yes", "yes"), "stribeck": ("yes", "yes"), "presliding": ("yes", "yes"),
-        "lag": ("yes", "yes"), "varying_breakaway": ("yes", "yes"),
-        "no_drift": ("no", "no (6.64 µm/cycle in drift test D1)")},
-    "elastoplastic": {
-        "stiction": ("yes", "yes"), "stribeck": ("yes", "yes"),
-        "presliding": ("yes", "yes (true elastic zone)"), "lag": ("yes", "yes"),
-        "varying_breakaway": ("yes", "yes"),
-        "no_drift": ("yes", ("yes while |F| < sigma0·z_ba (0 in drift test D1 with "
-                            "z_ba = 0.95 F_c/sigma0)"))},
-    "gms": {
-        "stiction": ("yes", "yes"), "stribeck": ("yes", "yes"),
-        "presliding": ("yes", "yes (with non-local memory)"), "lag": ("yes", "yes"),
-        "varying_breakaway": ("yes", "yes"),
-        "no_drift": ("yes", "yes in pre-sliding (literature, unverified)")},
-    "mykhailevych2020": {
-        "stiction": ("yes", "yes (capacity T_stat)"), "stribeck": ("yes", "yes"),
-        "presliding": ("yes", "yes (tanh spring)"), "lag": ("depends", "via k_v only"),
-        "varying_breakaway": ("no", "no"),
-        "no_drift": ("depends", "only with a clamp-type reset")},
-})
-
 #: Explanations of measured verdicts that differ from (or qualify) the literature
 #: expectation: ``(model, phenomenon) -> (measured verdict, text)``.  A note is shown only
 #: while the measured verdict equals the one it was written for, so it cannot outlive
@@ -850,7 +790,7 @@ def build_report(metrics: Sequence[ModelMetrics], *, version: str, date: str,
         name = m.model.split(",")[0].split(":")[0]
         verdicts = classify(m, thresholds)
         rules = {k: v.rule for k, v in verdicts.items()}
-        lit = LITERATURE.get(name, {})
+        lit = MODELS[name].phenomena if name in MODELS else {}
         models[m.model] = {
             "description": m.description,
             "metrics": m.to_dict()["benchmarks"],

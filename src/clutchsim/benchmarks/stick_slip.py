@@ -22,7 +22,14 @@ import numpy as np
 
 from ..core import SolverOptions
 from ..rig import run_rig
-from ._base import BenchmarkResult, crossing_times, failure, resolve_models
+from ._base import (
+    BenchmarkResult,
+    crossing_times,
+    failure,
+    force_driven,
+    models_where,
+    resolve_models,
+)
 
 __all__ = [
     "APPLICABLE",
@@ -39,8 +46,8 @@ OPTIONS = SolverOptions(rtol=1e-8, atol=1e-10, h_max=1e-2, max_steps=400_000, wa
 
 DEFAULT_MODELS = ("coulomb-robust", "lugre", "elastoplastic",
                   "mykhailevych2020")
-APPLICABLE = ("coulomb-naive", "coulomb-robust", "karnopp", "tanh", "stribeck", "dahl",
-              "lugre", "elastoplastic", "gms", "mykhailevych2020")
+#: force-driven rig (a spring pulled at a few newtons)
+APPLICABLE = models_where(force_driven)
 #: [C] friction-models.md T5 (LuGre Table I, independent re-implementation)
 REFERENCES = {"lugre": {"period_s": 6.3627, "first_slip_s": 7.540, "force_min_N": 0.7412,
                         "force_max_N": 1.5080, "peak_velocity_m_s": 0.3698}}

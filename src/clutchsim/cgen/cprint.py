@@ -1,7 +1,7 @@
 """Print a generated network plant as C: one printer over the plant's own Python source.
 
 The generated plant module (:mod:`clutchsim.network.codegen`) and the compiled helpers it
-calls (the friction models' ``<module>_force/_jacobian/_events/_reset`` kernels, their
+calls (the kernels the friction models declare, ``FrictionModel.kernels``, their
 shared helpers, :func:`~clutchsim.network._kernels.table` and
 :func:`~clutchsim.network._kernels.lock_solve`) are written in a small subset of Python that
 numba compiles.  :func:`print_c` reads the same source (its :mod:`ast`) and prints it as

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..friction.base import FrictionModel
 from ..friction.coulomb_robust import CoulombRobust
-from ..network.components.friction import TABLE_LOW, static_capacity
+from ..network.components.friction import TABLE_LOW
 from ..network.components.lossy_gear import LOSS_COLUMNS, check_loss_table
 from ..network.spec import check_table
 
@@ -32,7 +32,6 @@ __all__ = [
     "ThermalNode",
     "Vehicle",
     "has_losses",
-    "static_capacity",
 ]
 
 #: relative hysteresis of the one-way clutch (Modelica's ``eps0``): with the clutch open the

@@ -2,13 +2,23 @@
 
 Every model is a frozen dataclass of SI parameters (see
 :mod:`clutchsim.friction.base` for the sign, unit and ``scale`` conventions)
-whose compiled kernels are reached through :func:`friction_force`,
-:func:`friction_events` and :func:`friction_reset` with the model's integer
-``code`` and packed parameters ``model.pack()``; :func:`friction_jacobian` adds the
-exact partial derivatives of the force and of the state derivatives.
+whose compiled kernels are declared on its class (``kernels``) and reached through
+:func:`friction_force`, :func:`friction_events` and :func:`friction_reset` with the model's
+integer ``code`` (given by the registry) and packed parameters ``model.pack()``;
+:func:`friction_jacobian` adds the exact partial derivatives of the force and of the state
+derivatives.  A model declares its capabilities in one place, its class (see
+:class:`FrictionModel` and the recipe ``docs/models/README.md``).
 """
 
-from .base import FrictionModel, FrictionReset, SelfExcitedWarning
+from .base import (
+    PHENOMENA,
+    Expectation,
+    FrictionKernels,
+    FrictionModel,
+    FrictionReset,
+    Scales,
+    SelfExcitedWarning,
+)
 from .coulomb_naive import CoulombNaive
 from .coulomb_robust import CoulombRobust
 from .dahl import Dahl
@@ -42,11 +52,14 @@ from .tanh import TanhFriction
 __all__ = [
     "GMS",
     "MODELS",
+    "PHENOMENA",
     "RESET_POLICIES",
     "CoulombNaive",
     "CoulombRobust",
     "Dahl",
     "ElastoPlastic",
+    "Expectation",
+    "FrictionKernels",
     "FrictionModel",
     "FrictionReset",
     "Karnopp",
@@ -55,6 +68,7 @@ __all__ = [
     "ParameterSet",
     "ParameterSource",
     "RotationalFriction",
+    "Scales",
     "SelfExcitedWarning",
     "StribeckFriction",
     "TanhFriction",

@@ -55,8 +55,22 @@ Compiled kernels
     Two points where the exact slope is infinite get 0 instead (the Stribeck slope at
     ``v = 0`` for an exponent ``delta < 1``; Dahl with ``alpha < 1`` at steady sliding);
     each model's page in ``docs/models`` states its nonsmooth points.
-:func:`~clutchsim.friction.kernels.friction_force`, ``friction_jacobian``, ``friction_events``, ``friction_reset``
-    dispatch on the model's integer ``code``.
+A model hands its kernels to the rest of clutchsim as explicit references
+(:class:`FrictionKernels`, the class variable ``kernels``): generated plants call them
+directly; :func:`~clutchsim.friction.kernels.friction_force`, ``friction_jacobian``,
+``friction_events`` and ``friction_reset`` dispatch on the model's integer ``code`` (its
+place in :data:`~clutchsim.friction.registry.MODELS`, given by the registry) and are
+generated from the registry (:mod:`clutchsim.friction.kernels`).
+
+Capabilities
+------------
+Everything the rest of clutchsim needs to know about a model is declared on its class (the
+recipe for a new model is ``docs/models/README.md``): ``uses_stick_force``,
+``smooth_at_events``, ``passive``, ``lockable``, ``jumps``, the ``kernels``, the
+``phenomena`` it shows by the literature (:data:`PHENOMENA` is the one vocabulary),
+:meth:`FrictionModel.static_capacity` and :meth:`FrictionModel.typical_scales` (the scales
+tests and benchmarks draw and compare with), and ``steady_checks``, steady sliding forces
+written out independently of the model's code.
 """
 
 from __future__ import annotations
@@ -65,11 +79,12 @@ import abc
 import dataclasses
 import enum
 import math
-from typing import Any, ClassVar
+from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
-__all__ = ["DOMAINS", "UNIT_KINDS", "FrictionModel", "FrictionReset", "SelfExcitedWarning"]
+__all__ = ["DOMAINS", "PHENOMENA", "UNIT_KINDS", "Expectation", "FrictionKernels",
+           "FrictionModel", "FrictionReset", "Scales", "SelfExcitedWarning"]
 
 
 class FrictionReset(enum.IntEnum):
@@ -105,6 +120,64 @@ UNIT_KINDS: dict[str, tuple[str, str]] = {
 }
 
 
+#: the classic friction phenomena (key -> title), in the order of the phenomena matrix: the
+#: one vocabulary of the models' ``phenomena`` and of :mod:`clutchsim.benchmarks.phenomena`
+PHENOMENA: dict[str, str] = {
+    "stiction": "Stiction",
+    "stribeck": "Stribeck effect",
+    "presliding": "Pre-sliding displacement",
+    "lag": "Frictional lag",
+    "varying_breakaway": "Varying break-away force",
+    "no_drift": "No drift under biased vibration",
+}
+
+#: categories of a literature expectation
+EXPECTED = ("yes", "no", "depends")
+
+
+class Expectation(NamedTuple):
+    """What the literature says about one phenomenon of a model: ``expected`` is ``"yes"``,
+    ``"no"`` or ``"depends"`` (on a parameter or an option), ``text`` the statement as the
+    model's page gives it (with its numbers where the literature has them)."""
+
+    expected: str
+    text: str
+
+
+class Scales(NamedTuple):
+    """Typical magnitudes of a model with its parameters: ``force`` [N or N·m], ``velocity``
+    [m/s or rad/s] (where the force changes), ``states`` (one per state, in its unit).
+    Tests draw their points and size their tolerances with them."""
+
+    force: float
+    velocity: float
+    states: tuple[float, ...]
+
+
+@dataclasses.dataclass(frozen=True)
+class FrictionKernels:
+    """The compiled kernels a model provides (see the module docstring for their
+    signatures): ``force`` and ``jacobian`` always, ``events`` and ``reset`` for a model
+    with events (None otherwise).  Plants and the generated dispatchers call these very
+    functions; nothing is looked up by name."""
+
+    force: Any
+    jacobian: Any
+    events: Any = None
+    reset: Any = None
+
+    def __post_init__(self) -> None:
+        if (self.events is None) != (self.reset is None):
+            raise TypeError("FrictionKernels: events and reset come together (both or none)")
+
+    def get(self, kind: str) -> Any:
+        """The kernel of ``kind`` ("force", "jacobian", "events" or "reset")."""
+        fn = getattr(self, kind)
+        if fn is None:
+            raise ValueError(f"the model has no {kind} kernel")
+        return fn
+
+
 class SelfExcitedWarning(UserWarning):
     """The locked (stuck) state of a model is self-excited (negative damping)."""
 
@@ -120,24 +193,33 @@ class FrictionModel(abc.ABC):
 
     Concrete models are final frozen dataclasses whose fields are the physical
     parameters (translational SI units). They declare, as class variables,
-    ``name`` (registry name), ``code`` (integer used by the compiled
-    dispatchers), ``citation``, ``parameter_info`` (``{parameter: (unit kind,
-    description)}``), ``phenomena`` (the expected entries of the phenomena
-    matrix), ``default_parameter_set`` and ``event_spec`` (``((name,
+    ``name`` (registry name), ``citation``, ``parameter_info`` (``{parameter: (unit kind,
+    description)}``), ``phenomena`` (``{phenomenon: Expectation}`` over every key of
+    :data:`PHENOMENA`), ``default_parameter_set``, ``kernels``
+    (:class:`FrictionKernels`), ``steady_checks`` and ``event_spec`` (``((name,
     direction), ...)``; a property where the events follow an option, as model (6)'s
-    reset policy ``stop`` has none). They implement five small hooks: ``_check`` (model
-    specific validation), ``_pack`` (private parameter layout read by the
-    kernels), ``_state_spec`` (state names and unit kinds) and ``_steady``
-    (steady sliding force at ``scale = 1``) and ``_sliding_state`` (states in
-    steady sliding).
+    reset policy ``stop`` has none), plus the capability flags below. They implement
+    small hooks: ``_check`` (model specific validation), ``_pack`` (private parameter
+    layout read by the kernels), ``_state_spec`` (state names and unit kinds),
+    ``_steady`` (steady sliding force at ``scale = 1``), ``_sliding_state`` (states in
+    steady sliding), :meth:`static_capacity` and :meth:`typical_scales`.
+    The integer ``code`` of the compiled dispatchers is not declared: the registry gives
+    it (the model's place in :data:`~clutchsim.friction.registry.MODELS`, from 1).
     """
 
     name: ClassVar[str]
+    #: given by the registry (:func:`clutchsim.friction.registry.register`), never by hand
     code: ClassVar[int]
     citation: ClassVar[str]
     parameter_info: ClassVar[dict[str, tuple[str, str]]]
-    phenomena: ClassVar[dict[str, str]]
+    phenomena: ClassVar[dict[str, Expectation]]
     default_parameter_set: ClassVar[str]
+    kernels: ClassVar[FrictionKernels]
+    #: ``((v, F), ...)``: steady sliding forces ``F`` [N or N·m] at slip velocities ``v``
+    #: with the default parameter set at ``scale = 1``, written out independently of the
+    #: model's code (by hand from the formula, or the literature's table); the tests compare
+    #: :meth:`steady_state_force` with them
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]]
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = ()
     #: does the force read the stick force ``F_e``?  (plants skip computing it otherwise;
     #: :func:`clutchsim.friction.kernels.uses_stick_force` is the compiled twin)
@@ -153,8 +235,13 @@ class FrictionModel(abc.ABC):
     #: Karnopp's stick band (its stick force acts at small non-zero slips)
     passive: ClassVar[bool] = False
     #: is the model a stick/slip state machine (one state, the mode: −1 backward, 0 stuck,
-    #: +1 forward) whose stuck mode the plant locks and frees?  (coulomb-robust)
-    hybrid: ClassVar[bool] = False
+    #: +1 forward; a discrete state, changed only by its reset) whose stuck mode the plant
+    #: locks and frees?  Its events are ``stop`` (0) and ``breakaway`` (1).  (coulomb-robust)
+    lockable: ClassVar[bool] = False
+    #: does the force jump at zero slip outside any event logic (a discontinuous force with
+    #: no useful derivative there)?  Plants then difference their Jacobian instead of using
+    #: the exact one, and chatter detection stops a run at lock-up.  (coulomb-naive)
+    jumps: ClassVar[bool] = False
 
     # ------------------------------------------------------------------ hooks
     @abc.abstractmethod
@@ -176,6 +263,17 @@ class FrictionModel(abc.ABC):
     @abc.abstractmethod
     def _sliding_state(self, v: float) -> list[float]:
         """States in steady sliding at velocity ``v`` (``v != 0``)."""
+
+    @abc.abstractmethod
+    def static_capacity(self) -> float:
+        """The largest force the model holds a body at rest with, at ``scale = 1`` [N or
+        N·m] (a clutch's static torque capacity: its ``capacity_<name>`` output, and the
+        limit of its ``stick_over_capacity`` check)."""
+
+    @abc.abstractmethod
+    def typical_scales(self) -> Scales:
+        """Typical force, velocity and state magnitudes (:class:`Scales`) with these
+        parameters."""
 
     # ------------------------------------------------------------ validation
     def __post_init__(self) -> None:

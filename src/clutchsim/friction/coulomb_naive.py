@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import RESET_NONE, FrictionModel
+from .base import RESET_NONE, Expectation, FrictionKernels, FrictionModel, Scales
 
 __all__ = [
     "CoulombNaive",
@@ -51,9 +51,9 @@ class CoulombNaive(FrictionModel):
     F_s: float
 
     name: ClassVar[str] = "coulomb-naive"
-    code: ClassVar[int] = 1
     passive: ClassVar[bool] = True
     uses_stick_force: ClassVar[bool] = True
+    jumps: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Mykhailevych M.G., Model of friction for dry friction clutch working process "
         "simulation, Avtomobil i elektronika. Suchasni tekhnolohii, no. 18, 2020, eqs. (1)-(3); "
@@ -63,16 +63,31 @@ class CoulombNaive(FrictionModel):
         "F_c": ("force", "Coulomb (dynamic) friction level"),
         "F_s": ("force", "static friction level (largest stick force)"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "yes (in theory; chatters numerically at lock-up)",
-        "stribeck": "no",
-        "presliding": "no",
-        "frictional_lag": "no",
-        "varying_breakaway": "no",
-        "no_drift": "yes (stuck means frozen) if the solver could stick",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("yes", "yes (in theory; chatters numerically at lock-up)"),
+        "stribeck": Expectation("no", "no"),
+        "presliding": Expectation("no", "no"),
+        "lag": Expectation("no", "no"),
+        "varying_breakaway": Expectation("no", "no"),
+        "no_drift": Expectation("yes", "yes (stuck means frozen) if the solver could stick"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -1.0),
+        (0.0005, 1.0),
+        (0.002, 1.0),
+        (0.3, 1.0),
+    )
     default_parameter_set: ClassVar[str] = "coulomb"
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (("velocity_zero_crossing", 0),)
+
+    def static_capacity(self) -> float:
+        """The static level ``F_s`` [N or N·m]."""
+        return self.F_s
+
+    def typical_scales(self) -> Scales:
+        #: (a chosen 1 mm/s: the model has no velocity parameter)
+        return Scales(self.F_c, 1e-3, ())
 
     def _check(self) -> None:
         self._require(self.F_c >= 0.0, "F_c", ">= 0")
@@ -117,3 +132,8 @@ def coulomb_naive_events(p, z, v, F_e, scale, g):
 @jit
 def coulomb_naive_reset(p, z, v, F_e, scale, k):
     return RESET_NONE
+
+
+#: the kernels CoulombNaive provides (compiled code calls exactly these)
+CoulombNaive.kernels = FrictionKernels(force=coulomb_naive_force, jacobian=coulomb_naive_jacobian, events=coulomb_naive_events,
+                                 reset=coulomb_naive_reset)

@@ -9,7 +9,16 @@ import numpy as np
 
 from .._jit import jit
 from ._common import NO_EVENT, clip, clip_partials, sgn, stribeck_level, stribeck_partials
-from .base import RESET_CHANGED, RESET_NONE, RESET_RELEASED, RESET_STUCK, FrictionModel
+from .base import (
+    RESET_CHANGED,
+    RESET_NONE,
+    RESET_RELEASED,
+    RESET_STUCK,
+    Expectation,
+    FrictionKernels,
+    FrictionModel,
+    Scales,
+)
 
 __all__ = [
     "CoulombRobust",
@@ -80,9 +89,8 @@ class CoulombRobust(FrictionModel):
     sigma2: float = 0.0
 
     name: ClassVar[str] = "coulomb-robust"
-    code: ClassVar[int] = 2
     passive: ClassVar[bool] = True
-    hybrid: ClassVar[bool] = True
+    lockable: ClassVar[bool] = True
     uses_stick_force: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Olsson H., Åström K.J., Canudas de Wit C., Gäfvert M., Lischinsky P., Friction models "
@@ -96,16 +104,30 @@ class CoulombRobust(FrictionModel):
         "delta": ("1", "Stribeck exponent"),
         "sigma2": ("force/velocity", "viscous friction coefficient"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "yes",
-        "stribeck": "optional (static)",
-        "presliding": "no",
-        "frictional_lag": "no",
-        "varying_breakaway": "no",
-        "no_drift": "yes (stuck means frozen)",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("yes", "yes"),
+        "stribeck": Expectation("depends", "optional (static)"),
+        "presliding": Expectation("no", "no"),
+        "lag": Expectation("no", "no"),
+        "varying_breakaway": Expectation("no", "no"),
+        "no_drift": Expectation("yes", "yes (stuck means frozen)"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -1.0),
+        (0.0005, 1.0),
+        (0.002, 1.0),
+        (0.3, 1.0),
+    )
     default_parameter_set: ClassVar[str] = "coulomb"
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (("stop", -1), ("breakaway", -1))
+
+    def static_capacity(self) -> float:
+        """The static level ``F_s`` [N or N·m]."""
+        return self.F_s
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, self.v_s if self.v_s > 0.0 else 1e-3, (1.0,))
 
     def _check(self) -> None:
         self._require(self.F_c >= 0.0, "F_c", ">= 0")
@@ -200,3 +222,8 @@ def coulomb_robust_reset(p, z, v, F_e, scale, k):
         z[0] = direction
         return RESET_RELEASED
     return RESET_NONE
+
+
+#: the kernels CoulombRobust provides (compiled code calls exactly these)
+CoulombRobust.kernels = FrictionKernels(force=coulomb_robust_force, jacobian=coulomb_robust_jacobian, events=coulomb_robust_events,
+                                 reset=coulomb_robust_reset)

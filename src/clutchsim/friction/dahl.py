@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn, sgn_right
-from .base import FrictionModel
+from .base import Expectation, FrictionKernels, FrictionModel, Scales
 
 __all__ = ["Dahl", "dahl_force", "dahl_jacobian"]
 
@@ -46,7 +46,6 @@ class Dahl(FrictionModel):
     alpha: float = 1.0
 
     name: ClassVar[str] = "dahl"
-    code: ClassVar[int] = 7
     citation: ClassVar[str] = (
         "Dahl P.R., A solid friction model, The Aerospace Corporation, El Segundo, CA, "
         "Technical Report TOR-0158(3107-18)-1, 1968."
@@ -56,15 +55,29 @@ class Dahl(FrictionModel):
         "sigma0": ("force/displacement", "rest stiffness"),
         "alpha": ("1", "shape exponent of the Dahl curve"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "no",
-        "stribeck": "no",
-        "presliding": "yes",
-        "frictional_lag": "no",
-        "varying_breakaway": "no",
-        "no_drift": "no (16.7 µm/cycle in drift test D1)",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("no", "no"),
+        "stribeck": Expectation("no", "no"),
+        "presliding": Expectation("yes", "yes"),
+        "lag": Expectation("no", "no"),
+        "varying_breakaway": Expectation("no", "no"),
+        "no_drift": Expectation("no", "no (16.7 µm/cycle in drift test D1)"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -1.0),
+        (0.0005, 1.0),
+        (0.002, 1.0),
+        (0.3, 1.0),
+    )
     default_parameter_set: ClassVar[str] = "dahl_d1"
+
+    def static_capacity(self) -> float:
+        """The Coulomb level ``F_c`` [N or N·m]."""
+        return self.F_c
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, 1e-3, (self.F_c / self.sigma0,))
 
     def _check(self) -> None:
         self._require(self.F_c > 0.0, "F_c", "> 0")
@@ -114,3 +127,7 @@ def dahl_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     Jz[0, 1] = phi
     dF[0], dF[1], dF[2], dF[3] = scale * p[1], 0.0, 0.0, p[1] * z[0]
     return F
+
+
+#: the kernels Dahl provides (compiled code calls exactly these)
+Dahl.kernels = FrictionKernels(force=dahl_force, jacobian=dahl_jacobian)

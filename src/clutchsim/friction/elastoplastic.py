@@ -10,7 +10,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn, sgn_right, stribeck_level, stribeck_partials
-from .base import FrictionModel
+from .base import Expectation, FrictionKernels, FrictionModel, Scales
 
 __all__ = ["ElastoPlastic", "elastoplastic_force", "elastoplastic_jacobian"]
 
@@ -57,7 +57,6 @@ class ElastoPlastic(FrictionModel):
     delta: float = 2.0
 
     name: ClassVar[str] = "elastoplastic"
-    code: ClassVar[int] = 9
     citation: ClassVar[str] = (
         "Dupont P., Hayward V., Armstrong B., Altpeter F., Single state elastoplastic friction "
         "models, IEEE Transactions on Automatic Control 47(5):787-792, 2002, "
@@ -73,15 +72,29 @@ class ElastoPlastic(FrictionModel):
         "z_ba": ("displacement", "break-away displacement (end of the elastic zone)"),
         "delta": ("1", "Stribeck exponent"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "yes",
-        "stribeck": "yes",
-        "presliding": "yes (true elastic zone)",
-        "frictional_lag": "yes",
-        "varying_breakaway": "yes",
-        "no_drift": "yes while |F| < sigma0·z_ba (0 in drift test D1 with z_ba = 0.95 F_c/sigma0)",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("yes", "yes"),
+        "stribeck": Expectation("yes", "yes"),
+        "presliding": Expectation("yes", "yes (true elastic zone)"),
+        "lag": Expectation("yes", "yes"),
+        "varying_breakaway": Expectation("yes", "yes"),
+        "no_drift": Expectation("yes", "yes while |F| < sigma0·z_ba (0 in drift test D1 with z_ba = 0.95 F_c/sigma0)"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -1.008),
+        (0.0005, 1.3896003915357025),
+        (0.002, 1.009957819444367),
+        (0.3, 1.12),
+    )
     default_parameter_set: ClassVar[str] = "elastoplastic_dupont2002"
+
+    def static_capacity(self) -> float:
+        """The static level ``F_s`` [N or N·m]."""
+        return self.F_s
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, self.v_s, (self.F_c / self.sigma0,))
 
     def _check(self) -> None:
         self._require(self.F_c > 0.0, "F_c", "> 0")
@@ -173,3 +186,7 @@ def elastoplastic_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     dF[2] = 0.0
     dF[3] = p[3] * zj + p[4] * dz[0] + p[5] * v
     return F
+
+
+#: the kernels ElastoPlastic provides (compiled code calls exactly these)
+ElastoPlastic.kernels = FrictionKernels(force=elastoplastic_force, jacobian=elastoplastic_jacobian)

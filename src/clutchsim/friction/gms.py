@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn, stribeck_level, stribeck_partials
-from .base import FrictionModel
+from .base import Expectation, FrictionKernels, FrictionModel, Scales
 
 __all__ = ["GMS", "gms_force", "gms_jacobian"]
 
@@ -88,7 +88,6 @@ class GMS(FrictionModel):
     stick_band: float = 0.01
 
     name: ClassVar[str] = "gms"
-    code: ClassVar[int] = 10
     citation: ClassVar[str] = (
         "Al-Bender F., Lampaert V., Swevers J., The generalized Maxwell-slip model: a novel "
         "model for friction simulation and compensation, IEEE Transactions on Automatic "
@@ -106,15 +105,29 @@ class GMS(FrictionModel):
         "delta": ("1", "Stribeck exponent"),
         "stick_band": ("1", "relative width of the stick-to-slip blend (numerical)"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "yes",
-        "stribeck": "yes",
-        "presliding": "yes (with non-local memory)",
-        "frictional_lag": "yes",
-        "varying_breakaway": "yes",
-        "no_drift": "yes in pre-sliding (literature, unverified)",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("yes", "yes"),
+        "stribeck": Expectation("yes", "yes"),
+        "presliding": Expectation("yes", "yes (with non-local memory)"),
+        "lag": Expectation("yes", "yes"),
+        "varying_breakaway": Expectation("yes", "yes"),
+        "no_drift": Expectation("yes", "yes in pre-sliding (literature, unverified)"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -1.008),
+        (0.0005, 1.3896003915357025),
+        (0.002, 1.009957819444367),
+        (0.3, 1.12),
+    )
     default_parameter_set: ClassVar[str] = "gms_illustrative"
+
+    def static_capacity(self) -> float:
+        """The static level ``F_s`` [N or N·m]."""
+        return self.F_s
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, self.v_s, tuple(a * self.F_s / k for a, k in zip(self.alpha, self.k)))
 
     def _check(self) -> None:
         self._require(len(self.k) >= 1, "k", "a non-empty sequence")
@@ -214,3 +227,7 @@ def gms_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
         total += p[9 + i] * z[i] + p[6] * d
     dF[n], dF[n + 1], dF[n + 2] = scale * dF_dv, 0.0, total + p[7] * v
     return F
+
+
+#: the kernels GMS provides (compiled code calls exactly these)
+GMS.kernels = FrictionKernels(force=gms_force, jacobian=gms_jacobian)

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import FrictionModel
+from .base import Expectation, FrictionKernels, FrictionModel, Scales
 
 __all__ = ["Karnopp", "karnopp_force", "karnopp_jacobian"]
 
@@ -49,7 +49,6 @@ class Karnopp(FrictionModel):
     sigma2: float = 0.0
 
     name: ClassVar[str] = "karnopp"
-    code: ClassVar[int] = 3
     uses_stick_force: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Karnopp D., Computer simulation of stick-slip friction in mechanical dynamic systems, "
@@ -61,15 +60,29 @@ class Karnopp(FrictionModel):
         "DV": ("velocity", "half-width of the velocity window treated as zero"),
         "sigma2": ("force/velocity", "viscous friction coefficient"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "yes",
-        "stribeck": "no",
-        "presliding": "no",
-        "frictional_lag": "no",
-        "varying_breakaway": "no",
-        "no_drift": "yes (within the window the body is held)",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("yes", "yes"),
+        "stribeck": Expectation("no", "no"),
+        "presliding": Expectation("no", "no"),
+        "lag": Expectation("no", "no"),
+        "varying_breakaway": Expectation("no", "no"),
+        "no_drift": Expectation("yes", "yes (within the window the body is held)"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -1.008),
+        (0.0005, 1.0002),
+        (0.002, 1.0008),
+        (0.3, 1.12),
+    )
     default_parameter_set: ClassVar[str] = "karnopp"
+
+    def static_capacity(self) -> float:
+        """The static level ``F_s`` [N or N·m]."""
+        return self.F_s
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, self.DV, ())
 
     def _check(self) -> None:
         self._require(self.F_c >= 0.0, "F_c", ">= 0")
@@ -107,3 +120,7 @@ def karnopp_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     else:
         dF[0], dF[1], dF[2] = scale * p[3], 0.0, p[0] * sgn(v) + p[3] * v
     return F
+
+
+#: the kernels Karnopp provides (compiled code calls exactly these)
+Karnopp.kernels = FrictionKernels(force=karnopp_force, jacobian=karnopp_jacobian)

@@ -1,42 +1,24 @@
-"""Compiled dispatchers over all friction models (plain if/elif on ``code``).
+"""Compiled dispatchers over all friction models, generated from the registry.
 
-The integer codes are the ``code`` class variables of the model classes:
-1 coulomb-naive, 2 coulomb-robust, 3 karnopp, 4 tanh, 5 stribeck,
-6 rotational-friction, 7 dahl, 8 lugre, 9 elastoplastic, 10 gms,
-11 mykhailevych2020. See :mod:`clutchsim.friction.base` for the meaning of
-the arguments.
+:func:`friction_force`, :func:`friction_jacobian`, :func:`friction_events` and
+:func:`friction_reset` call the kernel of the model whose integer ``code`` they are given
+(:data:`~clutchsim.friction.registry.MODELS` gives the codes: a model's place there, from
+1); :func:`uses_stick_force` and :func:`smooth_at_events` are the compiled twins of the
+class variables of the same names.  Nothing here names a model: each dispatcher is a chain
+of small compiled links, one per model that provides the kernel (its ``kernels``
+declaration, :class:`~clutchsim.friction.base.FrictionKernels`), built when this module is
+imported.  Every link is inlined into its caller, so where ``code`` is a compile-time
+constant (the rig) the chain folds to the one kernel call.  See
+:mod:`clutchsim.friction.base` for the meaning of the arguments.
 """
 
 from __future__ import annotations
 
+import numpy as np
+
 from .._jit import jit
 from .base import RESET_NONE
-from .coulomb_naive import (
-    coulomb_naive_events,
-    coulomb_naive_force,
-    coulomb_naive_jacobian,
-    coulomb_naive_reset,
-)
-from .coulomb_robust import (
-    coulomb_robust_events,
-    coulomb_robust_force,
-    coulomb_robust_jacobian,
-    coulomb_robust_reset,
-)
-from .dahl import dahl_force, dahl_jacobian
-from .elastoplastic import elastoplastic_force, elastoplastic_jacobian
-from .gms import gms_force, gms_jacobian
-from .karnopp import karnopp_force, karnopp_jacobian
-from .lugre import lugre_force, lugre_jacobian
-from .mykhailevych2020 import (
-    mykhailevych2020_events,
-    mykhailevych2020_force,
-    mykhailevych2020_jacobian,
-    mykhailevych2020_reset,
-)
-from .rotational_friction import rotational_friction_force, rotational_friction_jacobian
-from .stribeck import stribeck_force, stribeck_jacobian
-from .tanh import tanh_force, tanh_jacobian
+from .registry import MODELS
 
 __all__ = [
     "friction_events",
@@ -48,12 +30,24 @@ __all__ = [
 ]
 
 
+def _flag_table(flag: str) -> np.ndarray:
+    """``table[code]``: the class variable ``flag`` of the model of each code (0: none)."""
+    table = np.zeros(len(MODELS) + 1, dtype=np.bool_)
+    for cls in MODELS.values():
+        table[cls.code] = getattr(cls, flag)
+    return table
+
+
+_STICK = _flag_table("uses_stick_force")
+_SMOOTH = _flag_table("smooth_at_events")
+
+
 @jit(inline="always")
 def uses_stick_force(code):
     """Does model ``code``'s force read the stick force ``F_e``?  Only the switching
     models do (the class variable ``uses_stick_force``); for the others a plant can pass
     ``F_e = 0`` and skip computing it."""
-    return code == 1 or code == 2 or code == 3
+    return 0 < code < _STICK.shape[0] and _STICK[code]
 
 
 @jit(inline="always")
@@ -61,92 +55,100 @@ def smooth_at_events(code):
     """Is model ``code``'s force continuous across its event crossings when its reset
     changes nothing (the class variable ``smooth_at_events``)?  Plants then answer
     ``Action.PASS`` instead of ``Action.CONTINUE``."""
-    return code == 11
+    return 0 < code < _SMOOTH.shape[0] and _SMOOTH[code]
 
+
+# ------------------------------------------------------------------ the chains
+# One link per (model, kernel): ``if code == <its code>: return <its kernel>(...)``, else
+# the rest of the chain.  The links are closures over the model's code and kernel (numba
+# freezes both as constants); the end of each chain is the answer for an unknown code.
 
 @jit(inline="always")
-def friction_force(code, p, z, v, F_e, scale, dz):
-    """Friction force of model ``code``; writes the state derivatives into ``dz``.
-
-    Inlined into the caller: where ``code`` is a compile-time constant (the rig) the
-    dispatch folds to one kernel call, and no reference counts are taken for the arrays."""
-    if code == 8:
-        return lugre_force(p, z, v, F_e, scale, dz)
-    elif code == 11:
-        return mykhailevych2020_force(p, z, v, F_e, scale, dz)
-    elif code == 9:
-        return elastoplastic_force(p, z, v, F_e, scale, dz)
-    elif code == 10:
-        return gms_force(p, z, v, F_e, scale, dz)
-    elif code == 7:
-        return dahl_force(p, z, v, F_e, scale, dz)
-    elif code == 1:
-        return coulomb_naive_force(p, z, v, F_e, scale, dz)
-    elif code == 2:
-        return coulomb_robust_force(p, z, v, F_e, scale, dz)
-    elif code == 3:
-        return karnopp_force(p, z, v, F_e, scale, dz)
-    elif code == 4:
-        return tanh_force(p, z, v, F_e, scale, dz)
-    elif code == 5:
-        return stribeck_force(p, z, v, F_e, scale, dz)
-    elif code == 6:
-        return rotational_friction_force(p, z, v, F_e, scale, dz)
+def _no_force(code, p, z, v, F_e, scale, dz):
     return 0.0
 
 
 @jit(inline="always")
-def friction_jacobian(code, p, z, v, F_e, scale, dz, Jz, dF):
-    """Friction force of model ``code`` and its exact partial derivatives.
-
-    Returns the same force and writes the same ``dz`` as :func:`friction_force`, and writes
-    ``Jz[i, j] = d dz_i/d z_j`` (``j < nz``), ``Jz[i, nz] = d dz_i/d v`` and ``dF`` =
-    (dF/dz_0, ..., dF/dz_{nz-1}, dF/dv, dF/dF_e, dF/dscale); see
-    :mod:`clutchsim.friction.base`. Inlined like :func:`friction_force`."""
-    if code == 8:
-        return lugre_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
-    elif code == 11:
-        return mykhailevych2020_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
-    elif code == 9:
-        return elastoplastic_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
-    elif code == 10:
-        return gms_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
-    elif code == 7:
-        return dahl_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
-    elif code == 1:
-        return coulomb_naive_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
-    elif code == 2:
-        return coulomb_robust_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
-    elif code == 3:
-        return karnopp_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
-    elif code == 4:
-        return tanh_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
-    elif code == 5:
-        return stribeck_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
-    elif code == 6:
-        return rotational_friction_jacobian(p, z, v, F_e, scale, dz, Jz, dF)
+def _no_jacobian(code, p, z, v, F_e, scale, dz, Jz, dF):
     return 0.0
 
 
-@jit
-def friction_events(code, p, z, v, F_e, scale, g):
-    """Event-function values of model ``code`` into ``g`` (no-op without events)."""
-    if code == 11:
-        mykhailevych2020_events(p, z, v, F_e, scale, g)
-    elif code == 2:
-        coulomb_robust_events(p, z, v, F_e, scale, g)
-    elif code == 1:
-        coulomb_naive_events(p, z, v, F_e, scale, g)
+@jit(inline="always")
+def _no_events(code, p, z, v, F_e, scale, g):
+    return
 
 
-@jit
-def friction_reset(code, p, z, v, F_e, scale, k):
-    """Apply the reset of event ``k`` of model ``code``; returns a
-    :class:`~clutchsim.friction.base.FrictionReset` code."""
-    if code == 11:
-        return mykhailevych2020_reset(p, z, v, F_e, scale, k)
-    elif code == 2:
-        return coulomb_robust_reset(p, z, v, F_e, scale, k)
-    elif code == 1:
-        return coulomb_naive_reset(p, z, v, F_e, scale, k)
+@jit(inline="always")
+def _no_reset(code, p, z, v, F_e, scale, k):
     return RESET_NONE
+
+
+def _force_link(model_code, kernel, rest):
+    def link(code, p, z, v, F_e, scale, dz):
+        if code == model_code:
+            return kernel(p, z, v, F_e, scale, dz)
+        return rest(code, p, z, v, F_e, scale, dz)
+    return link
+
+
+def _jacobian_link(model_code, kernel, rest):
+    def link(code, p, z, v, F_e, scale, dz, Jz, dF):
+        if code == model_code:
+            return kernel(p, z, v, F_e, scale, dz, Jz, dF)
+        return rest(code, p, z, v, F_e, scale, dz, Jz, dF)
+    return link
+
+
+def _events_link(model_code, kernel, rest):
+    def link(code, p, z, v, F_e, scale, g):
+        if code == model_code:
+            kernel(p, z, v, F_e, scale, g)
+        else:
+            rest(code, p, z, v, F_e, scale, g)
+    return link
+
+
+def _reset_link(model_code, kernel, rest):
+    def link(code, p, z, v, F_e, scale, k):
+        if code == model_code:
+            return kernel(p, z, v, F_e, scale, k)
+        return rest(code, p, z, v, F_e, scale, k)
+    return link
+
+
+def _chain(kind: str, make_link, end, doc: str):
+    """The dispatcher over every registered model that provides a ``kind`` kernel (the
+    first registered model is tested first); ``doc`` is its docstring."""
+    fn = end
+    for cls in reversed(tuple(MODELS.values())):
+        kernel = getattr(cls.kernels, kind)
+        if kernel is None:
+            continue
+        link = make_link(cls.code, kernel, fn)
+        link.__name__ = link.__qualname__ = f"friction_{kind}_{cls.code}"
+        link.__doc__ = doc
+        fn = jit(link, inline="always", cache=False)
+    return fn
+
+
+_FORCE_DOC = """Friction force of model ``code``; writes the state derivatives into ``dz``.
+
+Inlined into the caller: where ``code`` is a compile-time constant (the rig) the dispatch
+folds to one kernel call, and no reference counts are taken for the arrays."""
+
+_JACOBIAN_DOC = """Friction force of model ``code`` and its exact partial derivatives.
+
+Returns the same force and writes the same ``dz`` as :func:`friction_force`, and writes
+``Jz[i, j] = d dz_i/d z_j`` (``j < nz``), ``Jz[i, nz] = d dz_i/d v`` and ``dF`` =
+(dF/dz_0, ..., dF/dz_{nz-1}, dF/dv, dF/dF_e, dF/dscale); see
+:mod:`clutchsim.friction.base`.  Inlined like :func:`friction_force`."""
+
+_EVENTS_DOC = "Event-function values of model ``code`` into ``g`` (no-op without events)."
+
+_RESET_DOC = """Apply the reset of event ``k`` of model ``code``; returns a
+:class:`~clutchsim.friction.base.FrictionReset` code."""
+
+friction_force = _chain("force", _force_link, _no_force, _FORCE_DOC)
+friction_jacobian = _chain("jacobian", _jacobian_link, _no_jacobian, _JACOBIAN_DOC)
+friction_events = _chain("events", _events_link, _no_events, _EVENTS_DOC)
+friction_reset = _chain("reset", _reset_link, _no_reset, _RESET_DOC)

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn_right, stribeck_level, stribeck_partials
-from .base import FrictionModel
+from .base import Expectation, FrictionKernels, FrictionModel, Scales
 
 __all__ = ["LuGre", "lugre_force", "lugre_jacobian"]
 
@@ -59,7 +59,6 @@ class LuGre(FrictionModel):
     delta: float = 2.0
 
     name: ClassVar[str] = "lugre"
-    code: ClassVar[int] = 8
     citation: ClassVar[str] = (
         "Canudas de Wit C., Olsson H., Åström K.J., Lischinsky P., A new model for control of "
         "systems with friction, IEEE Transactions on Automatic Control 40(3):419-425, 1995, "
@@ -74,15 +73,29 @@ class LuGre(FrictionModel):
         "sigma2": ("force/velocity", "viscous friction coefficient"),
         "delta": ("1", "Stribeck exponent"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "yes",
-        "stribeck": "yes",
-        "presliding": "yes",
-        "frictional_lag": "yes",
-        "varying_breakaway": "yes",
-        "no_drift": "no (6.64 µm/cycle in drift test D1)",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("yes", "yes"),
+        "stribeck": Expectation("yes", "yes"),
+        "presliding": Expectation("yes", "yes"),
+        "lag": Expectation("yes", "yes"),
+        "varying_breakaway": Expectation("yes", "yes"),
+        "no_drift": Expectation("no", "no (6.64 µm/cycle in drift test D1)"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -1.008),
+        (0.0005, 1.3896003915357025),
+        (0.002, 1.009957819444367),
+        (0.3, 1.12),
+    )
     default_parameter_set: ClassVar[str] = "lugre_canudas1995"
+
+    def static_capacity(self) -> float:
+        """The static level ``F_s`` [N or N·m]."""
+        return self.F_s
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, self.v_s, (self.F_c / self.sigma0,))
 
     def _check(self) -> None:
         self._require(self.F_c > 0.0, "F_c", "> 0")
@@ -131,3 +144,7 @@ def lugre_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     dF[2] = 0.0
     dF[3] = p[3] * z[0] + p[4] * dz[0] + p[5] * v
     return F
+
+
+#: the kernels LuGre provides (compiled code calls exactly these)
+LuGre.kernels = FrictionKernels(force=lugre_force, jacobian=lugre_jacobian)

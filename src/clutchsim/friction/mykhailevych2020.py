@@ -11,7 +11,15 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn
-from .base import RESET_CHANGED, RESET_NONE, FrictionModel, SelfExcitedWarning
+from .base import (
+    RESET_CHANGED,
+    RESET_NONE,
+    Expectation,
+    FrictionKernels,
+    FrictionModel,
+    Scales,
+    SelfExcitedWarning,
+)
 
 __all__ = [
     "RESET_POLICIES",
@@ -148,7 +156,6 @@ class Mykhailevych2020(FrictionModel):
     c_ps: float = 0.0
 
     name: ClassVar[str] = "mykhailevych2020"
-    code: ClassVar[int] = 11
     citation: ClassVar[str] = (
         "Mykhailevych M.G., Model of friction for dry friction clutch working process "
         "simulation, Avtomobil i elektronika. Suchasni tekhnolohii (Automobile and "
@@ -168,14 +175,21 @@ class Mykhailevych2020(FrictionModel):
         "c_ps": ("force/velocity",
                  "pre-sliding damping c_ps·v·sech²(phi/phi0), 0 in sliding (0 = off)"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "yes (capacity T_stat)",
-        "stribeck": "yes",
-        "presliding": "yes (tanh spring)",
-        "frictional_lag": "via k_v only",
-        "varying_breakaway": "no",
-        "no_drift": "only with a clamp-type reset",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("yes", "yes (capacity T_stat)"),
+        "stribeck": Expectation("yes", "yes"),
+        "presliding": Expectation("yes", "yes (tanh spring)"),
+        "lag": Expectation("depends", "via k_v only"),
+        "varying_breakaway": Expectation("no", "no"),
+        "no_drift": Expectation("depends", "only with a clamp-type reset"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -7.329157819444367),
+        (0.0005, 1.65675156119873),
+        (0.002, 2.1123947195761614),
+        (0.3, 95.8),
+    )
     default_parameter_set: ClassVar[str] = "mykhailevych2020_translational"
     #: at v = 0 the sliding term sign(v)·(1 − exp(−|v/ω0|^p)) is zero from both sides
     smooth_at_events: ClassVar[bool] = True
@@ -191,6 +205,13 @@ class Mykhailevych2020(FrictionModel):
         if self.p == 1.0:
             return self.k_v - (self.T_stat - self.T_din) / self.omega0
         return self.k_v
+
+    def static_capacity(self) -> float:
+        """The static torque ``T_stat`` [N or N·m]."""
+        return self.T_stat
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.T_stat, self.omega0, (self.phi0,))
 
     def _check(self) -> None:
         self._require(self.T_stat > 0.0, "T_stat", "> 0")
@@ -307,3 +328,8 @@ def mykhailevych2020_reset(p, z, v, F_e, scale, k):
         return RESET_NONE
     z[0] = new
     return RESET_CHANGED
+
+
+#: the kernels Mykhailevych2020 provides (compiled code calls exactly these)
+Mykhailevych2020.kernels = FrictionKernels(force=mykhailevych2020_force, jacobian=mykhailevych2020_jacobian, events=mykhailevych2020_events,
+                                 reset=mykhailevych2020_reset)

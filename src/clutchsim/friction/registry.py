@@ -1,4 +1,11 @@
-"""Registry of the friction models by name."""
+"""Registry of the friction models by name.
+
+Registering a model is one entry in :data:`MODELS`' list below (and its import); the
+registry checks the model's declarations and gives it its integer ``code``, its place in
+the list from 1 (the compiled dispatchers of :mod:`clutchsim.friction.kernels` and the
+plants' cache keys use it: append new models, never reorder).  The recipe for a new model
+is ``docs/models/README.md``.
+"""
 
 from __future__ import annotations
 
@@ -6,7 +13,16 @@ import difflib
 from dataclasses import dataclass
 from typing import Any
 
-from .base import DOMAINS, UNIT_KINDS, FrictionModel
+from .atan import AtanFriction
+from .base import (
+    DOMAINS,
+    EXPECTED,
+    PHENOMENA,
+    UNIT_KINDS,
+    Expectation,
+    FrictionKernels,
+    FrictionModel,
+)
 from .coulomb_naive import CoulombNaive
 from .coulomb_robust import CoulombRobust
 from .dahl import Dahl
@@ -21,25 +37,61 @@ from .stribeck import StribeckFriction
 from .tanh import TanhFriction
 
 __all__ = ["MODELS", "ParameterSource", "describe_models", "domain_problem", "get_model_class",
-           "make_model", "parameter_source"]
+           "make_model", "parameter_source", "register"]
 
-#: Registry name -> model class.
-MODELS: dict[str, type[FrictionModel]] = {
-    cls.name: cls
-    for cls in (
-        CoulombNaive,
-        CoulombRobust,
-        Karnopp,
-        TanhFriction,
-        StribeckFriction,
-        RotationalFriction,
-        Dahl,
-        LuGre,
-        ElastoPlastic,
-        GMS,
-        Mykhailevych2020,
-    )
-}
+
+def _check_declarations(cls: type[FrictionModel]) -> None:
+    """Raise TypeError naming the model and the declaration it lacks or gets wrong."""
+    who = f"friction model {cls.__name__}"
+    for attr in ("name", "citation", "parameter_info", "phenomena", "default_parameter_set",
+                 "kernels", "steady_checks"):
+        if attr not in vars(cls):
+            raise TypeError(f"{who}: declares no {attr} (see docs/models/README.md)")
+    if cls.__abstractmethods__:
+        raise TypeError(f"{who}: implements no {', '.join(sorted(cls.__abstractmethods__))}")
+    if not isinstance(cls.kernels, FrictionKernels):
+        raise TypeError(f"{who}: kernels = {cls.kernels!r} must be a FrictionKernels")
+    if set(cls.phenomena) != set(PHENOMENA):
+        raise TypeError(f"{who}: phenomena has keys {sorted(cls.phenomena)}; it must have "
+                        f"exactly {list(PHENOMENA)}")
+    for key, exp in cls.phenomena.items():
+        if not isinstance(exp, Expectation) or exp.expected not in EXPECTED:
+            raise TypeError(f"{who}: phenomena[{key!r}] = {exp!r} must be an Expectation "
+                            f"whose expected is one of {', '.join(EXPECTED)}")
+    if cls.lockable and cls.kernels.reset is None:
+        raise TypeError(f"{who}: lockable, but it has no events and reset kernels (its "
+                        "stop and breakaway events lock and free it)")
+
+
+def register(*classes: type[FrictionModel]) -> dict[str, type[FrictionModel]]:
+    """``{name: class}`` of ``classes``, each checked and given its ``code`` (its place
+    in ``classes``, from 1)."""
+    models: dict[str, type[FrictionModel]] = {}
+    for cls in classes:                 # every check before any code is given
+        _check_declarations(cls)
+        if cls.name in models:
+            raise TypeError(f"friction model {cls.__name__}: name {cls.name!r} is taken")
+        models[cls.name] = cls
+    for code, cls in enumerate(classes, start=1):
+        cls.code = code
+    return models
+
+
+#: Registry name -> model class, in code order (append new models at the end).
+MODELS: dict[str, type[FrictionModel]] = register(
+    CoulombNaive,
+    CoulombRobust,
+    Karnopp,
+    TanhFriction,
+    StribeckFriction,
+    RotationalFriction,
+    Dahl,
+    LuGre,
+    ElastoPlastic,
+    GMS,
+    Mykhailevych2020,
+    AtanFriction,
+)
 
 
 def get_model_class(name: str) -> type[FrictionModel]:

@@ -9,7 +9,7 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import FrictionModel
+from .base import Expectation, FrictionKernels, FrictionModel, Scales
 
 __all__ = ["RotationalFriction", "rotational_friction_force", "rotational_friction_jacobian"]
 
@@ -57,7 +57,6 @@ class RotationalFriction(FrictionModel):
     f: float = 0.0
 
     name: ClassVar[str] = "rotational-friction"
-    code: ClassVar[int] = 6
     passive: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "The MathWorks, Simscape Rotational Friction block (documentation); "
@@ -69,15 +68,29 @@ class RotationalFriction(FrictionModel):
         "v_brk": ("velocity", "break-away velocity (w_brk)"),
         "f": ("force/velocity", "viscous friction coefficient"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "no (creep)",
-        "stribeck": "yes",
-        "presliding": "no",
-        "frictional_lag": "no",
-        "varying_breakaway": "no",
-        "no_drift": "no",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("no", "no (creep)"),
+        "stribeck": Expectation("yes", "yes"),
+        "presliding": Expectation("no", "no"),
+        "lag": Expectation("no", "no"),
+        "varying_breakaway": Expectation("no", "no"),
+        "no_drift": Expectation("no", "no"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -22.533136258569197),
+        (0.0005, 1.7215163886576725),
+        (0.002, 6.668611802551407),
+        (0.3, 20.000476467573876),
+    )
     default_parameter_set: ClassVar[str] = "rotational_friction"
+
+    def static_capacity(self) -> float:
+        """The Coulomb level ``F_c`` [N or N·m]."""
+        return self.F_c
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_brk, self.v_brk / 10.0, ())
 
     def _check(self) -> None:
         self._require(self.F_c >= 0.0, "F_c", ">= 0")
@@ -123,3 +136,7 @@ def rotational_friction_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     dF[1] = 0.0
     dF[2] = bump * x + p[1] * th + p[4] * v
     return F
+
+
+#: the kernels RotationalFriction provides (compiled code calls exactly these)
+RotationalFriction.kernels = FrictionKernels(force=rotational_friction_force, jacobian=rotational_friction_jacobian)

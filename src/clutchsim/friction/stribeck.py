@@ -10,7 +10,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import stribeck_level, stribeck_partials
-from .base import FrictionModel
+from .base import Expectation, FrictionKernels, FrictionModel, Scales
 
 __all__ = ["StribeckFriction", "stribeck_force", "stribeck_jacobian"]
 
@@ -55,7 +55,6 @@ class StribeckFriction(FrictionModel):
     sigma2: float = 0.0
 
     name: ClassVar[str] = "stribeck"
-    code: ClassVar[int] = 5
     passive: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Armstrong-Hélouvry B., Dupont P., Canudas de Wit C., A survey of models, analysis "
@@ -70,15 +69,29 @@ class StribeckFriction(FrictionModel):
         "v_t": ("velocity", "tanh regularisation velocity"),
         "sigma2": ("force/velocity", "viscous friction coefficient"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "no (creep; needs a switch)",
-        "stribeck": "yes",
-        "presliding": "no",
-        "frictional_lag": "no",
-        "varying_breakaway": "no",
-        "no_drift": "no",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("no", "no (creep; needs a switch)"),
+        "stribeck": Expectation("yes", "yes"),
+        "presliding": Expectation("no", "no"),
+        "lag": Expectation("no", "no"),
+        "varying_breakaway": Expectation("no", "no"),
+        "no_drift": Expectation("no", "no"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -1.008),
+        (0.0005, 1.3896003915357025),
+        (0.002, 1.009957819444367),
+        (0.3, 1.12),
+    )
     default_parameter_set: ClassVar[str] = "stribeck"
+
+    def static_capacity(self) -> float:
+        """The static level ``F_s`` [N or N·m]."""
+        return self.F_s
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, min(self.v_t, self.v_s), ())
 
     def _check(self) -> None:
         self._require(self.F_c >= 0.0, "F_c", ">= 0")
@@ -119,3 +132,7 @@ def stribeck_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     dF[1] = 0.0
     dF[2] = level * th + p[5] * v
     return F
+
+
+#: the kernels StribeckFriction provides (compiled code calls exactly these)
+StribeckFriction.kernels = FrictionKernels(force=stribeck_force, jacobian=stribeck_jacobian)

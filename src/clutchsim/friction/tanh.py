@@ -9,7 +9,7 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import FrictionModel
+from .base import Expectation, FrictionKernels, FrictionModel, Scales
 
 __all__ = ["TanhFriction", "tanh_force", "tanh_jacobian"]
 
@@ -41,7 +41,6 @@ class TanhFriction(FrictionModel):
     sigma2: float = 0.0
 
     name: ClassVar[str] = "tanh"
-    code: ClassVar[int] = 4
     passive: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Mykhailevych M.G., Model of friction for dry friction clutch working process "
@@ -52,15 +51,29 @@ class TanhFriction(FrictionModel):
         "v_t": ("velocity", "tanh regularisation velocity"),
         "sigma2": ("force/velocity", "viscous friction coefficient"),
     }
-    phenomena: ClassVar[dict[str, str]] = {
-        "stiction": "no (creep)",
-        "stribeck": "no",
-        "presliding": "no",
-        "frictional_lag": "no",
-        "varying_breakaway": "no",
-        "no_drift": "no",
+    phenomena: ClassVar[dict[str, Expectation]] = {
+        "stiction": Expectation("no", "no (creep)"),
+        "stribeck": Expectation("no", "no"),
+        "presliding": Expectation("no", "no"),
+        "lag": Expectation("no", "no"),
+        "varying_breakaway": Expectation("no", "no"),
+        "no_drift": Expectation("no", "no"),
     }
+    #: F_ss(v) written out from the formula with the default parameter set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-0.02, -1.008),
+        (0.0005, 1.0001092042625952),
+        (0.002, 1.0008),
+        (0.3, 1.12),
+    )
     default_parameter_set: ClassVar[str] = "tanh"
+
+    def static_capacity(self) -> float:
+        """The Coulomb level ``F_c`` [N or N·m]."""
+        return self.F_c
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, self.v_t, ())
 
     def _check(self) -> None:
         self._require(self.F_c >= 0.0, "F_c", ">= 0")
@@ -94,3 +107,7 @@ def tanh_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
     dF[1] = 0.0
     dF[2] = p[0] * th + p[2] * v
     return F
+
+
+#: the kernels TanhFriction provides (compiled code calls exactly these)
+TanhFriction.kernels = FrictionKernels(force=tanh_force, jacobian=tanh_jacobian)

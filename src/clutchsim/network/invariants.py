@@ -243,7 +243,7 @@ def build_invariants(plan) -> Invariants:
         need = (f"{dom.effort}_{c.name}", f"{dom.slip}_{c.name}", f"capacity_{c.name}")
         if any(n not in out for n in need):
             continue
-        hybrid = model.hybrid and (c.name, "locked") in plan.state_index
+        hybrid = model.lockable and (c.name, "locked") in plan.state_index
         elements.append(FrictionCheck(
             c.name, hybrid, bool(getattr(model, "passive", False)),
             plan.state_index[(c.name, "z0")] if hybrid else -1,

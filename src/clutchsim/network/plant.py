@@ -21,9 +21,6 @@ from .network import Network, NetworkError
 
 __all__ = ["Plan", "compile_network"]
 
-#: models whose force jumps at zero slip outside any event logic (coulomb-naive)
-_JUMP_CODES = (1,)
-
 
 class _InitCtx:
     def __init__(self, plan, speeds, inputs0):
@@ -167,7 +164,8 @@ class Plan:
         # towards the jump for ever (a Zeno approach) instead of crossing it.  Differencing
         # sees the jump, the crossings are located, and chatter detection stops the run at
         # lock-up, as a naive model should.
-        self.exact_jacobian = not any(c.model.code in _JUMP_CODES for c in self.fes)
+        # (declared by the model: FrictionModel.jumps)
+        self.exact_jacobian = not any(c.model.jumps for c in self.fes)
         self.module = load_module(self.topology, exact_jacobian=self.exact_jacobian)
         # the component each event belongs to, in the generated event order: the friction
         # elements' events first, then the components' own (render.event_layout)

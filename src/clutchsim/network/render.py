@@ -30,13 +30,16 @@ AUX_W = 6
 
 
 def _lockable(c) -> bool:
-    """Does the plant lock and free element ``c`` (coulomb-robust, one-way, lossy gear)?"""
+    """Does the plant lock and free element ``c`` (an element with a lockable model, a
+    one-way clutch, a lossy gear: the element's ``lockable``)?"""
     return bool(getattr(c, "lockable", False))
 
 
-def _robust(c) -> bool:
-    """Is ``c`` a coulomb-robust friction element (locked and freed by the plant)?"""
-    return _lockable(c) and not _lossy(c) and c.model.hybrid
+def _stick_slip(c) -> bool:
+    """Is ``c`` an element whose model is a stick/slip state machine the plant locks and
+    frees (:attr:`~clutchsim.friction.FrictionModel.lockable`): in its stuck mode it may
+    also sit unlocked, holding what it can of a part that other elements hold?"""
+    return _lockable(c) and not _lossy(c) and c.model.lockable
 
 
 def _lossy(c) -> bool:
@@ -54,7 +57,11 @@ def _ind(lines, k=1):
     return out
 
 
-class _R:
+class _PlantRenderer:
+    """Writes the generated plant module of ``plan`` from the components' generated
+    equations ``g``; the helpers below name the entries of the parameter vector ``p``
+    (the derived block of :class:`~clutchsim.network.plant.Plan`) that the code reads."""
+
     def __init__(self, plan, g):
         self.P = plan
         self.g = g
@@ -74,21 +81,25 @@ class _R:
             counts[ev[4]] = counts.get(ev[4], 0) + 1
 
     # ------------------------------------------------------------ helpers
-    def Minv(self, i, j):
+    def inv_mass(self, i, j):
+        """``M⁻¹[i, j]``: the inverse mass matrix of the independent speeds."""
         return f"p[{self.P.off_Minv + i * self.nv + j}]"
 
     def minv_row(self, k, vec):
         """``Σ_j M⁻¹[k, j]·vec_j`` over the structurally non-zero entries."""
-        return " + ".join(f"{self.Minv(k, j)} * {vec(j)}" for j in range(self.nv)
+        return " + ".join(f"{self.inv_mass(k, j)} * {vec(j)}" for j in range(self.nv)
                           if self.mpat[k, j]) or "0.0"
 
-    def B(self, j, k):
+    def slip_row(self, j, k):
+        """``B[j, k]``: the slip of switching element ``j`` per independent speed ``k``."""
         return f"p[{self.P.off_B + j * self.nv + k}]"
 
-    def MB(self, k, j):
+    def inv_mass_slip(self, k, j):
+        """``(M⁻¹·Bᵀ)[k, j]``: speed ``k``'s response to a unit torque of element ``j``."""
         return f"p[{self.P.off_MB + k * self.m + j}]"
 
-    def Jn(self, n):
+    def node_inertia(self, n):
+        """``J[n]``: the inertia at node ``n``."""
         return f"p[{self.P.off_J + n}]"
 
     def expand(self, target, row, key, expr):
@@ -115,12 +126,13 @@ class _R:
         return e, o, npar, nz, iz
 
     def kernel(self, c, kind):
-        """Name of the friction model's own compiled kernel (``<module>_<kind>``, e.g.
-        ``mykhailevych2020_force``): called directly, not through the dispatcher over all
-        models, so that a plant compiles only the kernels it uses."""
-        name = f"{type(c.model).__module__.rsplit('.', 1)[-1]}_{kind}"
-        self.imports.add((type(c.model).__module__, name))
-        return name
+        """Name of the ``kind`` kernel the element's model declares (its ``kernels``, e.g.
+        ``mykhailevych2020_force``), imported from where it is defined: called directly,
+        not through the dispatcher over all models, so that a plant compiles only the
+        kernels it uses."""
+        fn = c.model.kernels.get(kind)
+        self.imports.add((fn.__module__, fn.__name__))
+        return fn.__name__
 
     def fcall(self, fn, c, fe_arg, dz=None, extra=""):
         e, o, npar, nz, iz = self.fe_meta(c)
@@ -135,7 +147,9 @@ class _R:
             return f" + p[{self.P.slot[(c.name, 'drag')]}] * math.tanh(s{e})"
         return ""
 
-    def lk(self, c):
+    def lock_test(self, c):
+        """Expression: is element ``c`` locked now?  (``False`` for one the plant never
+        locks.)"""
         if _lockable(c):
             return f"y[{self.P.state_index[(c.name, 'locked')]}] > 0.5"
         return "False"
@@ -148,10 +162,13 @@ class _R:
         o, npar = self.P.tables[(c.name, "model")]
         return i, r, na, o, npar // 5
 
-    def Gp(self, r, n):
+    def relation_pinv(self, r, n):
+        """Entry ``(r, n)`` of the pseudo-inverse that gives the multiplier (the torque) of
+        rigid relation ``r`` from the node torque residuals."""
         return f"p[{self.P.off_Gp + r * self.asm.n_nodes + n}]"
 
-    def Grel(self, r, n):
+    def relation(self, r, n):
+        """``G[r, n]``: the coefficient of node ``n``'s speed in rigid relation ``r``."""
         return f"p[{self.P.off_G + r * self.asm.n_nodes + n}]"
 
     # ------------------------------------------------------------ body
@@ -243,7 +260,7 @@ class _R:
                 for n in np.flatnonzero(gv):
                     tot[int(n)].append(f"({-float(gv[n])!r} * fT{e})")
             for n in range(asm.n_nodes):
-                L.append(f"R{n} = {self.Jn(n)} * al{n} - ({' + '.join(tot[n])})")
+                L.append(f"R{n} = {self.node_inertia(n)} * al{n} - ({' + '.join(tot[n])})")
             nn = asm.n_nodes
             for r in range(P.n_rel):
                 terms = [f"p[{P.off_Gp + r * nn + n}] * R{n}" for n in range(nn)]
@@ -277,7 +294,7 @@ class _R:
              f"shl = local_empty({m})"]
         for i, c in enumerate(P.sw):
             e = P.fe_index[c.name]
-            L.append(f"lk{e} = {self.lk(c)}")
+            L.append(f"lk{e} = {self.lock_test(c)}")
             if _lossy(c):
                 L.append(f"F1_{e} = 0.0")
             else:
@@ -285,7 +302,7 @@ class _R:
                          f"{self.fcall('friction_force', c, '0.0')}{self.drag(c)}")
         # generalised forces with the pass-1 forces of the free elements
         for k in range(nv):
-            terms = [f"F1_{P.fe_index[c.name]} * {self.B(i, k)}" for i, c in enumerate(P.sw)
+            terms = [f"F1_{P.fe_index[c.name]} * {self.slip_row(i, k)}" for i, c in enumerate(P.sw)
                      if not _lossy(c)]
             L.append(f"G{k} = F{k} - ({' + '.join(terms) or '0.0'})")
         for c in P.sw:
@@ -295,7 +312,7 @@ class _R:
         # reads it (models that are not locked by the plant, and coulomb-robust elements
         # in their stuck mode while unlocked: a holder that takes what it can, up to its
         # capacity, of a part that another element holds)
-        need_hyp = [c for c in P.sw if full or not _lockable(c) or _robust(c)]
+        need_hyp = [c for c in P.sw if full or not _lockable(c) or _stick_slip(c)]
         if need_hyp:
             for k in range(nv):
                 L.append(f"aG{k} = " + self.minv_row(k, lambda j: f"G{j}"))
@@ -303,7 +320,7 @@ class _R:
             e = P.fe_index[c.name]
             if c in need_hyp:
                 skip = f"lk{e}"
-                if not full and _robust(c):
+                if not full and _stick_slip(c):
                     skip += f" or y[{P.state_index[(c.name, 'z0')]}] != 0.0"
                 lines = [f"if {skip}:", f"    fT{e} = 0.0 if lk{e} else F1_{e}\n    Fe{e} = 0.0",
                          "else:"]
@@ -312,7 +329,7 @@ class _R:
                     e2 = P.fe_index[c2.name]
                     inner.append(f"act[{j}] = 1.0 if ({j} == {i} or lk{e2}) else 0.0")
                     inner.append(f"rr[{j}] = " + " + ".join(
-                        f"{self.B(j, k)} * aG{k}" for k in range(nv))
+                        f"{self.slip_row(j, k)} * aG{k}" for k in range(nv))
                         + f" + F1_{e} * p[{P.off_S + j * m + i}]")
                 inner.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
                 inner.append(f"Fe{e} = tau[{i}]")
@@ -327,7 +344,7 @@ class _R:
                 L.append(f"fT{e} = 0.0 if lk{e} else F1_{e}")
         for k in range(nv):
             terms = [f"(0.0 if lk{P.fe_index[c.name]} else fT{P.fe_index[c.name]}) * "
-                     f"{self.B(i, k)}" for i, c in enumerate(P.sw)]
+                     f"{self.slip_row(i, k)}" for i, c in enumerate(P.sw)]
             L.append(f"F{k} = F{k} - ({' + '.join(terms)})")
         for k in range(nv):
             L.append(f"a{k} = " + self.minv_row(k, lambda j: f"F{j}"))
@@ -349,11 +366,11 @@ class _R:
         L = []
         for i, c in enumerate(P.sw):
             L.append(f"act[{i}] = 1.0 if lk{P.fe_index[c.name]} else 0.0")
-            L.append(f"rr[{i}] = " + " + ".join(f"{self.B(i, k)} * {acc(k)}"
+            L.append(f"rr[{i}] = " + " + ".join(f"{self.slip_row(i, k)} * {acc(k)}"
                                                 for k in range(nv)))
         L.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
         for k in range(nv):
-            terms = [f"{self.MB(k, i)} * tau[{i}]" for i in range(m)]
+            terms = [f"{self.inv_mass_slip(k, i)} * tau[{i}]" for i in range(m)]
             L.append(f"{acc(k)} = {acc(k)} - ({' + '.join(terms)})")
         return L
 
@@ -376,19 +393,19 @@ class _R:
             b.append(f"xa{e}_{k} = " + self.minv_row(k, lambda j: f"G{j}"))
         b += self.locked_solve(lambda k: f"xa{e}_{k}")
         b += self.lam_row(e, r, f"xa{e}_", "tau", free_f1=True)
-        b.append(f"Ta0_{e} = -{self.Grel(r, na)} * lamx{e}")
+        b.append(f"Ta0_{e} = -{self.relation(r, na)} * lamx{e}")
         for k in range(nv):
-            b.append(f"xu{e}_{k} = -(" + self.minv_row(k, lambda j: self.B(i, j)) + ")")
+            b.append(f"xu{e}_{k} = -(" + self.minv_row(k, lambda j: self.slip_row(i, j)) + ")")
         b += self.locked_solve(lambda k: f"xu{e}_{k}")
         b += self.lam_row(e, r, f"xu{e}_", "tau", free_f1=False, unit=gi)
-        b.append(f"kk{e} = 1.0 - {self.Grel(r, na)} * lamx{e}")
+        b.append(f"kk{e} = 1.0 - {self.relation(r, na)} * lamx{e}")
         b.append(f"(c1_{e}, c2_{e}, c3_{e}, c4_{e}, c5_{e}, c6_{e}, c7_{e}, c8_{e}, "
                  f"c9_{e}) = lossy_coeffs(p, {o}, {nrow}, s{e})")
         b.append(f"F1_{e}, dLT{e}, dLs{e} = lossy_solve(y[{iz}], Ta0_{e}, kk{e}, c1_{e}, "
                  f"c2_{e}, c3_{e}, c4_{e}, c5_{e}, c6_{e}, c7_{e}, c8_{e}, c9_{e})")
         b.append(f"dLs{e} = dLs{e} * (1.0 if s{e} >= 0.0 else -1.0)")
         for k in range(nv):
-            b.append(f"G{k} = G{k} - F1_{e} * {self.B(i, k)}")
+            b.append(f"G{k} = G{k} - F1_{e} * {self.slip_row(i, k)}")
         L = [f"F1_{e} = 0.0", f"dLT{e} = 0.0", f"dLs{e} = 0.0"]
         L += [f"xu{e}_{k} = 0.0" for k in range(nv)]
         L += [f"if not lk{e}:"] + _ind(b)
@@ -418,8 +435,8 @@ class _R:
                 applied.append(f"{-float(gv[n])!r} * ({tau}[{j}] if lk{e2} else {f1})")
             if unit is not None and unit[n] != 0.0:
                 applied.append(f"{-float(unit[n])!r}")
-            lines.append(f"Rx{e}_{n} = {self.Jn(n)} * ({al}) - ({' + '.join(applied) or '0.0'})")
-            terms.append(f"{self.Gp(r, n)} * Rx{e}_{n}")
+            lines.append(f"Rx{e}_{n} = {self.node_inertia(n)} * ({al}) - ({' + '.join(applied) or '0.0'})")
+            terms.append(f"{self.relation_pinv(r, n)} * Rx{e}_{n}")
         lines.append(f"lamx{e} = {' + '.join(terms)}")
         return lines
 
@@ -448,7 +465,7 @@ class _R:
                   f"aux[{AUX_W * e + 4}] = sh{e}"]
             if _lossy(c):
                 _i, r, na, _o, _n = self.lossy_meta(c)
-                b.append(f"aux[{AUX_W * e + 5}] = fT{e} - {self.Grel(r, na)} * lam{r}")
+                b.append(f"aux[{AUX_W * e + 5}] = fT{e} - {self.relation(r, na)} * lam{r}")
             else:
                 b.append(f"aux[{AUX_W * e + 5}] = 0.0")
         for k, ev in enumerate(self.g.events):      # the components' own event functions
@@ -460,11 +477,12 @@ class _R:
         torque, torque, shielded, flange-a torque), then one per component event function."""
         return max(AUX_W * len(self.fe) + len(self.g.events), 1)
 
-    def ke(self) -> list[str]:
+    def kinetic_energy(self) -> list[str]:
+        """``_ke(y, p)``: the kinetic energy of the nodes [J]."""
         P, asm = self.P, self.asm
         L = ["@jit", "def _ke(y, p):"]
         b = [f"w{n} = {P.node_speed(n)}" for n in range(asm.n_nodes)]
-        b.append("return 0.5 * (" + " + ".join(f"{self.Jn(n)} * w{n} * w{n}"
+        b.append("return 0.5 * (" + " + ".join(f"{self.node_inertia(n)} * w{n} * w{n}"
                                                for n in range(asm.n_nodes)) + ")")
         return L + _ind(b) + [""]
 
@@ -476,11 +494,11 @@ class _R:
         b = [f"act = local_zeros({m})", f"rr = local_empty({m})", f"tau = local_empty({m})",
              f"shl = local_empty({m})"]
         for i, c in enumerate(P.sw):
-            b.append(f"act[{i}] = 1.0 if {self.lk(c)} else 0.0")
-            b.append(f"rr[{i}] = " + " + ".join(f"{self.B(i, k)} * y[{k}]" for k in range(nv)))
+            b.append(f"act[{i}] = 1.0 if {self.lock_test(c)} else 0.0")
+            b.append(f"rr[{i}] = " + " + ".join(f"{self.slip_row(i, k)} * y[{k}]" for k in range(nv)))
         b.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
         for k in range(nv):
-            b.append(f"y[{k}] -= " + " + ".join(f"{self.MB(k, i)} * tau[{i}]" for i in range(m)))
+            b.append(f"y[{k}] -= " + " + ".join(f"{self.inv_mass_slip(k, i)} * tau[{i}]" for i in range(m)))
         return L + _ind(b) + [""]
 
     def element_events(self, c, gname, off):
@@ -488,7 +506,7 @@ class _R:
         e, o, npar, nz, iz = self.fe_meta(c)
         ne = c.model.n_events
         if _lossy(c):
-            L = [f"if {self.lk(c)}:",
+            L = [f"if {self.lock_test(c)}:",
                  f"    lo, up = {self.lossy_bounds(c)}",
                  f"    {gname}[{off}] = {NO_EVENT!r}",
                  (f"    {gname}[{off + 1}] = min(up - aux[{AUX_W * e + 2}], "
@@ -501,7 +519,7 @@ class _R:
             L = [(f"{self.kernel(c, 'events')}(p[{o}:{o + npar}], y[{iz}:{iz + nz}], "
                   f"aux[{AUX_W * e}], aux[{AUX_W * e + 2}], {sc}, {gname}[{off}:{off + ne}])")]
         if _lockable(c):
-            L.append(f"if {self.lk(c)} and aux[{AUX_W * e + 4}] > 0.5:")
+            L.append(f"if {self.lock_test(c)} and aux[{AUX_W * e + 4}] > 0.5:")
             L.append(f"    {gname}[{off + 1}] = {NO_EVENT!r}")
         return L
 
@@ -573,12 +591,12 @@ class _R:
         b = [(f"action = {self.kernel(c, 'reset')}(p[{o}:{o + npar}], "
               f"y[{iz}:{iz + nz}], aux[{AUX_W * e}], aux[{AUX_W * e + 2}], "
               f"aux[{AUX_W * e + 1}], j)")]
-        if _robust(c):
+        if _stick_slip(c):
             # a stop it cannot hold, or a break-away, on a part that other locked elements
             # hold at rest: it stays in its stuck mode unlocked and takes what it can of
             # the torque (up to its capacity), the others the rest
             i = P.sw_index[c.name]
-            acts = [f"act[{j}] = 1.0 if {self.lk(c2)} else 0.0" for j, c2 in enumerate(P.sw)]
+            acts = [f"act[{j}] = 1.0 if {self.lock_test(c2)} else 0.0" for j, c2 in enumerate(P.sw)]
             b += [(f"if ((j == 0 and action == {RESET_CHANGED}) or (j == 1 and action == "
                   f"{RESET_RELEASED})) and aux[{AUX_W * e + 1}] > 0.0:"),
                   f"    act = local_zeros({self.m})", *_ind(acts),
@@ -625,7 +643,7 @@ class _R:
                    f"abs(aux[{AUX_W * e}]) <= w_tol:"),
                   f"            hit = {e}",
                   "            slot = 0"]
-            if _robust(c):
+            if _stick_slip(c):
                 # a holder in its stuck mode, unlocked (whatever happened to it before in
                 # this iteration): once no other element holds its part it breaks away, if
                 # the torque exceeds its capacity, or locks
@@ -633,7 +651,7 @@ class _R:
                 b += [(f"    if hit < 0 and y[{ilk}] <= 0.5 and y[{iz}] == 0.0 and "
                       f"aux[{AUX_W * e + 1}] > 0.0:"),
                       f"        act = local_zeros({self.m})"]
-                b += [f"        act[{j}] = 1.0 if {self.lk(c2)} else 0.0"
+                b += [f"        act[{j}] = 1.0 if {self.lock_test(c2)} else 0.0"
                       for j, c2 in enumerate(P.sw) if j != i]
                 b += [f"        if not held_by_others(p, {P.off_S}, {self.m}, act, {i}):"]
                 b += _ind(ev, 3)
@@ -667,9 +685,7 @@ class _R:
                       f"    action = _reset_{e}(t, y, u, p, aux, k - {off})"]
                 if _lockable(obj):
                     b += [f"    if action != {RESET_NONE}:", f"        sk = {e}"]
-                # one-way clutches and lossy gears carry their own laws, not a model
-                smooth = getattr(getattr(obj, "model", None), "smooth_at_events", False)
-                none = _PASS if smooth else _CONT
+                none = _PASS if obj.model.smooth_at_events else _CONT
                 b += [f"    ret = {_CHANGED} if action != {RESET_NONE} else {none}"]
             elif obj[3] == "bank":
                 b += [f"if k == {off}:", f"    bk = {self.banks.index(obj)}",
@@ -697,7 +713,7 @@ class _R:
         body += ["ke0 = _ke(y, p)", f"o = {base} * (b + 1)",
                  f"for i in range({base}):", "    p[i] = p[o + i]"]
         for k in range(nv):
-            terms = [f"{P.N(n, k)} * {self.Jn(n)} * w{n}" for n in range(nn)
+            terms = [f"{P.N(n, k)} * {self.node_inertia(n)} * w{n}" for n in range(nn)
                      if asm.pattern[n][k]]
             body.append(f"h{k} = {' + '.join(terms) or '0.0'}")
         for k in range(nv):
@@ -722,7 +738,7 @@ class _R:
             names.append(f"{P.domain.speed}_{asm.node_names[n]}")
             units.append(P.domain.speed_unit)
         b.append(f"out[{len(names)}] = 0.5 * (" + " + ".join(
-            f"{self.Jn(n)} * w{n} * w{n}" for n in range(asm.n_nodes)) + ")")
+            f"{self.node_inertia(n)} * w{n} * w{n}" for n in range(asm.n_nodes)) + ")")
         names.append("E_kinetic")
         units.append("J")
         b.append(f"out[{len(names)}] = {' + '.join(self.g.springs) or '0.0'}")
@@ -842,11 +858,11 @@ class _R:
             inner.append(f"da{k} = " + self.minv_row(k, lambda j: f"dG[{j}, col]"))
         if m:
             for i in range(m):
-                inner.append(f"rr[{i}] = " + " + ".join(f"{self.B(i, k)} * da{k}"
+                inner.append(f"rr[{i}] = " + " + ".join(f"{self.slip_row(i, k)} * da{k}"
                                                         for k in range(nv)))
             inner.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
             for k in range(nv):
-                inner.append(f"da{k} -= " + " + ".join(f"{self.MB(k, i)} * tau[{i}]"
+                inner.append(f"da{k} -= " + " + ".join(f"{self.inv_mass_slip(k, i)} * tau[{i}]"
                                                        for i in range(m)))
         inner += self.lossy_columns()
         for k in range(nv):
@@ -879,7 +895,7 @@ class _R:
         P = self.P
         if any(_lossy(c) for c in P.sw):
             return []
-        return [c for c in P.sw if not _lockable(c) or _robust(c)]
+        return [c for c in P.sw if not _lockable(c) or _stick_slip(c)]
 
     def stick_columns(self, stick, heat_rows) -> list[str]:
         """The partials of the stick force ``Fe`` of each element of ``stick`` (where its
@@ -922,7 +938,7 @@ class _R:
             for k in range(nv):
                 base = " + ".join(f"{P.N(nd, k)} * dTb[{nd}, col]" for nd in range(nn)
                                   if asm.pattern[nd][k]) or "0.0"
-                minus = " + ".join(f"(0.0 if lk{P.fe_index[c2.name]} else {self.B(j, k)} * "
+                minus = " + ".join(f"(0.0 if lk{P.fe_index[c2.name]} else {self.slip_row(j, k)} * "
                                    f"d1_{P.fe_index[c2.name]}[0, col])"
                                    for j, c2 in enumerate(P.sw))
                 col.append(f"gq{k} = {base} - ({minus})")
@@ -931,7 +947,7 @@ class _R:
             for j, c2 in enumerate(P.sw):
                 e2 = P.fe_index[c2.name]
                 col.append(f"act[{j}] = 1.0 if ({j} == {i} or lk{e2}) else 0.0")
-                col.append(f"rr[{j}] = " + " + ".join(f"{self.B(j, k)} * xq{k}"
+                col.append(f"rr[{j}] = " + " + ".join(f"{self.slip_row(j, k)} * xq{k}"
                                                       for k in range(nv))
                            + f" + d1_{e}[0, col] * p[{P.off_S + j * m + i}]")
             col.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
@@ -1045,11 +1061,11 @@ class _R:
                 locks = [f"{-float(P.slips[c2.name][nd])!r} * (tau[{j}] if "
                          f"lk{P.fe_index[c2.name]} else 0.0)"
                          for j, c2 in enumerate(P.sw) if P.slips[c2.name][nd] != 0.0]
-                b.append(f"dR{nd} = {self.Jn(nd)} * ({al}) - (dTc[{nd}]"
+                b.append(f"dR{nd} = {self.node_inertia(nd)} * ({al}) - (dTc[{nd}]"
                          + "".join(f" + {x}" for x in locks) + ")")
-                terms.append(f"{self.Gp(r, nd)} * dR{nd}")
+                terms.append(f"{self.relation_pinv(r, nd)} * dR{nd}")
             b.append(f"dlx = {' + '.join(terms)}")
-            b.append(f"dL = dLT{e} * (-{self.Grel(r, na)} * dlx) + (dLs{e} * "
+            b.append(f"dL = dLT{e} * (-{self.relation(r, na)} * dlx) + (dLs{e} * "
                      f"p[{P.off_B + i * nv} + col] if col < {nv} else 0.0)")
             for k in range(nv):
                 b.append(f"da{k} += dL * xu{e}_{k}")
@@ -1060,7 +1076,7 @@ class _R:
         return L
 
     def module(self) -> str:
-        parts = self.rhs() + self.full() + self.ke() + self.project()
+        parts = self.rhs() + self.full() + self.kinetic_energy() + self.project()
         for c in self.fe:
             if c.model.n_events:
                 parts += self.reset_fn(c)
@@ -1084,4 +1100,4 @@ class _R:
 
 
 def render(plan, g) -> str:
-    return _R(plan, g).module()
+    return _PlantRenderer(plan, g).module()

@@ -327,14 +327,13 @@ UNITS = {"cycle": "-", "wear_m": "m", "clamp_force_N": "N", "capacity_Nm": "N·m
 def _clamp(duty, fe, wear):
     """(clamp force [N], capacity [N·m]) of the engaged clutch ``fe`` after ``wear`` [m]
     (cold: μ at its reference)."""
-    from ..network.components.friction import static_capacity
     x = 1.0 + fe.wear.shift * wear
     if fe.clamp_table is None:
         f = 1.0
     else:
         xs, ys = fe.clamp_table
         f = float(np.interp(x, xs, ys))
-    return duty.clamp_force * f, static_capacity(fe.model) * f
+    return duty.clamp_force * f, fe.model.static_capacity() * f
 
 
 def _ratio(prev, last):

@@ -34,14 +34,6 @@ def _table(owner, key, tab):
                                                 low=TABLE_LOW[key])
 
 
-def static_capacity(model: FrictionModel) -> float:
-    """Largest stick torque of ``model`` at scale 1 [N·m] (T_stat, F_s or F_c)."""
-    for attr in ("T_stat", "F_s", "F_c"):
-        if hasattr(model, attr):
-            return float(getattr(model, attr))
-    return float("nan")
-
-
 class _FrictionElement(Component):
     friction = True
     params = (Param("drag", "N·m", "drag torque of the open element, drag·tanh(w/1 rad/s)",
@@ -123,9 +115,9 @@ class _FrictionElement(Component):
 
     @property
     def lockable(self) -> bool:
-        """Does the plant lock and free it (a hybrid stick/slip model, declared by the
-        model: :attr:`FrictionModel.hybrid`)?"""
-        return self.model.hybrid
+        """Does the plant lock and free it (a stick/slip model whose stuck mode the plant
+        locks, declared by the model: :attr:`FrictionModel.lockable`)?"""
+        return self.model.lockable
 
     def options(self):
         tabs = tuple(None if getattr(self, k) is None else len(getattr(self, k)[0])
@@ -160,7 +152,7 @@ class _FrictionElement(Component):
     def pack(self):
         d = dict(self.values)
         d["model"] = self.model.pack()
-        d["capacity"] = static_capacity(self.model)
+        d["capacity"] = self.model.static_capacity()
         for k, (_node, share) in enumerate(self.heat):
             d[f"share{k}"] = share
         for key in ("clamp_table", "mu_temperature", "mu_slip"):

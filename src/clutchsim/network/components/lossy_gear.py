@@ -47,6 +47,12 @@ class _LossModel:
     name = "lossy-gear"
     code = -1
     uses_stick_force = True
+    #: the capabilities a friction model declares (FrictionModel): its force is solved from
+    #: the torque it transmits, so the plant locks and frees it as its own (the element's
+    #: ``lockable``), not as a stick/slip model
+    lockable = False
+    jumps = False
+    smooth_at_events = False
     n_states = 1
     n_events = 2
 

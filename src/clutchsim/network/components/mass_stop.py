@@ -39,7 +39,10 @@ from ...friction.base import (
     RESET_NONE,
     RESET_RELEASED,
     RESET_STUCK,
+    Expectation,
+    FrictionKernels,
     FrictionModel,
+    Scales,
 )
 from ..component import Component
 from ..spec import Param
@@ -75,10 +78,19 @@ class StopLaw(FrictionModel):
         "s_high": ("displacement", "centre position at the upper stop"),
         "peak": ("1", "break-away over sliding force at v = 0"),
     }
-    phenomena: ClassVar[dict[str, str]] = {}
+    phenomena: ClassVar[dict[str, Expectation]] = {}
     default_parameter_set: ClassVar[str] = ""
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (
         ("stop", -1), ("breakaway", -1), ("upper stop", -1), ("lower stop", -1))
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = ()
+
+    def static_capacity(self) -> float:
+        """The largest force the stuck mass holds away from its stops (``peak·(F_Coulomb
+        + F_Stribeck)``) [N]; at a stop it holds any push into it."""
+        return self.peak * (self.F_Coulomb + self.F_Stribeck)
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_Coulomb + self.F_Stribeck, 1e-3, (1.0, 1.0, self.s_high - self.s_low))
 
     def _check(self) -> None:
         for k in ("F_prop", "F_Coulomb", "F_Stribeck", "fexp"):
@@ -183,6 +195,10 @@ def mass_stop_reset(p, z, v, F_e, scale, k):
         z[0] = 0.0
         return RESET_STUCK
     return RESET_NONE
+
+
+StopLaw.kernels = FrictionKernels(force=mass_stop_force, jacobian=mass_stop_jacobian,
+                                  events=mass_stop_events, reset=mass_stop_reset)
 
 
 class MassWithStopAndFriction(Brake):

@@ -25,7 +25,15 @@ import numpy as np
 
 from ..._jit import jit
 from ...friction._common import NO_EVENT
-from ...friction.base import RESET_NONE, RESET_RELEASED, RESET_STUCK, FrictionModel
+from ...friction.base import (
+    RESET_NONE,
+    RESET_RELEASED,
+    RESET_STUCK,
+    Expectation,
+    FrictionKernels,
+    FrictionModel,
+    Scales,
+)
 from ..spec import Param, check_value
 from .friction import Clutch
 
@@ -53,9 +61,18 @@ class OneWayLaw(FrictionModel):
         "T_slide": ("force", "sliding torque of the clutch at full command"),
         "peak": ("1", "static over sliding torque"),
     }
-    phenomena: ClassVar[dict[str, str]] = {}
+    phenomena: ClassVar[dict[str, Expectation]] = {}
     default_parameter_set: ClassVar[str] = ""
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (("stop", -1), ("breakaway", -1))
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = ()
+
+    def static_capacity(self) -> float:
+        """The largest forward torque the locked freewheel's clutch holds at full command
+        (``peak·T_slide``) [N·m]; backwards the freewheel holds any torque."""
+        return max(self.peak, 1.0 + ONE_WAY_EPS0) * self.T_slide
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.T_slide, 1e-3, (1.0,))
 
     def _check(self) -> None:
         self._require(self.T_slide >= 0.0, "T_slide", ">= 0")
@@ -127,6 +144,11 @@ def one_way_clutch_reset(p, z, v, F_e, scale, k):
         z[0] = 1.0
         return RESET_RELEASED
     return RESET_NONE
+
+
+OneWayLaw.kernels = FrictionKernels(force=one_way_clutch_force,
+                                     jacobian=one_way_clutch_jacobian,
+                                     events=one_way_clutch_events, reset=one_way_clutch_reset)
 
 
 class OneWayClutch(Clutch):
