@@ -151,3 +151,39 @@ def test_consistent_rows_and_reset_left_limits_pass():
                          [1, 1, 3, -1], [2, 2, 2, 2])
     ts[3] = ts[2]
     assert _check()(ts, ys, outs, rtol=1e-8, atol=1e-9) == []
+
+
+# ------------------------------------------------ freewheels (FrictionModel.forward_only)
+def _freewheel():
+    return Invariants((FrictionCheck("f", False, True, mode=-1, locked=2, torque=0, slip=1,
+                                     capacity=2, forward_only=True),), speeds=(0,),
+                      w_friction=3, all_passive=True, speed_unit="rad/s", effort_unit="N·m")
+
+
+def test_a_free_freewheel_sliding_backwards_is_fatal():
+    """Fuzzed networks found a one-way clutch that was released and then slid backwards
+    (-0.5 rad/s) while the run said "completed": nothing checked a freewheel's direction."""
+    ts, ys, outs = _rows([0, 0, 0, 0], [1, 0, 0, 0], [0.0, 0.5, 0.1, -0.3],
+                         [1, 1, 1, -1], [2, 2, 2, 2])
+    found = _freewheel()(ts, ys, outs, rtol=1e-8, atol=1e-9)
+    assert [(v.invariant, v.fatal, v.t) for v in found] == [("mode_against_slip", True, 3.0)]
+    assert "freewheel sliding backwards" in found[0].text
+
+
+def test_a_locked_freewheel_and_a_forward_slide_pass():
+    ts, ys, outs = _rows([0, 0, 0], [1, 1, 0], [-1e-13, 0.0, 0.4], [-3, -3, 1], [2, 2, 2])
+    assert _freewheel()(ts, ys, outs, rtol=1e-8, atol=1e-9) == []
+
+
+def test_the_msl_one_way_clutch_example_is_checked_and_clean():
+    """Modelica's OneWayClutch example (freewheel + clutch in parallel): the plant declares
+    the freewheel's check, and the run (it frees and locks the freewheel) passes it."""
+    from pathlib import Path
+
+    from clutchsim.scenario import load_scenario, run_scenario
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "one_way_clutch.toml"
+    scenario = load_scenario(path)
+    checks = {c.name: c for c in scenario.system(None).invariants.elements}
+    assert checks["oneWayClutch"].forward_only and checks["oneWayClutch"].locked >= 0
+    _no_physics_warnings(run_scenario(scenario).result)

@@ -238,6 +238,10 @@ class FrictionModel(abc.ABC):
     #: +1 forward; a discrete state, changed only by its reset) whose stuck mode the plant
     #: locks and frees?  Its events are ``stop`` (0) and ``breakaway`` (1).  (coulomb-robust)
     lockable: ClassVar[bool] = False
+    #: does the element slide only forward (positive slip; it locks where the slip would
+    #: turn negative)?  A freewheel.  Plants check that it never slides backwards
+    #: (:mod:`clutchsim.network.invariants`).
+    forward_only: ClassVar[bool] = False
     #: does the force jump at zero slip outside any event logic (a discontinuous force with
     #: no useful derivative there)?  Plants then difference their Jacobian instead of using
     #: the exact one, and chatter detection stops a run at lock-up.  (coulomb-naive)

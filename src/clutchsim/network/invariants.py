@@ -7,7 +7,9 @@ after each reset), with the solver's tolerances:
 
 ``mode_against_slip``
     A hybrid stick/slip element (coulomb-robust) that slides (mode ±1, unlocked) has a
-    slip of the sign of its mode: ``mode·w >= 0``.
+    slip of the sign of its mode: ``mode·w >= 0``.  A freewheel
+    (:attr:`FrictionModel.forward_only`: the one-way clutch) that is not locked never
+    slides backwards: ``w >= 0``.
 ``slipping_while_stuck``
     A hybrid element in its stuck mode (mode 0) has zero slip, locked or not.
 ``stick_over_capacity``
@@ -82,6 +84,7 @@ class FrictionCheck:
     torque: int
     slip: int
     capacity: int
+    forward_only: bool = False  # a freewheel: lock flag, the slip never negative while free
 
 
 #: the checks, in the order of the rows of a scan's table (:func:`scan`)
@@ -92,8 +95,9 @@ N_CHECKS = len(CHECKS)
 R_ROW, R_T, R_VALUE, R_SOFT, R_HARD, R_A, R_B = range(7)
 N_R = 7
 #: columns of the element table: hybrid, passive, mode, locked (states), torque, slip,
-#: capacity (outputs)
-E_HYBRID, E_PASSIVE, E_MODE, E_LOCKED, E_TORQUE, E_SLIP, E_CAP = range(7)
+#: capacity (outputs), forward only
+E_HYBRID, E_PASSIVE, E_MODE, E_LOCKED, E_TORQUE, E_SLIP, E_CAP, E_FORWARD = range(8)
+N_E = 8
 
 
 @jit
@@ -113,7 +117,7 @@ def _record(tab, k, i, t, x, soft, hard, a, b):
 @jit
 def scan(ts, ys, outs, el, speeds, w_fric, all_passive, rtol, atol, tab):
     """The checks of the module docstring over a run's rows, compiled (single runs and a
-    sweep's batch share it).  ``el`` (m, 7): the element table (``E_*``); ``speeds``:
+    sweep's batch share it).  ``el`` (m, N_E): the element table (``E_*``); ``speeds``:
     the speed states; ``w_fric``: the state of ``W_friction`` (-1: none).  Writes ``tab``
     (``(m + 1)·N_CHECKS``, ``N_R``): per element and check (then the total friction work)
     the worst row, ``-1`` in ``R_ROW`` where the check passed."""
@@ -161,6 +165,9 @@ def scan(ts, ys, outs, el, speeds, w_fric, all_passive, rtol, atol, tab):
                     cap = outs[i, el[e, E_CAP]]
                     _record(tab, o + 2, i, ts[i], abs(tau) - abs(cap), t_soft, t_hard, tau,
                             cap)
+            if el[e, E_FORWARD] and not ys[i, el[e, E_LOCKED]] > 0.5:
+                # a = 2: the freewheel's row (no mode state), named so in the text
+                _record(tab, o, i, ts[i], -w, w_soft, w_hard, 2.0, w)
             if el[e, E_PASSIVE] and tau * w < 0.0:
                 _record(tab, o + 3, i, ts[i], abs(w), w_soft, w_hard, tau, w)
     if all_passive and w_fric >= 0 and n > 1:
@@ -194,8 +201,9 @@ class Invariants:
     @property
     def arrays(self) -> tuple:
         """``(el, speeds, w_fric, all_passive, table rows)``: :func:`scan`'s arguments."""
-        el = np.array([[c.hybrid, c.passive, c.mode, c.locked, c.torque, c.slip, c.capacity]
-                       for c in self.elements], dtype=np.int64).reshape(-1, 7)
+        el = np.array([[c.hybrid, c.passive, c.mode, c.locked, c.torque, c.slip, c.capacity,
+                        c.forward_only] for c in self.elements],
+                      dtype=np.int64).reshape(-1, N_E)
         return (el, np.array(self.speeds, dtype=np.int64), int(self.w_friction),
                 bool(self.all_passive), (len(self.elements) + 1) * N_CHECKS)
 
@@ -211,7 +219,8 @@ class Invariants:
         """The violations a :func:`scan` table holds, earliest first."""
         su, eu = self.speed_unit, self.effort_unit
         words = {
-            0: lambda a, b: f"mode {a:+.0f} with slip {b:.6g} {su}",
+            0: lambda a, b: (f"free freewheel sliding backwards, slip {b:.6g} {su}" if a == 2
+                             else f"mode {a:+.0f} with slip {b:.6g} {su}"),
             1: lambda a, b: f"stuck mode with slip {b:.6g} {su}",
             2: lambda a, b: f"locked with torque {a:.6g} {eu}, capacity {b:.6g} {eu}",
             3: lambda a, b: f"torque {a:.6g} {eu} against slip {b:.6g} {su}: power "
@@ -243,12 +252,14 @@ def build_invariants(plan) -> Invariants:
         need = (f"{dom.effort}_{c.name}", f"{dom.slip}_{c.name}", f"capacity_{c.name}")
         if any(n not in out for n in need):
             continue
-        hybrid = model.lockable and (c.name, "locked") in plan.state_index
+        has_lock = (c.name, "locked") in plan.state_index
+        hybrid = model.lockable and has_lock
+        forward = model.forward_only and has_lock
         elements.append(FrictionCheck(
             c.name, hybrid, bool(getattr(model, "passive", False)),
             plan.state_index[(c.name, "z0")] if hybrid else -1,
-            plan.state_index[(c.name, "locked")] if hybrid else -1,
-            out[need[0]], out[need[1]], out[need[2]]))
+            plan.state_index[(c.name, "locked")] if hybrid or forward else -1,
+            out[need[0]], out[need[1]], out[need[2]], forward_only=forward))
     # every element that books into W_friction (lossy gears and bearing losses too) must be
     # passive for the total to be monotone
     all_passive = (bool(elements) and len(elements) == len(plan.fes)

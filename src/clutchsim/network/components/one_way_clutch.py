@@ -55,6 +55,7 @@ class OneWayLaw(FrictionModel):
     name: ClassVar[str] = "one-way-clutch"
     code: ClassVar[int] = -2
     uses_stick_force: ClassVar[bool] = True
+    forward_only: ClassVar[bool] = True
     citation: ClassVar[str] = ("Modelica Standard Library 4.x, "
                                "Modelica.Mechanics.Rotational.Components.OneWayClutch.")
     parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
