@@ -28,7 +28,8 @@ EVENT_KEYS = {"name", "element", "count", "first_s", "last_s"}
 
 NETWORKS = {"elasto_gap": "ElastoGap", "coupled_clutches": "CoupledClutches",
             "one_way_clutch": "OneWayClutch", "sign_convention": "SignConvention",
-            "test_speed_rotational": "TestSpeedRotational"}
+            "test_speed_rotational": "TestSpeedRotational",
+            "simple_gear_shift": "SimpleGearShift"}
 
 
 def _run(*args):
@@ -133,6 +134,15 @@ def test_coupled_clutches_friction_work_adds_up(outputs):
     j4 = next(r for r in run["speeds"] if r["name"] == "J4")
     assert j4["initial"] == 0.0 and j4["max"] > 0.0
     assert run["warnings"] == []       # not a launch: no "this launch has no vehicle"
+
+
+def test_a_shift_that_expects_lockup_without_vehicle_or_engine_warns_nothing(outputs):
+    """SimpleGearShift sets ``expect_lockup = true`` (its clutch locks at the shift) and has
+    neither a vehicle nor an engine: no launch, so no "this launch has no vehicle"."""
+    run = outputs["simple_gear_shift"][1]["runs"]["SimpleGearShift"]
+    clutch = next(r for r in run["friction_elements"] if r["name"] == "clutch")
+    assert clutch["lockups"] >= 1 and clutch["locked_at_end"]
+    assert run["warnings"] == []
 
 
 def test_the_report_shows_the_network_summary(outputs):

@@ -19,9 +19,10 @@ from . import _kernels as _k
 from . import launch_quality as lq
 from .judder_band import JUDDER_BAND_HZ, JUDDER_SLIP_RAD_S
 
-__all__ = ["DT_OUT_MAX_S", "ENERGY_STATES", "LOCK_HOLD", "LOCK_SLIP", "STEP_RATE_LIMIT", "RunSummary",
-           "analyse_run", "energy_balance", "grid_problem", "launch_metrics", "launch_warnings", "metrics_of",
-           "warnings_of", "with_weighted_acceleration"]
+__all__ = ["DT_OUT_MAX_S", "ENERGY_STATES", "LAUNCH_DRIVES", "LOCK_HOLD", "LOCK_SLIP",
+           "STEP_RATE_LIMIT", "RunSummary", "analyse_run", "energy_balance", "grid_problem",
+           "is_launch", "launch_metrics", "launch_warnings", "metrics_of", "warnings_of",
+           "with_weighted_acceleration"]
 
 #: energy-account states of a launch driveline (integrals) [J]: the work put in, then the
 #: losses and stores it goes to (:func:`energy_balance`)
@@ -217,6 +218,22 @@ def _ringing(k, clutch: str) -> str | None:
             "coulomb-robust; do not trust this run's torques and lock-up time")
 
 
+#: component kinds that make a network with a friction clutch a launch: what the launch
+#: metrics read (a vehicle: comfort, jerk, lock-up shock; an engine: dip, flare, stall)
+LAUNCH_DRIVES = ("vehicle", "engine")
+
+
+def is_launch(kinds, clutch: str) -> bool:
+    """Whether a network is a launch, the rule ``clutchsim run`` and its outputs follow:
+    its element ``clutch`` (``[scenario] clutch``) is a friction clutch (kind ``"clutch"``,
+    not a brake, a one-way clutch or a lossy gear) and it has a vehicle or an engine
+    (:data:`LAUNCH_DRIVES`).  ``kinds``: component name -> kind, as a network plant's
+    ``metadata["kinds"]`` (:class:`~clutchsim.core.Result`, :class:`~clutchsim.core.System`)
+    gives it.  A launch gets the launch metrics and figure, any other network the summary
+    of :func:`clutchsim.analysis.network_summary.network_summary` (docs/outputs.md)."""
+    return kinds.get(clutch) == "clutch" and any(k in LAUNCH_DRIVES for k in kinds.values())
+
+
 def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool = True,
                     friction: bool = True, engine_max_radps: float | None = None
                     ) -> list[str]:
@@ -231,8 +248,9 @@ def launch_warnings(res: Result, clutch: str = "clutch", *, expect_lockup: bool 
       :data:`STEP_COUNT_FLOOR` steps);
     * the engine ran faster than ``engine_max_radps`` (the last speed of its full-load
       table, where its fuel is cut) [rad/s];
-    * (``expect_lockup``: a launch) the run has no vehicle (``a_vehicle``) or no engine
-      (``omega_engine``), so the metrics that read them are null.
+    * (``expect_lockup``, and the network is a launch: :func:`is_launch`) the run has no
+      vehicle (``a_vehicle``) or no engine (``omega_engine``), so the metrics that read
+      them are null.
 
     A failed run gets none (its outcome and message say what went wrong).
     """
@@ -265,7 +283,9 @@ def warnings_of(sm: RunSummary, clutch: str, *, expect_lockup: bool = True,
                                             ("engine ([engine]: omega_engine)",
                                              _k.K_OMEGA_MIN))
                    if math.isnan(float(k[slot]))]
-        if missing:
+        # another network (no vehicle and no engine component, whatever its inertias are
+        # called) has no launch metrics to be null
+        if missing and is_launch(sm.kinds, clutch):
             out.append(f"this launch has no {' and no '.join(missing)}: the launch metrics "
                        "that read it (vehicle: vdv, aw r.m.s., jerk, lock-up shock; engine: "
                        "dip, flare, engine speeds) are null. Remedy: add the missing table, "

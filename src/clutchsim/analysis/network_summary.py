@@ -6,7 +6,7 @@ components' kinds, its friction models and its domain in ``metadata``).  Every v
 finite number, a string, a bool or a list of them: no nulls, and every key is present in
 every run (lists may be empty).  The keys are documented in docs/outputs.md ("Runs of
 any network"); a launch gets the launch metrics instead
-(:func:`clutchsim.scenario.run.is_launch`)."""
+(:func:`clutchsim.analysis.launch_metrics.is_launch`)."""
 
 from __future__ import annotations
 

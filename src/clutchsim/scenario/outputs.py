@@ -20,7 +20,7 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
                progress=None) -> dict:
     """Run ``scenario`` once per friction model and write the results into ``directory``.
 
-    A launch (:func:`clutchsim.scenario.run.is_launch`: a friction clutch with a vehicle or
+    A launch (:func:`clutchsim.analysis.launch_metrics.is_launch`: a friction clutch with a vehicle or
     an engine) gets ``summary.json`` ``{"kind", "scenario", "file", "models": {MODEL:
     launch metrics}}``, one ``launch_MODEL.png`` per model and, for several models,
     ``comparison.png``.  Any other network gets ``summary.json`` ``{"kind", "scenario",

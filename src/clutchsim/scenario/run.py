@@ -2,8 +2,10 @@
 simulate, and compute the warnings and launch metrics
 (:func:`clutchsim.analysis.launch_metrics.analyse_run`: one compiled call per run).
 
-Whether a run is a launch is decided here, in one place (:func:`is_launch`): the outputs
-of ``clutchsim run`` (launch metrics and figure, or the summary of any network) follow it."""
+Whether a run is a launch is decided in one place,
+:func:`clutchsim.analysis.launch_metrics.is_launch` (re-exported here): the outputs of
+``clutchsim run`` (launch metrics and figure, or the summary of any network) and the launch
+warnings follow it."""
 
 from __future__ import annotations
 
@@ -12,29 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..analysis.actuation import controller_warnings, has_controller
-from ..analysis.launch_metrics import analyse_run, grid_problem
+from ..analysis.launch_metrics import LAUNCH_DRIVES, analyse_run, grid_problem, is_launch
 from ..core import Result, SolverOptions, simulate
 from .loader import resolve_scenario
 
 __all__ = ["LAUNCH_DRIVES", "LaunchResult", "batch_reason", "engine_max_speed",
            "expects_lockup", "is_launch", "lining_geometry", "run_batch", "run_scenario",
            "surface_node"]
-
-#: component kinds that make a network with a friction clutch a launch: what the launch
-#: metrics read (a vehicle: comfort, jerk, lock-up shock; an engine: dip, flare, stall)
-LAUNCH_DRIVES = ("vehicle", "engine")
-
-
-def is_launch(kinds, clutch: str) -> bool:
-    """Whether a network is a launch, the rule ``clutchsim run`` and its outputs follow:
-    its element ``clutch`` (``[scenario] clutch``) is a friction clutch (kind ``"clutch"``,
-    not a brake, a one-way clutch or a lossy gear) and it has a vehicle or an engine
-    (:data:`LAUNCH_DRIVES`).  ``kinds``: component name -> kind, as a network plant's
-    ``metadata["kinds"]`` (:class:`~clutchsim.core.Result`, :class:`~clutchsim.core.System`)
-    gives it.  A launch gets the launch metrics and figure, any other network the summary
-    of :func:`clutchsim.analysis.network_summary.network_summary` (docs/outputs.md)."""
-    return kinds.get(clutch) == "clutch" and any(k in LAUNCH_DRIVES for k in kinds.values())
-
 
 @dataclass(frozen=True)
 class LaunchResult:
