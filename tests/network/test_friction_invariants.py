@@ -187,3 +187,37 @@ def test_the_msl_one_way_clutch_example_is_checked_and_clean():
     checks = {c.name: c for c in scenario.system(None).invariants.elements}
     assert checks["oneWayClutch"].forward_only and checks["oneWayClutch"].locked >= 0
     _no_physics_warnings(run_scenario(scenario).result)
+
+
+# ------------------------------------------- lossy gears (their loss element's modes)
+def _lossy():
+    return Invariants((FrictionCheck("g", True, True, mode=1, locked=2, torque=0, slip=1,
+                                     capacity=-1),), speeds=(0,), w_friction=3,
+                      all_passive=True, speed_unit="rad/s", effort_unit="N·m")
+
+
+def test_a_lossy_gear_rolling_against_its_mode_is_fatal_and_any_stuck_torque_passes():
+    ts, ys, outs = _rows([0, 0, 1, 1], [1, 1, 0, 0], [0.0, 0.0, 0.3, -0.2],
+                         [50.0, -80.0, 0.5, 0.5], [0, 0, 0, 0])
+    found = _lossy()(ts, ys, outs[:, :2], rtol=1e-8, atol=1e-9)
+    assert {v.invariant for v in found} == {"mode_against_slip", "negative_power"}
+    assert all(v.t == 3.0 and v.fatal for v in found)
+
+
+def test_the_lossy_gears_of_a_network_are_checked():
+    from clutchsim.network.components import LossyGear
+
+    net = Network(
+        [TorqueSource("src", input="tau"), Inertia("A", J=1.0, omega0=0.2),
+         LossyGear("g", ratio=2.0, loss_table=((0.0, 0.9, 0.8, 0.1, 0.1),)),
+         Inertia("B", J=2.0, omega0=0.1)],
+        [["src.flange", "A.a"], ["A.b", "g.a"], ["g.b", "B.a"]])
+    system = net.build({"tau": 0.0})
+    (check,) = system.invariants.elements
+    assert check.name == "g" and check.hybrid and check.passive and check.capacity == -1
+    res = simulate(system, (0.0, 3.0), {"tau": Sine(amplitude=3.0, freq=1.0, offset=-0.5)},
+                   solver="rodas4", options=TIGHT)
+    _no_physics_warnings(res)
+    # it rolls forward and backward, through zero speed, and its loss dissipates
+    assert res["g.mode"].min() == -1.0 and res["g.mode"].max() == 1.0
+    assert np.all(res["P_g"] >= -1e-9) and res["W_friction_g"][-1] > 0.0

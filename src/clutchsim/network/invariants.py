@@ -9,14 +9,17 @@ after each reset), with the solver's tolerances:
     A hybrid stick/slip element (coulomb-robust) that slides (mode ±1, unlocked) has a
     slip of the sign of its mode: ``mode·w >= 0``.  A freewheel
     (:attr:`FrictionModel.forward_only`: the one-way clutch) that is not locked never
-    slides backwards: ``w >= 0``.
+    slides backwards: ``w >= 0``.  A lossy gear's loss element (mode ±1 rolling forward
+    or backward, 0 stuck) is checked as a hybrid element.
 ``slipping_while_stuck``
     A hybrid element in its stuck mode (mode 0) has zero slip, locked or not.
 ``stick_over_capacity``
-    A locked element carries at most its static capacity: ``|τ| <= capacity``.
+    A locked element carries at most its static capacity: ``|τ| <= capacity`` (a stuck
+    lossy gear holds any torque: not checked).
 ``negative_power``
     An element whose model is declared passive (:attr:`FrictionModel.passive`: memoryless,
-    the force has the sign of the slip) never delivers power: ``τ·w >= 0``.
+    the force has the sign of the slip) never delivers power: ``τ·w >= 0``; nor does a
+    lossy gear's loss (``L·w >= 0``).
 ``friction_work_decreases``
     When every friction element is passive, the total friction work ``W_friction`` never
     decreases.
@@ -77,13 +80,13 @@ class FrictionCheck:
     indices of its torque, slip, static capacity and stick torque."""
 
     name: str
-    hybrid: bool        # coulomb-robust: mode state and lock flag
+    hybrid: bool        # coulomb-robust or a lossy gear: mode state and lock flag
     passive: bool
     mode: int
     locked: int
     torque: int
     slip: int
-    capacity: int
+    capacity: int       # -1: none (a lossy gear holds any torque when stuck)
     forward_only: bool = False  # a freewheel: lock flag, the slip never negative while free
 
 
@@ -141,8 +144,10 @@ def scan(ts, ys, outs, el, speeds, w_fric, all_passive, rtol, atol, tab):
     for e in range(m):
         o = e * N_CHECKS
         c_scale = 0.0
+        has_cap = el[e, E_CAP] >= 0      # a lossy gear has no capacity: it holds any torque
         for i in range(n):
-            c_scale = max(c_scale, abs(outs[i, el[e, E_CAP]]))
+            if has_cap:
+                c_scale = max(c_scale, abs(outs[i, el[e, E_CAP]]))
         c_scale += 1.0
         t_soft = 100.0 * (atol + rtol * c_scale)
         t_hard = max(1e-3 * c_scale, 10.0 * t_soft)
@@ -161,7 +166,7 @@ def scan(ts, ys, outs, el, speeds, w_fric, all_passive, rtol, atol, tab):
                     _record(tab, o, i, ts[i], -mode * w, w_soft, w_hard, mode, w)
                 if mode == 0.0:
                     _record(tab, o + 1, i, ts[i], abs(w), w_soft, w_hard, mode, w)
-                if locked:
+                if locked and has_cap:
                     cap = outs[i, el[e, E_CAP]]
                     _record(tab, o + 2, i, ts[i], abs(tau) - abs(cap), t_soft, t_hard, tau,
                             cap)
@@ -247,7 +252,18 @@ def build_invariants(plan) -> Invariants:
     elements = []
     for c in plan.fes:
         model = getattr(c, "model", None)
-        if model is None or getattr(c, "lossy", False):
+        if model is None:
+            continue
+        if getattr(c, "lossy", False):
+            # a lossy gear's loss element: rolling (mode ±1) with its slip, stuck (mode 0)
+            # at zero slip, its loss L·w >= 0 (the laws are continuous in the torque and
+            # dissipate in both power-flow directions); it holds any torque when stuck
+            need = (f"T_loss_{c.name}", f"{dom.slip}_{c.name}")
+            if any(n not in out for n in need) or (c.name, "locked") not in plan.state_index:
+                continue
+            elements.append(FrictionCheck(
+                c.name, True, True, plan.state_index[(c.name, "z0")],
+                plan.state_index[(c.name, "locked")], out[need[0]], out[need[1]], -1))
             continue
         need = (f"{dom.effort}_{c.name}", f"{dom.slip}_{c.name}", f"capacity_{c.name}")
         if any(n not in out for n in need):
@@ -260,8 +276,8 @@ def build_invariants(plan) -> Invariants:
             plan.state_index[(c.name, "z0")] if hybrid else -1,
             plan.state_index[(c.name, "locked")] if hybrid or forward else -1,
             out[need[0]], out[need[1]], out[need[2]], forward_only=forward))
-    # every element that books into W_friction (lossy gears and bearing losses too) must be
-    # passive for the total to be monotone
+    # every element that books into W_friction (lossy gears too) must be passive for the
+    # total to be monotone
     all_passive = (bool(elements) and len(elements) == len(plan.fes)
                    and all(e.passive for e in elements))
     w_fric = plan.state_names.index("W_friction") if "W_friction" in plan.state_names else -1
