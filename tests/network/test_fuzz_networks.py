@@ -23,3 +23,45 @@ EXAMPLES = int(os.environ.get("CLUTCHSIM_FUZZ_EXAMPLES", "12"))
 @given(cases())
 def test_fuzzed_networks_keep_the_physics(case):
     assert check_run(case) == [], case
+
+
+def test_a_chaotic_rattle_is_sensitive_not_a_problem():
+    """Seed 7 of the fuzz script: a light inertia (0.05 kg·m²) rattling in an undamped
+    backlash (c = 1e5 N·m/rad, 0.1 rad) against a heavy one, driven by a sine, beside a
+    freewheel and two brakes.  Every tolerance converges over the first 0.25 s; the final
+    speeds at 0.6 s differ by rad/s between rtol 1e-7, 1e-9 and 1e-10 alike (chaos, not a
+    wrong run): the property records it as sensitive and finds no problem."""
+    from clutchsim.core.signals import Constant, Ramp, Sine
+    from clutchsim.friction import make_model
+    from clutchsim.network.components import (
+        Brake,
+        ElastoBacklash,
+        Inertia,
+        OneWayClutch,
+        TorqueSource,
+    )
+
+    from _fuzz import Case
+
+    J = (1.0, 0.05, 0.05, 0.05, 1.0)
+    w0 = (15.775360810759452, 7.764458540606963, -14.97684300432243, 2.8029986275628964,
+          0.7387532237627816)
+    comps = [Inertia(f"I{i}", J=J[i], omega0=w0[i]) for i in range(5)]
+    comps += [ElastoBacklash("c0", b=0.1, c=1e5, d=0.0),
+              ElastoBacklash("c1", b=0.0, c=1e3, d=0.0),
+              OneWayClutch("c2", command="f_c2", T_slide=0.5, peak=1.1),
+              ElastoBacklash("c3", b=0.0, c=1e3, d=0.0),
+              Brake("br0", make_model("mykhailevych2020").with_(
+                  T_stat=1.0, k_v=210.66666666666666), command="f_br0"),
+              Brake("br2", make_model("stribeck").with_(
+                  F_c=0.6666666666666666, F_s=1.0, sigma2=0.26666666666666666),
+                    command="f_br2"),
+              TorqueSource("src0", input="tau0"), TorqueSource("src1", input="tau1")]
+    connect = [["I0.a", "c0.a", "c3.a", "br0.flange"], ["I1.a", "c0.b", "c1.a", "src1.flange"],
+               ["I2.a", "c1.b", "c2.a", "br2.flange", "src0.flange"], ["I3.a", "c2.b"],
+               ["I4.a", "c3.b"]]
+    inputs = {"f_c2": Constant(0.5), "f_br0": Ramp(0.05, 0.2, 1.0), "f_br2": Constant(0.0),
+              "tau0": Constant(2.7151588696170874), "tau1": Sine(2.4111066369148833, 1.0)}
+    notes: list = []
+    assert check_run(Case(comps, connect, inputs), notes=notes) == []
+    assert len(notes) == 1 and notes[0].startswith("sensitive"), notes
