@@ -359,6 +359,38 @@ def _sharpen(tag, bank, p, dkind, dense, t, h, t_ref, g_old, g_samp, ts, ns, ytm
 
 
 @jit
+def _starting_step(tag, t, y, f0, u, p, ytmp, ftmp, atol, rtol, q, h_max, stats):
+    """A first step size for the state ``y`` at ``t`` with its derivative ``f0`` (inputs
+    ``u`` set): Hairer, Norsett & Wanner, Solving ODEs I, II.4 (one more right-hand side,
+    at an Euler step, estimates the second derivative)."""
+    n = y.shape[0]
+    d0 = 0.0
+    d1 = 0.0
+    for i in range(n):
+        sc = atol + rtol * abs(y[i])
+        d0 += (y[i] / sc) ** 2
+        d1 += (f0[i] / sc) ** 2
+    d0 = math.sqrt(d0 / n)
+    d1 = math.sqrt(d1 / n)
+    h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h = min(h, h_max)
+    for i in range(n):
+        ytmp[i] = y[i] + h * f0[i]
+    system_rhs(tag, t + h, ytmp, u, p, ftmp)
+    stats[S_RHS] += 1
+    d2 = 0.0
+    for i in range(n):
+        sc = atol + rtol * abs(y[i])
+        d2 += ((ftmp[i] - f0[i]) / sc) ** 2
+    d2 = math.sqrt(d2 / n) / h
+    if max(d1, d2) <= 1e-15:
+        h1 = max(1e-6, h * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (q + 1.0))
+    return min(100 * h, h1, h_max)
+
+
+@jit
 def _controller_factor(ctrl, q, e, e_old, e_older, h, h_old, first):
     """``h_new / h`` after an accepted step with error norm ``e`` (see controllers.py)."""
     kind = ctrl[C_KIND]
@@ -522,30 +554,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     # initial step (Hairer, Norsett & Wanner, Solving ODEs I, II.4)
     h = fopt[O_H0]
     if h <= 0:
-        d0 = 0.0
-        d1 = 0.0
-        for i in range(n):
-            sc = atol + rtol * abs(y[i])
-            d0 += (y[i] / sc) ** 2
-            d1 += (f0[i] / sc) ** 2
-        d0 = math.sqrt(d0 / n)
-        d1 = math.sqrt(d1 / n)
-        h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
-        h = min(h, h_max)
-        for i in range(n):
-            ytmp[i] = y[i] + h * f0[i]
-        system_rhs(tag, t + h, ytmp, u, p, ftmp)
-        stats[S_RHS] += 1
-        d2 = 0.0
-        for i in range(n):
-            sc = atol + rtol * abs(y[i])
-            d2 += ((ftmp[i] - f0[i]) / sc) ** 2
-        d2 = math.sqrt(d2 / n) / h
-        if max(d1, d2) <= 1e-15:
-            h1 = max(1e-6, h * 1e-3)
-        else:
-            h1 = (0.01 / max(d1, d2)) ** (1.0 / (q + 1.0))
-        h = min(100 * h, h1, h_max)
+        h = _starting_step(tag, t, y, f0, u, p, ytmp, ftmp, atol, rtol, q, h_max, stats)
 
     f0_valid = True
     jac_valid = False
@@ -558,6 +567,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     first = True
     last_nonfinite = -1
     have_history = False  # g_prev at t_prev is a valid step end before g_old at t
+    restart = False       # a step ended at an event: cap the next by a starting step
     # A directional event whose function starts on its post-crossing side fires once at t0
     # (e.g. a stuck friction element loaded beyond its capacity from the start).
     check_jump = False
@@ -645,6 +655,19 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 lu_h = 0.0
                 check_jump = True
             continue
+        if restart:
+            # after a reset the dynamics may be other ones (a contact closed, an element
+            # locked): the step size the old dynamics allowed is capped by a starting
+            # step for the new state, as at t0; else a step past a stiff contact's whole
+            # bounce damps it out and locates its release far too late
+            restart = False
+            inputs_at(bank, t, t + 0.5 * min(h, t_stop - t), u, uc)
+            system_rhs(tag, t, y, u, p, f0)
+            stats[S_RHS] += 1
+            f0_valid = _first_nonfinite(f0) < 0
+            if f0_valid:
+                h = min(h, _starting_step(tag, t, y, f0, u, p, ytmp, ftmp, atol, rtol, q,
+                                          h_max, stats))
         hit = False
         h = min(h, h_max)
         if t + h >= t_stop - h_floor:
@@ -914,6 +937,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     g_old[k] = g_seg[k]
                 have_history = False
                 f0_valid = False
+                restart = True
                 if not w_method:
                     jac_valid = False
                 if action == _STATE_CHANGED:
