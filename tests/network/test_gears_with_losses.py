@@ -19,9 +19,9 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 def _run_example(name):
     sc = resolve_scenario(EXAMPLES / f"{name}.toml")
-    chain = sc.chain(sc.models[0] if sc.models else None)
+    net = sc.network(sc.models[0] if sc.models else None)
     u0 = {n: float(np.asarray(s(0.0)).ravel()[0]) for n, s in sc.inputs.items()}
-    system = chain.build(u0)
+    system = net.build(u0)
     res = simulate(system, (0.0, sc.t_end), {n: sc.inputs[n] for n in system.input_names},
                    solver=sc.solver, options=sc.options)
     assert res.status == "completed", res.message
@@ -256,4 +256,4 @@ def test_network_scenario_bad_gearbox_gear_names_file_and_key(tmp_path):
     path = tmp_path / "bad.toml"
     path.write_text(NETWORK_SCENARIO.replace("gear = 2 }", "gear = 5 }"))
     with pytest.raises(ScenarioError, match=r"bad.toml.*component\[2\].*gear 5 does not exist"):
-        resolve_scenario(path).chain()
+        resolve_scenario(path).network()
