@@ -189,13 +189,6 @@ def _check_signals(scenario, fail, comps, needs, where) -> None:
                       f"{'; signals: ' + ', '.join(known) if known else ''}", key)
 
 
-def _named_key(message: str, table: dict) -> str:
-    """``.<key>`` when a component's message (``<component>: <key> ...``) names a key of its
-    table, so that the error points at that key and its line; else ""."""
-    m = re.match(r"[^:]*: (\w+)\b", message)
-    return f".{m.group(1)}" if m and m.group(1) in table else ""
-
-
 def build_network(scenario, model: str | None = None):
     """Build the :class:`~clutchsim.network.Network` of a scenario with ``model`` on its
     clutch element: its ``[[component]]`` tables and ``[network] connect``, or the tables
@@ -286,7 +279,7 @@ def build_network(scenario, model: str | None = None):
         try:
             comps.append(cls(t["name"], **kw))
         except (TypeError, ValueError) as exc:
-            fail(str(exc), key + _named_key(str(exc), t))
+            fail(str(exc), key)
         where[t["name"]] = key
     _check_signals(scenario, fail, comps, needs, where)
     try:

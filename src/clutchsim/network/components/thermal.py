@@ -16,7 +16,7 @@ class ThermalNode(Component):
     thermal = True
     domain = None
     params = (
-        Param("capacity", "J/K", "heat capacity m·c_p", low=0.0, strict=True, high=1e9),
+        Param("capacity", "J/K", "heat capacity m·c_p", low=0.0, strict=True),
         Param("conductance", "W/K", "convection hA to ambient (0: adiabatic)", default=0.0,
               low=0.0, high=1e7),
         Param("ambient", "°C", "ambient temperature", default=20.0, low=-273.15,
