@@ -225,3 +225,37 @@ def test_a_scenario_parsed_again_reads_its_relative_paths_from_its_folder(tmp_pa
     monkeypatch.chdir(tmp_path)
     again = resolve_scenario(sc, ["scenario.t_end=1.0"])
     assert again.t_end == 1.0 and again.compare == sc.compare
+
+
+def test_a_chain_file_is_the_network_its_reader_writes():
+    """The chain reader's document, parsed as a network scenario, is the same network
+    (components, connections, parameter vector) as the chain file."""
+    import tomllib
+
+    from clutchsim.scenario import chain_format
+    from clutchsim.scenario.loader import parse_scenario
+    text = (EXAMPLES / "launch.toml").read_text(encoding="utf-8")
+    data = tomllib.loads(text)
+    assert chain_format.is_chain(data)
+    doc = chain_format.rewrite(data).data
+    assert not chain_format.is_chain(doc)
+    chain, net = load_scenario(EXAMPLES / "launch.toml").network(), parse_scenario(doc).network()
+    assert [(type(c), c.name) for c in net.components] == \
+        [(type(c), c.name) for c in chain.components]
+    assert net.connections == chain.connections
+    assert list(net.compile().values_vector(net.components)) == \
+        list(chain.compile().values_vector(chain.components))
+
+
+def test_chain_errors_name_the_chain_key_and_its_line(tmp_path):
+    text = (EXAMPLES / "launch.toml").read_text(encoding="utf-8")
+    # a load (a torque component the reader adds) reading no input: the inertia's `load`
+    disc = next(s for s in text.splitlines() if s.startswith('name = "disc"'))
+    err, p, text2 = _bad(tmp_path, disc + "\n", disc + '\nload = "nosuch"\n')
+    assert "inertia[1].load" in str(err) and "'nosuch'" in str(err)
+    assert err.line == next(i for i, s in enumerate(text2.splitlines(), 1)
+                            if s == 'load = "nosuch"')
+    # the engine's node names no inertia
+    old = next(s for s in text.splitlines() if s.startswith("node = "))
+    err, p, _ = _bad(tmp_path, old + "\n", 'node = "engin"\n')
+    assert "engine.node" in str(err) and "did you mean 'engine'" in str(err)

@@ -13,7 +13,7 @@ import re
 from dataclasses import dataclass, field
 
 __all__ = ["CHAIN_ONLY", "CHAIN_TABLES", "COUPLING_TYPES", "KIND_OF", "Rewrite",
-           "is_chain", "rewrite"]
+           "is_chain", "nodes", "rewrite"]
 
 #: the tables of the chain format, in the order their components are listed
 CHAIN_TABLES = ("inertia", "coupling", "brake", "engine", "vehicle", "thermal")
@@ -50,6 +50,15 @@ CHAIN_ONLY = {
 def is_chain(data: dict) -> bool:
     """Is ``data`` a chain document (any of :data:`CHAIN_TABLES`)?"""
     return any(t in data for t in CHAIN_TABLES)
+
+
+def nodes(data: dict) -> list[tuple[str, object]]:
+    """``(key path, value)`` of every ``node`` of a chain document (a brake's, the
+    engine's): each must name an inertia."""
+    out = [(f"brake[{i}].node", t.get("node")) for i, t in enumerate(data.get("brake", []))]
+    if "engine" in data:
+        out.append(("engine.node", data["engine"].get("node")))
+    return out
 
 
 @dataclass(frozen=True)
@@ -92,16 +101,13 @@ class Rewrite:
         return key
 
 
-def rewrite(data: dict, fail=None) -> Rewrite:
+def rewrite(data: dict) -> Rewrite:
     """The network document of the chain document ``data`` (checked table by table
     already): each inertia an ``inertia`` and its ``load`` a ``torque`` source on it; each
     coupling k its component between inertia k (flange a) and k+1 (flange b), a coupling's
     own ``ratio`` ≠ 1 an ``ideal_gear`` on its input side; a brake a ``brake`` on its
     ``node``; the engine ``engine_torque`` on its ``node``; the vehicle ``vehicle`` on the
     last inertia; each thermal node a ``thermal_node``.
-
-    ``fail(problem, chain key)`` is called (and must raise) for a ``node`` that names no
-    inertia; without it such a node is joined as written.
     """
     comps: list = []
     conns: list = []
@@ -118,14 +124,6 @@ def rewrite(data: dict, fail=None) -> Rewrite:
 
     inertias = data.get("inertia", [])
     names = [str(t.get("name")) for t in inertias]
-
-    def node_of(value, key: str) -> str:
-        if fail is not None and value not in names:
-            from .schema import suggest
-            fail(f"= {value!r} is not an inertia{suggest(str(value), names)} (inertias: "
-                 f"{', '.join(names)})", key)
-        return str(value)
-
     for i, t in enumerate(inertias):
         name = names[i]
         add({"type": "inertia", **{k: v for k, v in t.items() if k != "load"}},
@@ -135,7 +133,7 @@ def rewrite(data: dict, fail=None) -> Rewrite:
                 only=f"inertia[{i}].load")
             conns.append([f"{name}_load.flange", f"{name}.a"])
     for k, t in enumerate(data.get("coupling", [])):
-        a, b = f"{names[k]}.b", f"{names[k + 1]}.a" if k + 1 < len(names) else "ground"
+        a, b = f"{names[k]}.b", f"{names[k + 1]}.a"      # one coupling fewer than inertias
         ctype = t.get("type")
         body = {key: v for key, v in t.items() if key != "type"}
         name = str(t.get("name"))
@@ -150,7 +148,7 @@ def rewrite(data: dict, fail=None) -> Rewrite:
         add({"type": COUPLING_TYPES.get(ctype, ctype), **body}, at=f"coupling[{k}]")
         conns += [[a, f"{name}.a"], [f"{name}.b", b]]
     for i, t in enumerate(data.get("brake", [])):
-        node = node_of(t.get("node"), f"brake[{i}].node")
+        node = t.get("node")
         add({"type": "brake", **{k: v for k, v in t.items() if k != "node"}},
             at=f"brake[{i}]")
         conns.append([f"{t.get('name')}.flange", f"{node}.a"])
@@ -159,7 +157,7 @@ def rewrite(data: dict, fail=None) -> Rewrite:
             continue
         t = data[table]
         name = _NAMES[table]
-        node = node_of(t.get("node"), "engine.node") if table == "engine" else names[-1]
+        node = t.get("node") if table == "engine" else names[-1]
         add({"type": table, "name": name, **{k: v for k, v in t.items() if k != "node"}},
             at=table)
         conns.append([f"{name}.flange", f"{node}.a"])

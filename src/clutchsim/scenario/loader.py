@@ -433,8 +433,11 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
     if not network and n_cp != n_in - 1:
         fail(f"{n_in} inertias need {n_in - 1} couplings (coupling k joins inertia k and "
              f"k+1), found {n_cp}", "coupling" if n_cp else "inertia")
-    if not network:
-        chain_format.rewrite(data, fail)     # its references: a brake's or engine's node
+    inertias = [t.get("name") for t in data.get("inertia", [])]
+    for key, node in chain_format.nodes(data) if not network else ():
+        if node not in inertias:
+            fail(f"= {node!r} is not an inertia{suggest(str(node), inertias)} (inertias: "
+                 f"{', '.join(map(str, inertias))})", key)
     sc = data["scenario"]
     inputs = {}
     raw_inputs = data.get("inputs", {})
