@@ -7,6 +7,7 @@ The same tables drive validation (:func:`check_table`) and the generated referen
 from __future__ import annotations
 
 import difflib
+import functools
 import math
 from dataclasses import dataclass, replace
 
@@ -134,6 +135,7 @@ TRANSLATIONAL_FRICTION = (
 )
 
 
+@functools.lru_cache(maxsize=None)
 def _component_keys(cls) -> tuple:
     """The scenario keys of a network component, generated from its declaration."""
     keys = [Key("name", "str", "Unique name.", required=True),
@@ -230,6 +232,7 @@ OUTPUTS = (
         "states; a spring's twist and a torque pulsation's crank angle are states anyway)."),
 )
 
+
 def chain_keys(section: str, ctype=None) -> tuple:
     """The keys of a chain table (``inertia``, ``coupling`` of type ``ctype``, ``brake``,
     ``engine``, ``vehicle``, ``thermal``), generated from the network component it is read
@@ -239,11 +242,14 @@ def chain_keys(section: str, ctype=None) -> tuple:
     kind = COUPLING_TYPES.get(ctype) if section == "coupling" else KIND_OF.get(section)
     if kind is None:
         return ()
-    types = component_types()
-    keys = [k for k in types[kind] if k.name != "type"
+    from ..network.components import COMPONENTS
+
+    def keys_of(kind):
+        return _component_keys(COMPONENTS[kind])
+    keys = [k for k in keys_of(kind) if k.name != "type"
             and not (k.name == "name" and section in ("engine", "vehicle"))]
     if section == "coupling":
-        title = types[kind][1].doc.split(": ", 1)[1].rstrip(".")
+        title = keys_of(kind)[1].doc.split(": ", 1)[1].rstrip(".")
         keys.insert(1, Key("type", "str", f"{ctype}: read as the network component "
                            f"`{kind}` ({title}).", required=True))
     for (table, ctypes), extra in CHAIN_ONLY.items():
@@ -253,9 +259,10 @@ def chain_keys(section: str, ctype=None) -> tuple:
             if comp is None:
                 keys.append(Key(name, "str", doc, required=required))
                 continue
-            spec = next(k for k in types[comp] if k.name == comp_key)
+            spec = next(k for k in keys_of(comp) if k.name == comp_key)
             keys.append(replace(spec, name=name, doc=doc, required=required))
     return tuple(keys)
+
 
 #: top-level tables: name -> (keys, kind) with kind "table" or "tables" (array of tables)
 SECTIONS = {
