@@ -9,7 +9,7 @@ equations of the generated network plant (``clutchsim.network``) for the topolog
 
     engine --clutch-- disc --damper-- gearbox_input ==gearbox== final_drive --shaft-- wheels
 
-Every number is read once, at set-up, from the loaded scenario (its :class:`Chain`
+Every number is read once, at set-up, from the loaded scenario (its :class:`Network`
 components, the friction model and the input signals); the right-hand side then works on
 Python floats only.  :func:`check` compares the result with ``run_scenario``.
 
@@ -206,18 +206,27 @@ def launch_params(scenario, model: str = "mykhailevych2020") -> LaunchParams:
     ValueError
         The scenario's driveline is not the five-inertia launch chain this model mirrors.
     """
-    from clutchsim.driveline.components import FrictionElement, Gearbox, Inertia, SpringDamper
-    chain = scenario.chain(model)
-    inert, cpl = chain.inertias, chain.couplings
-    kinds = tuple(type(c) for c in cpl)
-    if (len(inert) != 5 or not all(type(i) is Inertia for i in inert)
-            or kinds != (FrictionElement, SpringDamper, Gearbox, SpringDamper)
-            or chain.brakes or chain.engine is None or chain.vehicle is None
-            or len(chain.thermal) != 2):
+    from clutchsim.network import components as nc
+    net = scenario.network(model)
+    comps = net.components
+    inert, cpl = comps[:5], comps[5:9]
+    want = ((nc.Inertia,) * 5 + (nc.Clutch, nc.SpringDamper, nc.Gearbox, nc.SpringDamper,
+                                 nc.Engine, nc.Vehicle, nc.ThermalNode, nc.ThermalNode))
+    kinds = tuple(type(c) for c in comps)
+    # the chain's series: coupling k between inertia k and k+1 (no coupling ratios, no
+    # loads, no brakes), the engine on the first inertia, the vehicle on the last
+    series = tuple(pair for k, c in enumerate(cpl)
+                   for pair in ((f"{inert[k].name}.b", f"{c.name}.a"),
+                                (f"{c.name}.b", f"{inert[k + 1].name}.a"))) \
+        if len(inert) == 5 else ()
+    if kinds != want or net.connections != series + (
+            (f"{comps[9].name}.flange", f"{inert[0].name}.a"),
+            (f"{comps[10].name}.flange", f"{inert[4].name}.a")):
         raise ValueError("plain launch model: expects inertias engine, disc, gearbox input, "
                          "final drive, wheels joined by clutch, spring-damper, gearbox, "
                          f"spring-damper, with engine, vehicle and 2 thermal nodes; got "
-                         f"{[type(c).__name__ for c in cpl]}")
+                         f"{[type(c).__name__ for c in comps]}")
+    thermal = comps[11:13]
     clutch, damper, gearbox, shaft = cpl
     fm = clutch.model
     if fm.name != "mykhailevych2020":
@@ -225,30 +234,25 @@ def launch_params(scenario, model: str = "mykhailevych2020") -> LaunchParams:
     if clutch.clamp_table is not None or clutch.mu_slip is not None or clutch.drag != 0.0:
         raise ValueError("plain launch model: clamp_table, mu_slip and clutch drag are not "
                          "written out")
-    if gearbox.shifts or any(i.load for i in inert) or clutch.locked0 or shaft.knee > 0:
-        raise ValueError("plain launch model: gear shifts, load inputs, a locked start and a "
-                         "two-stage driveshaft are not written out")
-    th_names = [t.name for t in chain.thermal]
+    if gearbox.shifts or clutch.locked0 or shaft.knee > 0:
+        raise ValueError("plain launch model: gear shifts, a locked start and a two-stage "
+                         "driveshaft are not written out")
+    th_names = [t.name for t in thermal]
     heat = dict(clutch.heat)
     if not clutch.heat or clutch.heat[0][0] != th_names[0] or set(heat) - set(th_names):
         raise ValueError("plain launch model: the clutch heat must go first to thermal node "
                          f"{th_names[0]!r} (its mu(theta) node)")
     mu_theta, mu_factor = clutch.mu_temperature if clutch.mu_temperature else ((0.0,), (1.0,))
-    eng, veh = chain.engine, chain.vehicle
-    if eng.node != inert[0].name:
-        raise ValueError("plain launch model: the engine must drive the first inertia")
+    eng, veh = comps[9], comps[10]
     z0 = fm.initial_state() if clutch.z0 is None else np.asarray(clutch.z0, dtype=float)
     phi_damp0 = damper.phi0
-    for c in (damper, shaft):
-        if c.ratio == 0.0:
-            raise ValueError(f"plain launch model: {c.name!r} ratio is zero")
-    i_gb = gearbox.ratio(gearbox.gear)
+    i_gb = gearbox.ratios[int(gearbox.gear) - 1] * gearbox.final_drive
     w0 = [i.omega0 for i in inert]
     if not math.isclose(w0[3], w0[2] / i_gb, rel_tol=1e-12, abs_tol=1e-12):
         raise ValueError("plain launch model: initial speeds violate the gearbox ratio")
     gov = eng.idle_speed > 0
     y0 = (w0[0], w0[1], w0[2], w0[4], phi_damp0, shaft.phi0, float(z0[0]),
-          chain.thermal[0].theta0, chain.thermal[1].theta0, 0.0)
+          thermal[0].theta0, thermal[1].theta0, 0.0)
     sigs = scenario.inputs
     throttle = _plain_signal(sigs[eng.throttle], eng.throttle)
     command = _plain_signal(sigs[clutch.command], clutch.command)
@@ -271,7 +275,7 @@ def launch_params(scenario, model: str = "mykhailevych2020") -> LaunchParams:
         b_e=inert[0].bearing_damping, b_d=inert[1].bearing_damping,
         b_g=inert[2].bearing_damping, b_f=inert[3].bearing_damping,
         b_w=inert[4].bearing_damping,
-        r_c=clutch.ratio, r_dmp=damper.ratio, r_sh=shaft.ratio, i_gb=i_gb,
+        r_c=1.0, r_dmp=1.0, r_sh=1.0, i_gb=i_gb,
         T_stat=fm.T_stat, k_din=fm.k_din, phi0=fm.phi0, omega0=fm.omega0, k_v=fm.k_v,
         p_exp=float(fm.p), reset=fm.reset, reset_c=fm.reset_c,
         mu_theta=_floats(mu_theta), mu_factor=_floats(mu_factor),
@@ -284,9 +288,9 @@ def launch_params(scenario, model: str = "mykhailevych2020") -> LaunchParams:
         mass=veh.mass, r_tyre=veh.tyre_radius, grade_angle=math.atan(veh.grade / 100.0),
         f_roll=veh.rolling, c_aero=0.5 * veh.air_density * veh.cd_area, gravity=veh.gravity,
         v_eps=veh.v_eps,
-        th_C=tuple(t.capacity for t in chain.thermal),
-        th_hA=tuple(t.conductance for t in chain.thermal),
-        th_amb=tuple(t.ambient for t in chain.thermal),
+        th_C=tuple(t.capacity for t in thermal),
+        th_hA=tuple(t.conductance for t in thermal),
+        th_amb=tuple(t.ambient for t in thermal),
         throttle=throttle, command=command, y0=y0, t_end=t_end,
         breakpoints=tuple(sorted(b for b in bps if 0.0 < b < t_end)),
     )
@@ -670,7 +674,7 @@ def rhs_mismatch(scenario, n_states: int = 200, seed: int = 1) -> float:
     from clutchsim.core.signals import build_bank, eval_inputs
     from clutchsim.core.system import call_rhs
     par = launch_params(scenario)
-    system = scenario.chain("mykhailevych2020").build({})
+    system = scenario.network("mykhailevych2020").build({})
     bank = build_bank([scenario.inputs[n] for n in system.input_names])
     rhs, _ = make_rhs(par)
     rng = np.random.default_rng(seed)

@@ -72,7 +72,7 @@ def _row(name, overrides, ref, repeats, same_model=True):
         total.append((time.perf_counter() - t0) * 1e3)
         integ.append(r.result.stats.wall_s * 1e3)
     s = r.result.stats
-    system = sc.chain(MODEL).build(sc.inputs0())
+    system = sc.network(MODEL).build(sc.inputs0())
     kind = "exact" if has_jacobian(system.tag) else "finite differences"
     return {"case": name, "status": r.result.status, "ms": statistics.median(total),
             "integrator_ms": statistics.median(integ), "steps": s.steps,
@@ -111,7 +111,7 @@ def _plant_ns(n: int = 200_000) -> dict:
     sc = _load([])
     res = run_scenario(sc, MODEL).result
     u0 = {name: float(np.asarray(sig(0.0)).ravel()[0]) for name, sig in sc.inputs.items()}
-    system = sc.chain(MODEL).build(u0)
+    system = sc.network(MODEL).build(u0)
     fns = plant_functions(system.tag)
     i = int(np.searchsorted(res.t, 0.9))
     y = np.array([res[name][i] for name in system.state_names])

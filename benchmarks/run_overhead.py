@@ -94,7 +94,7 @@ def main():
 
     sc = resolve_scenario(None)
     model = sc.models[0] if sc.models else None
-    system = sc.chain(model).build(sc.inputs0())
+    system = sc.network(model).build(sc.inputs0())
     inputs = {n: sc.inputs[n] for n in system.input_names}
     clutch, lining = sc.clutch, run_mod.lining_geometry(sc)
     expect, friction = run_mod.expects_lockup(sc), run_mod._is_friction_clutch(sc)

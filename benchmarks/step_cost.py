@@ -217,7 +217,7 @@ def launch_case(repeats):
         return run_scenario(sc, model).result
     res = run()
     u0 = {name: float(np.asarray(sig(0.0)).ravel()[0]) for name, sig in sc.inputs.items()}
-    system = sc.chain(model).build(u0)
+    system = sc.network(model).build(u0)
     i = int(np.searchsorted(res.t, 0.9))
     y = np.array([res[s][i] for s in system.state_names])
     u = np.array([res[s][i] for s in system.input_names])

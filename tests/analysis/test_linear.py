@@ -8,14 +8,24 @@ import pytest
 
 from clutchsim.analysis import element_points, linearise, modes
 from clutchsim.core import SolverOptions, simulate
-from clutchsim.driveline import Chain, FrictionElement, Gear, Inertia, SpringDamper
-from clutchsim.driveline.components import Brake
 from clutchsim.friction import make_model
+from clutchsim.network import Network
+from clutchsim.network.components import Brake, Clutch, IdealGear, Inertia, SpringDamper
 
 # J·θ'' + (c + s)·θ' + k·θ = 0: a disc on a torsional spring to a drive held at w0 (an
 # inertia 1e10 times the disc's), braked by a Stribeck brake slipping at w0
 J, K, C, W0 = 0.1, 1000.0, 1.0, 1.0
 F_C, F_S, V_S = 10.0, 15.0, 2.0
+
+
+def _series(inertias, couplings, brakes=()):
+    """Inertias in series, coupling k between inertia k (flange a) and k+1 (flange b), and
+    ``(brake, inertia name)`` brakes to the housing."""
+    conns = [pair for k, c in enumerate(couplings)
+             for pair in ((f"{inertias[k].name}.b", f"{c.name}.a"),
+                          (f"{c.name}.b", f"{inertias[k + 1].name}.a"))]
+    conns += [(f"{b.name}.flange", f"{node}.a") for b, node in brakes]
+    return Network([*inertias, *couplings, *(b for b, _ in brakes)], conns)
 
 
 def _slope(v):
@@ -25,10 +35,10 @@ def _slope(v):
 
 def _belt(phi0):
     brake = make_model("stribeck", F_c=F_C, F_s=F_S, v_s=V_S, delta=2.0, v_t=1e-5, sigma2=0.0)
-    chain = Chain([Inertia("drive", 1e9, omega0=W0), Inertia("disc", J, omega0=W0)],
+    net = _series([Inertia("drive", J=1e9, omega0=W0), Inertia("disc", J=J, omega0=W0)],
                   [SpringDamper("spring", c=K, d=C, phi0=phi0)],
-                  brakes=[Brake("brake", brake, "com", node="disc")])
-    return chain.build({"com": 1.0})
+                  [(Brake("brake", brake, "com"), "disc")])
+    return net.build({"com": 1.0})
 
 
 def _oscillatory(ms):
@@ -95,11 +105,13 @@ def test_locked_driveline_modes_are_the_mkc_eigenvalues():
     da, db, dc, dd = 0.02, 0.01, 0.03, 0.1
     k, c = 500.0, 0.5
     strong = make_model("coulomb-robust", F_c=1e4, F_s=1e4)
-    chain = Chain([Inertia("a", ja, bearing_damping=da), Inertia("b", jb, bearing_damping=db),
-                   Inertia("c", jc, bearing_damping=dc), Inertia("d", jd, bearing_damping=dd)],
-                  [FrictionElement("clutch", strong, "com"), Gear("gear", r),
+    net = _series([Inertia("a", J=ja, bearing_damping=da),
+                   Inertia("b", J=jb, bearing_damping=db),
+                   Inertia("c", J=jc, bearing_damping=dc),
+                   Inertia("d", J=jd, bearing_damping=dd)],
+                  [Clutch("clutch", strong, "com"), IdealGear("gear", ratio=r),
                    SpringDamper("shaft", c=k, d=c)])
-    system = chain.build({"com": 1.0})
+    system = net.build({"com": 1.0})
     u = np.array([1.0])
     lin = linearise(system, 0.0, system.y0, u)
     assert lin.locked == ("clutch",)
@@ -127,9 +139,9 @@ def test_locked_driveline_modes_are_the_mkc_eigenvalues():
 def test_free_element_and_bad_inputs():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        chain = Chain([Inertia("a", 1.0, omega0=5.0), Inertia("b", 1.0)],
-                      [FrictionElement("clutch", make_model("tanh", F_c=10.0), "com")])
-    system = chain.build({"com": 0.0})
+        net = _series([Inertia("a", J=1.0, omega0=5.0), Inertia("b", J=1.0)],
+                      [Clutch("clutch", make_model("tanh", F_c=10.0), "com")])
+    system = net.build({"com": 0.0})
     (e,) = element_points(system, 0.0, system.y0, np.array([0.0]))
     assert e.state == "free" and e.slip_rad_s == pytest.approx(-5.0)
     with pytest.raises(ValueError, match="'clutc' does not exist.*did you mean 'clutch'"):
@@ -148,10 +160,10 @@ def test_frequency_response_matches_a_forced_simulation():
     brake = make_model("stribeck", F_c=F_C, F_s=F_S, v_s=V_S, delta=2.0, v_t=1e-5,
                        sigma2=0.0)
     T0 = F_C + (F_S - F_C) * math.exp(-((W0 / V_S) ** 2))
-    chain = Chain([Inertia("drive", 1e9, omega0=W0), Inertia("disc", J, omega0=W0)],
+    net = _series([Inertia("drive", J=1e9, omega0=W0), Inertia("disc", J=J, omega0=W0)],
                   [SpringDamper("spring", c=K, d=5.0, phi0=0.0)],
-                  brakes=[Brake("brake", brake, "com", node="disc")])
-    system = chain.build({"com": 1.0})
+                  [(Brake("brake", brake, "com"), "disc")])
+    system = net.build({"com": 1.0})
     y0 = system.y0.copy()
     y0[system.state_names.index("phi_spring")] = T0 / K * _res_sign(system)   # equilibrium
     u = np.array([1.0])

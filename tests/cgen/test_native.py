@@ -47,7 +47,7 @@ def test_launch_plant_is_native_and_both_faces_agree():
     pointers), at random states: rhs, events, outputs, the 2-D Jacobian, the reset's action
     and the state it writes."""
     sc = load_scenario(None)
-    system = sc.chain("mykhailevych2020").build(sc.inputs0())
+    system = sc.network("mykhailevych2020").build(sc.inputs0())
     fns = plant_functions(system.tag)
     assert all(isinstance(f, NativeFunction) for f in (fns.rhs, fns.events, fns.reset,
                                                        fns.outputs, fns.jac))

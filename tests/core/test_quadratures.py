@@ -86,13 +86,13 @@ def _launch():
     from clutchsim.scenario import load_scenario
     sc = load_scenario(None, overrides=["scenario.t_end=1.6"])
     u0 = {name: float(np.asarray(sig(0.0)).ravel()[0]) for name, sig in sc.inputs.items()}
-    sys_ = sc.chain("mykhailevych2020").build(u0)
+    sys_ = sc.network("mykhailevych2020").build(u0)
     return sc, sys_, {n: sc.inputs[n] for n in sys_.input_names}
 
 
 def test_chain_energy_accounts_are_declared_quadratures_and_nothing_depends_on_them():
     from clutchsim.core.system import call_rhs
-    from clutchsim.driveline.chain import ENERGY_STATES
+    from clutchsim.analysis.launch_metrics import ENERGY_STATES
     _sc, sys_, _inputs = _launch()
     # the accounts (the only friction element's own work is W_friction, an output)
     assert "W_friction_clutch" in sys_.output_names

@@ -1,22 +1,58 @@
-"""Physics of chain drivelines (run as networks): rigid parts, reflected inertia, heat, energy."""
+"""Physics of chain drivelines (chain tables read as networks): rigid parts, reflected
+inertia, heat, energy."""
 
 import numpy as np
 import pytest
 
 from clutchsim.analysis.launch_metrics import energy_balance
 from clutchsim.core import Constant, SolverOptions, simulate
-from clutchsim.driveline import Chain, FrictionElement, Gear, Inertia, SpringDamper, ThermalNode
-from clutchsim.friction import make_model
+from clutchsim.scenario import ScenarioError
+from clutchsim.scenario.loader import parse_scenario
 
 OPTS = SolverOptions(rtol=1e-9, atol=1e-10)
 
 
+def chain(inertia, coupling, thermal=(), inputs=("T",)):
+    """The network the chain reader makes of these ``[[inertia]]``/``[[coupling]]``/
+    ``[[thermal]]`` tables (``inputs``: the signals they read, 0 in the file)."""
+    data = {"scenario": {"name": "chain", "t_end": 1.0}, "inputs": dict.fromkeys(inputs, 0.0),
+            "inertia": list(inertia), "coupling": list(coupling)}
+    if thermal:
+        data["thermal"] = list(thermal)
+    return parse_scenario(data).network()
+
+
+def inertia(name, J, **kw):
+    return {"name": name, "J": J, **kw}
+
+
+def clutch(name, F_c, F_s, command="com", **kw):
+    """A clutch coupling with a coulomb-robust model of these capacities [N·m]."""
+    return {"name": name, "type": "clutch", "command": command,
+            "friction": {"model": "coulomb-robust", "overrides": {"F_c": F_c, "F_s": F_s}},
+            **kw}
+
+
+def gearbox(name, ratios, **kw):
+    return {"name": name, "type": "gearbox", "ratios": list(ratios), **kw}
+
+
+def lossy_gear(name, ratio, row=None):
+    """A lossy gear with a one-row loss table ``(speed, eta_mf1, eta_mf2, tau_bf1,
+    tau_bf2)`` (None: no losses)."""
+    t = {"name": name, "type": "lossy_gear", "ratio": ratio}
+    if row is not None:
+        t["loss_table"] = dict(zip(("speed", "eta_mf1", "eta_mf2", "tau_bf1", "tau_bf2"),
+                                   ([x] for x in row)))
+    return t
+
+
 def test_locked_driveline_accelerates_as_one_inertia_with_reflected_gear_inertia():
     r = 3.0
-    strong = make_model("coulomb-robust", F_c=1e3, F_s=1e3)
-    chain = Chain([Inertia("a", 0.5, load="T"), Inertia("b", 0.2), Inertia("c", 2.0)],
-                  [FrictionElement("clutch", strong, "com"), Gear("gear", r)])
-    sys_ = chain.build({"com": 1.0})
+    net = chain([inertia("a", 0.5, load="T"), inertia("b", 0.2), inertia("c", 2.0)],
+                [clutch("clutch", 1e3, 1e3), {"name": "gear", "type": "gear", "ratio": r}],
+                inputs=("T", "com"))
+    sys_ = net.build({"com": 1.0})
     res = simulate(sys_, (0, 1.0), {"T": 6.0, "com": 1.0}, options=OPTS)
     assert res.status == "completed"
     j_eq = 0.5 + 0.2 + 2.0 / r**2          # J·(1/i)² referred to the input
@@ -29,11 +65,11 @@ def test_locked_driveline_accelerates_as_one_inertia_with_reflected_gear_inertia
 
 
 def test_adiabatic_thermal_node_rise_equals_heat_over_capacity():
-    slip = make_model("coulomb-robust", F_c=20.0, F_s=25.0)
-    chain = Chain([Inertia("a", 1.0, omega0=50.0), Inertia("b", 3.0)],
-                  [FrictionElement("clutch", slip, "com", heat=(("plate", 1.0),))],
-                  thermal=[ThermalNode("plate", capacity=500.0, theta0=20.0)])
-    res = simulate(chain.build(), (0, 3.0), {"com": 1.0}, options=OPTS)
+    net = chain([inertia("a", 1.0, omega0=50.0), inertia("b", 3.0)],
+                [clutch("clutch", 20.0, 25.0, heat=[{"node": "plate", "share": 1.0}])],
+                thermal=[{"name": "plate", "capacity": 500.0, "theta0": 20.0}],
+                inputs=("com",))
+    res = simulate(net.build(), (0, 3.0), {"com": 1.0}, options=OPTS)
     assert res.status == "completed"
     heat = res["W_friction"][-1]
     assert heat == pytest.approx(0.5 * 1.0 * 50**2 - 0.5 * 4.0 * 12.5**2, rel=1e-6)
@@ -43,9 +79,10 @@ def test_adiabatic_thermal_node_rise_equals_heat_over_capacity():
 
 
 def test_spring_damper_energy_balance_and_two_stage_spring():
-    chain = Chain([Inertia("a", 1.0, omega0=5.0), Inertia("b", 1.0)],
-                  [SpringDamper("s", c=100.0, d=0.5, knee=0.05, c2=400.0)])
-    res = simulate(chain.build(), (0, 2.0), {}, options=OPTS)
+    net = chain([inertia("a", 1.0, omega0=5.0), inertia("b", 1.0)],
+                [{"name": "s", "type": "spring_damper", "c": 100.0, "d": 0.5, "knee": 0.05,
+                  "c2": 400.0}], inputs=())
+    res = simulate(net.build(), (0, 2.0), {}, options=OPTS)
     eb = energy_balance(res)
     assert eb["W_damping"] > 0
     assert eb["energy_balance_rel"] < 1e-7
@@ -54,22 +91,22 @@ def test_spring_damper_energy_balance_and_two_stage_spring():
 
 
 def test_chain_rejects_bad_layout():
-    with pytest.raises(ValueError, match="need 1 couplings"):
-        Chain([Inertia("a", 1.0), Inertia("b", 1.0)], [])
-    with pytest.raises(ValueError, match="J = 0 kg·m² must be > 0"):
-        Inertia("a", 0.0)
+    with pytest.raises(ScenarioError, match="2 inertias need 1 couplings"):
+        chain([inertia("a", 1.0), inertia("b", 1.0)], [])
+    with pytest.raises(ScenarioError, match=r"inertia\[0\]\.J: = 0.0 kg·m² is out of range: "
+                       "must be > 0 kg·m²"):
+        chain([inertia("a", 0.0), inertia("b", 1.0)], [{"name": "g", "type": "gear",
+                                                        "ratio": 2.0}])
     assert np.isfinite(Constant(1.0)(0.0)).all()
 
 
 def test_gearbox_and_ideal_lossy_gear_reflect_inertia_by_ratio_squared():
     # gear 2 of the gearbox (1.5 × final drive 2) and an ideal lossy gear (ratio 0.5):
     # J_eq = J_a + J_b/i1² + J_c/(i1·i2)², all rigid
-    from clutchsim.driveline import Gearbox, LossyGear
     i1, i2 = 1.5 * 2.0, 0.5
-    chain = Chain([Inertia("a", 0.4, load="T"), Inertia("b", 0.9), Inertia("c", 1.3)],
-                  [Gearbox("gb", ratios=(3.0, 1.5), gear=2, final_drive=2.0),
-                   LossyGear("lg", i2)])
-    res = simulate(chain.build(), (0, 2.0), {"T": 3.0}, options=OPTS)
+    net = chain([inertia("a", 0.4, load="T"), inertia("b", 0.9), inertia("c", 1.3)],
+                [gearbox("gb", (3.0, 1.5), gear=2, final_drive=2.0), lossy_gear("lg", i2)])
+    res = simulate(net.build(), (0, 2.0), {"T": 3.0}, options=OPTS)
     assert res.status == "completed"
     j_eq = 0.4 + 0.9 / i1**2 + 1.3 / (i1 * i2) ** 2
     assert res["omega_a"][-1] == pytest.approx(3.0 * 2.0 / j_eq, rel=1e-10)
@@ -83,12 +120,10 @@ def test_gearbox_and_ideal_lossy_gear_reflect_inertia_by_ratio_squared():
 def test_lossy_gear_driving_forward_loses_one_minus_eta(eta):
     # a drives b through mesh efficiency eta: J_b·dw_b/dt = r·eta·T_a, so
     # dw_a/dt = tau / (J_a + J_b/(eta·r²)); the loss power (1-eta)·T_a·w_a is booked
-    from clutchsim.driveline import LossyGear
     r, J_a, J_b, tau = 2.0, 0.5, 3.0, 4.0
-    table = ((0.0, eta, 0.9, 0.0, 0.0),)
-    chain = Chain([Inertia("a", J_a, omega0=1.0, load="T"), Inertia("b", J_b, omega0=0.5)],
-                  [LossyGear("g", r, table)])
-    res = simulate(chain.build(), (0, 1.5), {"T": tau}, options=OPTS)
+    net = chain([inertia("a", J_a, omega0=1.0, load="T"), inertia("b", J_b, omega0=0.5)],
+                [lossy_gear("g", r, (0.0, eta, 0.9, 0.0, 0.0))])
+    res = simulate(net.build(), (0, 1.5), {"T": tau}, options=OPTS)
     assert res.status == "completed", res.message
     alpha = tau / (J_a + J_b / (eta * r**2))
     assert res["omega_a"][-1] == pytest.approx(1.0 + alpha * 1.5, rel=1e-10)
@@ -105,12 +140,11 @@ def test_lossy_gear_sticks_until_the_load_beats_the_efficiency():
     # drive 10 N·m at a, load at b ramping the other way: with eta = 0.5 the gear stays
     # stuck while the load, referred to a, lies between eta·10 and 10/eta N·m
     from clutchsim.core import Ramp
-    from clutchsim.driveline import LossyGear
     r = 2.0
-    chain = Chain([Inertia("a", 1.0, load="Ta"), Inertia("b", 1.5, load="Tb")],
-                  [LossyGear("g", r, ((0.0, 0.5, 0.5, 0.0, 0.0),))])
+    net = chain([inertia("a", 1.0, load="Ta"), inertia("b", 1.5, load="Tb")],
+                [lossy_gear("g", r, (0.0, 0.5, 0.5, 0.0, 0.0))], inputs=("Ta", "Tb"))
     load = Ramp(0.0, 10.0, -60.0)                            # -6 N·m/s at b
-    res = simulate(chain.build(), (0, 8.0), {"Ta": 10.0, "Tb": load}, options=OPTS)
+    res = simulate(net.build(), (0, 8.0), {"Ta": 10.0, "Tb": load}, options=OPTS)
     assert res.status == "completed", res.message
     t_start_back = [e.t for e in res.events if e.name == "g: breakaway" and e.t > 0]
     # referred to a the load is 3·t N·m: forward rolling stops (the a-drive can no longer
@@ -123,11 +157,10 @@ def test_lossy_gear_sticks_until_the_load_beats_the_efficiency():
 
 def test_one_way_clutch_drives_one_way_and_freewheels_the_other():
     from clutchsim.core import Step
-    from clutchsim.driveline import OneWayClutch
-    owc = OneWayClutch("fw", command="f", T_slide=0.0)        # a pure freewheel
-    chain = Chain([Inertia("in", 1.0, load="T"), Inertia("out", 3.0)], [owc])
+    owc = {"name": "fw", "type": "one_way_clutch", "command": "f", "T_slide": 0.0}  # freewheel
+    net = chain([inertia("in", 1.0, load="T"), inertia("out", 3.0)], [owc], inputs=("T", "f"))
     drive = Step(1.0, -6.0, 2.0)                              # +2 N·m, then -4 N·m at 1 s
-    res = simulate(chain.build({"f": 0.0}), (0, 2.0), {"T": drive, "f": 0.0}, options=OPTS)
+    res = simulate(net.build({"f": 0.0}), (0, 2.0), {"T": drive, "f": 0.0}, options=OPTS)
     assert res.status == "completed", res.message
     # locked at the start (zero slip): in drives out, both accelerate at 2/4 rad/s²
     i1 = np.flatnonzero(res.t <= 1.0)[-1]
@@ -141,13 +174,13 @@ def test_one_way_clutch_drives_one_way_and_freewheels_the_other():
 
 
 def test_linked_thermal_nodes_conserve_heat_and_equalise():
-    slip = make_model("coulomb-robust", F_c=20.0, F_s=25.0)
-    chain = Chain([Inertia("a", 1.0, omega0=50.0), Inertia("b", 3.0)],
-                  [FrictionElement("clutch", slip, "com", heat=(("surface", 1.0),))],
-                  thermal=[ThermalNode("surface", capacity=50.0, theta0=20.0, link="bulk",
-                                       link_conductance=40.0),
-                           ThermalNode("bulk", capacity=450.0, theta0=20.0)])
-    res = simulate(chain.build(), (0, 30.0), {"com": 1.0}, options=OPTS)
+    net = chain([inertia("a", 1.0, omega0=50.0), inertia("b", 3.0)],
+                [clutch("clutch", 20.0, 25.0, heat=[{"node": "surface", "share": 1.0}])],
+                thermal=[{"name": "surface", "capacity": 50.0, "theta0": 20.0,
+                          "link": "bulk", "link_conductance": 40.0},
+                         {"name": "bulk", "capacity": 450.0, "theta0": 20.0}],
+                inputs=("com",))
+    res = simulate(net.build(), (0, 30.0), {"com": 1.0}, options=OPTS)
     assert res.status == "completed"
     heat = res["W_friction"][-1]
     stored = 50.0 * (res["theta_surface"][-1] - 20.0) + 450.0 * (res["theta_bulk"][-1] - 20.0)
@@ -162,19 +195,18 @@ GB_R, GB_JA, GB_JB = 3.0, 0.2, 1.8
 
 
 def _gearbox_chain(**losses):
-    from clutchsim.driveline import Gearbox
-    return Chain([Inertia("a", GB_JA, omega0=10.0, load="Ta"),
-                  Inertia("b", GB_JB, omega0=10.0 / GB_R, load="Tb")],
-                 [Gearbox("gb", ratios=(GB_R, 1.0), gear=1, **losses)])
+    return chain([inertia("a", GB_JA, omega0=10.0, load="Ta"),
+                  inertia("b", GB_JB, omega0=10.0 / GB_R, load="Tb")],
+                 [gearbox("gb", (GB_R, 1.0), gear=1, **losses)], inputs=("Ta", "Tb"))
 
 
 @pytest.mark.parametrize("eta", [1.0, 0.95, 0.7])
 def test_gearbox_efficiency_driving_takes_one_minus_eta_of_the_input_torque(eta):
     # input drives output: J_b·dw_b/dt = r·eta·T_in with T_in = tau - J_a·dw_a/dt, so
     # dw_a/dt = tau / (J_a + J_b/(eta·r²)); the loss power (1-eta)·T_in·w_a is booked
-    chain = _gearbox_chain(efficiency=eta, efficiency_reverse=0.5)
+    net = _gearbox_chain(efficiency=eta, efficiency_reverse=0.5)
     tau = 5.0
-    res = simulate(chain.build(), (0, 1.0), {"Ta": tau, "Tb": 0.0}, options=OPTS)
+    res = simulate(net.build(), (0, 1.0), {"Ta": tau, "Tb": 0.0}, options=OPTS)
     assert res.status == "completed", res.message
     alpha = tau / (GB_JA + GB_JB / (eta * GB_R**2))
     assert res["omega_a"][-1] == pytest.approx(10.0 + alpha, rel=1e-10)
@@ -187,8 +219,8 @@ def test_gearbox_efficiency_driving_takes_one_minus_eta_of_the_input_torque(eta)
     # the reverse efficiency alone makes a switching element; without any loss the
     # gearbox is a plain rigid gear
     def loss_elements(ch):
-        return [c.name for c in ch.network().components if getattr(c, "friction", False)]
-    assert loss_elements(chain) == ["gb"]
+        return [c.name for c in ch.components if getattr(c, "friction", False)]
+    assert loss_elements(net) == ["gb"]
     assert loss_elements(_gearbox_chain(efficiency=1.0)) == []
 
 
@@ -197,9 +229,9 @@ def test_gearbox_efficiency_reverse_applies_when_the_output_drives_the_input():
     # efficiency_reverse: T_in = -J_a·dw_a/dt, output torque r·T_in/eta_rev, so
     # dw_b/dt = tau_b / (J_b + r²·J_a/eta_rev)
     eta_rev = 0.8
-    chain = _gearbox_chain(efficiency=0.95, efficiency_reverse=eta_rev)
+    net = _gearbox_chain(efficiency=0.95, efficiency_reverse=eta_rev)
     tau_b = 6.0
-    res = simulate(chain.build(), (0, 1.0), {"Ta": 0.0, "Tb": tau_b}, options=OPTS)
+    res = simulate(net.build(), (0, 1.0), {"Ta": 0.0, "Tb": tau_b}, options=OPTS)
     assert res.status == "completed", res.message
     alpha_b = tau_b / (GB_JB + GB_R**2 * GB_JA / eta_rev)
     assert res["omega_b"][-1] == pytest.approx(10.0 / GB_R + alpha_b, rel=1e-10)
@@ -213,11 +245,10 @@ def test_gearbox_with_drag_torque_breaks_away_when_the_drive_beats_it():
     # at rest the drag torque (and the mesh efficiency) hold the gearbox: a ramp torque
     # k·t at the input turns it once k·t > drag/eta
     from clutchsim.core import Ramp
-    from clutchsim.driveline import Gearbox
     eta, drag, k = 0.9, 1.8, 4.0
-    chain = Chain([Inertia("a", GB_JA, load="Ta"), Inertia("b", GB_JB)],
-                  [Gearbox("gb", ratios=(GB_R,), efficiency=eta, drag_torque=drag)])
-    res = simulate(chain.build(), (0, 1.0), {"Ta": Ramp(0.0, 1.0, k)}, options=OPTS)
+    net = chain([inertia("a", GB_JA, load="Ta"), inertia("b", GB_JB)],
+                [gearbox("gb", (GB_R,), efficiency=eta, drag_torque=drag)], inputs=("Ta",))
+    res = simulate(net.build(), (0, 1.0), {"Ta": Ramp(0.0, 1.0, k)}, options=OPTS)
     assert res.status == "completed", res.message
     t_break = [e.t for e in res.events if e.name == "gb: breakaway"]
     assert t_break and t_break[0] == pytest.approx(drag / (eta * k), abs=1e-8)
@@ -231,12 +262,12 @@ def test_gearbox_efficiency_follows_a_shift():
     # gear 1 until 0.5 s, then gear 2: the ideal synchroniser conserves the angular
     # momentum referred to the output, r2·J_a·w_a + J_b·w_b; in each gear
     # dw_a/dt = tau / (J_a + J_b/(eta·r²)) with that gear's ratio
-    from clutchsim.driveline import Gearbox
     eta, r1, r2, tau, ts = 0.9, 3.0, 1.5, 4.0, 0.5
-    chain = Chain([Inertia("a", GB_JA, omega0=10.0, load="Ta"),
-                   Inertia("b", GB_JB, omega0=10.0 / r1)],
-                  [Gearbox("gb", ratios=(r1, r2), shifts=((ts, 2),), efficiency=eta)])
-    res = simulate(chain.build(), (0, 1.0), {"Ta": tau}, options=OPTS)
+    net = chain([inertia("a", GB_JA, omega0=10.0, load="Ta"),
+                 inertia("b", GB_JB, omega0=10.0 / r1)],
+                [gearbox("gb", (r1, r2), shifts=[{"time": ts, "gear": 2}], efficiency=eta)],
+                inputs=("Ta",))
+    res = simulate(net.build(), (0, 1.0), {"Ta": tau}, options=OPTS)
     assert res.status == "completed", res.message
     a1 = tau / (GB_JA + GB_JB / (eta * r1**2))
     a2 = tau / (GB_JA + GB_JB / (eta * r2**2))
@@ -250,17 +281,22 @@ def test_gearbox_efficiency_follows_a_shift():
 
 
 def test_gearbox_rejects_bad_efficiency_and_a_second_lossy_gear():
-    from clutchsim.driveline import Gearbox, LossyGear
-    with pytest.raises(ValueError, match=r"efficiency = 0 must be in \(0, 1\]"):
-        Gearbox("gb", ratios=(3.0,), efficiency=0.0)
-    with pytest.raises(ValueError, match=r"efficiency_reverse = 1.1 must be in \(0, 1\]"):
-        Gearbox("gb", ratios=(3.0,), efficiency_reverse=1.1)
-    with pytest.raises(ValueError, match="drag_torque = -1 N·m must be >= 0"):
-        Gearbox("gb", ratios=(3.0,), drag_torque=-1.0)
-    with pytest.raises(ValueError, match=r"at most one gear with losses .*\['gb', 'lg'\]"):
-        Chain([Inertia("a", 1.0), Inertia("b", 1.0), Inertia("c", 1.0)],
-              [Gearbox("gb", ratios=(3.0,), efficiency=0.9),
-               LossyGear("lg", 2.0, ((0.0, 0.9, 0.9, 0.0, 0.0),))])
+    def refusal(**kw):
+        with pytest.raises(ScenarioError) as exc:
+            chain([inertia("a", 1.0), inertia("b", 1.0)], [gearbox("gb", (3.0,), **kw)],
+                  inputs=())
+        return str(exc.value)
+    assert "coupling[0].efficiency: = 0.0 is out of range: must be > 0" in \
+        refusal(efficiency=0.0)
+    assert "coupling[0].efficiency_reverse: = 1.1 is out of range: must be <= 1" in \
+        refusal(efficiency_reverse=1.1)
+    assert "coupling[0].drag_torque: = -1.0 N·m is out of range: must be >= 0 N·m" in \
+        refusal(drag_torque=-1.0)
+    with pytest.raises(ScenarioError, match=r"coupling\[1\]: lossy gear 'lg': a second gear "
+                       r"with losses \(gearbox 'gb' is the first\)"):
+        chain([inertia("a", 1.0), inertia("b", 1.0), inertia("c", 1.0)],
+              [gearbox("gb", (3.0,), efficiency=0.9),
+               lossy_gear("lg", 2.0, (0.0, 0.9, 0.9, 0.0, 0.0))], inputs=())
 
 
 def test_gear_torque_sign_follows_flange_b_tau_and_input_units():
@@ -268,19 +304,19 @@ def test_gear_torque_sign_follows_flange_b_tau_and_input_units():
     # Modelica's tau = flange_b.tau: the torque on c is -T_gear, so a gear accelerating the
     # inertia behind it reports a negative T_gear, like a clutch driving its disc.
     r, ja, jc = 3.0, 0.5, 2.0
-    chain = Chain([Inertia("a", ja, load="T"), Inertia("c", jc)], [Gear("gear", r)])
-    res = simulate(chain.build(), (0, 1.0), {"T": 6.0}, options=OPTS)
+    net = chain([inertia("a", ja, load="T"), inertia("c", jc)],
+                [{"name": "gear", "type": "gear", "ratio": r}])
+    res = simulate(net.build(), (0, 1.0), {"T": 6.0}, options=OPTS)
     alpha_c = 6.0 / (ja + jc / r**2) / r            # rad/s² of c
     assert res["omega_c"][-1] == pytest.approx(alpha_c, rel=1e-9)
     assert np.all(res["T_gear"][1:] < 0)
     assert res["T_gear"][-1] == pytest.approx(-jc * alpha_c, rel=1e-9)
     # braking c instead (the load torque reversed): the gear now holds c back, T_gear > 0
-    res = simulate(chain.build(), (0, 1.0), {"T": -6.0}, options=OPTS)
+    res = simulate(net.build(), (0, 1.0), {"T": -6.0}, options=OPTS)
     assert res["T_gear"][-1] == pytest.approx(+jc * alpha_c, rel=1e-9)
     # the load input is a torque and carries its unit; a command is a fraction
     assert res.unit("T") == "N·m"
-    chain = Chain([Inertia("a", ja, load="T"), Inertia("c", jc)],
-                  [FrictionElement("clutch", make_model("coulomb-robust", F_c=5.0, F_s=6.0),
-                                   "com")])
-    system = chain.build({"com": 1.0})
+    net = chain([inertia("a", ja, load="T"), inertia("c", jc)],
+                [clutch("clutch", 5.0, 6.0)], inputs=("T", "com"))
+    system = net.build({"com": 1.0})
     assert dict(zip(system.input_names, system.input_units)) == {"T": "N·m", "com": "-"}

@@ -29,7 +29,7 @@ def _scenario(tmp_path, friction: str):
 def _refusal(tmp_path, friction: str, model=None):
     p, line = _scenario(tmp_path, friction)
     with pytest.raises(ScenarioError) as info:
-        load_scenario(p).chain(model)
+        load_scenario(p).network(model)
     return str(info.value), f"{p}:{line}"
 
 
@@ -50,14 +50,14 @@ def test_translational_set_is_accepted_once_every_unit_parameter_is_given(tmp_pa
     # LuGre with rotational numbers: the set only contributes delta [-]
     p, _ = _scenario(tmp_path, 'friction = { model = "lugre", overrides = { F_c = 192.0, '
                      'F_s = 240.0, v_s = 1.0, sigma0 = 2.4e5, sigma1 = 50.0, sigma2 = 0.0 } }')
-    model = load_scenario(p).chain().couplings[0].model
+    model = load_scenario(p).network().component("clutch").model
     assert model.F_s == 240.0 and model.delta == 2.0
 
 
 def test_rotational_set_accepted_and_translational_model6_set_refused(tmp_path):
     p, _ = _scenario(tmp_path, 'friction = { model = "mykhailevych2020", parameter_set = '
                      '"mykhailevych2020_clutch" }')
-    assert load_scenario(p).chain().couplings[0].model.T_stat == 240.0
+    assert load_scenario(p).network().component("clutch").model.T_stat == 240.0
     msg, _ = _refusal(tmp_path, 'friction = { model = "mykhailevych2020" }')
     assert "'mykhailevych2020_translational'" in msg and "mykhailevych2020_clutch" in msg
 
@@ -73,13 +73,13 @@ def test_alternatives_fall_back_to_the_default_set_or_name_the_missing_keys(tmp_
     p, _ = _scenario(tmp_path, 'friction = { model = "coulomb-robust", overrides = { '
                      'F_c = 192.0, F_s = 240.0 }, alternatives = { mykhailevych2020 = { '
                      'parameter_set = "mykhailevych2020_clutch", T_stat = 300.0 } } }')
-    model = load_scenario(p).chain("mykhailevych2020").couplings[0].model
+    model = load_scenario(p).network("mykhailevych2020").component("clutch").model
     assert model == make_model("mykhailevych2020", "mykhailevych2020_clutch", T_stat=300.0)
     # every unit parameter given without a set: the default set supplies the [-] ones
     p, _ = _scenario(tmp_path, 'friction = { model = "coulomb-robust", overrides = { '
                      'F_c = 192.0, F_s = 240.0 }, alternatives = { mykhailevych2020 = { '
                      'T_stat = 300.0, phi0 = 1e-3, omega0 = 5.0, k_v = 0.05 } } }')
-    model = load_scenario(p).chain("mykhailevych2020").couplings[0].model
+    model = load_scenario(p).network("mykhailevych2020").component("clutch").model
     ref = make_model("mykhailevych2020")
     assert (model.T_stat, model.k_din, model.p, model.reset) == (300.0, ref.k_din, ref.p,
                                                                  ref.reset)

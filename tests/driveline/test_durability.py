@@ -72,8 +72,8 @@ def test_energy_balance_of_every_run(two_hundred):
 def test_clamp_force_and_capacity_follow_the_table_at_the_shifted_position(two_hundred):
     full, _ = two_hundred
     from clutchsim.scenario import load_scenario
-    chain = load_scenario(EXAMPLES / "launch_wear.toml").chain("coulomb-robust")
-    fe = next(c for c in chain.couplings if c.name == "clutch")
+    net = load_scenario(EXAMPLES / "launch_wear.toml").network("coulomb-robust")
+    fe = net.component("clutch")
     xs, ys = fe.clamp_table
     f = np.interp(1.0 + fe.wear.shift * full.wear_m, xs, ys)
     assert full.clamp_force_end_N == pytest.approx(4000.0 * f, rel=1e-12)

@@ -1,4 +1,4 @@
-"""The dependency runs one way: scenario -> driveline/network -> core."""
+"""The dependency runs one way: scenario -> analysis -> network -> core."""
 
 from __future__ import annotations
 
@@ -7,14 +7,14 @@ import subprocess
 import sys
 
 
-def test_driveline_and_network_do_not_import_scenario():
+def test_analysis_and_network_do_not_import_scenario():
     code = ("import json, sys\n"
-            "import clutchsim.driveline, clutchsim.analysis.launch_metrics, clutchsim.network\n"
+            "import clutchsim.analysis.launch_metrics, clutchsim.network\n"
             "print(json.dumps(sorted(m for m in sys.modules if m.startswith('clutchsim'))))\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, timeout=300)
     loaded = json.loads(out.stdout.splitlines()[-1])
-    assert "clutchsim.driveline.chain" in loaded and "clutchsim.network.plant" in loaded
+    assert "clutchsim.analysis.launch_metrics" in loaded and "clutchsim.network.plant" in loaded
     assert [m for m in loaded if m.split(".")[:2] in (["clutchsim", "scenario"],
                                                       ["clutchsim", "studies"])] == []
 

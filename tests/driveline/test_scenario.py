@@ -26,7 +26,7 @@ DRIVELINE_EXAMPLES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if not p.ste
 @pytest.mark.parametrize("name", DRIVELINE_EXAMPLES)
 def test_examples_load(name):
     sc = load_scenario(EXAMPLES / f"{name}.toml")
-    assert sc.t_end > 0 and sc.chain().build().n_states > 0
+    assert sc.t_end > 0 and sc.network().build().n_states > 0
 
 
 def _write(tmp_path, text, name="s.toml"):
@@ -90,7 +90,7 @@ def test_unknown_model_and_missing_alternative(tmp_path):
     assert "did you mean 'mykhailevych2020'" in str(err).lower()
     sc = load_scenario(EXAMPLES / "launch.toml")
     with pytest.raises(ScenarioError, match="no parameters for model 'lugre'"):
-        sc.chain("lugre")
+        sc.network("lugre")
 
 
 def test_set_overrides(tmp_path):
@@ -168,8 +168,8 @@ def test_bad_thermal_link(tmp_path):
 def test_model_cannot_replace_a_fixed_switching_law():
     sc = load_scenario(EXAMPLES / "one_way_clutch.toml")
     with pytest.raises(ScenarioError, match="'lugre' cannot replace 'oneWayClutch'"):
-        sc.chain("lugre")
-    assert sc.chain(None).build().metadata["models"]["oneWayClutch"] == "one-way-clutch"
+        sc.network("lugre")
+    assert sc.network(None).build().metadata["models"]["oneWayClutch"] == "one-way-clutch"
 
 
 @pytest.mark.parametrize("old,new,key,value,rule", [
@@ -197,20 +197,20 @@ def test_gearbox_with_losses_counts_as_the_one_lossy_gear(tmp_path):
     p = _write(tmp_path, new)
     with pytest.raises(ScenarioError) as info:
         load_scenario(p)
-    assert "a second gear with losses ('gearbox' is the first" in str(info.value)
+    assert "a second gear with losses (gearbox 'gearbox' is the first" in str(info.value)
     assert info.value.key == "coupling[3]"
 
 
-def test_chain_is_built_once_per_effective_model():
+def test_network_is_built_once_per_effective_model():
     # the default launch's clutch already uses model (6): asking for it by name is the
-    # same chain; another model is another chain, each built once
+    # same network; another model is another network, each built once
     sc = load_scenario(None)
-    own = sc.chain()
-    assert sc.chain("mykhailevych2020") is own
-    robust = sc.chain("coulomb-robust")
-    assert robust is not own and sc.chain("coulomb-robust") is robust
-    names = {c.name: type(c.model).__name__ for c in robust.friction_elements
-             if hasattr(c, "model")}
+    own = sc.network()
+    assert sc.network("mykhailevych2020") is own
+    robust = sc.network("coulomb-robust")
+    assert robust is not own and sc.network("coulomb-robust") is robust
+    names = {c.name: type(c.model).__name__ for c in robust.components
+             if getattr(c, "friction", False)}
     assert names["clutch"] == "CoulombRobust"
 
 
@@ -225,3 +225,37 @@ def test_a_scenario_parsed_again_reads_its_relative_paths_from_its_folder(tmp_pa
     monkeypatch.chdir(tmp_path)
     again = resolve_scenario(sc, ["scenario.t_end=1.0"])
     assert again.t_end == 1.0 and again.compare == sc.compare
+
+
+def test_a_chain_file_is_the_network_its_reader_writes():
+    """The chain reader's document, parsed as a network scenario, is the same network
+    (components, connections, parameter vector) as the chain file."""
+    import tomllib
+
+    from clutchsim.scenario import chain_format
+    from clutchsim.scenario.loader import parse_scenario
+    text = (EXAMPLES / "launch.toml").read_text(encoding="utf-8")
+    data = tomllib.loads(text)
+    assert chain_format.is_chain(data)
+    doc = chain_format.rewrite(data).data
+    assert not chain_format.is_chain(doc)
+    chain, net = load_scenario(EXAMPLES / "launch.toml").network(), parse_scenario(doc).network()
+    assert [(type(c), c.name) for c in net.components] == \
+        [(type(c), c.name) for c in chain.components]
+    assert net.connections == chain.connections
+    assert list(net.compile().values_vector(net.components)) == \
+        list(chain.compile().values_vector(chain.components))
+
+
+def test_chain_errors_name_the_chain_key_and_its_line(tmp_path):
+    text = (EXAMPLES / "launch.toml").read_text(encoding="utf-8")
+    # a load (a torque component the reader adds) reading no input: the inertia's `load`
+    disc = next(s for s in text.splitlines() if s.startswith('name = "disc"'))
+    err, p, text2 = _bad(tmp_path, disc + "\n", disc + '\nload = "nosuch"\n')
+    assert "inertia[1].load" in str(err) and "'nosuch'" in str(err)
+    assert err.line == next(i for i, s in enumerate(text2.splitlines(), 1)
+                            if s == 'load = "nosuch"')
+    # the engine's node names no inertia
+    old = next(s for s in text.splitlines() if s.startswith("node = "))
+    err, p, _ = _bad(tmp_path, old + "\n", 'node = "engin"\n')
+    assert "engine.node" in str(err) and "did you mean 'engine'" in str(err)

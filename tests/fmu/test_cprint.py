@@ -22,7 +22,7 @@ pytestmark = pytest.mark.skipif(shutil.which("cc") is None and shutil.which("gcc
 
 def plant(scenario, model):
     sc = load_scenario(EXAMPLES / scenario)
-    net = sc.chain(model)
+    net = sc.network(model)
     net = net if isinstance(net, Network) else net.network()
     u0 = {n: float(np.asarray(s(0.0)).ravel()[0]) for n, s in sc.inputs.items()}
     plan = compile_network(net)

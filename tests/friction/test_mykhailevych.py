@@ -283,7 +283,7 @@ def test_plants_read_the_events_from_the_policy(m6):
     stop = m6.with_(reset="stop")
     assert make_rig(stop).event_names == ()
     assert make_rig(m6).event_names == ("mykhailevych2020: velocity_zero_crossing",)
-    nets = [load_scenario(None, overrides=over).chain("mykhailevych2020")
+    nets = [load_scenario(None, overrides=over).network("mykhailevych2020")
             for over in ([], ["coupling[0].friction.overrides.reset='stop'"])]
     nets = [n if hasattr(n, "components") else n.network() for n in nets]
     assert structure_key(nets[0]) != structure_key(nets[1])

@@ -192,7 +192,7 @@ def test_exact_jacobian_through_signals_matches_differences(name, at):
     """Consumers chain the producers' partials: clutch ← release system ← actuator ←
     controller ← engine torque (closed loop); engine ← driver, clutch ← actuator force."""
     sc = load_scenario(EXAMPLES / f"{name}.toml")
-    sys_ = sc.chain("mykhailevych2020").build(sc.inputs0())
+    sys_ = sc.network("mykhailevych2020").build(sc.inputs0())
     names = sys_.state_names
     y = sys_.y0.copy()
     for k, v in at.items():
@@ -286,8 +286,8 @@ def test_unstable_controller_gains_warn_with_the_margin():
     sc = load_scenario(EXAMPLES / "launch_closed_loop.toml")
     r = run_scenario(sc, "coulomb-robust")
     assert not any("unstable" in w for w in r.result.warnings)
-    system = sc.chain("coulomb-robust").build(sc.inputs0())
-    plan = compile_network(sc.chain("coulomb-robust"))
+    system = sc.network("coulomb-robust").build(sc.inputs0())
+    plan = compile_network(sc.network("coulomb-robust"))
     [(name, _t, growth, margin)] = controller_margin(sc, system, r.result, plan)
     assert name == "controller" and growth < 1e-3 and 1.0 < margin < 64.0
     p = system.params.copy()

@@ -129,7 +129,7 @@ def test_bad_backlash_in_a_scenario_gives_file_and_line(tmp_path):
         '[[component]]\ntype = "elasto_backlash"\nname = "lash"\nb = -0.01\nc = 1e4\n\n'
         '[[component]]\ntype = "inertia"\nname = "b"\nJ = 2.0\n')
     with pytest.raises(ScenarioError) as exc:
-        load_scenario(path).chain()
+        load_scenario(path).network()
     msg = str(exc.value)
     assert "lash.toml:24" in msg and "component[2].b" in msg and "-0.01 rad" in msg
     assert ">= 0" in msg

@@ -127,6 +127,6 @@ def test_bad_converter_table_in_a_scenario_gives_file_and_line(tmp_path):
     path = tmp_path / "tc.toml"
     path.write_text(text.replace(old, "K = [15.0, 15.0, -1.0, 16.0, 18.0]"), encoding="utf-8")
     with pytest.raises(ScenarioError) as exc:
-        load_scenario(path).chain()
+        load_scenario(path).network()
     msg = str(exc.value)
     assert "tc.toml:" in msg and "torque converter 'converter': K[2] = -1" in msg

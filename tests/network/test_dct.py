@@ -84,7 +84,7 @@ def test_two_clutches_commanded_onto_the_same_shaft_are_refused(tmp_path):
     bad.write_text(text.replace('["clutch2.b", "shaft_even.a"],',
                                 '["clutch2.b", "shaft_odd.a"],'))
     with pytest.raises(ScenarioError) as info:
-        load_scenario(bad).chain()
+        load_scenario(bad).network()
     msg = str(info.value)
     assert "dct_bad.toml" in msg and "clutch 'clutch2'" in msg and "clutch 'clutch1'" in msg
     assert "two clutches commanded onto the same shaft" in msg

@@ -163,7 +163,7 @@ def test_dmf_stop_inside_the_first_stage_in_a_scenario_gives_file_and_line(tmp_p
     table = max(i for i, s in enumerate(lines[:lines.index('name = "dmf"')], 1)
                 if s == "[[component]]")
     with pytest.raises(ScenarioError) as exc:
-        load_scenario(path).chain()
+        load_scenario(path).network()
     msg = str(exc.value)
     assert f"dmf.toml:{table}: component[2]: dual mass flywheel 'dmf'" in msg
     assert "stop = 0.4 rad must lie beyond knee = 0.5 rad" in msg

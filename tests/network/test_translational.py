@@ -174,7 +174,7 @@ def test_mass_against_its_stops_in_closed_form():
 
 def test_translational_jacobian_matches_differences():
     sc = load_scenario(EXAMPLE)
-    sys_ = sc.chain().build(sc.inputs0())
+    sys_ = sc.network().build(sc.inputs0())
     names = sys_.state_names
     y = sys_.y0.copy()
     for name, v in (("stop1", 3.3), ("stop2", -1.7), ("mass", 3.3)):
@@ -216,7 +216,7 @@ def test_angles_are_the_integral_of_the_speed_and_follow_the_gear():
 
 
 def test_default_launch_has_no_angle_states():
-    sys_ = load_scenario(None).chain().build()
+    sys_ = load_scenario(None).network().build()
     inertias = [n[len("omega_"):] for n in sys_.state_names if n.startswith("omega_")]
     assert not {f"phi_{n}" for n in inertias} & set(sys_.state_names)
 
@@ -225,8 +225,8 @@ def test_outputs_angles_reaches_the_network_of_a_chain_file(tmp_path):
     p = tmp_path / "launch.toml"
     p.write_text((EXAMPLES / "launch.toml").read_text(encoding="utf-8")
                  + "\n[outputs]\nangles = true\n", encoding="utf-8")
-    assert load_scenario(p).chain().network().angles
-    assert not load_scenario(None).chain().network().angles
+    assert load_scenario(p).network().angles
+    assert not load_scenario(None).network().angles
     p.write_text((EXAMPLES / "launch.toml").read_text(encoding="utf-8")
                  + "\n[outputs]\nangle = true\n", encoding="utf-8")
     with pytest.raises(ScenarioError, match="angle"):

@@ -61,7 +61,7 @@ def test_constant_power_wear_past_the_critical_temperature_matches_closed_form()
 
 def test_wear_row_of_the_generated_jacobian_matches_differences():
     sc = load_scenario("examples/launch_wear.toml")
-    sys_ = sc.chain("mykhailevych2020").build(sc.inputs0())
+    sys_ = sc.network("mykhailevych2020").build(sc.inputs0())
     names = sys_.state_names
     y = sys_.y0.copy()
     y[names.index("omega_engine")] = 150.0
@@ -86,8 +86,7 @@ def test_clamp_force_after_wear_is_the_table_at_the_shifted_position():
     the clamp table at 1 + shift·h (np.interp of the table), on the rising and the falling
     side of the Belleville characteristic."""
     sc = load_scenario("examples/launch_wear.toml")
-    chain = sc.chain("coulomb-robust")
-    net = chain.network()
+    net = sc.network("coulomb-robust")
     from clutchsim.network import compile_network
     plan = compile_network(net)
     clutch = next(c for c in net.components if c.name == "clutch")

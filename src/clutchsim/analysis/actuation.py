@@ -164,7 +164,7 @@ def controller_warnings(scenario, system, result) -> list[str]:
         return []
     from ..network import compile_network
     model = system.metadata.get("models", {}).get(scenario.clutch)
-    plan = compile_network(scenario.chain(model))
+    plan = compile_network(scenario.network(model))
     out = []
     for name, t, g, margin in controller_margin(scenario, system, result, plan):
         if g > GROWTH_TOL:

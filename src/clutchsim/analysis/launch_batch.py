@@ -4,8 +4,8 @@ A sweep runs one system hundreds of times with other parameter vectors and initi
 states.  :func:`launch_batch` runs a chunk of them in one call of a compiled loop: for
 each variant the integrator (:func:`clutchsim.core.loop.integrate`, the loop
 :func:`clutchsim.core.simulate` calls) and then the launch kernel
-(:func:`clutchsim.analysis._kernels.launch_kernel`, the one :func:`~clutchsim.driveline.
-metrics.analyse_run` calls) on the run's own output arrays, keeping only the numbers a
+(:func:`clutchsim.analysis._kernels.launch_kernel`, the one :func:`~clutchsim.analysis.
+launch_metrics.analyse_run` calls) on the run's own output arrays, keeping only the numbers a
 sweep's table row needs: the integrator's end code and counters, the kernel's values and
 the energy balance.  Python then builds each row from those numbers with the functions
 the single run uses (:func:`clutchsim.core.simulate.run_end`,

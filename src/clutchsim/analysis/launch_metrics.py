@@ -1,7 +1,7 @@
 """The launch metrics and warnings of a driveline run (a :class:`~clutchsim.core.Result`).
 
 This module reads results only; running a scenario is :mod:`clutchsim.scenario.run`
-(the dependency runs one way: scenario -> driveline/network -> core)."""
+(the dependency runs one way: scenario -> analysis -> network -> core)."""
 
 from __future__ import annotations
 

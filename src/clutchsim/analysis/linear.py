@@ -425,7 +425,7 @@ def operating_point(scenario, model: str | None = None, t: float = 0.0, *,
     if model is None and scenario.models:
         model = scenario.models[0]
     u0 = {n: float(np.asarray(s(0.0)).ravel()[0]) for n, s in scenario.inputs.items()}
-    system = scenario.chain(model).build(u0)
+    system = scenario.network(model).build(u0)
     if check is not None:
         check(system)
     steps = 0

@@ -413,10 +413,8 @@ def _identifier(out: Path) -> str:
 
 def _plant_of(scenario, model):
     """(plan, components, system, inputs at t = 0) of ``scenario`` with ``model``."""
-    from ..network import Network, compile_network
-    obj = scenario.chain(model)
-    if not isinstance(obj, Network):
-        obj = obj.network()
+    from ..network import compile_network
+    obj = scenario.network(model)
     plan = compile_network(obj)
     u0 = {n: float(np.asarray(s(0.0)).ravel()[0]) for n, s in scenario.inputs.items()}
     missing = [n for n in plan.input_names if n not in u0]

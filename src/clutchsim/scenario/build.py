@@ -1,4 +1,4 @@
-"""Scenario tables -> driveline components (errors carry the key path and line)."""
+"""Scenario tables -> a network of components (errors carry the key path and line)."""
 
 from __future__ import annotations
 
@@ -6,27 +6,12 @@ import math
 import re
 import warnings
 
-from ..driveline.chain import Chain
-from ..driveline.components import (
-    LOSS_COLUMNS,
-    Brake,
-    Engine,
-    FrictionElement,
-    Gear,
-    Gearbox,
-    Inertia,
-    LossyGear,
-    OneWayClutch,
-    SpringDamper,
-    ThermalNode,
-    Vehicle,
-    has_losses,
-)
 from ..friction import domain_problem, get_model_class, make_model
 from ..friction.base import SelfExcitedWarning
+from . import chain_format
 from .schema import FRICTION_TYPES, LINING_KEYS, suggest
 
-__all__ = ["build_chain", "build_network", "effective_model", "friction_model"]
+__all__ = ["build_network", "effective_model", "friction_model"]
 
 
 def friction_model(spec: dict, model: str | None, key: str, fail, element: str = "",
@@ -146,6 +131,7 @@ def _number_list(value, key, fail):
 def loss_table(tab, key: str, fail) -> tuple:
     """Rows (speed, eta_mf1, eta_mf2, tau_bf1, tau_bf2) of a lossy-gear ``loss_table``
     table, checked column by column (errors name the entry, its value and the rule)."""
+    from ..network.components.lossy_gear import LOSS_COLUMNS
     if tab is None:
         return ((0.0, 1.0, 1.0, 0.0, 0.0),)
     if not isinstance(tab, dict) or set(tab) != set(LOSS_COLUMNS):
@@ -184,171 +170,47 @@ def angle_states(scenario) -> bool:
     return bool(scenario.data.get("outputs", {}).get("angles", False))
 
 
-def _need_input(scenario, name: str, key: str) -> None:
-    """Fail at ``key`` unless ``name`` is one of the scenario's [inputs]."""
-    if name not in scenario.inputs:
-        inputs = scenario.inputs
-        scenario.fail(f"input signal {name!r} is not defined in [inputs]"
-                      f"{'; inputs: ' + ', '.join(inputs) if inputs else ''}", key)
-
-
-def _check_signals(scenario, comps, needs, where) -> None:
+def _check_signals(scenario, fail, comps, needs, where) -> None:
     """Every signal a component reads is an [inputs] entry or another component's signal
     (``<component>.<signal>``), and no signal is both."""
     from ..network.plant import produced_signals
     produced = produced_signals(comps)
     for name, (comp, _unit) in produced.items():
         if name in scenario.inputs:
-            scenario.fail(f"signal {name!r} is produced by {comp.label} ({where[comp.name]}) "
+            fail(f"signal {name!r} is produced by {comp.label} ({where[comp.name]}) "
                           "and also given here: a signal has one source (remove one)",
                           f"inputs.{name}")
     for name, key in needs:
         if name in produced or name in scenario.inputs:
             continue
         known = [*scenario.inputs, *produced]
-        scenario.fail(f"signal {name!r} is neither defined in [inputs] nor produced by a "
+        fail(f"signal {name!r} is neither defined in [inputs] nor produced by a "
                       f"component{suggest(name, known)}"
                       f"{'; signals: ' + ', '.join(known) if known else ''}", key)
 
 
-def build_chain(scenario, model: str | None = None) -> Chain:
-    """Build the :class:`Chain` of ``scenario`` with ``model`` on its clutch element."""
+def build_network(scenario, model: str | None = None):
+    """Build the :class:`~clutchsim.network.Network` of a scenario with ``model`` on its
+    clutch element: its ``[[component]]`` tables and ``[network] connect``, or the tables
+    of a chain file read as those (:mod:`clutchsim.scenario.chain_format`).  Errors name
+    the table the user wrote (the chain's, through the rewrite's key map), its key and
+    line."""
+    from ..network import COMPONENTS, Network, NetworkError
     data = scenario.data
     fail = scenario.fail
+    if chain_format.is_chain(data):
+        chain = chain_format.rewrite(data)
+        data = chain.data
 
-    def guard(fn, key):
-        try:
-            return fn()
-        except (TypeError, ValueError) as exc:
-            fail(str(exc), key)
-
+        def fail(problem, key=""):
+            scenario.fail(problem, chain.chain_key(key))
     if model is not None:
-        for i, t in enumerate(data.get("coupling", [])):
+        for t in data.get("component", []):
             if t.get("name") == scenario.clutch and t.get("type") in ("one_way_clutch",
                                                                        "lossy_gear"):
                 fail(f"model {model!r} cannot replace {t['name']!r}: a {t['type']} has a fixed "
                      "switching law, not a friction model (run it without --model)",
                      "scenario.clutch")
-
-    inertias = []
-    for i, t in enumerate(data["inertia"]):
-        if t.get("load"):
-            _need_input(scenario, t["load"], f"inertia[{i}].load")
-        inertias.append(guard(lambda t=t: Inertia(**t), f"inertia[{i}]"))
-    couplings = []
-
-    def one_lossy_gear(gear, key):
-        # the plant solves the loss of a rolling gear in closed form: one per chain
-        others = [c.name for c in couplings if has_losses(c)]
-        if others and has_losses(gear):
-            fail(f"a second gear with losses ({others[0]!r} is the first; a lossy_gear, or a "
-                 "gearbox with efficiency < 1 or drag_torque > 0): a scenario may hold at most "
-                 "one", key)
-
-    for i, t in enumerate(data.get("coupling", [])):
-        key = f"coupling[{i}]"
-        kw = {k: v for k, v in t.items() if k != "type" and k not in LINING_KEYS}
-        ctype = t["type"]
-        if ctype == "gear":
-            couplings.append(guard(lambda kw=kw: Gear(**kw), key))
-        elif ctype == "lossy_gear":
-            if kw.get("ratio") == 0:
-                fail("= 0 is not allowed: the speed ratio omega_a/omega_b must be non-zero",
-                     f"{key}.ratio")
-            kw["loss_table"] = loss_table(kw.get("loss_table"), f"{key}.loss_table", fail)
-            lg = guard(lambda kw=kw: LossyGear(**kw), key)
-            one_lossy_gear(lg, key)
-            couplings.append(lg)
-        elif ctype == "one_way_clutch":
-            _need_input(scenario, kw["command"], f"{key}.command")
-            kw["mu_temperature"] = _pairs(kw.get("mu_temperature"), "theta", "factor",
-                                          f"{key}.mu_temperature", fail)
-            kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
-            couplings.append(guard(lambda kw=kw: OneWayClutch(**kw), key))
-        elif ctype == "spring_damper":
-            couplings.append(guard(lambda kw=kw: SpringDamper(**kw), key))
-        elif ctype == "gearbox":
-            shifts = tuple((s.get("time"), s.get("gear")) for s in kw.pop("shifts", []))
-            if isinstance(kw.get("ratios"), list) and not kw["ratios"]:
-                fail("= [] lists no gear: give at least one ratio [-] (gear 1 first), e.g. "
-                     "ratios = [3.6, 2.1, 1.4, 1.0, 0.8]", f"{key}.ratios")
-            if "gear" in kw and isinstance(kw["gear"], int) and \
-                    not 1 <= kw["gear"] <= len(kw["ratios"]):
-                fail(f"gear {kw['gear']} does not exist: this gearbox has {len(kw['ratios'])} "
-                     f"gears (1..{len(kw['ratios'])})", f"{key}.gear")
-            gb = guard(lambda kw=kw, s=shifts: Gearbox(shifts=s, **kw), key)
-            one_lossy_gear(gb, key)
-            couplings.append(gb)
-        else:
-            _need_input(scenario, kw["command"], f"{key}.command")
-            m = model if _replaced(t, model, scenario) else None
-            kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
-                                         kw.get("name", ""))
-            kw["clamp_table"] = _pairs(kw.get("clamp_table"), "position", "force",
-                                       f"{key}.clamp_table", fail)
-            kw["mu_temperature"] = _pairs(kw.get("mu_temperature"), "theta", "factor",
-                                          f"{key}.mu_temperature", fail)
-            kw["mu_slip"] = _pairs(kw.get("mu_slip"), "slip", "factor", f"{key}.mu_slip", fail)
-            kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
-            kw["runout"] = _runout(kw.get("runout"), f"{key}.runout", fail)
-            if "wear" in kw:
-                from ..network.wear import WearLaw
-                kw["wear"] = WearLaw.from_table(kw["wear"], fail, f"{key}.wear")
-            couplings.append(guard(lambda kw=kw: FrictionElement(**kw), key))
-    brakes = []
-    for i, t in enumerate(data.get("brake", [])):
-        key = f"brake[{i}]"
-        kw = dict(t)
-        _need_input(scenario, kw["command"], f"{key}.command")
-        m = model if _replaced(t, model, scenario) else None
-        kw["model"] = friction_model(kw.pop("friction"), m, f"{key}.friction", fail,
-                                     kw.get("name", ""))
-        kw["mu_slip"] = _pairs(kw.get("mu_slip"), "slip", "factor", f"{key}.mu_slip", fail)
-        brakes.append(guard(lambda kw=kw: Brake(**kw), key))
-    engine = None
-    if "engine" in data:
-        e = dict(data["engine"])
-        _need_input(scenario, e["throttle"], "engine.throttle")
-        fl = _pairs(e.pop("full_load"), "speed", "torque", "engine.full_load", fail)
-        engine = guard(lambda: Engine(speeds=fl[0], torques=fl[1], **e), "engine")
-    vehicle = guard(lambda: Vehicle(**data["vehicle"]), "vehicle") if "vehicle" in data else None
-    thermal = tuple(guard(lambda t=t: ThermalNode(**t), f"thermal[{i}]")
-                    for i, t in enumerate(data.get("thermal", [])))
-    th_names = [t.name for t in thermal]
-    for i, t in enumerate(thermal):
-        if t.link is not None and t.link not in th_names:
-            fail(f"= {t.link!r} is not a thermal node{suggest(t.link, th_names)} (nodes: "
-                 f"{', '.join(th_names)})", f"thermal[{i}].link")
-    chain = guard(lambda: Chain(inertias, couplings, brakes, engine, vehicle, thermal,
-                                name=scenario.name, angles=angle_states(scenario)),
-                  "coupling")
-    from ..network import NetworkError
-    try:        # the assembly's checks (the plan is cached per structure, the run reuses
-        net = chain.network()   # it) and those of the values (an inertia too small)
-        net.compile().values_vector(net.components)
-    except NetworkError as exc:
-        fail(str(exc), _chain_key(data, exc.where.split(".")[0]))
-    return chain
-
-
-def _chain_key(data: dict, name: str) -> str:
-    """The table of a chain scenario that declares the network component ``name`` (an
-    inertia, coupling, brake or thermal node by its name; the engine), for a message's
-    file and line."""
-    for table in ("inertia", "coupling", "brake", "thermal"):
-        for i, t in enumerate(data.get(table, [])):
-            if isinstance(t, dict) and t.get("name") == name:
-                return f"{table}[{i}]"
-    return "engine" if name.startswith("engine") and "engine" in data else "coupling"
-
-
-def build_network(scenario, model: str | None = None):
-    """Build the :class:`~clutchsim.network.Network` of a network scenario
-    (``[[component]]`` tables and ``[network] connect``) with ``model`` on its clutch
-    element.  Errors name the component table, its key and line."""
-    from ..network import COMPONENTS, Network, NetworkError
-    data = scenario.data
-    fail = scenario.fail
 
     comps = []
     where = {}
@@ -393,6 +255,13 @@ def build_network(scenario, model: str | None = None):
             kw["loss_table"] = loss_table(kw.get("loss_table"), f"{key}.loss_table", fail)
         elif t["type"] == "gearbox":
             kw["shifts"] = tuple((s.get("time"), s.get("gear")) for s in kw.get("shifts", []))
+            n = len(kw["ratios"]) if isinstance(kw.get("ratios"), list) else None
+            if n == 0:
+                fail("= [] lists no gear: give at least one ratio [-] (gear 1 first), e.g. "
+                     "ratios = [3.6, 2.1, 1.4, 1.0, 0.8]", f"{key}.ratios")
+            if n and isinstance(kw.get("gear"), int) and not 1 <= kw["gear"] <= n:
+                fail(f"gear {kw['gear']} does not exist: this gearbox has {n} gears (1..{n})",
+                     f"{key}.gear")
         elif t["type"] == "one_way_clutch":
             needs.append((kw["command"], f"{key}.command"))
             kw["mu_temperature"] = _pairs(kw.get("mu_temperature"), "theta", "factor",
@@ -412,14 +281,16 @@ def build_network(scenario, model: str | None = None):
         except (TypeError, ValueError) as exc:
             fail(str(exc), key)
         where[t["name"]] = key
-    _check_signals(scenario, comps, needs, where)
+    _check_signals(scenario, fail, comps, needs, where)
     try:
         net = Network(comps, data["network"]["connect"], name=scenario.name,
                       angles=angle_states(scenario))
         net.compile().values_vector(net.components)     # and the values' checks
     except NetworkError as exc:
-        comp = exc.where.split(".")[0]
-        fail(str(exc), where.get(comp, "network.connect"))
+        comp, _, rest = exc.where.partition(".")
+        table = next((t for t in data["component"] if t.get("name") == comp), {})
+        fail(str(exc), where[comp] + (f".{rest}" if rest in table else "")
+             if comp in where else "network.connect")
     except ValueError as exc:
         fail(str(exc), "network.connect")
     return net

@@ -16,11 +16,12 @@ import numpy as np
 from .._util import quote
 from ..core import Constant, Ramp, Signal, Sine, SolverOptions, Step, Table
 from .errors import ScenarioError, find_line
+from . import chain_format
 from .schema import (
-    COUPLING_TYPES,
     FRICTION,
     FRICTION_TYPES,
     SECTIONS,
+    chain_keys,
     check_lining,
     check_table,
     suggest,
@@ -82,9 +83,9 @@ class Scenario:
     #: another scenario file this launch is compared with on the quality metrics
     #: (``[scenario] compare``, resolved against this file's folder), or ""
     compare: str = ""
-    #: built chains per effective model (chains are immutable; a sweep builds each
-    #: variant's chain once for validation and would build it again to run it)
-    _chains: dict = field(default_factory=dict, repr=False, compare=False)
+    #: built networks per effective model (a sweep builds each variant's network once for
+    #: validation and would build it again to run it)
+    _networks: dict = field(default_factory=dict, repr=False, compare=False)
     #: built systems per effective model (:meth:`system`)
     _systems: dict = field(default_factory=dict, repr=False, compare=False)
     #: key path -> the ``--set`` item that gave it (errors name the item, not a file line)
@@ -94,7 +95,7 @@ class Scenario:
         _fail(problem, key, file=self.file, text=self.text, set_by=self.set_by)
 
     def inputs0(self) -> dict:
-        """The input values at t = 0 (what a chain is built with)."""
+        """The input values at t = 0 (what a system is built with)."""
         return {name: float(np.asarray(sig(0.0)).ravel()[0])
                 for name, sig in self.inputs.items()}
 
@@ -107,26 +108,26 @@ class Scenario:
         return estimate_run(self.t_end, self.options, n)
 
     def system(self, model: str | None = None):
-        """The :class:`~clutchsim.core.System` of :meth:`chain` with ``model``, built with
-        the inputs at t = 0 once per effective model and shared by every run of this
+        """The :class:`~clutchsim.core.System` of :meth:`network` with ``model``, built
+        with the inputs at t = 0 once per effective model and shared by every run of this
         scenario (:func:`~clutchsim.scenario.run_scenario`): read it, do not modify its
         arrays (``simulate`` copies the parameter vector it integrates; build your own
-        with ``chain(model).build(inputs0())`` to change one)."""
+        with ``network(model).build(inputs0())`` to change one)."""
         from .build import effective_model
         key = effective_model(self, model)
         system = self._systems.get(key)
         if system is None:
-            system = self._systems[key] = self.chain(model).build(self.inputs0())
+            system = self._systems[key] = self.network(model).build(self.inputs0())
         return system
 
-    def chain(self, model: str | None = None):
-        """The :class:`~clutchsim.driveline.Chain` with ``model`` on the clutch element."""
-        from .build import build_chain, build_network, effective_model
+    def network(self, model: str | None = None):
+        """The :class:`~clutchsim.network.Network` with ``model`` on the clutch element
+        (a chain file read as one, :mod:`clutchsim.scenario.chain_format`)."""
+        from .build import build_network, effective_model
         key = effective_model(self, model)
-        if key not in self._chains:
-            build = build_network if "component" in self.data else build_chain
-            self._chains[key] = build(self, key)
-        return self._chains[key]
+        if key not in self._networks:
+            self._networks[key] = build_network(self, key)
+        return self._networks[key]
 
 
 def _fail(problem: str, key: str, *, file: str, text: str, set_by: dict) -> None:
@@ -405,21 +406,22 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
                         check_lining(tab, path, fail)
                 elif name == "coupling":
                     ctype = tab.get("type")
-                    if ctype not in COUPLING_TYPES:
+                    types = chain_format.COUPLING_TYPES
+                    if ctype not in types:
                         fail(f"coupling type {ctype!r} is not known"
-                             f"{suggest(str(ctype), COUPLING_TYPES)} (types: "
-                             f"{', '.join(COUPLING_TYPES)})", f"{path}.type")
-                    check_table(tab, COUPLING_TYPES[ctype], path, fail)
+                             f"{suggest(str(ctype), types)} (types: "
+                             f"{', '.join(types)})", f"{path}.type")
+                    check_table(tab, chain_keys(name, ctype), path, fail)
                     if ctype == "clutch":
                         check_lining(tab, path, fail)
                 else:
-                    check_table(tab, keys, path, fail)
+                    check_table(tab, chain_keys(name) if keys is None else keys, path, fail)
                 if "friction" in tab:
                     check_table(tab["friction"], FRICTION, f"{path}.friction", fail)
         else:
             if not isinstance(value, dict):
                 fail(f"must be a table [{name}]", name)
-            check_table(value, keys, name, fail)
+            check_table(value, chain_keys(name) if keys is None else keys, name, fail)
     if network:
         for other in ("inertia", "coupling", "brake", "engine", "vehicle", "thermal"):
             if other in data:
@@ -431,6 +433,11 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
     if not network and n_cp != n_in - 1:
         fail(f"{n_in} inertias need {n_in - 1} couplings (coupling k joins inertia k and "
              f"k+1), found {n_cp}", "coupling" if n_cp else "inertia")
+    inertias = [t.get("name") for t in data.get("inertia", [])]
+    for key, node in chain_format.nodes(data) if not network else ():
+        if node not in inertias:
+            fail(f"= {node!r} is not an inertia{suggest(str(node), inertias)} (inertias: "
+                 f"{', '.join(map(str, inertias))})", key)
     sc = data["scenario"]
     inputs = {}
     raw_inputs = data.get("inputs", {})
@@ -478,18 +485,16 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
                     t_end=float(sc["t_end"]), models=models, clutch=clutch, inputs=inputs,
                     solver=method, options=options, data=data, file=file, text=text,
                     set_by=set_by, compare=compare)
-    built = scen.chain()   # build once: component-level validation errors surface here
-    _check_input_ranges(scen, built)
+    net = scen.network()   # build once: component-level validation errors surface here
+    _check_input_ranges(scen, net)
     return scen
 
 
-def _check_input_ranges(scen: Scenario, built) -> None:
+def _check_input_ranges(scen: Scenario, net) -> None:
     """Fail at ``inputs.<name>`` when an input signal leaves the range the component that
     reads it declares (:meth:`clutchsim.network.component.Component.input_ranges`), sampled
     over the run (501 points and the signal's breakpoints: a range check, not a peak
     finder)."""
-    from ..network import Network
-    net = built if isinstance(built, Network) else built.network()
     for comp in net.components:
         for name, (low, high, unit, what) in comp.input_ranges().items():
             sig = scen.inputs.get(name)

@@ -118,7 +118,7 @@ def _actuation_figures(scenario, runs, directory) -> None:
     from ..plot.actuation import plot_actuation, plot_characteristics
     if not any(c.get("type") in ACTUATION_KINDS for c in scenario.data.get("component", [])):
         return
-    chars = static_characteristics(scenario.chain(None).components)
+    chars = static_characteristics(scenario.network(None).components)
     if chars:
         save_png(plot_characteristics(chars)[0], directory / "characteristic.png")
     for name, res in runs.items():

@@ -7,14 +7,16 @@ The same tables drive validation (:func:`check_table`) and the generated referen
 from __future__ import annotations
 
 import difflib
+import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .._util import quote
 from ..core.controllers import CONTROLLERS
 from ..core.options import DEFAULT_METHOD, SOLVERS
+from .chain_format import CHAIN_ONLY, COUPLING_TYPES, KIND_OF
 
-__all__ = ["COUPLING_TYPES", "LINING_KEYS", "SECTIONS", "Key", "check_lining", "check_table",
+__all__ = ["LINING_KEYS", "SECTIONS", "Key", "chain_keys", "check_lining", "check_table",
            "key_spec", "reference_markdown", "table_keys"]
 
 
@@ -30,6 +32,7 @@ class Key:
     low: float | None = None
     high: float | None = None
     strict: bool = False   # low is exclusive
+    nonzero: bool = False  # 0 excluded
 
 
 def _n(name, doc, unit="", **kw):
@@ -67,13 +70,6 @@ SOLVER = (
     Key("controller", "str", "Step-size controller: " + ", ".join(CONTROLLERS)
         + " (default: the method's own; see docs/core.md)."),
 )
-INERTIA = (
-    Key("name", "str", "Unique name; state `omega_<name>` [rad/s].", required=True),
-    _n("J", "Inertia.", "kg·m²", required=True, low=0.0, strict=True, high=1e5),
-    _n("omega0", "Initial speed.", "rad/s", low=-1e4, high=1e4),
-    _n("bearing_damping", "Viscous bearing loss to ground.", "N·m·s/rad", low=0.0, high=1e6),
-    Key("load", "str", "Input signal applied as a torque on this inertia [N·m]."),
-)
 FRICTION = (
     Key("model", "str", "Friction model name (`clutchsim models`).", required=True),
     Key("parameter_set", "str", "Parameter set (default: the model's own)."),
@@ -83,10 +79,8 @@ FRICTION = (
     Key("alternatives", "table", "Parameters per model name, used when `--model` selects "
         "another model for this element: `{coulomb-robust = {F_c = .., F_s = ..}}`."),
 )
-CLUTCH = (
-    Key("name", "str", "Unique name.", required=True),
-    Key("type", "str", "clutch | one_way_clutch | spring_damper | gear | lossy_gear | gearbox.",
-        required=True),
+#: the keys of a friction element besides its parameters (a clutch, a brake)
+FRICTION_ELEMENT = (
     Key("command", "str", "Actuation input: COM in [0, 1] (seed eqs. 1-2), or the pedal / "
         "actuator position read through `clamp_table`; in a network also another "
         "component's signal (`<component>.<signal>`), e.g. a release system's clamp force "
@@ -103,8 +97,9 @@ CLUTCH = (
     Key("wear", "table", "Lining wear law `{k_w = m³/J, area = m², reserve = m, lining = m, "
         "E_a = J/mol, theta_ref = °C, theta_crit = °C, crit_gain = 1/K, shift = 1/m}` "
         "(clutchsim.network.wear; needs `heat`): adds the state `wear_<name>` [m]."),
-    _n("drag", "Drag torque of the open element.", "N·m", low=0.0, high=1e6),
-    _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
+)
+#: the lining geometry keys of a clutch: the launch metrics read them, the plant does not
+LINING = (
     _n("r_inner", "Inner radius of the friction linings (with `r_outer`; only for the "
        "launch-quality metrics per lining area, docs/launch-quality.md).", "m", low=0.0,
        strict=True, high=0.5),
@@ -114,121 +109,16 @@ CLUTCH = (
     Key("faces", "int", "Number of friction faces (default 2: a single-plate dry clutch).",
         "-", low=1, high=100),
 )
+LINING_KEYS = tuple(k.name for k in LINING)
 #: pressure-plate runout of a clutch (a clamp-load oscillation; docs/judder.md)
 RUNOUT = Key("runout", "table", "`{amplitude = 0.02, order = 1}`: clamp-load oscillation "
              "`1 + amplitude·sin(order·φ_b)` of pressure-plate runout, `φ_b` the angle of "
              "side b (the input shaft); amplitude in [0, 1), order > 0 per turn.")
-CLUTCH = (*CLUTCH, RUNOUT)
-#: the lining geometry keys of a clutch: the launch metrics read them, the chain does not
-LINING_KEYS = ("r_inner", "r_outer", "faces")
-SPRING = (
-    Key("name", "str", "Unique name; state `phi_<name>` [rad].", required=True),
-    Key("type", "str", "spring_damper.", required=True),
-    _n("c", "Stiffness (first stage).", "N·m/rad", required=True, low=0.0, strict=True,
-       high=1e9),
-    _n("d", "Damping.", "N·m·s/rad", low=0.0, high=1e7),
-    _n("knee", "Twist where the second stage starts (0: single stage).", "rad", low=0.0,
-       high=10.0),
-    _n("c2", "Second-stage stiffness.", "N·m/rad", low=0.0, high=1e9),
-    _n("phi0", "Initial twist.", "rad", low=-10.0, high=10.0),
-    _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
-)
-GEAR = (
-    Key("name", "str", "Unique name.", required=True),
-    Key("type", "str", "gear.", required=True),
-    _n("ratio", "Speed ratio omega_in/omega_out.", "-", required=True, low=-1e3, high=1e3),
-)
-LOSSY_GEAR = (
-    Key("name", "str", "Unique name; states `<name>.mode` (-1 rolling backward, 0 stuck, +1 "
-        "forward) and `<name>.locked`.", required=True),
-    Key("type", "str", "lossy_gear: rigid gear with mesh efficiency and bearing friction that "
-        "can stick (Modelica LossyGear; at most one gear with losses per scenario, a gearbox "
-        "with an efficiency included). Outputs `T_loss_<name>`, `P_<name>`.", required=True),
-    _n("ratio", "Speed ratio omega_a/omega_b (non-zero).", "-", required=True, low=-1e3,
-       high=1e3),
-    Key("loss_table", "table", "`{speed = [rad/s ...], eta_mf1 = [...], eta_mf2 = [...], "
-        "tau_bf1 = [N·m ...], tau_bf2 = [N·m ...]}`: mesh efficiency with power flowing a->b "
-        "(eta_mf1) and b->a (eta_mf2), in (0, 1], and bearing friction torques (>= 0), against "
-        "|omega_a| (first >= 0, increasing). Default: no losses (an ideal gear)."),
-)
-ONE_WAY_CLUTCH = (
-    Key("name", "str", "Unique name; states `<name>.mode` (+1 sliding, 0 locked) and "
-        "`<name>.locked`.", required=True),
-    Key("type", "str", "one_way_clutch: freewheel in parallel with a friction clutch (Modelica "
-        "OneWayClutch); slides only with omega_b > omega_a/ratio.", required=True),
-    Key("command", "str", "Normalised clamp force input (0 open .. 1 full).", required=True),
-    _n("T_slide", "Sliding torque of the clutch at full command (mu·cgeo·fn_max).", "N·m",
-       required=True, low=0.0, high=1e7),
-    _n("peak", "Static / sliding torque ratio of the clutch.", "-", low=1.0, high=100.0),
-    Key("mu_temperature", "table", "`{theta = [°C ...], factor = [...]}`: mu(theta)/mu_ref at the "
-        "first heat node."),
-    Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
-        "friction power goes."),
-    _n("ratio", "Ideal ratio on the input side.", "-", low=-1e3, high=1e3),
-)
-GEARBOX = (
-    Key("name", "str", "Unique name; outputs `ratio_<name>` (overall ratio) and "
-        "`gear_<name>`.", required=True),
-    Key("type", "str", "gearbox.", required=True),
-    Key("ratios", "numbers", "Gear ratios, gear 1 first.", required=True),
-    Key("gear", "int", "Selected gear (1-based).", required=True, low=1),
-    _n("final_drive", "Final drive ratio.", "-", low=0.0, strict=True, high=100.0),
-    Key("shifts", "tables", "`[{time = 3.0, gear = 2}]`: ratio changes (an ideal synchroniser "
-        "that conserves the angular momentum of what it joins; the energy it removes is "
-        "`W_sync`)."),
-    _n("efficiency", "Mesh efficiency, power flowing input -> output, in (0, 1] (gearbox and "
-       "final drive together; default 1: no loss). With losses the gearbox is the "
-       "scenario's one lossy gear (states `<name>.mode`, `<name>.locked`).", "-",
-       low=0.0, strict=True, high=1.0),
-    _n("efficiency_reverse", "Mesh efficiency, power flowing output -> input (engine "
-       "braking), in (0, 1]; default: `efficiency`.", "-", low=0.0, strict=True, high=1.0),
-    _n("drag_torque", "Bearing and churning drag referred to the input shaft.", "N·m",
-       low=0.0, high=1e6),
-)
-BRAKE = (
-    Key("name", "str", "Unique name.", required=True),
-    Key("node", "str", "Inertia the brake acts on.", required=True),
-    Key("command", "str", "Actuation input (0 released .. 1 full capacity).", required=True),
-    Key("friction", "table", "Friction model of the brake (see [friction]).", required=True),
-    _n("drag", "Drag torque of the released brake.", "N·m", low=0.0, high=1e6),
-    Key("mu_slip", "table", "`{slip = [rad/s ...], factor = [...]}`: mu(|w|)/mu_ref (e.g. a "
-        "speed-dependent bearing friction)."),
-)
-ENGINE = (
-    Key("node", "str", "Inertia the engine drives.", required=True),
-    Key("full_load", "table", "`{speed = [rad/s ...], torque = [N·m ...]}` full-load curve.",
-        required=True),
-    Key("throttle", "str", "Throttle input signal [-] 0..1.", required=True),
-    _n("drag0", "Friction torque.", "N·m", low=0.0, high=1e6),
-    _n("drag1", "Pumping loss coefficient.", "N·m·s/rad", low=0.0, high=1e4),
-    _n("idle_speed", "Idle governor target (0: no governor).", "rad/s", low=0.0, high=1e4),
-    _n("kp", "Governor proportional gain.", "1/(rad/s)", low=0.0, high=1e6),
-    _n("ki", "Governor integral gain.", "1/rad", low=0.0, high=1e6),
-    _n("stall_speed", "Stall threshold: the run fails below it.", "rad/s", low=0.0, high=1e4),
-)
-VEHICLE = (
-    _n("mass", "Vehicle mass.", "kg", required=True, low=0.0, strict=True, high=1e6),
-    _n("tyre_radius", "Dynamic tyre radius.", "m", required=True, low=0.0, strict=True,
-       high=5.0),
-    _n("grade", "Road grade (positive uphill).", "%", low=-100.0, high=100.0),
-    _n("rolling", "Rolling-resistance coefficient.", "-", low=0.0, high=0.5),
-    _n("cd_area", "Drag area c_d·A.", "m²", low=0.0, high=100.0),
-    _n("air_density", "Air density.", "kg/m³", low=0.0, high=10.0),
-    _n("v_eps", "Regularisation speed of rolling resistance at rest.", "m/s", low=0.0,
-       strict=True, high=10.0),
-)
-THERMAL = (
-    Key("name", "str", "Unique name; state `theta_<name>` [°C].", required=True),
-    _n("capacity", "Heat capacity m·c_p.", "J/K", required=True, low=0.0, strict=True,
-       high=1e9),
-    _n("conductance", "Convection hA to ambient (0: adiabatic).", "W/K", low=0.0, high=1e7),
-    _n("ambient", "Ambient temperature.", "°C", low=-273.15, high=2000.0),
-    _n("theta0", "Initial temperature.", "°C", low=-273.15, high=2000.0),
-    Key("link", "str", "Another thermal node this one conducts to (e.g. a friction-surface "
-        "layer to the bulk of its plate); declare each link once."),
-    _n("link_conductance", "Conductance of the link (> 0 with a link).", "W/K", low=0.0,
-       high=1e7),
-)
+LOSS_TABLE = Key("loss_table", "table", "`{speed = [rad/s ...], eta_mf1 = [...], eta_mf2 = "
+                 "[...], tau_bf1 = [N·m ...], tau_bf2 = [N·m ...]}`: mesh efficiency with "
+                 "power flowing a->b (eta_mf1) and b->a (eta_mf2), in (0, 1], and bearing "
+                 "friction torques (>= 0), against |omega_a| (first >= 0, increasing). "
+                 "Default: no losses (an ideal gear).")
 
 #: network component types with a `friction` table (a friction model; `--model` acts on them)
 FRICTION_TYPES = ("clutch", "brake", "support_friction", "translational_brake")
@@ -245,6 +135,7 @@ TRANSLATIONAL_FRICTION = (
 )
 
 
+@functools.lru_cache(maxsize=None)
 def _component_keys(cls) -> tuple:
     """The scenario keys of a network component, generated from its declaration."""
     keys = [Key("name", "str", "Unique name.", required=True),
@@ -254,11 +145,11 @@ def _component_keys(cls) -> tuple:
         doc = p.doc[:1].upper() + p.doc[1:] + (f" (or give {optional})." if optional else ".")
         keys.append(Key(p.name, "number", doc, "" if p.unit == "-" else p.unit,
                         required=p.default is None and not optional,
-                        low=p.low, high=p.high, strict=p.strict))
+                        low=p.low, high=p.high, strict=p.strict, nonzero=p.nonzero))
     extra = {
-        "clutch": (*CLUTCH[2:9], RUNOUT, *(k for k in CLUTCH if k.name in LINING_KEYS)),
-        "brake": (*CLUTCH[2:9], RUNOUT),
-        "dual_mass_flywheel": (CLUTCH[3], *CLUTCH[5:8]),
+        "clutch": (*FRICTION_ELEMENT, RUNOUT, *LINING),
+        "brake": (*FRICTION_ELEMENT, RUNOUT),
+        "dual_mass_flywheel": (FRICTION_ELEMENT[1], *FRICTION_ELEMENT[3:6]),
         "torque_converter": (
             Key("speed_ratio", "numbers", "Speed ratios turbine/pump of the tables, strictly "
                 "increasing in [0, 1), ending at the coupling point.", required=True),
@@ -301,10 +192,16 @@ def _component_keys(cls) -> tuple:
         "driver": (
             Key("target", "str", "Signal of the target speed [m/s].", required=True),
             Key("feedforward", "str", "Signal of a throttle feed-forward [-].")),
-        "lossy_gear": (LOSSY_GEAR[3],),
-        "lossy_gear_with_lash": (LOSSY_GEAR[3],),
-        "gearbox": (GEARBOX[2], GEARBOX[5]),
-        "one_way_clutch": (ONE_WAY_CLUTCH[2], ONE_WAY_CLUTCH[5], ONE_WAY_CLUTCH[6]),
+        "lossy_gear": (LOSS_TABLE,),
+        "lossy_gear_with_lash": (LOSS_TABLE,),
+        "gearbox": (
+            Key("ratios", "numbers", "Gear ratios, gear 1 first.", required=True),
+            Key("shifts", "tables", "`[{time = 3.0, gear = 2}]`: ratio changes (an ideal "
+                "synchroniser that conserves the angular momentum of what it joins; the "
+                "energy it removes is `W_sync`).")),
+        "one_way_clutch": (
+            Key("command", "str", "Normalised clamp force input (0 open .. 1 full).",
+                required=True), *FRICTION_ELEMENT[3:4], *FRICTION_ELEMENT[5:6]),
         "planetary": (Key("z_sun", "int", "Sun teeth (with z_ring, instead of ratio).",
                           low=1, high=1e4),
                       Key("z_ring", "int", "Ring teeth.", low=1, high=1e4)),
@@ -335,21 +232,49 @@ OUTPUTS = (
         "states; a spring's twist and a torque pulsation's crank angle are states anyway)."),
 )
 
-COUPLING_TYPES = {"clutch": CLUTCH, "one_way_clutch": ONE_WAY_CLUTCH,
-                  "spring_damper": SPRING, "gear": GEAR, "lossy_gear": LOSSY_GEAR,
-                  "gearbox": GEARBOX}
+
+def chain_keys(section: str, ctype=None) -> tuple:
+    """The keys of a chain table (``inertia``, ``coupling`` of type ``ctype``, ``brake``,
+    ``engine``, ``vehicle``, ``thermal``), generated from the network component it is read
+    as (:mod:`clutchsim.scenario.chain_format`): its keys, and the chain's own keys that
+    become structure (an inertia's ``load``, a coupling's ``ratio``, a ``node``), each with
+    the rule of the component parameter it becomes; () for an unknown coupling type."""
+    kind = COUPLING_TYPES.get(ctype) if section == "coupling" else KIND_OF.get(section)
+    if kind is None:
+        return ()
+    from ..network.components import COMPONENTS
+
+    def keys_of(kind):
+        return _component_keys(COMPONENTS[kind])
+    keys = [k for k in keys_of(kind) if k.name != "type"
+            and not (k.name == "name" and section in ("engine", "vehicle"))]
+    if section == "coupling":
+        title = keys_of(kind)[1].doc.split(": ", 1)[1].rstrip(".")
+        keys.insert(1, Key("type", "str", f"{ctype}: read as the network component "
+                           f"`{kind}` ({title}).", required=True))
+    for (table, ctypes), extra in CHAIN_ONLY.items():
+        if table != section or (ctypes is not None and ctype not in ctypes):
+            continue
+        for name, (comp, comp_key, doc, required) in extra.items():
+            if comp is None:
+                keys.append(Key(name, "str", doc, required=required))
+                continue
+            spec = next(k for k in keys_of(comp) if k.name == comp_key)
+            keys.append(replace(spec, name=name, doc=doc, required=required))
+    return tuple(keys)
+
 
 #: top-level tables: name -> (keys, kind) with kind "table" or "tables" (array of tables)
 SECTIONS = {
     "scenario": (SCENARIO, "table"),
     "solver": (SOLVER, "table"),
     "inputs": ((), "map"),
-    "inertia": (INERTIA, "tables"),
+    "inertia": (None, "tables"),
     "coupling": (None, "tables"),
-    "brake": (BRAKE, "tables"),
-    "engine": (ENGINE, "table"),
-    "vehicle": (VEHICLE, "table"),
-    "thermal": (THERMAL, "tables"),
+    "brake": (None, "tables"),
+    "engine": (None, "table"),
+    "vehicle": (None, "table"),
+    "thermal": (None, "tables"),
     "network": (NETWORK, "table"),
     "component": (None, "tables"),
     "outputs": (OUTPUTS, "table"),
@@ -370,8 +295,12 @@ def table_keys(data: dict, section: str, index: str = "") -> tuple:
         if not index or not isinstance(table, list) or int(index) >= len(table) or \
                 not isinstance(table[int(index)], dict):
             return ()
-        types = COUPLING_TYPES if section == "coupling" else component_types()
-        keys = types.get(table[int(index)].get("type"), ())
+        ctype = table[int(index)].get("type")
+        if section == "coupling":
+            return chain_keys(section, ctype)
+        return component_types().get(ctype, ())
+    if section in KIND_OF:
+        return chain_keys(section)
     return keys or ()
 
 
@@ -415,6 +344,9 @@ def check_table(table: dict, keys: tuple, path: str, fail) -> None:
                 rule = f"{'>' if k.strict else '>='} {k.low:g}{u}"
             elif k.high is not None and v > k.high:
                 rule = f"<= {k.high:g}{u}"
+            elif k.nonzero and v == 0:
+                fail(f"= {v!r} is not allowed: must be non-zero ({k.doc[:1].lower()}"
+                     f"{k.doc[1:].rstrip('.')})", kp)
             else:
                 continue
             fail(f"= {v!r}{u} is out of range: must be {rule} (range {range_text(k)}{u}"
@@ -486,6 +418,14 @@ def _rows(keys):
     return out
 
 
+#: what the reference says of the chain tables
+CHAIN_NOTE = ("Chain files list inertias in series (`[[inertia]]`) joined by couplings "
+              "(`[[coupling]]`), with `[[brake]]`, `[engine]`, `[vehicle]` and `[[thermal]]`. "
+              "Each table is read as the network component it stands for (docs/network.md, "
+              "\"Chain files\"); its keys, units and ranges below are generated from that "
+              "component's declaration.")
+
+
 def reference_markdown() -> str:
     """The scenario file reference (``docs/scenario-reference.md``), generated from SECTIONS."""
     out = ["# Scenario file reference", "",
@@ -516,12 +456,14 @@ def reference_markdown() -> str:
             for t, tkeys in component_types().items():
                 out += [f"### `type = \"{t}\"`", ""] + _rows(tkeys) + [""]
             continue
+        if name == "inertia":
+            out += [CHAIN_NOTE, ""]
         if name == "coupling":
             out += [("Coupling k joins inertia k and inertia k+1; there is one coupling "
                      "fewer than inertias. The keys depend on `type`."), ""]
-            for t, tkeys in COUPLING_TYPES.items():
-                out += [f"### `type = \"{t}\"`", ""] + _rows(tkeys) + [""]
+            for t in COUPLING_TYPES:
+                out += [f"### `type = \"{t}\"`", ""] + _rows(chain_keys(name, t)) + [""]
             out += ["### `friction` (of a clutch or a brake)", ""] + _rows(FRICTION) + [""]
             continue
-        out += _rows(keys) + [""]
+        out += _rows(chain_keys(name) if keys is None else keys) + [""]
     return "\n".join(out)

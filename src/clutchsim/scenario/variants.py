@@ -81,13 +81,11 @@ class VariantPlan:
     """
 
     def __init__(self, scenario, model: str | None = None):
-        from ..network import Network, compile_network
+        from ..network import compile_network
         self.scenario = scenario
         self.model = model
-        chain = scenario.chain(model)
-        net = chain if isinstance(chain, Network) else chain.network()
+        net = scenario.network(model)
         self.net = net
-        self._chain = chain
         self._direct: dict = {}
         self._base_values: dict = {}
         self._inputs0 = scenario.inputs0()
@@ -121,10 +119,8 @@ class VariantPlan:
         if base is not None and not _is_number(base):
             return None         # a table, a string: not a value of one component
         probe = self._rebuilt_scenario(((key, value),))
-        chain = probe.chain(self.model)
-        from ..network import Network
         from ..network.plant import structure_key
-        net = chain if isinstance(chain, Network) else chain.network()
+        net = probe.network(self.model)
         if structure_key(net) != structure_key(self.net) or \
                 _observed(probe, net) != self.base:
             return None
@@ -279,9 +275,9 @@ class VariantPlan:
         if self._base is None:
             with self._lock:
                 if self._base is None:
-                    chain = self._chain
-                    base = self.plan.system(self.net.components, inputs0=self._inputs0,
-                                            name=chain.name, metadata=dict(chain.metadata),
+                    net = self.net
+                    base = self.plan.system(net.components, inputs0=self._inputs0,
+                                            name=net.name, metadata=dict(net.metadata),
                                             params=self.params)
                     produced0 = self.plan.produced0(base, self._inputs0)
                     start = self.plan.initial_state(self.net.components,
@@ -291,10 +287,10 @@ class VariantPlan:
 
     def rebuilt(self, changes):
         """``(scenario, system)`` of the variant built from the scenario text (the
-        overrides applied, validated, the chain built): the way every variant was built
+        overrides applied, validated, the network built): the way every variant was built
         before, and the way for rebuild keys.  Raises the scenario's errors."""
         sc = self._rebuilt_scenario(changes)
-        return sc, sc.chain(self.model).build(sc.inputs0())
+        return sc, sc.network(self.model).build(sc.inputs0())
 
     def _rebuilt_scenario(self, changes):
         from .loader import apply_overrides, parse_scenario, toml_value

@@ -200,8 +200,7 @@ def load_duty(path) -> Duty:
 
 
 def _clutch_wear(sc):
-    chain = sc.chain(None)
-    for c in chain.couplings:
+    for c in sc.network(None).components:
         if c.name == sc.clutch:
             return getattr(c, "wear", None)
     return None
@@ -215,9 +214,8 @@ class _Runner:
         sc = man.scenario
         self.man = man
         self.clutch = sc.clutch
-        self.chain = sc.chain(model if model is not None else
+        self.net = sc.network(model if model is not None else
                               (sc.models[0] if sc.models else None))
-        self.net = self.chain.network()
         self.plan = compile_network(self.net)
         self.u0 = sc.inputs0()
         self.comp = {c.name: c for c in self.net.components}

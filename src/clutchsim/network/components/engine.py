@@ -39,12 +39,14 @@ class Engine(Component):
     flanges = ("flange", "support")
     grounded = ("support",)
     params = (
-        Param("drag0", "N·m", "friction torque", default=0.0, low=0.0),
-        Param("drag1", "N·m·s/rad", "pumping loss coefficient", default=0.0, low=0.0),
+        Param("drag0", "N·m", "friction torque", default=0.0, low=0.0, high=1e6),
+        Param("drag1", "N·m·s/rad", "pumping loss coefficient", default=0.0, low=0.0,
+              high=1e4),
         Param("idle_speed", "rad/s", "idle target (0: no governor; 800 rpm = 83.8 rad/s)",
               default=0.0, low=0.0, high=IDLE_SPEED_MAX),
-        Param("kp", "1/(rad/s)", "governor proportional gain", default=0.0, low=0.0),
-        Param("ki", "1/rad", "governor integral gain", default=0.0, low=0.0),
+        Param("kp", "1/(rad/s)", "governor proportional gain", default=0.0, low=0.0,
+              high=1e6),
+        Param("ki", "1/rad", "governor integral gain", default=0.0, low=0.0, high=1e6),
         Param("stall_speed", "rad/s", "stall threshold", default=0.0, low=0.0,
               high=IDLE_SPEED_MAX),
     )

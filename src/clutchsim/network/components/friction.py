@@ -37,7 +37,7 @@ def _table(owner, key, tab):
 class _FrictionElement(Component):
     friction = True
     params = (Param("drag", "N·m", "drag torque of the open element, drag·tanh(w/1 rad/s)",
-                    default=0.0, low=0.0),
+                    default=0.0, low=0.0, high=1e6),
               Param("installed_shift", "-", "lining wear's shift of the diaphragm spring's "
                     "installed position: clamp_table is read at command·(1 + installed_shift)",
                     default=0.0, low=-1.0, strict=True),

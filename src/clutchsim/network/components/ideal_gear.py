@@ -18,7 +18,8 @@ class IdealGear(Component):
     title = "ideal gear with optional support"
     flanges = ("a", "b", "support")
     grounded = ("support",)
-    params = (Param("ratio", "-", "speed ratio ω_a/ω_b relative to the support", nonzero=True),)
+    params = (Param("ratio", "-", "speed ratio ω_a/ω_b relative to the support",
+                    low=-1e3, high=1e3, nonzero=True),)
 
     def constraints(self):
         r = self.ratio

@@ -19,9 +19,9 @@ class Inertia(Component):
     joined = (("a", "b"),)
     params = (
         Param("J", "kg·m²", "inertia", low=0.0, strict=True),
-        Param("omega0", "rad/s", "initial speed", default=0.0),
+        Param("omega0", "rad/s", "initial speed", default=0.0, low=-1e4, high=1e4),
         Param("bearing_damping", "N·m·s/rad", "viscous bearing loss to the housing",
-              default=0.0, low=0.0),
+              default=0.0, low=0.0, high=1e6),
         Param("phi0", "rad", "initial angle (its state phi_<name> with [outputs] angles)",
               default=0.0),
     )

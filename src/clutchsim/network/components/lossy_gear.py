@@ -119,7 +119,7 @@ class LossyGear(Component):
     flanges = ("a", "b", "support")
     grounded = ("support",)
     params = (Param("ratio", "-", "speed ratio ω_a/ω_b relative to the support",
-                    nonzero=True),)
+                    low=-1e3, high=1e3, nonzero=True),)
     lockable = True
     lossy = True
     side_a = "support"
@@ -208,13 +208,13 @@ class Gearbox(LossyGear):
     params = (
         Param("gear", "-", "gear engaged at the start (1-based)", default=1.0, low=1.0),
         Param("final_drive", "-", "final drive ratio multiplied into every gear",
-              default=1.0, low=0.0, strict=True),
+              default=1.0, low=0.0, strict=True, high=100.0),
         Param("efficiency", "-", "mesh efficiency with power from flange a to b",
               default=1.0, low=0.0, high=1.0, strict=True),
         Param("efficiency_reverse", "-", "mesh efficiency with power from b back to a "
               "(default: efficiency)", default=1.0, low=0.0, high=1.0, strict=True),
         Param("drag_torque", "N·m", "speed-independent drag referred to flange a",
-              default=0.0, low=0.0),
+              default=0.0, low=0.0, high=1e6),
     )
 
     def __init__(self, name, ratios, shifts=(), **values):

@@ -161,9 +161,9 @@ class OneWayClutch(Clutch):
     kind = "one_way_clutch"
     title = "freewheel in parallel with a friction clutch"
     params = (Param("T_slide", "N·m", "sliding torque of the clutch at full command "
-                    "(mu·cgeo·fn_max)", low=0.0),
+                    "(mu·cgeo·fn_max)", low=0.0, high=1e7),
               Param("peak", "-", "static over sliding torque of the clutch", default=1.0,
-                    low=1.0),
+                    low=1.0, high=100.0),
               *Clutch.params)
     lockable = True
 

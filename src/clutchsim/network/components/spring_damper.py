@@ -60,12 +60,12 @@ class SpringDamper(TwistCoupling):
     title = "torsional spring-damper (two-stage optional)"
     flanges = ("a", "b")
     params = (
-        Param("c", "N·m/rad", "first-stage stiffness", low=0.0, strict=True),
-        Param("d", "N·m·s/rad", "viscous damping", default=0.0, low=0.0),
+        Param("c", "N·m/rad", "first-stage stiffness", low=0.0, strict=True, high=1e9),
+        Param("d", "N·m·s/rad", "viscous damping", default=0.0, low=0.0, high=1e7),
         Param("knee", "rad", "twist where the second stage starts (0: single stage)",
-              default=0.0, low=0.0),
-        Param("c2", "N·m/rad", "second-stage stiffness", default=0.0, low=0.0),
-        Param("phi0", "rad", "initial twist", default=0.0),
+              default=0.0, low=0.0, high=10.0),
+        Param("c2", "N·m/rad", "second-stage stiffness", default=0.0, low=0.0, high=1e9),
+        Param("phi0", "rad", "initial twist", default=0.0, low=-10.0, high=10.0),
     )
 
     def __init__(self, name, **values):

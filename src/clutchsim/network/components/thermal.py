@@ -18,10 +18,12 @@ class ThermalNode(Component):
     params = (
         Param("capacity", "J/K", "heat capacity m·c_p", low=0.0, strict=True),
         Param("conductance", "W/K", "convection hA to ambient (0: adiabatic)", default=0.0,
-              low=0.0),
-        Param("ambient", "°C", "ambient temperature", default=20.0, low=-273.15),
-        Param("theta0", "°C", "initial temperature", default=20.0, low=-273.15),
-        Param("link_conductance", "W/K", "conductance of the link", default=0.0, low=0.0),
+              low=0.0, high=1e7),
+        Param("ambient", "°C", "ambient temperature", default=20.0, low=-273.15,
+              high=2000.0),
+        Param("theta0", "°C", "initial temperature", default=20.0, low=-273.15, high=2000.0),
+        Param("link_conductance", "W/K", "conductance of the link", default=0.0, low=0.0,
+              high=1e7),
     )
 
     def __init__(self, name, link=None, **values):
@@ -43,9 +45,14 @@ class ThermalNode(Component):
     def check_network(self, net):
         if self.link is None:
             return
+        from ...core.system import closest
+        from ..network import NetworkError
+        nodes = [c.name for c in net.components if getattr(c, "thermal", False)]
+        if self.link not in nodes:
+            raise NetworkError(f"{self.label}: link = {self.link!r} is not a thermal node"
+                               f"{closest(self.link, nodes)} (nodes: {', '.join(nodes)})",
+                               f"{self.name}.link")
         other = net.component(self.link)
-        if not getattr(other, "thermal", False):
-            raise ValueError(f"{self.label}: link {self.link!r} is not a thermal node")
         if getattr(other, "link", None) == self.name:
             raise ValueError(f"thermal nodes {self.name!r} and {self.link!r} are linked twice; "
                              "declare the link on one of them only")

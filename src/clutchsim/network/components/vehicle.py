@@ -17,15 +17,15 @@ class Vehicle(Component):
     title = "vehicle mass and road load"
     flanges = ("flange",)
     params = (
-        Param("mass", "kg", "vehicle mass", low=0.0, strict=True),
-        Param("tyre_radius", "m", "dynamic rolling radius", low=0.0, strict=True),
+        Param("mass", "kg", "vehicle mass", low=0.0, strict=True, high=1e6),
+        Param("tyre_radius", "m", "dynamic rolling radius", low=0.0, strict=True, high=5.0),
         Param("grade", "%", "road grade (rise/run·100, uphill positive)", default=0.0,
               low=-100.0, high=100.0),
         Param("rolling", "-", "rolling-resistance coefficient", default=0.0, low=0.0, high=0.5),
-        Param("cd_area", "m²", "drag area c_d·A", default=0.0, low=0.0),
-        Param("air_density", "kg/m³", "air density", default=1.2, low=0.0),
+        Param("cd_area", "m²", "drag area c_d·A", default=0.0, low=0.0, high=100.0),
+        Param("air_density", "kg/m³", "air density", default=1.2, low=0.0, high=10.0),
         Param("v_eps", "m/s", "speed over which rolling resistance builds up", default=0.05,
-              low=0.0, strict=True),
+              low=0.0, strict=True, high=10.0),
         Param("gravity", "m/s²", "gravitational acceleration", default=9.81, low=0.0,
               strict=True),
     )
