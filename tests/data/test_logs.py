@@ -187,3 +187,17 @@ def test_no_launch_and_a_window_without_clutch_event(synthetic, cmap):
     # a window starting after the clutch began to close holds no clutch event
     with pytest.raises(ValueError, match="has no clutch event"):
         cut_launch(m, la.t_clutch + 0.3, la.t_end)
+
+
+def test_a_clutch_switch_instead_of_a_position_finds_the_launches(synthetic, tmp_path):
+    log, _ = synthetic
+    text = (EXAMPLES / "channels.toml").read_text()
+    text = text[:text.index("[channels.clutch_position]")]
+    (tmp_path / "map.toml").write_text(text)
+    m = map_log(log, load_channel_map(tmp_path / "map.toml"))
+    launches = find_launches(m)
+    assert len(launches) == 2
+    with_position = find_launches(map_log(log, load_channel_map(EXAMPLES / "channels.toml")))
+    for a, b in zip(launches, with_position):
+        # the switch is released when the travel passes 1 mm before the touch point
+        assert abs(a.t_lockup - b.t_lockup) < 1e-9 and a.t_clutch > b.t_clutch

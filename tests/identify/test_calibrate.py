@@ -119,3 +119,31 @@ def test_spec_errors_name_file_line_and_key(tmp_path, edit, message):
     path.write_text(SPEC.read_text().replace(*edit))
     with pytest.raises(CalibrationError, match=message):
         load_calibration(path)
+
+
+def test_prior_and_per_launch_start_speed(tmp_path, cmap):
+    """A tight Gaussian prior holds its parameter; the engine speed at the start of each
+    launch is fitted per launch (``engine_speed0@k``) near the measured one."""
+    text = SPEC.read_text().replace(
+        "stiffness = { start = 8000.0, bounds = [1000.0, 60000.0] }",
+        "stiffness = { start = 8000.0, bounds = [1000.0, 60000.0], prior = [15000.0, 10.0] }"
+    ).replace("step = 0.001", 'step = 0.001\nper_launch = ["engine_speed0"]')
+    (tmp_path / "channels.toml").write_text((EXAMPLES / "channels.toml").read_text())
+    path = tmp_path / "spec.toml"
+    path.write_text(text)
+    log, truth = synthetic_log(launches=1, seed=8)
+    res = calibrate(load_calibration(path), [map_log(log, cmap)])
+    assert res.names[-1] == "engine_speed0@1"
+    assert abs(res.parameters["stiffness"] - 15000.0) < 100.0       # the prior wins
+    assert abs(res.parameters["engine_speed0@1"] - 79.8) < 5.0     # the idle speed held
+    assert "engine_speed0" not in res.fixed
+
+
+def test_a_stiffness_bound_the_step_cannot_follow_is_refused(tmp_path):
+    (tmp_path / "channels.toml").write_text((EXAMPLES / "channels.toml").read_text())
+    path = tmp_path / "spec.toml"
+    path.write_text(SPEC.read_text().replace("bounds = [1000.0, 60000.0]",
+                                             "bounds = [1000.0, 6.0e8]"))
+    with pytest.raises(CalibrationError, match=r"spec.toml:\d+: \[parameters\] stiffness: "
+                                               r"stiffness up to 6e\+08 is beyond what a step"):
+        calibrate(load_calibration(path), [])

@@ -263,6 +263,26 @@ def _param_name(name, where):
                                f"{closest(name, valid)}; parameters: {', '.join(valid)}")
 
 
+def _check_step(spec: CalibrationSpec) -> None:
+    """Refuse bounds at which the fixed step cannot follow the driveline (semi-implicit Euler
+    needs ``h·ω < 2`` for the shaft's frequency ``ω`` and ``h·d/J < 1`` for its damping, at
+    the input shaft, where the inertia is smallest): with a margin of two."""
+    v, h = spec.vehicle, spec.step
+    j_in = v.J_input * v.ratio ** 2
+
+    def largest(name):
+        if name in spec.fitted:
+            return spec.fitted[name].get("bounds", (0.0, spec.fitted[name]["start"] * 100))[1]
+        return spec.fixed.get(name, MODEL_DEFAULTS.get(name, 0.0))
+    for name, value, limit in (("stiffness", largest("stiffness"), (1.0 / h) ** 2 * j_in),
+                               ("damping", largest("damping"), 0.5 * j_in / h)):
+        if value > limit:
+            raise CalibrationError(
+                f"{spec.where('parameters', name)}: {name} up to {value:g} is beyond what a "
+                f"step of {h:g} s follows (at most {limit:.4g} with J_input = {v.J_input:g} "
+                f"kg·m² and ratio {v.ratio:g}); lower the bound or the [calibration] step")
+
+
 # --------------------------------------------------------------------------- launch data
 @dataclass(frozen=True, eq=False)
 class _Output:
@@ -768,6 +788,7 @@ def calibrate(spec: CalibrationSpec | str | Path, logs=None, validate=None, *,
     wall0 = time.perf_counter()
     spec = spec if isinstance(spec, CalibrationSpec) else load_calibration(spec)
     options = options or spec.fit_options()
+    _check_step(spec)
     fit_launches = launches_of(spec, list(logs) if logs is not None else list(spec.logs))
     if not fit_launches:
         raise ValueError("calibrate: no logs to fit (give --log or [calibration] logs)")
