@@ -131,7 +131,7 @@ def test_prior_and_per_launch_start_speed(tmp_path, cmap):
     (tmp_path / "channels.toml").write_text((EXAMPLES / "channels.toml").read_text())
     path = tmp_path / "spec.toml"
     path.write_text(text)
-    log, truth = synthetic_log(launches=1, seed=8)
+    log, _ = synthetic_log(launches=1, seed=8)
     res = calibrate(load_calibration(path), [map_log(log, cmap)])
     assert res.names[-1] == "engine_speed0@1"
     assert abs(res.parameters["stiffness"] - 15000.0) < 100.0       # the prior wins
@@ -145,5 +145,5 @@ def test_a_stiffness_bound_the_step_cannot_follow_is_refused(tmp_path):
     path.write_text(SPEC.read_text().replace("bounds = [1000.0, 60000.0]",
                                              "bounds = [1000.0, 6.0e8]"))
     with pytest.raises(CalibrationError, match=r"spec.toml:\d+: \[parameters\] stiffness: "
-                                               r"stiffness up to 6e\+08 is beyond what a step"):
+                                               r"up to 6e\+08 is beyond what a step"):
         calibrate(load_calibration(path), [])

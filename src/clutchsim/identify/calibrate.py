@@ -278,7 +278,7 @@ def _check_step(spec: CalibrationSpec) -> None:
                                ("damping", largest("damping"), 0.5 * j_in / h)):
         if value > limit:
             raise CalibrationError(
-                f"{spec.where('parameters', name)}: {name} up to {value:g} is beyond what a "
+                f"{spec.where('parameters', name)}: [parameters] {name}: up to {value:g} is beyond what a "
                 f"step of {h:g} s follows (at most {limit:.4g} with J_input = {v.J_input:g} "
                 f"kg·m² and ratio {v.ratio:g}); lower the bound or the [calibration] step")
 
