@@ -22,7 +22,7 @@ or BLF/ASC decoded with the map's DBC).  The launches in each log are found (clu
 launches) and fitted together; the launches of the validation logs are predicted.
 Writes DIR/calibration.json, DIR/parameters.toml (values and intervals), DIR/traces.csv
 (measured and simulated per launch and signal, at the measured stamps), DIR/report.md and
-DIR/calibration.png.  --json prints one document: {"parameters", "stderr", "intervals",
+DIR/calibration.png (and report.html, one page of them).  --json prints one document: {"parameters", "stderr", "intervals",
 "confidence", "units", "correlation", "at_bound", "unidentified", "warnings", "launches",
 "validation", "sigma", "notes", "evaluations", "wall_time_s"}.
 """
@@ -36,10 +36,10 @@ def register(sub, common):
                        "logs, from measured speeds only.", epilog=HELP,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("spec", metavar="SPEC", help="calibration spec (TOML)")
-    p.add_argument("--log", action="append", default=[], metavar="FILE",
-                   help="log to fit (repeatable; replaces the spec's logs)")
-    p.add_argument("--validate", action="append", default=[], metavar="FILE",
-                   help="log whose launches are predicted (repeatable)")
+    p.add_argument("--log", action="extend", nargs="+", default=[], metavar="FILE",
+                   help="log(s) to fit (several files, repeatable; replaces the spec's logs)")
+    p.add_argument("--validate", action="extend", nargs="+", default=[], metavar="FILE",
+                   help="log(s) whose launches are predicted (several files, repeatable)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     add_force_flag(p)
     p.add_argument("--no-plots", action="store_true", help="skip the figure")
@@ -66,6 +66,8 @@ def _run(args, spec, out) -> int:
     with out.build() as part:
         write_calibration_outputs(result, Path(part), plots=not args.no_plots)
         write_command(part, args.argv)
+        from ..report import build_report
+        build_report(part)
     log.info("calibrated %d launch(es) in %.1f s; wrote %s", len(result.launches),
              result.wall_time, args.out)
     if args.json:

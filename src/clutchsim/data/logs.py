@@ -245,6 +245,9 @@ def _split_header(text: str) -> tuple[str, str]:
 def _need(module: str, what: str):
     """Import an optional dependency of the log formats, or say which extra installs it."""
     import importlib
+    import logging
+    # asammdf imports numexpr, which says how many threads it takes on the root logger
+    logging.getLogger("numexpr").setLevel(logging.WARNING)
     try:
         return importlib.import_module(module)
     except ImportError:
