@@ -147,3 +147,10 @@ def test_a_stiffness_bound_the_step_cannot_follow_is_refused(tmp_path):
     with pytest.raises(CalibrationError, match=r"spec.toml:\d+: \[parameters\] stiffness: "
                                                r"up to 6e\+08 is beyond what a step"):
         calibrate(load_calibration(path), [])
+
+
+def test_explicit_start_points_are_checked(spec, cmap):
+    from clutchsim.identify import FitOptions
+    log, _ = synthetic_log(launches=1, seed=2)
+    with pytest.raises(ValueError, match=r"starts\[0\]: mass not fitted; fitted: capacity"):
+        calibrate(spec, [map_log(log, cmap)], options=FitOptions(starts=[{"mass": 1.0}]))

@@ -812,8 +812,18 @@ def calibrate(spec: CalibrationSpec | str | Path, logs=None, validate=None, *,
     problem = _Problem(spec, data, names, space)
     rng = np.random.default_rng(options.seed)
     x_first = space.clip_inside(space.to_scaled(np.array([start[n] for n in names])))
-    n_starts = options.starts if isinstance(options.starts, int) else 1
-    points = [x_first] + [space.clip_inside(space.random(rng)) for _ in range(n_starts - 1)]
+    if isinstance(options.starts, int):
+        points = [x_first] + [space.clip_inside(space.random(rng))
+                              for _ in range(options.starts - 1)]
+    else:                       # explicit start points: name -> value, the rest as given
+        points = []
+        for k, point in enumerate(options.starts):
+            bad = [n for n in point if n not in names]
+            if bad:
+                raise ValueError(f"starts[{k}]: {', '.join(bad)} not fitted; fitted: "
+                                 f"{', '.join(names)}")
+            vals = np.array([float(point.get(n, start[n])) for n in names])
+            points.append(space.clip_inside(space.to_scaled(vals)))
     best = None
     for k, x0 in enumerate(points):
         sol = _solve(problem, x0, options)
