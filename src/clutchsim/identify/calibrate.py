@@ -343,8 +343,8 @@ def _prepare(launch: Launch, spec: CalibrationSpec) -> _LaunchData:
                                ch.values[keep], idx, pos - idx))
     if not any(o.signal == "engine_speed" for o in outputs):
         raise ValueError(f"{launch.name}: the engine speed has no samples in the window")
-    wheel0 = 0.0
-    y0 = np.array([we0, wheel0 * spec.vehicle.ratio, 0.0, wheel0])
+    # from standstill: input shaft and wheels at rest, the driveshaft untwisted
+    y0 = np.array([we0, 0.0, 0.0, 0.0])
     raw = {}
     for name in ("clutch_position", "engine_torque"):
         ch = sig[name]
