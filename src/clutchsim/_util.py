@@ -172,6 +172,9 @@ OUTPUT_KINDS = {
               "report.html"),
     "uq": ("sweep.json", "chunks", "results.parquet", "uq.json", "probabilities.csv",
            "quantiles.csv", "sensitivity.csv", "uq_*.png", "command.txt", "report.html"),
+    "log": ("launch_*.csv", "launches.json", "command.txt"),
+    "calibrate": ("calibration.json", "parameters.toml", "traces.csv", "report.md",
+                  "calibration.png", "command.txt", "report.html"),
 }
 
 

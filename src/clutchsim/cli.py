@@ -32,7 +32,7 @@ __all__ = ["SimulationFailed", "Terminated", "UserError", "emit_json", "main"]
 
 #: subcommand modules, in the order ``--help`` lists them
 COMMANDS = ("models", "rig", "bench", "run", "judder", "demo", "sweep", "fit", "report",
-            "fmu", "durability", "uq")
+            "fmu", "durability", "uq", "log", "calibrate")
 
 EPILOG = """\
 examples:
@@ -42,6 +42,8 @@ examples:
   clutchsim bench drift --model lugre --model elastoplastic --out drift/ --json
   clutchsim run examples/launch.toml --model mykhailevych2020 --out launch/
   clutchsim fmu examples/launch.toml --model mykhailevych2020 --out launch.fmu
+  clutchsim log launches examples/calibration/launch_log.csv --channels examples/calibration/channels.toml
+  clutchsim calibrate examples/calibration/launch_calibration.toml --out calib/
 
 exit status: 0 success, 1 a simulation did not complete, 2 bad input.
 """

@@ -3,9 +3,17 @@
 :func:`fit` is an output-error fit (simulate the plant driven by the measured input, compare
 the simulated with the measured output) on compiled simulations; :mod:`.plants` holds the
 plants it can drive (friction rig, EMPS closed loop) and :mod:`.spec` reads TOML fit
-specifications.
+specifications.  :func:`calibrate` fits the launch model of :mod:`.launch_model` to vehicle
+logs (:mod:`.calibrate`), :func:`synthetic_log` makes logs with a known truth.
 """
 
+from .calibrate import (
+    CalibrationResult,
+    CalibrationSpec,
+    LaunchTrace,
+    calibrate,
+    load_calibration,
+)
 from .emps import EMPSPlant, make_emps
 from .fit import (
     FIT_SOLVER_DEFAULTS,
@@ -19,26 +27,35 @@ from .fit import (
     nrmse,
     solver_options,
 )
+from .launch_model import LaunchVehicle
 from .plants import INPUT_TARGETS, PLANTS, InputSpec, PlantSpec
 from .spec import FitSpec, load_spec
+from .synthetic import synthetic_log
 
 __all__ = [
            "FIT_SOLVER_DEFAULTS",
            "INITIAL_STATES",
            "INPUT_TARGETS",
            "PLANTS",
+           "CalibrationResult",
+           "CalibrationSpec",
            "EMPSPlant",
            "FitOptions",
            "FitProblem",
            "FitResult",
            "FitSpec",
            "InputSpec",
+           "LaunchTrace",
+           "LaunchVehicle",
            "PlantSpec",
            "Trace",
+           "calibrate",
            "evaluate",
            "fit",
+           "load_calibration",
            "load_spec",
            "make_emps",
            "nrmse",
            "solver_options",
+           "synthetic_log",
 ]
