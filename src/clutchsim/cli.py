@@ -32,7 +32,7 @@ __all__ = ["SimulationFailed", "Terminated", "UserError", "emit_json", "main"]
 
 #: subcommand modules, in the order ``--help`` lists them
 COMMANDS = ("models", "rig", "bench", "run", "judder", "demo", "sweep", "fit", "report",
-            "fmu", "durability", "uq")
+            "fmu", "durability", "uq", "explore")
 
 EPILOG = """\
 examples:
@@ -42,6 +42,7 @@ examples:
   clutchsim bench drift --model lugre --model elastoplastic --out drift/ --json
   clutchsim run examples/launch.toml --model mykhailevych2020 --out launch/
   clutchsim fmu examples/launch.toml --model mykhailevych2020 --out launch.fmu
+  clutchsim explore --list                        # the launch explorer's parameters
 
 exit status: 0 success, 1 a simulation did not complete, 2 bad input.
 """
