@@ -2,17 +2,20 @@
 
 from __future__ import annotations
 
-import pytest
+import logging
 
-pytest.importorskip("bokeh", reason="the explorer needs Bokeh (the extra clutchsim[explore])")
+import pytest
 
 
 @pytest.fixture(scope="session")
 def launch_dir(tmp_path_factory):
-    """``clutchsim run`` of the packaged launch with its two models (no PNGs)."""
-    from clutchsim.scenario import load_scenario
-    from clutchsim.scenario.outputs import write_runs
-    d = tmp_path_factory.mktemp("launch")
-    sc = load_scenario(None)
-    write_runs(sc, sc.models, d, plots=False)
+    """The output directory of ``clutchsim run`` (the packaged launch, its two models)."""
+    from clutchsim.cli import main
+    d = tmp_path_factory.mktemp("launch") / "launch"
+    root = logging.getLogger()
+    saved = list(root.handlers)
+    try:
+        assert main(["run", "--out", str(d), "--quiet"]) == 0
+    finally:
+        root.handlers[:] = saved
     return d

@@ -6,6 +6,8 @@ import re
 
 import numpy as np
 import pytest
+
+pytest.importorskip("bokeh", reason="the explorer needs Bokeh (the extra clutchsim[explore])")
 from bokeh.document import Document
 from bokeh.models import Slider, TextInput
 

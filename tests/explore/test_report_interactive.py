@@ -11,8 +11,13 @@ from html.parser import HTMLParser
 import numpy as np
 import pytest
 
+pytest.importorskip("bokeh", reason="the interactive report needs Bokeh (clutchsim[explore])")
 from clutchsim.plot.interactive import display_rows
-from clutchsim.report.interactive import MAX_POINTS, build_interactive_report, read_series
+from clutchsim.report.interactive import (
+    MAX_POINTS,
+    build_interactive_report,
+    read_series,
+)
 
 
 class _Tags(HTMLParser):

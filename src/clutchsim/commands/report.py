@@ -19,7 +19,7 @@ The report is one HTML file (figures embedded, no network access, opens from dis
 status and warnings, metrics, parameters, scenario, solver statistics, figures and a list
 of the data files of DIR.  With --interactive the time series are interactive figures
 (zoom, pan, hover values, linked time axes, a lock-up zoom panel, the models overlaid;
-Bokeh inlined, still one file that opens offline, ~1.6 MB for a default run; needs the
+Bokeh inlined, still one file that opens offline, ~2.1 MB for a default run; needs the
 extra clutchsim[explore]).  See docs/report.md.
 """
 

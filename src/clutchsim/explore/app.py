@@ -29,7 +29,7 @@ log = logging.getLogger("clutchsim")
 EXPLORER_GROUPS = ("speeds", "torques", "power", "acceleration", "temperatures")
 #: the most rows of a run the explorer draws (less data a redraw: the round trip is the
 #: latency budget; peaks are kept, :func:`clutchsim.plot.interactive.display_rows`)
-MAX_POINTS = 1200
+MAX_POINTS = 2500
 
 
 def _display(outcome):
@@ -92,7 +92,7 @@ def make_document(doc, session: Session, *, out_dir: str | Path | None = None) -
     plots, source = traces_column(outcome.traces["t"], groups, units=units, height=190,
                                   width=820, max_points=MAX_POINTS)
     holder = column(plots, name="plots")
-    metrics = Div(text=metrics_html(outcome), name="metrics", width=360)
+    metrics = Div(text=metrics_html(outcome), name="metrics", width=360, height=300)
     error = Div(text="", name="error", width=360, styles={"color": "#b3261e"})
     state = {"keys": set(source.data), "source": source}
 

@@ -9,8 +9,6 @@ Bokeh is imported on use, so that importing this module never needs it.
 
 from __future__ import annotations
 
-from itertools import pairwise
-
 import numpy as np
 
 __all__ = ["BOKEH_EXTRA", "DISPLAY_UNITS", "GROUP_TITLES", "PALETTE", "display_rows",
@@ -37,27 +35,35 @@ def require_bokeh():
 
 def display_rows(t, columns, max_points: int) -> np.ndarray:
     """Indices of the rows of a run to draw: every row when there are at most
-    ``max_points``, else, in each of equal time buckets, the rows where some series of
+    ``max_points``, else, in each of equal buckets of rows, the rows where some series of
     ``columns`` (a sequence of 1-D arrays as long as ``t``) is smallest or largest, plus
-    the first and last row.  Each drawn point is a sample of the run (no interpolation),
-    peaks survive, and at most ``max_points`` rows are kept."""
+    the first and last row, with as many buckets as keep at most ``max_points`` rows.
+    Each drawn point is a sample of the run (no interpolation) and peaks survive."""
     n = len(t)
     if n <= max_points:
         return np.arange(n)
-    cols = [np.asarray(c, dtype=float) for c in columns]
-    per_bucket = 2 * max(len(cols), 1)
-    buckets = max((max_points - 2) // per_bucket, 1)
-    edges = np.linspace(0, n, buckets + 1).astype(int)
-    keep = [np.array([0, n - 1])]
-    for a, b in pairwise(edges):
-        if b <= a:
-            continue
-        for c in cols:
-            seg = c[a:b]
-            if np.all(np.isnan(seg)):
-                continue
-            keep.append(np.array([a + np.nanargmin(seg), a + np.nanargmax(seg)]))
-    return np.unique(np.concatenate(keep))
+    cols = np.array([np.asarray(c, dtype=float) for c in columns]).reshape(-1, n)
+    buckets = max(max_points // 2 - 1, 1)
+    while True:
+        rows = _extreme_rows(cols, n, buckets)
+        if len(rows) <= max_points or buckets == 1:
+            return rows[:max_points] if len(rows) > max_points else rows
+        buckets = max(int(buckets * max_points / len(rows) * 0.95), 1)
+
+
+def _extreme_rows(cols: np.ndarray, n: int, buckets: int) -> np.ndarray:
+    """First, last, and each series' smallest and largest row in each of ``buckets``
+    equal buckets of rows (NaN never chosen over a number)."""
+    size = -(-n // buckets)
+    padded = np.full((cols.shape[0], buckets * size), np.nan)
+    padded[:, :n] = cols
+    blocks = padded.reshape(cols.shape[0], buckets, size)
+    finite = np.isfinite(blocks)
+    lo = np.where(finite, blocks, np.inf).argmin(axis=2)
+    hi = np.where(finite, blocks, -np.inf).argmax(axis=2)
+    start = (np.arange(buckets) * size)[None, :]
+    rows = np.concatenate([(lo + start).ravel(), (hi + start).ravel(), [0, n - 1]])
+    return np.unique(rows[rows < n])
 
 
 def trace_figure(source, t_name: str, series, *, title: str, unit: str, x_range=None,
