@@ -84,3 +84,24 @@ def test_export_writes_only_into_the_folder(page):
     assert (out / "explore_set.txt").read_text() == "vehicle.grade=2.0\n"
     head = (out / "explore_traces.csv").read_text().splitlines()[0]
     assert head.startswith("t [s],") and "omega_engine [rad/s]" in head
+
+
+def test_model_comparison_overlays_the_other_model(tmp_path):
+    from bokeh.models import Select
+    doc = Document()
+    make_document(doc, Session())
+    doc.get_model_by_name("vehicle.mass").value = 1500.0
+    compare = next(m for m in doc.select({"type": Select}) if m.name == "compare")
+    compare.value = "coulomb-robust"
+    text = doc.get_model_by_name("metrics").text
+    ref = Session(None, "coulomb-robust")
+    ref.set("vehicle.mass", 1500.0)      # the compared run takes the same values
+    expected = ref.run().metrics["lockup_time_s"]
+    got = float(re.search(r'id="compared_lockup_time_s">([^<]+)<', text).group(1))
+    assert got == pytest.approx(expected, rel=1e-3)
+    speeds = doc.get_model_by_name("plots").children[0].children[0]
+    dashed = [r for r in speeds.renderers if r.glyph.line_dash == [6]]  # "dashed"
+    assert dashed and len(dashed[0].data_source.data["t"]) > 100
+    compare.value = "none"
+    assert "compared" not in doc.get_model_by_name("metrics").text
+    assert len(dashed[0].data_source.data["t"]) == 0

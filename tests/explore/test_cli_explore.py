@@ -71,3 +71,26 @@ def test_without_bokeh(monkeypatch, capsys, launch_dir):
 def test_port_range(port, capsys):
     assert main(["explore", "--port", port, "--no-browser"]) == 2
     assert "--port" in capsys.readouterr().err
+
+
+def test_serves_on_loopback_until_ctrl_c(tmp_path):
+    """The URL on stdout is on 127.0.0.1, the page loads, Ctrl-C ends it with 130."""
+    import signal
+    import subprocess
+    import urllib.request
+    log = tmp_path / "explore.log"
+    with open(log, "w") as err:
+        proc = subprocess.Popen([sys.executable, "-m", "clutchsim", "explore", "--no-browser"],
+                                stdout=subprocess.PIPE, stderr=err, text=True)
+    try:
+        url = proc.stdout.readline().strip()
+        assert url.startswith("http://127.0.0.1:"), log.read_text()
+        with urllib.request.urlopen(url, timeout=120) as page:
+            assert b"clutchsim explore: passenger-car launch" in page.read()
+    finally:
+        proc.send_signal(signal.SIGINT)
+        proc.communicate(timeout=30)
+    assert proc.returncode == 130
+    text = log.read_text()
+    assert "interrupted (SIGINT)" in text and "Traceback" not in text
+    assert "GET /" not in text                   # no line a request

@@ -57,8 +57,9 @@ def _columns(groups, t) -> dict:
     return {k: v[rows] if k == "t" else v[rows].astype(np.float32) for k, v in data.items()}
 
 
-def metrics_html(outcome) -> str:
-    """The status and launch metrics of a run as a small HTML table (values escaped)."""
+def metrics_html(outcome, compared=None) -> str:
+    """The status and launch metrics of a run as a small HTML table (values escaped);
+    ``compared``: the run of another model, its status, lock-up time and slip energy."""
     ok = outcome.completed
     rows = [(f'<tr><th>status</th><td id="status" class="{"ok" if ok else "bad"}">'
              f'{escape(outcome.status)}: {escape(outcome.message)}</td></tr>')]
@@ -73,6 +74,16 @@ def metrics_html(outcome) -> str:
         rows.append(f'<tr><th>{escape(label)}</th><td id="{key}" data-key="{key}">{text}</td>'
                     f"<td>{escape(unit)}</td></tr>")
     rows.append(f"<tr><th>run time</th><td>{outcome.run_ms:.1f}</td><td>ms</td></tr>")
+    if compared is not None:
+        m = compared.metrics
+        rows.append(f'<tr><th colspan="3">compared: {escape(compared.model)} '
+                    f"({escape(compared.status)})</th></tr>")
+        for key in ("lockup_time_s", "slip_energy_J"):
+            v = m.get(key)
+            text = f"{v:.4g}" if isinstance(v, float) and np.isfinite(v) else "—"
+            label, unit = METRICS[key]
+            rows.append(f'<tr><th>{escape(label)}</th><td id="compared_{key}">{text}</td>'
+                        f"<td>{escape(unit)}</td></tr>")
     return ('<table class="metrics" style="border-collapse:collapse;font-size:13px">'
             + "".join(rows) + "</table>")
 
@@ -94,7 +105,21 @@ def make_document(doc, session: Session, *, out_dir: str | Path | None = None) -
     holder = column(plots, name="plots")
     metrics = Div(text=metrics_html(outcome), name="metrics", width=360, height=300)
     error = Div(text="", name="error", width=360, styles={"color": "#b3261e"})
-    state = {"keys": set(source.data), "source": source}
+    state = {"keys": set(source.data), "source": source, "compare": None,
+             "cmp_source": _attach_compare(plots.children[0], groups[0][1])}
+
+    def compared():
+        """The run of the compared model (None: no comparison), its speeds drawn dashed."""
+        other = state["compare"]
+        if other is None:
+            state["cmp_source"].data = {k: [] for k in state["cmp_source"].data}
+            return None
+        out = other.run()
+        g, _ = _display(out)
+        data = _columns(g[:1], out.traces["t"])
+        state["cmp_source"].data = {k: data.get(k, np.zeros(len(data["t"]), np.float32))
+                                    for k in state["cmp_source"].data}
+        return out
 
     def redraw():
         out = session.run()
@@ -107,11 +132,14 @@ def make_document(doc, session: Session, *, out_dir: str | Path | None = None) -
                                      max_points=MAX_POINTS)
             holder.children = [new]
             state["keys"], state["source"] = set(src.data), src
-        metrics.text = metrics_html(out)
+            state["cmp_source"] = _attach_compare(new.children[0], g[0][1])
+        metrics.text = metrics_html(out, compared())
 
     def apply(key, value):
         try:
             session.set(key, value)
+            if state["compare"] is not None and ".friction." not in key:
+                state["compare"].set(key, value)
         except (ValueError, KeyError) as exc:
             error.text = escape(check_error(exc))
             return
@@ -148,7 +176,25 @@ def make_document(doc, session: Session, *, out_dir: str | Path | None = None) -
             error.text = ""
             redraw()
         select.on_change("value", on_model)
-        controls.insert(0, select)
+        others = Select(title="compare with (speeds dashed)", value="none",
+                        options=["none", *session.models], name="compare", width=340)
+
+        def on_compare(attr, old, new):
+            other = None
+            if new != "none":
+                try:
+                    other = Session(session.scenario, new)
+                    for k, v in session.values.items():
+                        if ".friction." not in k:
+                            other.set(k, v)
+                except (ValueError, KeyError) as exc:
+                    error.text = escape(check_error(exc))
+                    return
+            error.text = ""
+            state["compare"] = other
+            redraw()
+        others.on_change("value", on_compare)
+        controls[:0] = [select, others]
     if out_dir is not None:
         button = Button(label=f"export traces and --set items to {out_dir}", width=340,
                         name="export")
@@ -165,6 +211,19 @@ def make_document(doc, session: Session, *, out_dir: str | Path | None = None) -
     title = Div(text=f"<h2>{escape(session.scenario.name)}</h2>", width=1200)
     doc.add_root(column(title, row(column(*controls, error, metrics), holder)))
     doc.title = f"clutchsim explore: {session.scenario.name}"
+
+
+def _attach_compare(fig, series):
+    """Dashed lines on ``fig`` for the ``series`` (names) of a compared run; returns their
+    (empty) ColumnDataSource."""
+    from bokeh.models import ColumnDataSource
+
+    from ..plot.interactive import PALETTE
+    src = ColumnDataSource({"t": np.zeros(0), **{n: np.zeros(0, np.float32) for n in series}})
+    for i, name in enumerate(series):
+        fig.line("t", name, source=src, color=PALETTE[i % len(PALETTE)], line_width=1.2,
+                 line_dash="dashed", legend_label=f"{name} (compared)")
+    return src
 
 
 def export(session: Session, out_dir: str | Path) -> list[Path]:
@@ -206,6 +265,8 @@ def serve(session: Session, *, port: int = 0, open_browser: bool = True,
 
     if not port:
         port = free_port()
+    for name in ("bokeh", "tornado.access"):     # no line a request on clutchsim's stderr
+        logging.getLogger(name).setLevel(logging.WARNING)
 
     def build(doc):     # a session per page: two tabs do not share their values
         make_document(doc, Session(session.scenario, session.model), out_dir=out_dir)
