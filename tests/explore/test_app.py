@@ -79,11 +79,18 @@ def test_export_writes_only_into_the_folder(page):
     s = Session()
     s.set("vehicle.grade", 2.0)
     written = export(s, out)
-    assert sorted(p.name for p in out.iterdir()) == ["explore_set.txt", "explore_traces.csv"]
+    assert sorted(p.name for p in out.iterdir()) == ["explore_scenario.toml", "explore_set.txt",
+                                                     "explore_traces.csv"]
     assert all(p.parent == out for p in written)
     assert (out / "explore_set.txt").read_text() == "vehicle.grade=2.0\n"
     head = (out / "explore_traces.csv").read_text().splitlines()[0]
     assert head.startswith("t [s],") and "omega_engine [rad/s]" in head
+    # the saved scenario is a scenario file that runs the same launch
+    from clutchsim.scenario import load_scenario, run_scenario
+    saved = load_scenario(out / "explore_scenario.toml")
+    assert saved.data["vehicle"]["grade"] == 2.0
+    assert run_scenario(saved, s.model).metrics["lockup_time_s"] == pytest.approx(
+        s.run().metrics["lockup_time_s"], rel=1e-9)
 
 
 def test_model_comparison_overlays_the_other_model(tmp_path):

@@ -29,8 +29,8 @@ any numeric key path; every change re-runs the launch (a few ms: the compiled pl
 reused) and redraws the traces and launch metrics.  A refused value shows its message (the
 one `clutchsim run --set` prints) beside the sliders; a run that does not complete shows
 its outcome.  The server listens on 127.0.0.1 only.  With --out, the page can export the
-traces and the --set items of its state into that folder (and nowhere else).  See
-docs/explore.md.
+traces, the --set items of its state and the scenario with them (explore_scenario.toml)
+into that folder, and nowhere else.  See docs/explore.md.
 
 exit status: 0 after --list, 130 when ended with Ctrl-C, 2 bad input (a scenario or value
 error, a port in use, Bokeh not installed).

@@ -196,7 +196,7 @@ def make_document(doc, session: Session, *, out_dir: str | Path | None = None) -
         others.on_change("value", on_compare)
         controls[:0] = [select, others]
     if out_dir is not None:
-        button = Button(label=f"export traces and --set items to {out_dir}", width=340,
+        button = Button(label=f"export traces and scenario to {out_dir}", width=340,
                         name="export")
 
         def on_export():
@@ -227,9 +227,10 @@ def _attach_compare(fig, series):
 
 
 def export(session: Session, out_dir: str | Path) -> list[Path]:
-    """Write the current run's traces (``explore_traces.csv``, units in the column names)
-    and the values set (``explore_set.txt``, one ``--set`` item a line) into ``out_dir``,
-    atomically; nothing else there is touched."""
+    """Write the current run's traces (``explore_traces.csv``, units in the column names),
+    the values set (``explore_set.txt``, one ``--set`` item a line) and the scenario with
+    them (``explore_scenario.toml``) into ``out_dir``, atomically; nothing else there is
+    touched."""
     from .._util import atomic_write
     d = Path(out_dir)
     out = session.run()
@@ -240,10 +241,13 @@ def export(session: Session, out_dir: str | Path) -> list[Path]:
     def write_csv(p):
         np.savetxt(p, table, delimiter=",", header=header, comments="", fmt="%.9g")
     items = session.overrides()
+    text = session.scenario_toml()
     return [atomic_write(d / "explore_traces.csv", write_csv),
             atomic_write(d / "explore_set.txt",
                          lambda p: Path(p).write_text("".join(f"{i}\n" for i in items),
-                                                      encoding="utf-8"))]
+                                                      encoding="utf-8")),
+            atomic_write(d / "explore_scenario.toml",
+                         lambda p: Path(p).write_text(text, encoding="utf-8"))]
 
 
 def free_port() -> int:

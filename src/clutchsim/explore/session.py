@@ -24,6 +24,7 @@ can be set too.
 
 from __future__ import annotations
 
+import json
 import math
 import re
 import time
@@ -106,7 +107,7 @@ def _number(key: str, value) -> float:
 def _literal(value) -> str:
     """A TOML literal of a value: a number, a string or a list of numbers."""
     if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        return json.dumps(value)     # a TOML basic string (JSON's escapes are TOML's)
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(repr(float(v)) for v in value) + "]"
     return repr(float(value))
@@ -381,6 +382,52 @@ class Session:
     def overrides(self) -> list[str]:
         """The values set as ``--set`` items (``clutchsim run SCENARIO --set ...``)."""
         return [f"{k}={_literal(v)}" for k, v in self.changes()]
+
+    def scenario_toml(self) -> str:
+        """The scenario with the values set, as the text of a scenario file (its tables;
+        the comments of the original are not kept, a header names it and the changes).
+        Relative paths in it (CSV signal tables) are relative to the original's folder."""
+        from ..scenario.loader import apply_overrides
+        items = self.overrides()
+        data = apply_overrides(self.scenario.data, items, self.scenario.file)
+        head = [f"# saved by clutchsim explore from {self.scenario.file}",
+                f"# model on the clutch: {self.model or 'its own'}"]
+        head += [f"# --set {i}" for i in items] or ["# no values changed"]
+        return "\n".join(head) + "\n" + _toml_tables(data)
+
+
+def _toml_key(k: str) -> str:
+    return k if re.fullmatch(r"[A-Za-z0-9_\-]+", k) else _literal(str(k))
+
+
+def _toml_inline(v) -> str:
+    """A TOML value: numbers, booleans, strings, arrays and inline tables."""
+    from ..scenario.loader import toml_value
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{_toml_key(k)} = {_toml_inline(x)}" for k, x in v.items()) \
+            + " }"
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_inline(x) for x in v) + "]"
+    if isinstance(v, str):
+        return _literal(v)
+    return toml_value(v)
+
+
+def _toml_tables(data: dict) -> str:
+    """The scenario tables as TOML: ``[section]`` per table, ``[[section]]`` per entry of
+    an array of tables, nested tables inline."""
+    lines = []
+    for name, value in data.items():
+        if isinstance(value, dict):
+            lines += ["", f"[{_toml_key(name)}]"]
+            lines += [f"{_toml_key(k)} = {_toml_inline(v)}" for k, v in value.items()]
+        elif isinstance(value, list) and value and all(isinstance(t, dict) for t in value):
+            for t in value:
+                lines += ["", f"[[{_toml_key(name)}]]"]
+                lines += [f"{_toml_key(k)} = {_toml_inline(v)}" for k, v in t.items()]
+        else:
+            lines.insert(0, f"{_toml_key(name)} = {_toml_inline(value)}")
+    return "\n".join(lines).lstrip("\n") + "\n"
 
 
 def check_error(exc: BaseException) -> str:
