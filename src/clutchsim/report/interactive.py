@@ -10,8 +10,9 @@ commands), a lock-up zoom panel (the speeds from 0.1 s before to 0.1 s after the
 time of ``summary.json``) and, with several models, their speeds overlaid on one axis.
 To keep the file small the figures draw at most :data:`MAX_POINTS` rows of a run
 (:func:`clutchsim.plot.interactive.display_rows`: samples of the run, peaks kept); the
-full series stay in the data files.  The PNG figures stay in the directory for printing;
-the metrics, parameters, scenario and file tables are those of the static report.
+full series stay in the data files.  The PNG figures of the traces (:data:`REPLACED`)
+stay in the directory for printing, the other PNGs stay in the page; the metrics,
+parameters, scenario and file tables are those of the static report.
 A default launch (``clutchsim run``, its two models) gives a file of about 2.1 MB (1.3 MB
 of it Bokeh's library).
 """
@@ -30,11 +31,14 @@ from .build import _write
 from .gather import REPORT_NAME, gather
 from .html import render
 
-__all__ = ["MAX_POINTS", "ZOOM_S", "build_interactive_report", "interactive_figures",
+__all__ = ["MAX_POINTS", "REPLACED", "ZOOM_S", "build_interactive_report", "interactive_figures",
            "read_series"]
 
 #: the most rows of one run the figures draw (the data files keep every row)
 MAX_POINTS = 2500
+#: PNG figures of the time series that the interactive figures replace in the page (the
+#: others, e.g. an actuation chain's characteristics, stay)
+REPLACED = ("launch_", "comparison.png", "network_")
 #: the lock-up zoom panel: this long before and after the lock-up time [s]
 ZOOM_S = 0.1
 _COLUMN = re.compile(r"^(.*?) \[(.*)\]$")
@@ -159,9 +163,9 @@ def build_interactive_report(out_dir: str | Path, *, title: str | None = None,
     from .._util import atomic_write
     data = gather(out_dir, title=title)
     figures = interactive_figures(out_dir, max_points=max_points)
-    if figures:
-        data = replace(data, figures=[])    # the PNGs stay in the directory, for printing
-        page = render(data, interactive=_bokeh_parts(figures))
+    if figures:     # the PNGs of the traces stay in the directory, for printing
+        kept = [f for f in data.figures if not f.name.startswith(REPLACED)]
+        page = render(replace(data, figures=kept), interactive=_bokeh_parts(figures))
     else:
         page = render(data)
     return atomic_write(Path(out_dir) / REPORT_NAME, lambda p: _write(Path(p), page))
