@@ -214,15 +214,16 @@ def make_document(doc, session: Session, *, out_dir: str | Path | None = None) -
 
 
 def _attach_compare(fig, series):
-    """Dashed lines on ``fig`` for the ``series`` (names) of a compared run; returns their
-    (empty) ColumnDataSource."""
+    """Dashed lines on ``fig`` for the ``series`` (names) of a compared run, each in its
+    series' colour and without a legend entry of its own; returns their (empty)
+    ColumnDataSource."""
     from bokeh.models import ColumnDataSource
 
     from ..plot.interactive import PALETTE
     src = ColumnDataSource({"t": np.zeros(0), **{n: np.zeros(0, np.float32) for n in series}})
     for i, name in enumerate(series):
         fig.line("t", name, source=src, color=PALETTE[i % len(PALETTE)], line_width=1.2,
-                 line_dash="dashed", legend_label=f"{name} (compared)")
+                 line_dash="dashed")
     return src
 
 

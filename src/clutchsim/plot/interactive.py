@@ -86,11 +86,20 @@ def trace_figure(source, t_name: str, series, *, title: str, unit: str, x_range=
         fig.add_tools(HoverTool(renderers=[r], mode="vline", tooltips=[
             (name, f"@{{{name}}}{{0.[000]}} {unit}"), ("t", f"@{{{t_name}}}{{0.000}} s")]))
     if fig.legend:
-        fig.legend.click_policy = "hide"
-        fig.legend.location = "top_left"
-        fig.legend.label_text_font_size = "9pt"
-        fig.add_layout(fig.legend[0], "right")
+        _legend_right(fig)
     return fig
+
+
+def _legend_right(fig) -> None:
+    """The legend beside the plot, compact (a line an entry of ~13 px), click hides."""
+    legend = fig.legend[0]
+    legend.click_policy = "hide"
+    legend.label_text_font_size = "8pt"
+    legend.label_height = legend.glyph_height = 11
+    legend.spacing = 0
+    legend.padding = 4
+    legend.margin = 4
+    fig.add_layout(legend, "right")
 
 
 def overlay_figure(runs, *, title: str, unit: str, height: int = 300, width: int = 900):
@@ -113,9 +122,7 @@ def overlay_figure(runs, *, title: str, unit: str, height: int = 300, width: int
             fig.add_tools(HoverTool(renderers=[r], mode="vline", tooltips=[
                 (f"{name} ({label})", f"@{{{name}}}{{0.[000]}} {unit}"),
                 ("t", "@t{0.000} s")]))
-    fig.legend.click_policy = "hide"
-    fig.legend.label_text_font_size = "9pt"
-    fig.add_layout(fig.legend[0], "right")
+    _legend_right(fig)
     return fig
 
 
