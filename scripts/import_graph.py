@@ -43,6 +43,8 @@ ROOT = "clutchsim"
 #:    on core + friction): plain users of core, beside cgen above it.
 #:  - ``durability``: a study (it runs scenarios), with the studies.
 #:  - ``demo``: runs benchmarks and scenarios and builds a report: with report.
+#:  - ``explore``: the launch explorer (a session over scenario runs and a Bokeh app
+#:    drawing with plot): with report, below the commands.
 #:  - ``__init__`` (lazy public API over every floor) and ``__main__``: with cli.
 #:  - ``plot``: the issue puts it beside report, above the studies; but plot draws results
 #:    and imports nothing of clutchsim but ``_util``, and the writers of the file bus
@@ -59,7 +61,7 @@ FLOORS: tuple[tuple[str, ...], ...] = (
     ("plot",),
     ("scenario",),
     ("studies", "sweeps", "durability", "fmu", "identify", "benchmarks"),
-    ("report", "demo"),
+    ("report", "demo", "explore"),
     ("commands",),
     ("cli", "__init__", "__main__"),
 )

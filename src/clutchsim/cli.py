@@ -32,7 +32,7 @@ __all__ = ["SimulationFailed", "Terminated", "UserError", "emit_json", "main"]
 
 #: subcommand modules, in the order ``--help`` lists them
 COMMANDS = ("models", "rig", "bench", "run", "judder", "demo", "sweep", "fit", "report",
-            "fmu", "durability", "uq", "log", "calibrate")
+            "fmu", "durability", "uq", "log", "calibrate", "explore")
 
 EPILOG = """\
 examples:
@@ -44,6 +44,7 @@ examples:
   clutchsim fmu examples/launch.toml --model mykhailevych2020 --out launch.fmu
   clutchsim log launches examples/calibration/launch_log.csv --channels examples/calibration/channels.toml
   clutchsim calibrate examples/calibration/launch_calibration.toml --out calib/
+  clutchsim explore --list                        # the launch explorer's parameters
 
 exit status: 0 success, 1 a simulation did not complete, 2 bad input.
 """

@@ -12,10 +12,15 @@ examples:
   clutchsim bench drift --model lugre --out drift/   # any output directory of clutchsim
   clutchsim report drift/                      # rebuild drift/report.html, print its path
   clutchsim report drift/ --title "Drift, LuGre" --json    # {"report": "drift/report.html"}
+  clutchsim run examples/launch.toml --out launch/
+  clutchsim report launch/ --interactive       # zoom, hover, linked time axes (Bokeh)
 
 The report is one HTML file (figures embedded, no network access, opens from disk) with the
 status and warnings, metrics, parameters, scenario, solver statistics, figures and a list
-of the data files of DIR.  See docs/report.md.
+of the data files of DIR.  With --interactive the time series are interactive figures
+(zoom, pan, hover values, linked time axes, a lock-up zoom panel, the models overlaid;
+Bokeh inlined, still one file that opens offline, ~2.1 MB for a default run; needs the
+extra clutchsim[explore]).  See docs/report.md.
 """
 
 
@@ -26,6 +31,8 @@ def register(sub, common):
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("dir", metavar="DIR", help="output directory of run/bench/sweep/fit")
     p.add_argument("--title", help="page title (default: from the directory kind)")
+    p.add_argument("--interactive", action="store_true",
+                   help="interactive figures of the time series (Bokeh, inlined)")
     p.add_argument("--json", action="store_true", help='print {"report": PATH}')
 
 
@@ -46,7 +53,16 @@ def run(args) -> int:
         check_output(d)
     except ValueError as exc:
         raise UserError(f"DIR {exc}") from None
-    path = build_report(d, title=args.title)
+    if args.interactive:
+        try:
+            from ..plot.interactive import require_bokeh
+            require_bokeh()
+        except ModuleNotFoundError as exc:
+            raise UserError(str(exc)) from None
+        from ..report.interactive import build_interactive_report
+        path = build_interactive_report(d, title=args.title)
+    else:
+        path = build_report(d, title=args.title)
     add_to_manifest(d, [REPORT_NAME])
     if args.json:
         emit_json({"report": str(path)})

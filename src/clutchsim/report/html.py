@@ -15,10 +15,13 @@ from .gather import Figure, ReportData
 from .tables import MISSING, Table
 from .units import label
 
-__all__ = ["CSS", "format_value", "render", "render_table"]
+__all__ = ["CSP", "CSP_SCRIPTS", "CSS", "format_value", "render", "render_table"]
 
 CSP = ("default-src 'none'; img-src data:; style-src 'unsafe-inline'; "
        "base-uri 'none'; form-action 'none'")
+#: the policy of a page with interactive figures: its own inline scripts, nothing fetched
+CSP_SCRIPTS = CSP.replace("default-src 'none';",
+                          "default-src 'none'; script-src 'unsafe-inline';")
 
 CSS = """
 :root{--fg:#1d232b;--mute:#5b6573;--line:#d5dae1;--head:#f2f4f7;--bad:#b3261e;
@@ -150,8 +153,11 @@ def render_table(t: Table, *, heading: bool = True) -> str:
     return "".join(parts)
 
 
-def render(data: ReportData) -> str:
-    """The whole page as a string."""
+def render(data: ReportData, *, interactive: tuple[str, str] | None = None) -> str:
+    """The whole page as a string.  ``interactive``: ``(head, body)`` of interactive
+    figures (:mod:`clutchsim.report.interactive`): ``head`` (the inlined scripts) goes into
+    the page's head, ``body`` becomes the section "Interactive figures", and the page's
+    policy allows inline scripts (still no network access)."""
     sections = [
         ("status", "Status and warnings", _status(data)),
         ("metrics", "Metrics", "".join(render_table(t) for t in data.tables)),
@@ -160,6 +166,7 @@ def render(data: ReportData) -> str:
             f"<h3>{escape(n)}</h3><pre>{escape(text)}</pre>" for n, text in data.scenarios)),
         ("solver", "Solver statistics",
          render_table(data.solver) if data.solver else ""),
+        ("interactive", "Interactive figures", interactive[1] if interactive else ""),
         ("figures", "Figures", "".join(_figure(f) for f in data.figures)),
         ("files", "Files", _files(data)),
     ]
@@ -167,13 +174,14 @@ def render(data: ReportData) -> str:
     nav = "".join(f'<a href="#{sid}">{escape(name)}</a>' for sid, name, _ in sections)
     body = "".join(f'<section id="{sid}"><h2>{escape(name)}</h2>{html}</section>'
                    for sid, name, html in sections)
+    csp, head = (CSP_SCRIPTS, interactive[0]) if interactive else (CSP, "")
     return (
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-        f'<meta http-equiv="Content-Security-Policy" content="{CSP}">'
+        f'<meta http-equiv="Content-Security-Policy" content="{csp}">'
         '<meta name="viewport" content="width=device-width, initial-scale=1">'
         '<meta name="generator" content="clutchsim ' + escape(data.version) + '">'
         '<link rel="icon" href="data:,">'
-        f"<title>{escape(data.title)}</title><style>{CSS}</style></head><body><main>"
+        f"<title>{escape(data.title)}</title><style>{CSS}</style>{head}</head><body><main>"
         f"<header><h1>{escape(data.title)}</h1>{_meta(data)}<nav>{nav}</nav></header>"
         f"{body}<footer>Written by clutchsim {escape(data.version)}. Rebuild with "
         f"<code>clutchsim report {escape(_shell_dir(data))}</code>.</footer>"

@@ -40,7 +40,7 @@ import numpy as np
 
 from .errors import ScenarioError
 
-__all__ = ["VariantPlan"]
+__all__ = ["VariantPlan", "value_at"]
 
 _PART = re.compile(r"([A-Za-z0-9_\-]+)(?:\[(\d+)\])?")
 #: sections whose keys never act on a component value alone
@@ -115,7 +115,7 @@ class VariantPlan:
     def _map(self, key: str, value: float) -> _Direct | None:
         if key.split(".")[0].split("[")[0] in _REBUILD_SECTIONS:
             return None
-        base = _value_at(self.scenario.data, key)
+        base = value_at(self.scenario.data, key)
         if base is not None and not _is_number(base):
             return None         # a table, a string: not a value of one component
         probe = self._rebuilt_scenario(((key, value),))
@@ -158,7 +158,7 @@ class VariantPlan:
         from .build import _replaced, effective_model
         table, _, rest = key.partition(".friction.")
         comp = self.net.components[i]
-        elem = _value_at(self.scenario.data, table)
+        elem = value_at(self.scenario.data, table)
         if not isinstance(elem, dict) or not isinstance(elem.get("friction"), dict) or \
                 elem.get("name") != comp.name or "[" in rest:
             return None
@@ -180,7 +180,7 @@ class VariantPlan:
         ``((_Friction, value), ...)`` set in it (None if the builder refuses it)."""
         from .build import friction_model
         d0 = items[0][0]
-        elem = _value_at(self.scenario.data, d0.table)
+        elem = value_at(self.scenario.data, d0.table)
         spec = elem["friction"]
         for d, value in items:
             spec = _with(spec, d.path, float(value))
@@ -215,7 +215,7 @@ class VariantPlan:
         for key, value in changes:
             base = self._base_values.get(key, _UNSEEN)
             if base is _UNSEEN:     # a key's base value, read from the scenario once
-                base = self._base_values[key] = _value_at(self.scenario.data, key)
+                base = self._base_values[key] = value_at(self.scenario.data, key)
             if _is_number(base) and float(base) == float(value):
                 continue            # the base value: nothing changes
             d = self.direct(key, value)
@@ -334,7 +334,9 @@ def _ctor_kwargs(comp) -> dict | None:
     return out
 
 
-def _value_at(data: dict, key: str):
+def value_at(data: dict, key: str):
+    """The value at the key path ``key`` (``coupling[0].friction.model``) of the scenario
+    tables ``data``, or None where the path leads nowhere."""
     node = data
     for name, index in _PART.findall(key):
         if not isinstance(node, dict) or name not in node:
