@@ -482,7 +482,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     n_k = max(s_stages, 1)
     n_ring = max(ch_n, 1)
     ws = np.zeros(9 * n + n_k * n + 5 * n + 2 * n * n + n_in + 2 + n_outputs
-                  + (6 + N_SAMPLES) * n_ev + N_SAMPLES + n_ring + max(n_factor, 1))
+                  + (7 + N_SAMPLES) * n_ev + N_SAMPLES + n_ring + max(n_factor, 1))
     iws = np.zeros(n + n_k + 1, dtype=np.int64)
     vec = _block(ws, 0, 9, n)
     y, y_new, ytmp, ftmp, f1, err, f0, dfdt, y_ev = (vec[0], vec[1], vec[2], vec[3], vec[4],
@@ -497,9 +497,12 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     o += n * n
     M = _block(ws, o, n, n)
     o += n * n
-    gv = _block(ws, o, 6, n_ev)
+    gv = _block(ws, o, 7, n_ev)
     g_old, g_new, g_prev, g_tmp, g_seg, g_pre = gv[0], gv[1], gv[2], gv[3], gv[4], gv[5]
-    o += 6 * n_ev
+    # 1.0 where the last reset placed an event function on zero (it was elsewhere before
+    # the reset), 0.0 where it is on zero because it crossed there or not on zero at all
+    placed = gv[6]
+    o += 7 * n_ev
     g_samp = _block(ws, o, N_SAMPLES, n_ev)
     o += N_SAMPLES * n_ev
     ts = borrowed(ws[o:o + N_SAMPLES])     # the times of the samples of g in a step
@@ -605,6 +608,8 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     jac_valid = False
                     lu_h = 0.0
                     system_events(tag, t, y, u, p, g_tmp)
+                    for k in range(n_ev):
+                        placed[k] = 1.0 if g_tmp[k] == 0.0 and g_new[k] != 0.0 else 0.0
                     system_outputs(tag, t, y, u, p, out)
                     if n_out == cap:
                         cap, owners, rows = _more_rows(owners, cap)
@@ -613,6 +618,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 else:
                     for k in range(n_ev):
                         g_tmp[k] = g_new[k]
+                        placed[k] = 0.0
                 # Several events may be due at one instant (at t0, or at an input jump):
                 # each fires in turn.  One that crossed with the others and is still on its
                 # far side after this reset keeps its old value, so that the next pass
@@ -857,8 +863,19 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                         if tb <= t_seg:
                             continue
                         gb = g_samp[j, k]
-                        if ga == 0.0:   # on the surface (just reset): start from the next sign
-                            ga = gb
+                        if ga == 0.0:   # on the surface (a crossing or a reset left it there)
+                            if placed[k] != 0.0 and ev_dir[k] * gb > 0.0:
+                                # a reset placed it there, and it leaves in its own
+                                # direction: it is already past it (a freewheel released
+                                # forward whose slip turns backwards at once, pushed by a
+                                # stiffer neighbour, must lock again), so the event is due
+                                # where the scan starts.  (One that crossed and landed on
+                                # zero goes on from the next sign.)
+                                if k_first < 0 or ta < t_first:
+                                    t_first = ta
+                                    k_first = k
+                                break
+                            ga = gb     # otherwise it starts from the next sign
                             ta = tb
                             continue
                         if _crossed(ga, gb, ev_dir[k]):
@@ -882,6 +899,9 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     break
                 te = t_first
                 if te < t_new:
+                    if not dense_ready:
+                        dense_coefficients(dkind, tab, K, y, y_new, f0, f1, h, dense)
+                        dense_ready = True
                     dense_eval(dkind, dense, (te - t) / h, y_ev)
                 else:
                     for i in range(n):
@@ -914,6 +934,8 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     g_tmp[k] = g_seg[k]
                 system_events(tag, te, y_ev, u, p, g_seg)
                 stats[S_EV_CALLS] += 2
+                for k in range(n_ev):
+                    placed[k] = 1.0 if g_seg[k] == 0.0 and g_pre[k] != 0.0 else 0.0
                 pending = False
                 for k in range(n_ev):
                     if (k != k_first and g_tmp[k] != 0.0
@@ -981,6 +1003,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
         for k in range(n_ev):
             g_prev[k] = g_old[k]
             g_old[k] = g_new[k]
+            placed[k] = 0.0
         have_history = True
         if not w_method or jac_age >= jac_max_age:
             jac_valid = False

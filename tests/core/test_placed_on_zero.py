@@ -1,0 +1,56 @@
+"""An event function that a reset places exactly on zero, and that then leaves zero in its
+own direction, is already past its crossing: it fires where the step starts
+(core/_driver.py; docs/core.md).  The plant: a free point ``y`` at rest; at t = 0.5 the
+event "release" (k = 1) sets the mode to 1, from which on ``y' = -1`` and the event
+"stop" (k = 0, direction -1, ``g = y``) is armed; before, ``g = 1`` (not armed).  The stop's
+function is placed on 0 by the release and goes down at once: the stop fires at 0.5 and
+holds the point (mode 2).  Without the rule the function starts from its next sign,
+negative, never crosses, and ``y`` runs to -0.5.  A function that crossed and landed on
+zero (the probe of test_events_and_guards) still fires once."""
+
+from typing import NamedTuple
+
+import numpy as np
+import pytest
+
+from clutchsim._jit import jit
+from clutchsim.core import SolverOptions, System, register_system, simulate
+
+
+class _Placed(NamedTuple):
+    k: int = 0
+
+
+@jit
+def _rhs(t, y, u, p, dy):
+    dy[0] = -1.0 if y[1] == 1.0 else 0.0
+    dy[1] = 0.0
+
+
+@jit
+def _events(t, y, u, p, g):
+    g[0] = y[0] if y[1] == 1.0 else 1.0
+    g[1] = t - 0.5 if y[1] == 0.0 else 1.0
+
+
+@jit
+def _reset(t, y, u, p, k):
+    if k == 1:
+        y[0] = 0.0
+        y[1] = 1.0
+    else:
+        y[1] = 2.0
+    return 1
+
+
+register_system(_Placed, rhs=_rhs, events=_events, reset=_reset)
+
+
+@pytest.mark.parametrize("solver", ["rodas4", "dopri5"])
+def test_a_function_placed_on_zero_that_leaves_it_its_own_way_fires_at_once(solver):
+    system = System(_Placed(), np.zeros(1), np.zeros(2), ("y", "mode"), ("-", "-"),
+                    event_names=("stop", "release"), event_directions=(-1, 1), name="placed")
+    res = simulate(system, (0.0, 1.0), solver=solver,
+                   options=SolverOptions(rtol=1e-9, atol=1e-12))
+    assert [(e.name, round(e.t, 12)) for e in res.events] == [("release", 0.5), ("stop", 0.5)]
+    assert res.final("mode") == 2.0 and res.final("y") == 0.0
