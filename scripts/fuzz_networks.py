@@ -21,10 +21,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "network"))
 
-import numpy as np  # noqa: E402
-from hypothesis import HealthCheck, Phase, given, seed, settings  # noqa: E402
-
-import _fuzz  # noqa: E402
+import _fuzz
+import numpy as np
+from hypothesis import HealthCheck, Phase, given, seed, settings
 
 
 def main() -> int:

@@ -91,8 +91,8 @@ def _launch():
 
 
 def test_chain_energy_accounts_are_declared_quadratures_and_nothing_depends_on_them():
-    from clutchsim.core.system import call_rhs
     from clutchsim.analysis.launch_metrics import ENERGY_STATES
+    from clutchsim.core.system import call_rhs
     _sc, sys_, _inputs = _launch()
     # the accounts (the only friction element's own work is W_friction, an output)
     assert "W_friction_clutch" in sys_.output_names

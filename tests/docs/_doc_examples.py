@@ -97,8 +97,7 @@ def _commands_in_lines(lines, where) -> list[Example]:
     out, above, i = [], "", 0
     while i < len(lines):
         line = lines[i].strip()
-        if line.startswith("$ "):
-            line = line[2:]
+        line = line.removeprefix("$ ")
         if line.startswith("#"):
             above = f"{above} {line}"
         elif line.startswith("clutchsim"):

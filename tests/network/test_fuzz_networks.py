@@ -11,9 +11,8 @@ regression test below.
 
 import os
 
-from hypothesis import HealthCheck, given, settings
-
 from _fuzz import cases, check_run
+from hypothesis import HealthCheck, given, settings
 
 EXAMPLES = int(os.environ.get("CLUTCHSIM_FUZZ_EXAMPLES", "12"))
 
@@ -32,6 +31,8 @@ def test_a_chaotic_rattle_is_sensitive_not_a_problem():
     speeds at 0.6 s differ by rad/s between rtol 1e-7, 1e-9, 1e-10 and 1e-11 alike, and a
     tight run from speeds perturbed by 1e-7 moves as far (chaos, not a wrong run): the
     property records it as sensitive and finds no problem."""
+    from _fuzz import Case
+
     from clutchsim.core.signals import Constant, Ramp, Sine
     from clutchsim.friction import make_model
     from clutchsim.network.components import (
@@ -41,8 +42,6 @@ def test_a_chaotic_rattle_is_sensitive_not_a_problem():
         OneWayClutch,
         TorqueSource,
     )
-
-    from _fuzz import Case
 
     J = (1.0, 0.05, 0.05, 0.05, 1.0)
     w0 = (15.775360810759452, 7.764458540606963, -14.97684300432243, 2.8029986275628964,
@@ -76,11 +75,10 @@ def test_a_stiff_contact_entered_after_long_free_flight_releases_on_time():
     0.28318 s) and the final speeds 0.079 rad/s off.  After a reset the next step is capped
     by a starting step for the new state (core/_driver.py)."""
     import numpy as np
+    from _fuzz import LOOSE, TIGHT, Case, run
 
     from clutchsim.core.signals import Step
     from clutchsim.network.components import ElastoBacklash, Inertia, TorqueSource
-
-    from _fuzz import LOOSE, TIGHT, Case, run
 
     case = Case([Inertia("I0", J=0.2, omega0=1.720763329183742),
                  Inertia("I1", J=0.2, omega0=0.4272876194431874),

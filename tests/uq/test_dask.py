@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from clutchsim.studies.uq import uq
 from clutchsim.studies.sweeps import read_results
+from clutchsim.studies.uq import uq
 
 
 def test_dask_runs_the_same_study_as_threads(tmp_path):

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from clutchsim.studies.uq import uq
 from clutchsim.studies.sweeps import SweepSpec, sweep
+from clutchsim.studies.uq import uq
 
 MASS, GRADE = (1100.0, 1500.0), (0.0, 1.5)      # kg, %: every launch locks up
 

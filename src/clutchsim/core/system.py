@@ -50,8 +50,8 @@ import copy
 import difflib
 import threading
 import warnings
-from dataclasses import dataclass, field
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numba.experimental.function_type  # noqa: F401  (registers typeof for _Kernel)

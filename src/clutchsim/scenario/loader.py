@@ -15,8 +15,8 @@ import numpy as np
 
 from .._util import quote
 from ..core import Constant, Ramp, Signal, Sine, SolverOptions, Step, Table
-from .errors import ScenarioError, find_line
 from . import chain_format
+from .errors import ScenarioError, find_line
 from .schema import (
     FRICTION,
     FRICTION_TYPES,

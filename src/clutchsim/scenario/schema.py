@@ -135,7 +135,7 @@ TRANSLATIONAL_FRICTION = (
 )
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _component_keys(cls) -> tuple:
     """The scenario keys of a network component, generated from its declaration."""
     keys = [Key("name", "str", "Unique name.", required=True),
