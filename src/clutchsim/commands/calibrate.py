@@ -74,12 +74,14 @@ def _run(args, spec, out) -> int:
         emit_json(result.summary())
         return 0
     pct = f"{100 * result.confidence:g} %"
+    units = result.summary()["units"]
     for n in result.names:
         iv = result.intervals[n]
-        shown = "no interval" if iv is None else f"{pct} [{iv[0]:.5g}, {iv[1]:.5g}]"
+        u = f" {units[n]}" if units.get(n) not in (None, "", "-", "1") else ""
+        shown = "no interval" if iv is None else f"{pct} [{iv[0]:.5g}, {iv[1]:.5g}]{u}"
         flag = " (at its bound)" if n in result.at_bound else ""
         flag += " (cannot be identified)" if n in result.unidentified else ""
-        print(f"{n:>16} = {result.parameters[n]:.6g}  {shown}{flag}")
+        print(f"{n:>16} = {result.parameters[n]:.6g}{u}  {shown}{flag}")
     for tr in list(result.launches) + list(result.validation):
         m = tr.metrics
         slip = m.get("slip_end_error_ms")

@@ -36,7 +36,7 @@ def plot_calibration(result, *, figsize=None):
         rms = tr.metrics.get("engine_rms_rpm")
         row[0].set_title(f"{tr.role}: {tr.name}  (engine RMS {rms:.3g} rpm)", fontsize=9)
         row[0].set_ylabel("speed [rpm]")
-        row[1].set_ylabel("vehicle speed")
+        row[1].set_ylabel("vehicle speed [km/h]")
         for ax in row:
             ax.legend(loc="lower right", fontsize=7)
     for ax in axes[-1]:
