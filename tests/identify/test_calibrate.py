@@ -112,6 +112,10 @@ def test_a_parameter_the_logs_do_not_excite_is_flagged(tmp_path, cmap):
      r"spec.toml:\d+: \[parameters\] touch_point start = 0.009 lies outside bounds"),
     (("[fixed]\n", "[fixed]\ncapacity = 200.0\n"), r"capacity is both fitted and fixed"),
     (("ratio = 14.76", "ratio = -1.0"), r"spec.toml:\d+: \[vehicle\] ratio: -1.0 must be > 0"),
+    # an unknown top-level key or table still names its line (it is not under any header)
+    (("[calibration]\n", "stepp = 0.001\n\n[calibration]\n"),
+     r"spec.toml:5: \[stepp\]: unknown table"),
+    (("[fixed]\n", "[fixd]\n"), r"spec.toml:\d+: \[fixd\]: unknown table \(did you mean 'fixed'"),
 ])
 def test_spec_errors_name_file_line_and_key(tmp_path, edit, message):
     (tmp_path / "channels.toml").write_text((EXAMPLES / "channels.toml").read_text())

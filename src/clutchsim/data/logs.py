@@ -450,16 +450,25 @@ def read_toml(path: Path, error: type[Exception] = ValueError):
 
 def key_line(text: str, table: str, key: str | None = None) -> int | None:
     """1-based line of ``key`` in ``[table]`` of a TOML text (the header's line without a
-    key or when the key is not written); None when the table is not there."""
+    key or when the key is not written; a ``table = ...`` line before the first header when
+    ``table`` is a top-level key, not a table); None when neither is there."""
     header = None
     inside = False
+    top = True
     for number, raw in enumerate(text.splitlines(), 1):
         line = raw.split("#", 1)[0].strip()
         if line.startswith("["):
+            top = False
             inside = line.strip("[] ").replace('"', "") == table
             if inside:
                 header = number
             continue
-        if inside and key is not None and re.match(rf'^"?{re.escape(key)}"?\s*=', line):
+        if inside and key is not None and _assigns(line, key):
             return number
+        if top and header is None and _assigns(line, table):
+            header = number
     return header
+
+
+def _assigns(line: str, key: str) -> bool:
+    return re.match(rf'^"?{re.escape(key)}"?\s*=', line) is not None
