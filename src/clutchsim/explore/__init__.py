@@ -2,6 +2,6 @@
 (:mod:`.session`, plain Python) and a Bokeh server app over it (:mod:`.app`, optional
 extra ``explore``; ``clutchsim explore``)."""
 
-from .session import ENGAGEMENT, METRICS, TORQUE_FACTOR, Outcome, Parameter, Session
+from .session import ENGAGEMENT, METRICS, TORQUE_FACTOR, ExplorerRun, Parameter, Session
 
-__all__ = ["ENGAGEMENT", "METRICS", "TORQUE_FACTOR", "Outcome", "Parameter", "Session"]
+__all__ = ["ENGAGEMENT", "METRICS", "TORQUE_FACTOR", "ExplorerRun", "Parameter", "Session"]

@@ -34,7 +34,7 @@ MAX_POINTS = 2500
 
 def _display(outcome):
     """``(groups, units)`` for :func:`clutchsim.plot.interactive.traces_column` from an
-    :class:`~clutchsim.explore.session.Outcome`: the explorer's groups in display units."""
+    :class:`~clutchsim.explore.session.ExplorerRun`: the explorer's groups in display units."""
     from ..plot.interactive import unit_groups
     units = {k: u for k, u in outcome.units.items() if k != "t"}
     groups, shown = [], {}

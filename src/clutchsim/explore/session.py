@@ -3,7 +3,7 @@
 :class:`Session` holds a :class:`~clutchsim.scenario.Scenario` and a friction model, takes
 new values for its parameters (:meth:`Session.set`: checked at once, by the same rules and
 with the same messages as ``clutchsim run --set``), and re-runs the launch
-(:meth:`Session.run`), returning the traces and launch metrics (:class:`Outcome`).  The
+(:meth:`Session.run`), returning the traces and launch metrics (:class:`ExplorerRun`).  The
 network is built and compiled once per model: a change of a component value or a friction
 parameter is a new parameter vector on it (:class:`clutchsim.scenario.variants.VariantPlan`),
 so a re-run costs the simulation itself (a few ms); a change of an input signal or a table
@@ -35,7 +35,7 @@ import numpy as np
 from ..scenario import Scenario, ScenarioError, resolve_scenario
 from ..scenario.variants import value_at
 
-__all__ = ["ENGAGEMENT", "METRICS", "TORQUE_FACTOR", "Outcome", "Parameter", "Session",
+__all__ = ["ENGAGEMENT", "METRICS", "TORQUE_FACTOR", "ExplorerRun", "Parameter", "Session",
            "launch_parameters"]
 
 #: derived parameter: the duration [s] of the ramp of the clutch command's input signal
@@ -75,7 +75,7 @@ class Parameter:
 
 
 @dataclass(frozen=True)
-class Outcome:
+class ExplorerRun:
     """One run of a session: ``traces`` (series name -> array, ``"t"`` the time [s]) with
     their ``units``, the launch ``metrics`` (:func:`clutchsim.analysis.launch_metrics.analyse_run`),
     the status of the run and its message, and the time it took [ms]."""
@@ -359,9 +359,9 @@ class Session:
         return rebuilt, rebuilt.system(self.model)
 
     # ------------------------------------------------------------------ running
-    def run(self) -> Outcome:
+    def run(self) -> ExplorerRun:
         """Simulate the launch with the current values: its traces and metrics.  A run
-        that does not complete is an :class:`Outcome` with its status and message."""
+        that does not complete is an :class:`ExplorerRun` with its status and message."""
         from ..scenario.run import run_system
         if self._built is None:
             self._built = self._build(self.values)
@@ -376,7 +376,7 @@ class Session:
             traces[name] = np.asarray(res[name])
             units[name] = res.units.get(name, "")
         m = lr.metrics
-        return Outcome(lr.model or (self.model or ""), res.status, bool(m.get("completed")),
+        return ExplorerRun(lr.model or (self.model or ""), res.status, bool(m.get("completed")),
                        str(m.get("message", res.message)), m, traces, units, ms)
 
     def overrides(self) -> list[str]:
