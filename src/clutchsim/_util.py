@@ -173,6 +173,8 @@ OUTPUT_KINDS = {
     "uq": ("sweep.json", "chunks", "results.parquet", "uq.json", "probabilities.csv",
            "quantiles.csv", "sensitivity.csv", "uq_*.png", "command.txt", "report.html"),
     "log": ("launch_*.csv", "launches.json", "command.txt"),
+    "rt": ("plant.c", "model.h", "clutchsim_rt.h", "rt_kernel.c", "ros2.c",
+           "libclutchsim_rt.so", "clutchsim_rt.fmu", "rt.json", "README.md", "command.txt"),
     "calibrate": ("calibration.json", "parameters.toml", "traces.csv", "report.md",
                   "calibration.png", "command.txt", "report.html"),
 }

@@ -32,7 +32,7 @@ __all__ = ["SimulationFailed", "Terminated", "UserError", "emit_json", "main"]
 
 #: subcommand modules, in the order ``--help`` lists them
 COMMANDS = ("models", "rig", "bench", "run", "judder", "demo", "sweep", "fit", "report",
-            "fmu", "durability", "uq", "log", "calibrate", "explore")
+            "fmu", "rt", "durability", "uq", "log", "calibrate", "explore")
 
 EPILOG = """\
 examples:
@@ -42,6 +42,7 @@ examples:
   clutchsim bench drift --model lugre --model elastoplastic --out drift/ --json
   clutchsim run examples/launch.toml --model mykhailevych2020 --out launch/
   clutchsim fmu examples/launch.toml --model mykhailevych2020 --out launch.fmu
+  clutchsim rt examples/launch.toml --step 1e-3 --out rt/
   clutchsim log launches examples/calibration/launch_log.csv --channels examples/calibration/channels.toml
   clutchsim calibrate examples/calibration/launch_calibration.toml --out calib/
   clutchsim explore --list                        # the launch explorer's parameters

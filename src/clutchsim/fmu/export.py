@@ -33,6 +33,7 @@ import copy
 import dataclasses
 import datetime
 import hashlib
+import math
 import os
 import platform
 import re
@@ -64,7 +65,7 @@ _ENTRIES = {"rhs": ("double", "a1", "a1", "a1", "a1"),
 _HERE = Path(__file__).parent
 #: the C files of an FMU besides the printed plant: the FMI glue of each version, the core
 _GLUE = {"2": "fmi2_me.c", "3": "fmi3_me.c"}
-_CORE = ("plant_core.c", "fmi_common.c", "rosenbrock.c")
+_CORE = ("plant_core.c", "fmi_common.c", "rosenbrock.c", "ros2.c")
 
 #: SI base-unit exponents (and offset) of the units clutchsim writes
 _UNITS = {
@@ -275,7 +276,7 @@ def _variables(*, states, state_units, y0, inputs, input_units, u0, outputs, out
     return out
 
 
-def _header(root, *, ident, t_end, rtol, variables, fmi, kind):
+def _header(root, *, ident, t_end, rtol, variables, fmi, kind, fixed_step=None):
     """The interface elements (ModelExchange, CoSimulation), the units and the default
     experiment.  Both interfaces provide directional derivatives (plant_core.c; FMI 3 also
     adjoint ones); FMI 3's co-simulation has no event mode: it handles its events inside
@@ -300,6 +301,8 @@ def _header(root, *, ident, t_end, rtol, variables, fmi, kind):
               "providesIntermediateUpdate": "false", "mightReturnEarlyFromDoStep": "false"}
     if kind in ("me", "both"):
         ET.SubElement(root, "ModelExchange", me)
+    if fixed_step and fmi == "3":
+        cs["fixedInternalStepSize"] = _num(fixed_step)
     if kind in ("cs", "both"):
         ET.SubElement(root, "CoSimulation", cs)
     used = sorted({v["unit"] for v in variables if v["unit"] not in _DIMLESS})
@@ -311,7 +314,9 @@ def _header(root, *, ident, t_end, rtol, variables, fmi, kind):
             if base:
                 ET.SubElement(el, "BaseUnit", {k: str(v) for k, v in base.items()})
     ET.SubElement(root, "DefaultExperiment", {"startTime": "0.0", "stopTime": _num(t_end),
-                                              "tolerance": _num(rtol)})
+                                              "tolerance": _num(rtol),
+                                              **({"stepSize": _num(fixed_step)}
+                                                 if fixed_step else {})})
 
 
 def _attrs(v, keys=("causality", "variability", "initial")) -> dict:
@@ -323,7 +328,7 @@ def _attrs(v, keys=("causality", "variability", "initial")) -> dict:
 
 
 def _model_description(*, fmi, kind, name, ident, guid, description, t_end, rtol,
-                       variables, n_events, vr_time) -> bytes:
+                       variables, n_events, vr_time, fixed_step=None) -> bytes:
     """``modelDescription.xml`` of FMI ``fmi`` ("2" or "3") for ``variables``
     (:func:`_variables`)."""
     root = ET.Element("fmiModelDescription", {
@@ -335,7 +340,7 @@ def _model_description(*, fmi, kind, name, ident, guid, description, t_end, rtol
         "variableNamingConvention": "flat",
         **({"numberOfEventIndicators": str(n_events)} if fmi == "2" else {})})
     _header(root, ident=ident, t_end=t_end, rtol=rtol, variables=variables, fmi=fmi,
-            kind=kind)
+            kind=kind, fixed_step=fixed_step)
     mv = ET.SubElement(root, "ModelVariables")
     if fmi == "2":
         variables = [v for v in variables if v["role"] != "indicator"]
@@ -405,6 +410,27 @@ def _deriv_unit(u: str) -> str:
     return known.get(u, "")
 
 
+def model_h(title: str, system, u0, p, settable, defines: dict) -> str:
+    """``model.h``: the layout of a printed plant for its C drivers (the FMUs' glue, the
+    real-time kernel): sizes ``CS_NX``, ``CS_NU``, ``CS_NY``, ``CS_NZ``, ``CS_NP``, the start
+    values ``cs_y0``, ``cs_u0``, ``cs_p0``, which parameters may be set (``cs_p_settable``),
+    the event functions' directions and names, and the driver's own ``defines``."""
+    nx, nu, ny = len(system.state_names), len(system.input_names), len(system.output_names)
+    nz = len(system.event_names)
+    return "\n".join([
+        f"/* Layout of {title} (clutchsim {__version__}). Do not edit. */",
+        f"#define CS_NX {nx}", f"#define CS_NU {nu}", f"#define CS_NY {ny}",
+        f"#define CS_NZ {nz}", f"#define CS_NP {len(p)}",
+        *(f"#define {k} {v}" for k, v in defines.items()),
+        _c_array("cs_y0", "double", [_num(v) for v in system.y0]),
+        _c_array("cs_u0", "double", [_num(v) for v in u0]),
+        _c_array("cs_p0", "double", [_num(v) for v in p]),
+        _c_array("cs_p_settable", "int", [str(int(v)) for v in settable]),
+        _c_array("cs_event_dir", "int", [str(int(d)) for d in system.event_directions]),
+        f"static const char *cs_event_names[{max(nz, 1)}] = {{"
+        + (", ".join(_c_string(e) for e in system.event_names) or "0") + "};", ""])
+
+
 def _identifier(out: Path) -> str:
     stem = out.name[:-4] if out.name.lower().endswith(".fmu") else out.name
     ident = re.sub(r"\W", "_", stem, flags=re.ASCII) or "clutchsim"
@@ -425,8 +451,21 @@ def _plant_of(scenario, model):
     return plan, obj.components, system, u0
 
 
+def printed_plant(sc, model):
+    """``(plan, components, system, inputs at t = 0, program)``: the plant of scenario
+    ``sc`` with ``model`` on its clutch element and its C program (:func:`print_c`), which
+    the FMUs and the real-time kernel compile; :class:`FmuError` if it cannot be printed."""
+    from ..cgen.cprint import CPrintError
+    plan, comps, system, u0 = _plant_of(sc, model)
+    try:
+        program = print_c(plan.module, _ENTRIES)
+    except CPrintError as exc:
+        raise FmuError(f"cannot export {sc.name!r} with model {model!r}: {exc}") from exc
+    return plan, comps, system, u0, program
+
+
 def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind: str = "me",
-               overrides=None) -> FmuExport:
+               overrides=None, fixed_step: float | None = None) -> FmuExport:
     """Write the FMU of ``scenario`` with ``model`` on its clutch element to ``out``.
 
     Parameters
@@ -442,6 +481,11 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         co-simulation with the FMU's own ROS2 solver; ``"both"``).
     overrides : sequence of str, optional
         ``key.path=value`` assignments (with a path or None).
+    fixed_step : float, optional
+        Co-simulation only: integrate with fixed ROS2 steps of this size [s] and apply the
+        events at the steps' ends, as the real-time kernel does
+        (:mod:`clutchsim.fmu.realtime`; a communication step must be a multiple of it),
+        instead of the variable-step solver.
 
     Raises :class:`FmuError` for an option, a scenario or a model that cannot be exported
     (and :class:`~clutchsim.cgen.compiler.CompilerError` without a C compiler).
@@ -454,6 +498,13 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
     if kind not in KINDS:
         raise FmuError(f"--kind {kind}: one of {', '.join(KINDS)} (Model Exchange, "
                        "co-simulation, both)")
+    if fixed_step is not None:
+        if kind != "cs":
+            raise FmuError(f"a fixed step ({fixed_step!r} s) is for co-simulation only "
+                           f"(--kind cs), not --kind {kind}")
+        if isinstance(fixed_step, bool) or not isinstance(fixed_step, (int, float)) or not (
+                math.isfinite(fixed_step) and 0.0 < fixed_step <= 0.1):
+            raise FmuError(f"fixed step {fixed_step!r}: a number of seconds in (0, 0.1]")
     out = Path(out)
     if out.suffix.lower() != ".fmu":
         raise FmuError(f"--out {out}: an FMU file name ends in .fmu")
@@ -464,12 +515,7 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
     sc = resolve_scenario(scenario, overrides)
     if model is None and sc.models:
         model = sc.models[0]
-    plan, comps, system, u0 = _plant_of(sc, model)
-    from ..cgen.cprint import CPrintError
-    try:
-        program = print_c(plan.module, _ENTRIES)
-    except CPrintError as exc:
-        raise FmuError(f"cannot export {sc.name!r} with model {model!r}: {exc}") from exc
+    plan, comps, system, u0, program = printed_plant(sc, model)
     ident = _identifier(out)
     p = np.asarray(system.params, dtype=float)
     params = _parameters(plan, comps)
@@ -486,21 +532,12 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         h.update(part.encode())
     hx = h.hexdigest()
     guid = f"{{{hx[:8]}-{hx[8:12]}-{hx[12:16]}-{hx[16:20]}-{hx[20:32]}}}"
-    header = "\n".join([
-        f"/* Layout of the FMU {ident} (clutchsim {__version__}). Do not edit. */",
-        f"#define CS_NX {nx}", f"#define CS_NU {nu}", f"#define CS_NY {ny}",
-        f"#define CS_NZ {nz}", f"#define CS_NP {np_}", f"#define CS_VR_U {vr_u}",
-        f"#define CS_VR_Y {vr_y}", f"#define CS_VR_P {vr_p}",
-        f"#define CS_GUID {_c_string(guid)}",
-        f"#define CS_MODEL_EXCHANGE {int(kind in ('me', 'both'))}",
-        f"#define CS_COSIM {int(kind in ('cs', 'both'))}",
-        _c_array("cs_y0", "double", [_num(v) for v in system.y0]),
-        _c_array("cs_u0", "double", [_num(u0[n]) for n in system.input_names]),
-        _c_array("cs_p0", "double", [_num(v) for v in p]),
-        _c_array("cs_p_settable", "int", [str(int(v)) for v in settable]),
-        _c_array("cs_event_dir", "int", [str(int(d)) for d in system.event_directions]),
-        f"static const char *cs_event_names[{max(nz, 1)}] = {{"
-        + (", ".join(_c_string(e) for e in system.event_names) or "0") + "};", ""])
+    header = model_h(f"the FMU {ident}", system, [u0[n] for n in system.input_names], p,
+                     settable, {"CS_VR_U": vr_u, "CS_VR_Y": vr_y, "CS_VR_P": vr_p,
+                                "CS_GUID": _c_string(guid),
+                                "CS_MODEL_EXCHANGE": int(kind in ("me", "both")),
+                                "CS_COSIM": int(kind in ("cs", "both")),
+                                "CS_FIXED_STEP": repr(float(fixed_step or 0.0))})
     variables = _variables(
         states=system.state_names, state_units=system.state_units, y0=system.y0,
         inputs=system.input_names, input_units=system.input_units,
@@ -511,7 +548,7 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
         fmi=fmi, kind=kind, name=sc.name, ident=ident, guid=guid,
         description=f"{sc.name}: clutchsim plant with {model or 'its own models'}",
         t_end=sc.t_end, rtol=sc.options.rtol, variables=variables, n_events=nz,
-        vr_time=vr_p + np_ + nz)
+        vr_time=vr_p + np_ + nz, fixed_step=fixed_step)
     out.parent.mkdir(parents=True, exist_ok=True)
     work = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
     try:

@@ -1,14 +1,6 @@
 /* The co-simulation solver of a clutchsim FMU (clutchsim/fmu/rosenbrock.c), included by
    the FMI glue after plant_core.c.
 
-   ROS2 (Verwer, Spee, Blom, Hundsdorfer 1999: "A second-order Rosenbrock method applied to
-   photochemical dispersion problems", SIAM J. Sci. Comput. 20(4)), L-stable, with the
-   plant's exact Jacobian (cs_jac) and its embedded first-order solution for the error:
-
-       (I - g h J) k1 = f(y)
-       (I - g h J) k2 = f(y + h k1) - 2 k1,          g = 1 + 1/sqrt(2)
-       y1 = y + 3/2 h k1 + 1/2 h k2,                  error = y1 - (y + h k1)
-
    The inputs are held over a communication step (FMI co-simulation without input
    derivatives), so the right-hand side does not depend on time within it.  Events: after
    each accepted step the indicators are compared with the step's start; a crossing in
@@ -16,69 +8,11 @@
    the step's start) to 1e-12 s, the state is placed just past it, and the core applies
    the reset as in Model Exchange (core_event). */
 
-#define RB_G 1.7071067811865475     /* 1 + 1/sqrt(2) */
+#include "ros2.c"
 
-/* LU with partial pivoting of the n x n row-major a, in place; 0 if singular */
-static int rb_lu(double *a, int *piv, int n) {
-    int i, j, k;
-    for (k = 0; k < n; k++) {
-        int pk = k;
-        double big = fabs(a[k * n + k]);
-        for (i = k + 1; i < n; i++)
-            if (fabs(a[i * n + k]) > big) { big = fabs(a[i * n + k]); pk = i; }
-        if (big == 0.0) return 0;
-        piv[k] = pk;
-        if (pk != k)
-            for (j = 0; j < n; j++) { double s = a[k * n + j]; a[k * n + j] = a[pk * n + j]; a[pk * n + j] = s; }
-        for (i = k + 1; i < n; i++) {
-            double f = a[i * n + k] / a[k * n + k];
-            a[i * n + k] = f;
-            for (j = k + 1; j < n; j++) a[i * n + j] -= f * a[k * n + j];
-        }
-    }
-    return 1;
-}
-
-static void rb_solve(const double *a, const int *piv, int n, double *b) {
-    int i, j;
-    for (i = 0; i < n; i++) {
-        double s;
-        if (piv[i] != i) { s = b[i]; b[i] = b[piv[i]]; b[piv[i]] = s; }
-    }
-    for (i = 0; i < n; i++)
-        for (j = 0; j < i; j++) b[i] -= a[i * n + j] * b[j];
-    for (i = n - 1; i >= 0; i--) {
-        for (j = i + 1; j < n; j++) b[i] -= a[i * n + j] * b[j];
-        b[i] /= a[i * n + i];
-    }
-}
-
-/* One ROS2 step of size h from (t, y0) into y1 (and the error into err); 0 if the matrix
-   is singular or a value is not finite */
+/* One ROS2 step of the instance's plant (ros2.c) */
 static int rb_step(Instance *m, double t, const double *y0, double h, double *y1, double *err) {
-    enum { N = ONE(CS_NX) };
-    double J[N * N], A[N * N], k1[N], k2[N], yt[N], f[N];
-    int piv[N], i, j, n = CS_NX;
-    memcpy(yt, y0, sizeof yt);
-    memset(J, 0, sizeof J);
-    cs_jac(t, yt, m->u, m->p, J, n);
-    for (i = 0; i < n; i++)
-        for (j = 0; j < n; j++) A[i * n + j] = (i == j ? 1.0 : 0.0) - RB_G * h * J[i * n + j];
-    if (!rb_lu(A, piv, n)) return 0;
-    memset(k1, 0, sizeof k1);
-    cs_rhs(t, yt, m->u, m->p, k1);
-    rb_solve(A, piv, n, k1);
-    for (i = 0; i < n; i++) yt[i] = y0[i] + h * k1[i];
-    memset(f, 0, sizeof f);
-    cs_rhs(t + h, yt, m->u, m->p, f);
-    for (i = 0; i < n; i++) k2[i] = f[i] - 2.0 * k1[i];
-    rb_solve(A, piv, n, k2);
-    for (i = 0; i < n; i++) {
-        y1[i] = y0[i] + 1.5 * h * k1[i] + 0.5 * h * k2[i];
-        err[i] = 0.5 * h * (k1[i] + k2[i]);
-        if (!isfinite(y1[i])) return 0;
-    }
-    return 1;
+    return ros2_step(t, y0, m->u, m->p, h, y1, err);
 }
 
 static double rb_norm(const double *y0, const double *y1, const double *err, double rtol, double atol) {
@@ -168,6 +102,40 @@ static int rb_integrate(Instance *m, double t_end, double rtol, double atol, dou
     return ST_OK;
 }
 
+/* Fixed steps of CS_FIXED_STEP from m->t to t_end (an FMU exported with a fixed step, as the
+   real-time kernel rt_kernel.c takes them): one ROS2 step, then the events due at its end,
+   not located (core_event); the status. */
+static int rb_fixed(Instance *m, double t_end) {
+    enum { N = ONE(CS_NX), Z = ONE(CS_NZ) };
+    double y1[N], err[N], g[Z], t0 = m->t, span = t_end - m->t;
+    long k, n = lround(span / CS_FIXED_STEP);
+    if (n < 1 || fabs(n * CS_FIXED_STEP - span) > 1e-9 * (1.0 + fabs(t_end))) {
+        logf_(m, ST_ERROR, "error", "t = %.9g s: the communication step %.9g s is not a "
+              "multiple of the FMU's fixed step %.9g s", m->t, span, CS_FIXED_STEP);
+        return ST_ERROR;
+    }
+    for (k = 1; k <= n; k++) {
+        int j;
+        if (!ros2_step(m->t, m->y, m->u, m->p, CS_FIXED_STEP, y1, err)) {
+            logf_(m, ST_ERROR, "error", "t = %.9g s: the fixed step failed (a singular "
+                  "matrix or a value that is not finite)", m->t);
+            return ST_ERROR;
+        }
+        memcpy(m->y, y1, sizeof y1);
+        m->t = k == n ? t_end : t0 + k * CS_FIXED_STEP;
+        changed(m);
+        indicators(m, g);
+        if (rb_crossing(m, m->g_last, g)) {
+            int vc, term, st = core_event(m, &vc, &term);
+            if (term) return st == ST_OK ? ST_DISCARD : st;
+            continue;
+        }
+        for (j = 0; j < CS_NZ; j++)          /* one on zero keeps its sign (the core's rule) */
+            if (g[j] != 0.0) m->g_last[j] = g[j];
+    }
+    return ST_OK;
+}
+
 /* One communication step from t to t + h (fmi2DoStep, fmi3DoStep): an event at the
    communication point first (the start's directional events, an input jump), then the
    integration with its events; the status (ST_DISCARD: a terminal stop ended the run at
@@ -188,5 +156,6 @@ static int rb_do_step(Instance *m, double t, double h, const char *fn) {
         int vc, term, st = core_event(m, &vc, &term);
         if (term) return st == ST_OK ? ST_DISCARD : st;
     }
+    if (CS_FIXED_STEP > 0.0) return rb_fixed(m, t + h);
     return rb_integrate(m, t + h, m->rtol, 1e-2 * m->rtol, &m->h);
 }
