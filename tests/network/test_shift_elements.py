@@ -1,0 +1,155 @@
+"""Shift elements and differentials of issue 38 against their closed forms (docs/components.md).
+
+* band brake: the capstan law ``T = F_a·R·(e^{μθ} − 1)`` (Euler-Eytelwein; Shigley §16-3):
+  its capacity output, and the time a drum of inertia J takes to stop from ω0,
+  ``t = J·ω0/T``;
+* cone clutch: ``T = μ·F·R_m/sin α`` (Shigley §16-4, uniform wear) and the synchronisation
+  time of a cone between two free inertias, ``t = J_eq·Δω/T_cone`` with
+  ``J_eq = J1·J2/(J1 + J2)`` (issue 38's check, 1 %), with the angular momentum conserved
+  and the friction work ``J_eq·Δω²/2`` in the thermal node;
+* open differential: the equal torque split and the kinematics ``2·ω_in/ratio = ω_l + ω_r``.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from clutchsim.core import Outcome, SolverOptions, simulate
+from clutchsim.friction import CoulombRobust, TanhFriction
+from clutchsim.network import Network
+from clutchsim.network.components import (
+    BandBrake,
+    ConeClutch,
+    Inertia,
+    OpenDifferential,
+    ThermalNode,
+    TorqueSource,
+)
+
+TIGHT = SolverOptions(rtol=1e-9, atol=1e-10, dt_out=1e-3)
+
+
+def _clean(res):
+    assert res.outcome == Outcome.COMPLETED, res.message
+    assert not [w for w in res.warnings if "physics check" in w], res.warnings
+
+
+@pytest.mark.parametrize(("R", "theta", "mu", "F_a"),
+                         [(0.1, 1.5 * math.pi, 0.3, 200.0), (0.05, 2.0 * math.pi, 0.15, 800.0)])
+def test_band_brake_stops_a_drum_with_the_capstan_torque(R, theta, mu, F_a):
+    J, w0 = 0.5, 100.0
+    T = F_a * R * (math.exp(mu * theta) - 1.0)
+    net = Network([Inertia("drum", J=J, omega0=w0),
+                   BandBrake("band", "fa", R=R, theta=theta, mu=mu)],
+                  [["drum.b", "band.flange"]])
+    res = simulate(net.build({"fa": F_a}), (0.0, 1.5 * J * w0 / T), {"fa": F_a},
+                   options=TIGHT)
+    _clean(res)
+    assert res["capacity_band"][0] == pytest.approx(T, rel=1e-12)
+    sliding = res.t < 0.9 * J * w0 / T
+    assert np.allclose(res["T_band"][sliding], T, rtol=1e-12)
+    stop = [e.t for e in res.events if e.name == "band: stop"]
+    assert len(stop) == 1 and stop[0] == pytest.approx(J * w0 / T, rel=1e-9)
+    assert res["omega_drum"][-1] == 0.0 and res["band.locked"][-1] == 1.0
+    assert res["W_friction"][-1] == pytest.approx(0.5 * J * w0**2, rel=1e-9)
+
+
+def test_band_brake_holds_a_torque_below_its_capacity_and_slips_above():
+    """The drum at rest: a load torque below F_a·R·(e^{μθ} − 1) is held (no motion), one
+    above it turns the drum with the difference."""
+    R, theta, mu, F_a, J = 0.1, math.pi, 0.25, 100.0, 0.2
+    T = F_a * R * math.expm1(mu * theta)
+    for load, moves in ((0.95 * T, False), (1.05 * T, True)):
+        net = Network([TorqueSource("drive", input="tau"), Inertia("drum", J=J),
+                       BandBrake("band", "fa", R=R, theta=theta, mu=mu)],
+                      [["drive.flange", "drum.a"], ["drum.b", "band.flange"]])
+        res = simulate(net.build({"fa": F_a, "tau": load}), (0.0, 0.2),
+                       {"fa": F_a, "tau": load}, options=TIGHT)
+        _clean(res)
+        if moves:
+            assert res["omega_drum"][-1] == pytest.approx((load - T) / J * 0.2, rel=1e-6)
+        else:
+            assert np.all(res["omega_drum"] == 0.0)
+
+
+@pytest.mark.parametrize("alpha", [6.5, 12.0])
+def test_cone_synchronises_two_inertias_in_the_closed_form_time(alpha):
+    """Issue 38: t = J_eq·Δω/T_cone within 1 % (it lands within 1e-9); momentum conserved
+    to round-off; the friction work J_eq·Δω²/2 heats the node."""
+    J1, J2, w1, w2 = 0.02, 0.05, 150.0, 20.0
+    F, R_m, mu = 600.0, 0.04, 0.1
+    T = mu * F * R_m / math.sin(math.radians(alpha))
+    J_eq = J1 * J2 / (J1 + J2)
+    t_sync = J_eq * (w1 - w2) / T
+    net = Network([Inertia("gear", J=J1, omega0=w1),
+                   ConeClutch("cone", CoulombRobust(F_c=mu, F_s=mu), "f", R_m=R_m,
+                              alpha=alpha, heat=(("ring", 1.0),)),
+                   Inertia("shaft", J=J2, omega0=w2),
+                   ThermalNode("ring", capacity=50.0)],
+                  [["gear.b", "cone.a"], ["cone.b", "shaft.a"]])
+    res = simulate(net.build({"f": F}), (0.0, 2.0 * t_sync), {"f": F}, options=TIGHT)
+    _clean(res)
+    assert res["capacity_cone"][0] == pytest.approx(T, rel=1e-12)
+    stop = [e.t for e in res.events if e.name == "cone: stop"]
+    assert len(stop) == 1
+    assert abs(stop[0] / t_sync - 1.0) < 0.01
+    assert stop[0] == pytest.approx(t_sync, rel=1e-9)
+    L = J1 * res["omega_gear"] + J2 * res["omega_shaft"]
+    assert np.max(np.abs(L - (J1 * w1 + J2 * w2))) <= 1e-12 * abs(J1 * w1 + J2 * w2)
+    w_end = (J1 * w1 + J2 * w2) / (J1 + J2)
+    assert res["omega_shaft"][-1] == pytest.approx(w_end, rel=1e-12)
+    heat = 0.5 * J_eq * (w1 - w2) ** 2
+    assert res["W_friction"][-1] == pytest.approx(heat, rel=1e-9)
+    assert (res["theta_ring"][-1] - 20.0) * 50.0 == pytest.approx(heat, rel=1e-7)
+
+
+def test_cone_takes_any_friction_model_and_zero_force_is_open():
+    """A tanh law on the cone: the torque is μ·F·R_m/sin α·tanh(w/v) at the slip; no force,
+    no torque."""
+    F, R_m, alpha, mu, v = 300.0, 0.05, 8.0, 0.12, 0.5
+    cone = ConeClutch("cone", TanhFriction(F_c=mu, v_t=v), "f", R_m=R_m, alpha=alpha)
+    net = Network([Inertia("a", J=0.1, omega0=30.0), cone, Inertia("b", J=0.1)],
+                  [["a.b", "cone.a"], ["cone.b", "b.a"]])
+    res = simulate(net.build({"f": F}), (0.0, 0.01), {"f": F}, options=TIGHT)
+    _clean(res)
+    w = res["w_slip_cone"]
+    T = mu * F * R_m / math.sin(math.radians(alpha)) * np.tanh(w / v)
+    assert np.allclose(res["T_cone"], T, rtol=1e-9, atol=1e-12)
+    res0 = simulate(net.build({"f": 0.0}), (0.0, 0.01), {"f": 0.0}, options=TIGHT)
+    assert np.all(res0["T_cone"] == 0.0) and res0["omega_a"][-1] == 30.0
+
+
+def test_cone_refuses_a_torque_level_as_its_friction_coefficient():
+    with pytest.raises(ValueError, match=r"static level 330 must be a friction coefficient"):
+        ConeClutch("cone", CoulombRobust(F_c=300.0, F_s=330.0), "f", R_m=0.05, alpha=8.0)
+    for alpha in (0.0, 90.0, -3.0):
+        with pytest.raises(ValueError, match=r"alpha = .* must be in \(0, 89\.9\]"):
+            ConeClutch("cone", CoulombRobust(F_c=0.1, F_s=0.1), "f", R_m=0.05, alpha=alpha)
+
+
+def test_open_differential_splits_the_torque_equally():
+    """Torque T on the input of ratio r: each side shaft gets r·T/2 whatever the two
+    inertias, so they accelerate in the inverse ratio of their inertias; the input's
+    acceleration is r/2 times the sum (from the constraint)."""
+    J_in, J_l, J_r, T, r = 0.1, 1.0, 3.0, 50.0, 3.5
+    net = Network([TorqueSource("drive", input="tau"), Inertia("prop", J=J_in),
+                   OpenDifferential("diff", ratio=r), Inertia("left", J=J_l),
+                   Inertia("right", J=J_r)],
+                  [["drive.flange", "prop.a"], ["prop.b", "diff.input"],
+                   ["diff.left", "left.a"], ["diff.right", "right.a"]])
+    res = simulate(net.build({"tau": T}), (0.0, 1.0), {"tau": T}, options=TIGHT)
+    _clean(res)
+    # generalised coordinates (ω_l, ω_r): M = diag(J_l, J_r) + J_in·(r/2)²·[[1, 1], [1, 1]]
+    k = r / 2.0
+    M = np.diag([J_l, J_r]) + J_in * k * k * np.ones((2, 2))
+    acc = np.linalg.solve(M, [k * T, k * T])
+    assert res["omega_left"][-1] == pytest.approx(acc[0], rel=1e-9)
+    assert res["omega_right"][-1] == pytest.approx(acc[1], rel=1e-9)
+    assert res["omega_prop"][-1] == pytest.approx(k * acc.sum(), rel=1e-9)
+    # the torques it exerts: equal on both sides, J·α of each
+    tl, tr = res["T_diff_left"], res["T_diff_right"]
+    assert np.allclose(tl, tr, rtol=1e-9) and tl[-1] == pytest.approx(J_l * acc[0], rel=1e-9)
+    # lossless: the power in is the power out
+    assert np.allclose(res["T_diff_input"] * res["omega_prop"] + tl * res["omega_left"]
+                       + tr * res["omega_right"], 0.0, atol=1e-9 * T * res["omega_prop"][-1])
