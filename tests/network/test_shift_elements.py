@@ -11,6 +11,7 @@
 """
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -153,3 +154,50 @@ def test_open_differential_splits_the_torque_equally():
     # lossless: the power in is the power out
     assert np.allclose(res["T_diff_input"] * res["omega_prop"] + tl * res["omega_left"]
                        + tr * res["omega_right"], 0.0, atol=1e-9 * T * res["omega_prop"][-1])
+
+
+# ------------------------------------------------------------------ bad input, file and CLI
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+BAD = [
+    # (example, old text, new text, words of the one error line)
+    ("cone_synchroniser", "alpha = 6.5", "alpha = 0.0",
+     ["component[1].alpha", "= 0.0 °", "must be > 0 °", "(0, 89.9]"]),
+    ("cone_synchroniser", "alpha = 6.5", "alpha = 90.0",
+     ["component[1].alpha", "= 90.0 °", "must be <= 89.9 °"]),
+    ("cone_synchroniser", "alpha = 6.5", "alpha = 6.5\ndrag = -0.5",
+     ["component[1].drag", "= -0.5 N·m", "must be >= 0 N·m"]),
+    ("cone_synchroniser", 'overrides = { F_c = 0.10, F_s = 0.12 }',
+     'overrides = { F_c = 100.0, F_s = 120.0 }',
+     ["component[1].friction", "static level 120 must be a friction coefficient <= 2"]),
+    ("band_brake_differential", "mu = 0.3", "mu = -0.3",
+     ["component[4].mu", "= -0.3", "must be > 0"]),
+    ("band_brake_differential", "theta = 4.71238898038469", "theta = 20.0",
+     ["component[4].theta", "= 20.0 rad", "must be <= 12.5664 rad"]),
+    ("band_brake_differential", "R = 0.1", "R = 0.1\ndrag = -1.0",
+     ["component[4].drag", "= -1.0 N·m", "must be >= 0 N·m"]),
+    ("band_brake_differential", "ratio = 3.5", "ratio = 0.0",
+     ["component[2].ratio", "= 0.0", "must be > 0"]),
+]
+
+
+@pytest.mark.parametrize(("example", "old", "new", "words"), BAD,
+                         ids=[f"{b[0]}:{b[2].splitlines()[-1]}" for b in BAD])
+def test_bad_input_names_key_value_rule_file_and_line_and_exits_2(
+        tmp_path, capsys, example, old, new, words):
+    from clutchsim.cli import main
+    text = (EXAMPLES / f"{example}.toml").read_text(encoding="utf-8")
+    assert old in text
+    bad = text.replace(old, new, 1)
+    path = tmp_path / "bad.toml"
+    path.write_text(bad, encoding="utf-8")
+    line = bad[:bad.index(new.splitlines()[-1])].count("\n") + 1
+    code = main(["run", str(path), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert "Traceback" not in err
+    last = [ln for ln in err.splitlines() if ln.strip()][-1]
+    assert last.startswith(f"clutchsim run: error: {path}:{line}: "), (last, line)
+    for w in words:
+        assert w in last, (w, last)
+    assert not (tmp_path / "out").exists()

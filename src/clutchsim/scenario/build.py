@@ -283,7 +283,9 @@ def build_network(scenario, model: str | None = None):
         try:
             comps.append(cls(t["name"], **kw))
         except (TypeError, ValueError) as exc:
-            fail(str(exc), key)
+            # a component's error may name the key of its table it concerns (exc.key)
+            sub = getattr(exc, "key", None)
+            fail(str(exc), f"{key}.{sub}" if isinstance(sub, str) and sub in t else key)
         where[t["name"]] = key
     _check_signals(scenario, fail, comps, needs, where)
     try:

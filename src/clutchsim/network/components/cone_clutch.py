@@ -58,10 +58,12 @@ class ConeClutch(Clutch):
                          mu_slip=mu_slip, heat=heat, locked0=locked0, z0=z0, **values)
         mu_s = model.static_capacity()
         if not mu_s <= MU_MAX:
-            raise ValueError(f"{self.label}: the friction model's static level {mu_s:g} must "
+            err = ValueError(f"{self.label}: the friction model's static level {mu_s:g} must "
                              f"be a friction coefficient <= {MU_MAX:g}: a cone clutch reads "
                              "its model's force levels as mu [-] (give them as overrides, "
                              "e.g. F_c = 0.1, F_s = 0.12 for coulomb-robust)")
+            err.key = "friction"        # the scenario key it concerns (scenario/build.py)
+            raise err
 
     @property
     def reads_force(self) -> bool:
