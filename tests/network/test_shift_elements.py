@@ -7,7 +7,11 @@
   time of a cone between two free inertias, ``t = J_eq·Δω/T_cone`` with
   ``J_eq = J1·J2/(J1 + J2)`` (issue 38's check, 1 %), with the angular momentum conserved
   and the friction work ``J_eq·Δω²/2`` in the thermal node;
-* open differential: the equal torque split and the kinematics ``2·ω_in/ratio = ω_l + ω_r``.
+* open differential: the equal torque split and the kinematics ``2·ω_in/ratio = ω_l + ω_r``;
+* dog clutch: a clash above the speed window, engagement where the teeth line up (the
+  closed-form time of ``examples/dog_clutch.toml``), the angular momentum conserved by the
+  engagement (1e-9 at zero slip, issue 38's check), and a property test that the teeth
+  never engage outside their windows of speed and angle.
 """
 
 import math
@@ -15,13 +19,17 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from clutchsim.core import Outcome, SolverOptions, simulate
+from clutchsim.core.signals import Step
 from clutchsim.friction import CoulombRobust, TanhFriction
 from clutchsim.network import Network
 from clutchsim.network.components import (
     BandBrake,
     ConeClutch,
+    DogClutch,
     Inertia,
     OpenDifferential,
     ThermalNode,
@@ -178,6 +186,11 @@ BAD = [
      ["component[4].drag", "= -1.0 N·m", "must be >= 0 N·m"]),
     ("band_brake_differential", "ratio = 3.5", "ratio = 0.0",
      ["component[2].ratio", "= 0.0", "must be > 0"]),
+    ("dog_clutch", "window = 0.1", "window = 0.5",
+     ["component[2].window", "window = 0.5 rad must be <= the tooth pitch",
+      "2π/teeth = 0.314159 rad"]),
+    ("dog_clutch", "w_max = 2.0", "w_max = -2.0",
+     ["component[2].w_max", "= -2.0 rad/s", "must be > 0 rad/s"]),
 ]
 
 
@@ -201,3 +214,137 @@ def test_bad_input_names_key_value_rule_file_and_line_and_exits_2(
     for w in words:
         assert w in last, (w, last)
     assert not (tmp_path / "out").exists()
+
+
+# ------------------------------------------------------------------ dog clutch
+def test_dog_clashes_above_its_window_and_engages_where_the_teeth_line_up():
+    """examples/dog_clutch.toml: slip −10 + 100·t rad/s, relative angle 0.54 − 10·t + 50·t²
+    rad; pushed in at 0.01 s (one clash), inside the speed window from 0.08 s, in front of
+    the gaps (20·φ = 1 rad) at t = (10 − √2)/100 s; the lock conserves the momentum and
+    books J_eq·w²/2 in W_sync."""
+    from clutchsim.scenario import load_scenario, run_scenario
+    sc = load_scenario(EXAMPLES / "dog_clutch.toml")
+    res = run_scenario(sc, None).result
+    _clean(res)
+    ev = {e.name: e.t for e in res.events}
+    assert [e.name for e in res.events] == ["dog: clash", "dog: engage"]
+    assert ev["dog: clash"] == pytest.approx(0.01, abs=1e-12)
+    t_e = (10.0 - math.sqrt(2.0)) / 100.0
+    assert ev["dog: engage"] == pytest.approx(t_e, rel=1e-9)
+    assert res["dog.clashes"][-1] == 1.0 and res["dog.locked"][-1] == 1.0
+    assert np.all(res["dog.locked"][res.t < t_e - 1e-6] == 0.0)
+    # the momentum changes by the brake's impulse only, across the engagement too
+    L = 0.1 * res["omega_input"] + 0.3 * res["omega_output"]
+    assert np.allclose(L, 0.1 * 100.0 + 0.3 * 90.0 - 10.0 * res.t, rtol=0.0, atol=1e-9 * 37.0)
+    J_eq = 0.1 * 0.3 / 0.4
+    assert res["W_sync"][-1] == pytest.approx(0.5 * J_eq * 2.0, rel=1e-9)
+    assert np.all(res["T_dog"][res.t < t_e - 1e-6] == 0.0)
+
+
+def test_dog_engagement_at_zero_slip_conserves_momentum():
+    """Issue 38: both sides at one speed, the sleeve pushed in at 0.02 s: the teeth engage
+    at once, no energy is lost (W_sync 0), and with a torque on one side afterwards the two
+    turn as one body: the momentum is L0 + ∫T dt within 1e-9."""
+    J_a, J_b, w0, T = 0.2, 0.5, 50.0, 30.0
+    net = Network([TorqueSource("drive", input="tau"), Inertia("a", J=J_a, omega0=w0),
+                   DogClutch("dog", "s", w_max=1.0, teeth=24, window=0.2),
+                   Inertia("b", J=J_b, omega0=w0)],
+                  [["drive.flange", "a.a"], ["a.b", "dog.a"], ["dog.b", "b.a"]])
+    tau = Step(0.05, T)
+    res = simulate(net.build({"s": 0.0, "tau": 0.0}), (0.0, 0.2),
+                   {"s": Step(0.02, 1.0), "tau": tau}, options=TIGHT)
+    _clean(res)
+    eng = [e.t for e in res.events if e.name == "dog: engage"]
+    assert eng == [pytest.approx(0.02, abs=1e-12)]
+    L = J_a * res["omega_a"] + J_b * res["omega_b"]
+    L_ref = (J_a + J_b) * w0 + T * np.maximum(res.t - 0.05, 0.0)
+    assert np.max(np.abs(L - L_ref)) <= 1e-9 * L_ref.max()
+    assert abs(res["W_sync"][-1]) <= 1e-9
+    after = res.t > 0.05
+    assert np.allclose(res["omega_b"][after], w0 + T * (res.t[after] - 0.05) / (J_a + J_b),
+                       rtol=1e-9)
+
+
+#: the largest step of the property test [s]: the event functions are checked at the
+#: ends of the steps, so a stretch inside both windows shorter than a step may be passed
+#: over (two crossings in one step; docs/components.md, "Dog clutch")
+H_MAX = 2e-3
+
+
+@settings(max_examples=25, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(J_a=st.floats(0.05, 1.0), J_b=st.floats(0.05, 1.0), w0=st.floats(-30.0, 30.0),
+       torque=st.floats(-40.0, 40.0), w_max=st.floats(0.2, 5.0), teeth=st.integers(4, 40),
+       fill=st.floats(0.05, 1.0), phi0=st.floats(-3.0, 3.0), t_push=st.floats(0.0, 0.2))
+def test_the_dog_never_engages_outside_its_windows(J_a, J_b, w0, torque, w_max, teeth, fill,
+                                                    phi0, t_push):
+    """Random inertias, initial slip, torque (the slip sweeps through the speed window or
+    not), window (a fraction of the pitch), initial angle and push time.  The blocker's
+    property: at the engagement (if any) the sleeve is in, the slip within ``w_max`` and the
+    angle within the window (to the event tolerance).  And no engagement is missed: once
+    the open dog has spent 5 steps inside both windows it has engaged."""
+    window = fill * 2.0 * math.pi / teeth
+    net = Network([TorqueSource("drive", input="tau"), Inertia("a", J=J_a, omega0=0.0),
+                   DogClutch("dog", "s", w_max=w_max, teeth=teeth, window=window,
+                             phi0=phi0),
+                   Inertia("b", J=J_b, omega0=w0)],
+                  [["drive.flange", "a.a"], ["a.b", "dog.a"], ["dog.b", "b.a"]])
+    res = simulate(net.build({"s": 0.0, "tau": torque}), (0.0, 0.5),
+                   {"s": Step(t_push, 1.0), "tau": torque},
+                   options=SolverOptions(rtol=1e-9, atol=1e-10, dt_out=H_MAX / 2.0,
+                                         h_max=H_MAX))
+    _clean(res)
+    eng = [e.t for e in res.events if e.name == "dog: engage"]
+    assert len(eng) <= 1
+    # the slip and angle of the open dog are closed forms: w = w0 − (T/J_a)·t
+    t = res.t
+    open_ = res["dog.locked"] < 0.5
+    w_cf = w0 - torque / J_a * t
+    phi_cf = phi0 + w0 * t - 0.5 * torque / J_a * t * t
+    assert np.allclose(res["w_slip_dog"][open_], w_cf[open_], rtol=1e-7, atol=1e-7)
+    assert np.allclose(res["phi_dog"][open_], phi_cf[open_], rtol=1e-7, atol=1e-7)
+    edge = math.cos(0.5 * teeth * window)
+    if eng:
+        te = eng[0]
+        w_e = w0 - torque / J_a * te
+        phi_e = phi0 + w0 * te - 0.5 * torque / J_a * te * te
+        assert te >= t_push - 1e-12
+        assert abs(w_e) <= w_max * (1.0 + 1e-6)
+        assert math.cos(teeth * phi_e) >= edge - 1e-6
+        assert np.all(res["dog.locked"][t > te + 1e-9] == 1.0)
+    inside = ((np.abs(w_cf) <= w_max * (1.0 - 1e-6)) & (np.cos(teeth * phi_cf) >= edge + 1e-6)
+              & (t > t_push + 1e-9))
+    run = np.convolve(inside.astype(float), np.ones(10), mode="valid") == 10.0
+    if np.any(run):
+        t_late = t[np.argmax(run) + 9]      # the 10th sample, 5 steps in
+        assert eng and eng[0] <= t_late, "5 steps inside both windows and not engaged"
+
+
+def test_a_cone_and_a_dog_in_parallel_synchronise_then_engage():
+    """A synchroniser written as a network: the cone (sleeve force 600 N) and the dog
+    (pushed in from the start, speed window 1 mrad/s: the blocker) between an idler gear and
+    its shaft.  The dog clashes at the push (130 rad/s of slip), the cone brings the slip
+    to zero in ``t = J_eq·Δω/T_cone`` (1 %; 1e-4 here), and the dog engages at synchronism:
+    the momentum is kept (1e-12) and the engagement costs at most J_eq·w_max²/2."""
+    J1, J2, w1, w2, F, R_m, mu, alpha = 0.02, 0.05, 150.0, 20.0, 600.0, 0.04, 0.1, 6.5
+    w_max = 1e-3
+    net = Network([Inertia("gear", J=J1, omega0=w1),
+                   ConeClutch("cone", CoulombRobust(F_c=mu, F_s=mu), "f", R_m=R_m,
+                              alpha=alpha),
+                   DogClutch("dog", "s", w_max=w_max, teeth=30, window=2.0 * math.pi / 30),
+                   Inertia("shaft", J=J2, omega0=w2)],
+                  [["gear.b", "cone.a", "dog.a"], ["cone.b", "dog.b", "shaft.a"]])
+    res = simulate(net.build({"f": F, "s": 1.0}), (0.0, 0.15), {"f": F, "s": 1.0},
+                   options=SolverOptions(rtol=1e-9, atol=1e-10, dt_out=1e-5))
+    _clean(res)
+    J_eq = J1 * J2 / (J1 + J2)
+    t_sync = J_eq * (w1 - w2) / (mu * F * R_m / math.sin(math.radians(alpha)))
+    t_lock = res.t[np.argmax(res["dog.locked"] > 0.5)]
+    assert res["dog.locked"][-1] == 1.0 and res["dog.clashes"][-1] == 1.0
+    assert abs(t_lock / t_sync - 1.0) < 0.01
+    assert t_lock == pytest.approx(t_sync, rel=1e-4)
+    L = J1 * res["omega_gear"] + J2 * res["omega_shaft"]
+    assert np.max(np.abs(L - (J1 * w1 + J2 * w2))) <= 1e-12 * (J1 * w1 + J2 * w2)
+    assert 0.0 <= res["W_sync"][-1] <= 0.5 * J_eq * w_max**2 * (1.0 + 1e-6)
+    assert res["W_friction"][-1] + res["W_sync"][-1] == pytest.approx(
+        0.5 * J_eq * (w1 - w2) ** 2, rel=1e-9)

@@ -243,9 +243,10 @@ def build_network(scenario, model: str | None = None):
             if "wear" in kw:
                 from ..network.wear import WearLaw
                 kw["wear"] = WearLaw.from_table(kw["wear"], fail, f"{key}.wear")
-        elif getattr(cls, "own_law", False):         # a band brake: the capstan law
+        elif getattr(cls, "own_law", False):     # a band brake's capstan law, a dog clutch
             needs.append((kw["command"], f"{key}.command"))
-            kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw.get("heat", []))
+            if "heat" in kw:
+                kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw["heat"])
         elif t["type"] == "engine":
             needs.append((kw["throttle"], f"{key}.throttle"))
             fl = _pairs(kw.pop("full_load"), "speed", "torque", f"{key}.full_load", fail)

@@ -206,6 +206,9 @@ def _component_keys(cls) -> tuple:
             Key("command", "str", "Apply force of the band [N] (a signal; negative values "
                 "read as 0).", required=True),
             *FRICTION_ELEMENT[5:6]),
+        "dog_clutch": (
+            Key("command", "str", "Sleeve engagement command [-] (a signal; the teeth are "
+                "pushed in from 0.5).", required=True),),
         "cone_clutch": (
             Key("command", "str", "Axial force on the cone [N] (a signal; negative values "
                 "read as 0).", required=True),

@@ -13,6 +13,7 @@ from .converter import TorqueConverter
 from .damper import Damper, TranslationalDamper
 from .differential import OpenDifferential
 from .dmf import DualMassFlywheel
+from .dog_clutch import DogClutch
 from .driver import Driver
 from .eddy_current import EddyCurrentBrake, TranslationalEddyCurrentBrake
 from .elasto_gap import ElastoGap
@@ -65,18 +66,18 @@ from .translational_vehicle import TranslationalVehicle
 from .vehicle import Vehicle
 
 __all__ = ["COMPONENTS", "Accelerate", "BandBrake", "Brake", "Clutch", "ConeClutch",
-           "ConstantSpeed", "Damper", "Driver", "DualMassFlywheel", "EddyCurrentBrake",
-           "ElastoBacklash", "ElastoGap", "Engine", "Force", "Gearbox", "HydraulicActuator",
-           "IdealGear", "Inertia", "InverseSpeedForce", "InverseSpeedTorque", "LaunchController",
-           "LinearSpeedForce", "LinearSpeedTorque", "LossyGear", "LossyGearWithLash", "Mass",
-           "MassWithStopAndFriction", "Move", "OneWayClutch", "OpenDifferential", "Planetary",
-           "Position", "QuadraticSpeedForce", "QuadraticSpeedTorque", "ReleaseSystem",
-           "ServoActuator", "SignForce", "SignTorque", "Speed", "SpringDamper", "SupportFriction",
-           "ThermalNode", "TorqueConverter", "TorquePulsation", "TorqueSource",
-           "TranslationalAccelerate", "TranslationalBrake", "TranslationalConstantSpeed",
-           "TranslationalDamper", "TranslationalEddyCurrentBrake", "TranslationalMove",
-           "TranslationalPosition", "TranslationalSpeed", "TranslationalSpringDamper",
-           "TranslationalVehicle", "Vehicle"]
+           "ConstantSpeed", "Damper", "DogClutch", "Driver", "DualMassFlywheel",
+           "EddyCurrentBrake", "ElastoBacklash", "ElastoGap", "Engine", "Force", "Gearbox",
+           "HydraulicActuator", "IdealGear", "Inertia", "InverseSpeedForce", "InverseSpeedTorque",
+           "LaunchController", "LinearSpeedForce", "LinearSpeedTorque", "LossyGear",
+           "LossyGearWithLash", "Mass", "MassWithStopAndFriction", "Move", "OneWayClutch",
+           "OpenDifferential", "Planetary", "Position", "QuadraticSpeedForce",
+           "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator", "SignForce", "SignTorque",
+           "Speed", "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
+           "TorquePulsation", "TorqueSource", "TranslationalAccelerate", "TranslationalBrake",
+           "TranslationalConstantSpeed", "TranslationalDamper", "TranslationalEddyCurrentBrake",
+           "TranslationalMove", "TranslationalPosition", "TranslationalSpeed",
+           "TranslationalSpringDamper", "TranslationalVehicle", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
@@ -100,4 +101,4 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   SignForce, EddyCurrentBrake, TranslationalEddyCurrentBrake,
                                   LossyGearWithLash,
                                   # shift elements and differentials (issue 38)
-                                  BandBrake, ConeClutch, OpenDifferential)}
+                                  BandBrake, ConeClutch, DogClutch, OpenDifferential)}
