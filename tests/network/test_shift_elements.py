@@ -382,3 +382,20 @@ def test_amt_upshift_synchronises_in_the_closed_form_time():
     assert res["dog2.locked"][-1] == 1.0 and res["dog1.locked"][-1] == 0.0
     assert res["clutch.locked"][-1] == 1.0
     assert run.metrics["energy_balance_rel"] <= 1e-6
+
+
+def test_changed_values_rebuild_the_laws_that_depend_on_them():
+    """A sweep changes values through ``with_values``: the band's capstan level follows μ
+    and θ, the cone's scale follows α, the dog's windows follow w_max and window; a bad
+    change is refused with the rule."""
+    band = BandBrake("band", "fa", R=0.1, theta=math.pi, mu=0.2).with_values(mu=0.3)
+    assert band.model.F_c == pytest.approx(math.expm1(0.3 * math.pi), rel=1e-15)
+    assert band.pack()["clamp_reference"] == pytest.approx(10.0)
+    cone = ConeClutch("cone", CoulombRobust(F_c=0.1, F_s=0.1), "f", R_m=0.05,
+                      alpha=8.0).with_values(alpha=30.0)
+    assert cone.pack()["clamp_reference"] == pytest.approx(0.5 / 0.05, rel=1e-12)
+    dog = DogClutch("dog", "s", w_max=1.0, teeth=10, window=0.2).with_values(w_max=3.0,
+                                                                            window=0.5)
+    assert dog.model.w_max == 3.0 and dog.model.pack()[2] == pytest.approx(math.cos(2.5))
+    with pytest.raises(ValueError, match=r"window = 0\.7 rad must be <= the tooth pitch"):
+        dog.with_values(window=0.7)
