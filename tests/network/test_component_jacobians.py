@@ -90,8 +90,11 @@ from clutchsim.friction import MODELS, make_model
 from clutchsim.network import Network
 from clutchsim.network.components import (
     COMPONENTS,
+    BandBrake,
     Brake,
     Clutch,
+    ConeClutch,
+    DogClutch,
     Driver,
     DualMassFlywheel,
     ElastoBacklash,
@@ -106,6 +109,7 @@ from clutchsim.network.components import (
     Mass,
     MassWithStopAndFriction,
     OneWayClutch,
+    OpenDifferential,
     Planetary,
     QuadraticSpeedTorque,
     ReleaseSystem,
@@ -223,14 +227,21 @@ def _rotational_friction(rng, model):
                          c_stop=_f(rng, 5e3, 1e4), d=_f(rng, 0.1, 1.0),
                          drag=_f(rng, 0.01, 0.1)),
         Inertia("c", J=_f(rng, 0.2, 1.0)),
+        # a cone clutch: the model's levels read as mu (~0.15), scaled by F·R_m/sin(alpha)
+        ConeClutch("cone", _random_model(model, rng, force=0.15 / make_model(
+                   model).static_capacity()), "fcone", heat=(("plate", 0.5),),
+                   mu_slip=((0.0, 3.0, 40.0), (1.0, 0.95, 0.9)), R_m=_f(rng, 0.03, 0.08),
+                   alpha=_f(rng, 6.0, 20.0), drag=_f(rng, 0.01, 0.1)),
+        Inertia("d", J=_f(rng, 0.05, 0.5)),
         ThermalNode("plate", capacity=_f(rng, 2e3, 5e3), conductance=_f(rng, 1.0, 5.0),
                     link="housing", link_conductance=_f(rng, 0.5, 2.0)),
         ThermalNode("housing", capacity=_f(rng, 5e3, 1e4), conductance=_f(rng, 1.0, 5.0)),
     ], [["drive.flange", "a.a"], ["a.b", "clutch.a"], ["clutch.b", "b.a"],
-        ["b.b", "brake.flange", "dmf.primary"], ["dmf.secondary", "c.a"]],
+        ["b.b", "brake.flange", "dmf.primary"], ["dmf.secondary", "c.a"],
+        ["c.b", "cone.a"], ["cone.b", "d.a"]],
         name=f"jac_rot_{model}")
     return Case(net, {"tau": (-3.0 * cap, 3.0 * cap), "com": (0.0, 1.0),
-                      "com2": (0.0, 1.0)},
+                      "com2": (0.0, 1.0), "fcone": (-100.0, 1000.0)},
                 scales={"phi_dmf": 0.05},
                 near={"phi_dmf": lambda r, v: _edge(r, 0.2 if r.random() < 0.5 else 0.4,
                                                     0.05)})
@@ -447,6 +458,27 @@ def _gearbox(rng, model=None):
     return Case(net, {"tau": (-200.0, 200.0), "com": (0.0, 1.0)})
 
 
+def _differential(rng, model=None):
+    """An open differential driven through an inertia, a band brake (capstan law) on its
+    left side shaft, a dog clutch from its right side shaft to a hub."""
+    net = Network([
+        TorqueSource("drive", input="tau"),
+        Inertia("a", J=_f(rng, 0.05, 0.3)),
+        OpenDifferential("diff", ratio=_f(rng, 2.5, 4.5)),
+        Inertia("left", J=_f(rng, 0.5, 2.0)),
+        BandBrake("band", "fa", R=_f(rng, 0.05, 0.15), theta=_f(rng, 3.0, 6.0),
+                  mu=_f(rng, 0.1, 0.4), drag=_f(rng, 0.01, 0.1), heat=(("drum", 1.0),)),
+        ThermalNode("drum", capacity=_f(rng, 1e3, 3e3), conductance=_f(rng, 0.5, 2.0)),
+        Inertia("right", J=_f(rng, 0.5, 2.0)),
+        DogClutch("dog", "sleeve", w_max=_f(rng, 0.5, 5.0), teeth=float(rng.integers(8, 30)),
+                  window=_f(rng, 0.02, 0.2), drag=_f(rng, 0.01, 0.1)),
+        Inertia("hub", J=_f(rng, 0.1, 0.5)),
+    ], [["drive.flange", "a.a"], ["a.b", "diff.input"], ["diff.left", "left.a"],
+        ["left.b", "band.flange"], ["diff.right", "right.a"], ["right.b", "dog.a"],
+        ["dog.b", "hub.a"]], name="jac_differential")
+    return Case(net, {"tau": (-300.0, 300.0), "fa": (-50.0, 500.0), "sleeve": (0.0, 1.0)})
+
+
 def _mass_stop(rng, model=None):
     """Modelica's MassWithStopAndFriction on a spring, pushed by a force."""
     net = Network([
@@ -480,6 +512,8 @@ BUILDERS = {
     "force": _translational_friction, "translational_brake": _translational_friction,
     "support_friction": _translational_friction,
     "mass_with_stop_and_friction": _mass_stop,
+    "cone_clutch": _rotational_friction, "band_brake": _differential,
+    "open_differential": _differential, "dog_clutch": _differential,
 }
 #: networks for the other structural options of components that have a builder
 EXTRA_NETWORKS = (_options,)
@@ -508,11 +542,11 @@ _UNIT_SCALE = {"rad": 0.05, "m": 1e-3, "°C": 30.0, "J": 1.0, "Pa": 1e5, "N": 1e
 
 
 def _discrete(plan) -> set:
-    """Indices of discrete states (modes, lock flags, a mass's stop)."""
+    """Indices of discrete states (modes, lock flags, a mass's stop, a dog's clashes)."""
     out = set()
     for c in plan.fes:
         for key, label, _u in c.state_layout():
-            if key == "locked" or label.endswith((".mode", ".stop")):
+            if key == "locked" or label.endswith((".mode", ".stop", ".clashes")):
                 out.add(plan.state_index[(c.name, key)])
     return out
 
@@ -642,6 +676,9 @@ def _sample(plan, system, case, rng, stick=False):
             y[idx["z0"]] = 0.0 if rg in ("locked", "held") else (1.0 if s >= 0.0 else -1.0)
         elif law == "one-way-clutch":
             y[idx["z0"]] = 0.0 if rg == "locked" else 1.0
+        elif law == "dog-clutch":        # engaged (0) when locked, else open (1)
+            y[idx["z0"]] = 0.0 if rg == "locked" else 1.0
+            y[idx["z1"]] = float(rng.integers(0, 5))
         elif law == "mass-with-stop":
             lo, hi = c.model.s_low, c.model.s_high
             if rg == "locked":
@@ -693,11 +730,12 @@ def _scales(plan, system, case, V):
         S[i] = case.scales.get(labels[i], _UNIT_SCALE.get(units[i], 1.0))
     for c in (own[c.name] for c in plan.fes):
         if c.model.n_states and c.model.name not in ("coulomb-robust", "one-way-clutch",
-                                                      "lossy-gear", "mass-with-stop"):
+                                                      "lossy-gear", "mass-with-stop",
+                                                      "dog-clutch"):
             zs = np.abs(c.model.sliding_state(10.0 * _velocity_scale(c.model)))
             for k in range(c.model.n_states):
                 S[plan.state_index[(c.name, f"z{k}")]] = max(zs[k], 1e-12)
-        if c.model.name == "mass-with-stop":
+        if c.model.name in ("mass-with-stop", "dog-clutch"):
             S[plan.state_index[(c.name, "z2")]] = 1e-2
     return S
 

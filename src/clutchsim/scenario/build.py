@@ -225,7 +225,8 @@ def build_network(scenario, model: str | None = None):
         # friction elements with a friction model (a lossy gear's `friction` is a
         # property; a one-way clutch has its own law, below)
         if getattr(cls, "friction", False) is True and t["type"] not in (
-                "one_way_clutch", "mass_with_stop_and_friction"):
+                "one_way_clutch", "mass_with_stop_and_friction") and not getattr(
+                cls, "own_law", False):
             if cls.commanded:
                 needs.append((kw["command"], f"{key}.command"))
             m = model if _replaced(t, model, scenario) else None
@@ -242,6 +243,10 @@ def build_network(scenario, model: str | None = None):
             if "wear" in kw:
                 from ..network.wear import WearLaw
                 kw["wear"] = WearLaw.from_table(kw["wear"], fail, f"{key}.wear")
+        elif getattr(cls, "own_law", False):     # a band brake's capstan law, a dog clutch
+            needs.append((kw["command"], f"{key}.command"))
+            if "heat" in kw:
+                kw["heat"] = tuple((h.get("node"), h.get("share", 1.0)) for h in kw["heat"])
         elif t["type"] == "engine":
             needs.append((kw["throttle"], f"{key}.throttle"))
             fl = _pairs(kw.pop("full_load"), "speed", "torque", f"{key}.full_load", fail)
@@ -279,7 +284,9 @@ def build_network(scenario, model: str | None = None):
         try:
             comps.append(cls(t["name"], **kw))
         except (TypeError, ValueError) as exc:
-            fail(str(exc), key)
+            # a component's error may name the key of its table it concerns (exc.key)
+            sub = getattr(exc, "key", None)
+            fail(str(exc), f"{key}.{sub}" if isinstance(sub, str) and sub in t else key)
         where[t["name"]] = key
     _check_signals(scenario, fail, comps, needs, where)
     try:

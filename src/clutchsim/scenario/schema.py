@@ -121,7 +121,7 @@ LOSS_TABLE = Key("loss_table", "table", "`{speed = [rad/s ...], eta_mf1 = [...],
                  "Default: no losses (an ideal gear).")
 
 #: network component types with a `friction` table (a friction model; `--model` acts on them)
-FRICTION_TYPES = ("clutch", "brake", "support_friction", "translational_brake")
+FRICTION_TYPES = ("clutch", "brake", "support_friction", "translational_brake", "cone_clutch")
 
 #: the keys of a translational friction element besides its parameters
 TRANSLATIONAL_FRICTION = (
@@ -202,6 +202,20 @@ def _component_keys(cls) -> tuple:
         "one_way_clutch": (
             Key("command", "str", "Normalised clamp force input (0 open .. 1 full).",
                 required=True), *FRICTION_ELEMENT[3:4], *FRICTION_ELEMENT[5:6]),
+        "band_brake": (
+            Key("command", "str", "Apply force of the band [N] (a signal; negative values "
+                "read as 0).", required=True),
+            *FRICTION_ELEMENT[5:6]),
+        "dog_clutch": (
+            Key("command", "str", "Sleeve engagement command [-] (a signal; the teeth are "
+                "pushed in from 0.5).", required=True),),
+        "cone_clutch": (
+            Key("command", "str", "Axial force on the cone [N] (a signal; negative values "
+                "read as 0).", required=True),
+            Key("friction", "table", "Friction model of the cone (see [friction]): its force "
+                "levels are read as the friction coefficient mu [-] (e.g. coulomb-robust "
+                "`overrides = {F_c = 0.1, F_s = 0.12}`).", required=True),
+            *FRICTION_ELEMENT[3:6]),
         "planetary": (Key("z_sun", "int", "Sun teeth (with z_ring, instead of ratio).",
                           low=1, high=1e4),
                       Key("z_ring", "int", "Ring teeth.", low=1, high=1e4)),

@@ -7,9 +7,13 @@ module here and one line below (``docs/network.md``: the recipe).
 from __future__ import annotations
 
 from .backlash import ElastoBacklash
+from .band_brake import BandBrake
+from .cone_clutch import ConeClutch
 from .converter import TorqueConverter
 from .damper import Damper, TranslationalDamper
+from .differential import OpenDifferential
 from .dmf import DualMassFlywheel
+from .dog_clutch import DogClutch
 from .driver import Driver
 from .eddy_current import EddyCurrentBrake, TranslationalEddyCurrentBrake
 from .elasto_gap import ElastoGap
@@ -61,18 +65,19 @@ from .translational import (
 from .translational_vehicle import TranslationalVehicle
 from .vehicle import Vehicle
 
-__all__ = ["COMPONENTS", "Accelerate", "Brake", "Clutch", "ConstantSpeed", "Damper", "Driver",
-           "DualMassFlywheel", "EddyCurrentBrake", "ElastoBacklash", "ElastoGap", "Engine",
-           "Force", "Gearbox", "HydraulicActuator", "IdealGear", "Inertia", "InverseSpeedForce",
-           "InverseSpeedTorque", "LaunchController", "LinearSpeedForce", "LinearSpeedTorque",
-           "LossyGear", "LossyGearWithLash", "Mass", "MassWithStopAndFriction", "Move",
-           "OneWayClutch", "Planetary", "Position", "QuadraticSpeedForce", "QuadraticSpeedTorque",
-           "ReleaseSystem", "ServoActuator", "SignForce", "SignTorque", "Speed", "SpringDamper",
-           "SupportFriction", "ThermalNode", "TorqueConverter", "TorquePulsation", "TorqueSource",
-           "TranslationalAccelerate", "TranslationalBrake", "TranslationalConstantSpeed",
-           "TranslationalDamper", "TranslationalEddyCurrentBrake", "TranslationalMove",
-           "TranslationalPosition", "TranslationalSpeed", "TranslationalSpringDamper",
-           "TranslationalVehicle", "Vehicle"]
+__all__ = ["COMPONENTS", "Accelerate", "BandBrake", "Brake", "Clutch", "ConeClutch",
+           "ConstantSpeed", "Damper", "DogClutch", "Driver", "DualMassFlywheel",
+           "EddyCurrentBrake", "ElastoBacklash", "ElastoGap", "Engine", "Force", "Gearbox",
+           "HydraulicActuator", "IdealGear", "Inertia", "InverseSpeedForce", "InverseSpeedTorque",
+           "LaunchController", "LinearSpeedForce", "LinearSpeedTorque", "LossyGear",
+           "LossyGearWithLash", "Mass", "MassWithStopAndFriction", "Move", "OneWayClutch",
+           "OpenDifferential", "Planetary", "Position", "QuadraticSpeedForce",
+           "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator", "SignForce", "SignTorque",
+           "Speed", "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
+           "TorquePulsation", "TorqueSource", "TranslationalAccelerate", "TranslationalBrake",
+           "TranslationalConstantSpeed", "TranslationalDamper", "TranslationalEddyCurrentBrake",
+           "TranslationalMove", "TranslationalPosition", "TranslationalSpeed",
+           "TranslationalSpringDamper", "TranslationalVehicle", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
@@ -94,4 +99,6 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   LinearSpeedTorque, InverseSpeedTorque, SignTorque,
                                   QuadraticSpeedForce, LinearSpeedForce, InverseSpeedForce,
                                   SignForce, EddyCurrentBrake, TranslationalEddyCurrentBrake,
-                                  LossyGearWithLash)}
+                                  LossyGearWithLash,
+                                  # shift elements and differentials (issue 38)
+                                  BandBrake, ConeClutch, DogClutch, OpenDifferential)}
