@@ -412,3 +412,19 @@ def test_stall_ends_the_fmu_run_where_the_engine_speed_falls_below_its_stall_spe
         else:       # the step that fails holds the stall; the inputs, held over each
             # step, move it by less than a step (0.286730 s here)
             assert t_stall - dt <= f["time"][-1] < t_stall + dt
+
+
+def test_a_value_the_equations_read_only_through_a_derived_one_is_a_constant(tmp_path):
+    """The vehicle's grade feeds its grade force ``f_grade`` when the plant is built; the
+    equations read ``f_grade``.  A tunable ``vehicle.grade`` set in an importer would change
+    nothing: it is a constant that says which value to set instead."""
+    path = tmp_path / "launch.fmu"
+    info = export_fmu(EXAMPLES / "launch.toml", path, "mykhailevych2020")
+    for name in ("vehicle.grade", "vehicle.rolling", "vehicle.cd_area"):
+        assert name in info.constants and name not in info.parameters
+    for name in ("vehicle.f_grade", "vehicle.roll", "vehicle.c_aero", "vehicle.v_eps"):
+        assert name in info.parameters
+    md = fmpy.read_model_description(str(path))
+    grade = next(v for v in md.modelVariables if v.name == "vehicle.grade")
+    assert grade.variability == "constant"
+    assert "feeds vehicle.f_grade, vehicle.roll" in grade.description

@@ -134,15 +134,20 @@ def _platform(fmi: str) -> tuple[str, str]:
     return f"{arch}-{system}", ext
 
 
-def _structural_keys(c) -> set[str]:
-    """The keys of ``c.pack()`` that are values fixing an inertia or a rigid ratio of ``c``.
-    Those values also enter the derived block of the parameter vector (the reduced mass
-    matrix and its relatives, computed in Python when the plant is built): set alone, they
-    would disagree with it.  A value merely computed from them (a rolling force from the
-    mass) is the equations' own and stays tunable."""
+def _fixed_keys(c) -> dict:
+    """The keys of ``c.pack()`` that cannot be set in the FMU alone, and why.
+
+    ``None``: a value that fixes an inertia or a rigid ratio of ``c``.  Those values also
+    enter the derived block of the parameter vector (the reduced mass matrix and its
+    relatives, computed in Python when the plant is built): set alone, they would disagree
+    with it.  A list of keys: the derived values of ``c.pack()`` it feeds (a vehicle's grade
+    feeds its grade force ``f_grade``, which the equations read: set alone, the grade would
+    change nothing).  A value merely computed from them (a rolling force from the mass) is
+    the equations' own and stays tunable."""
     base = (c.inertias(), c.constraints())
     pack = c.pack()
-    out = set()
+    derived = {k: v for k, v in pack.items() if k not in c.values}
+    out = {}
     for name, v in c.values.items():
         if name not in pack or isinstance(v, bool) or not isinstance(v, int | float):
             continue
@@ -151,11 +156,23 @@ def _structural_keys(c) -> set[str]:
         c2.values[name] = float(v) * 1.25 + 0.5
         try:
             moved = (c2.inertias(), c2.constraints()) != base
+            pack2 = c2.pack()
         except (ValueError, ZeroDivisionError):
-            moved = True
+            moved, pack2 = True, pack
         if moved:
-            out.add(name)
+            out[name] = None
+            continue
+        fed = sorted(k for k, d in derived.items() if not _same(pack2.get(k), d))
+        if fed:
+            out[name] = fed
     return out
+
+
+def _same(a, b) -> bool:
+    try:
+        return bool(np.array_equal(np.asarray(a, dtype=float), np.asarray(b, dtype=float)))
+    except (TypeError, ValueError):
+        return a == b
 
 
 #: why a constant is not tunable: a value fixing an inertia or a ratio (the default), or a
@@ -176,15 +193,22 @@ def _parameters(plan, comps) -> list[dict]:
     """One entry per value of the parameter vector the equations read: slot, name, unit,
     description, tunable."""
     by_name = {c.name: c for c in comps}
+    fixed_of: dict = {}
     out = []
     for c_name, key, n_val in plan._pack_shape:
         c = by_name[c_name]
         units = {p.name: p.unit for p in getattr(c, "params", ())}
         docs = {p.name: p.doc for p in getattr(c, "params", ())}
-        structural = key in _structural_keys(c)
+        fixed = fixed_of[c_name] if c_name in fixed_of else \
+            fixed_of.setdefault(c_name, _fixed_keys(c))
+        structural = key in fixed and fixed[key] is None
         if n_val == 0:
+            fed = fixed.get(key)
+            why = _STRUCTURAL if fed is None else (
+                f"feeds {', '.join(f'{c_name}.{k}' for k in fed)}, computed when the plant is "
+                "built (set those, or change it in the scenario and export again)")
             out.append(_param(plan.slot[(c_name, key)], f"{c_name}.{key}",
-                              units.get(key, ""), docs.get(key, ""), not structural))
+                              units.get(key, ""), docs.get(key, ""), key not in fixed, why))
             continue
         off, n = plan.tables[(c_name, key)]
         if key == "model" and not dataclasses.is_dataclass(c.model):
