@@ -21,6 +21,7 @@ from .ideal_gear import IdealGear
 from .inertia import Inertia, Mass
 from .launch_controller import LaunchController
 from .lossy_gear import Gearbox, LossyGear
+from .mount import TorsionalMount
 from .mass_stop import MassWithStopAndFriction
 from .one_way_clutch import OneWayClutch
 from .planetary import Planetary
@@ -59,6 +60,7 @@ from .translational import (
     TranslationalSpringDamper,
 )
 from .translational_vehicle import TranslationalVehicle
+from .tyre import Tyre
 from .vehicle import Vehicle
 
 __all__ = ["COMPONENTS", "Accelerate", "Brake", "Clutch", "ConstantSpeed", "Damper", "Driver",
@@ -69,10 +71,11 @@ __all__ = ["COMPONENTS", "Accelerate", "Brake", "Clutch", "ConstantSpeed", "Damp
            "OneWayClutch", "Planetary", "Position", "QuadraticSpeedForce", "QuadraticSpeedTorque",
            "ReleaseSystem", "ServoActuator", "SignForce", "SignTorque", "Speed", "SpringDamper",
            "SupportFriction", "ThermalNode", "TorqueConverter", "TorquePulsation", "TorqueSource",
+           "TorsionalMount",
            "TranslationalAccelerate", "TranslationalBrake", "TranslationalConstantSpeed",
            "TranslationalDamper", "TranslationalEddyCurrentBrake", "TranslationalMove",
            "TranslationalPosition", "TranslationalSpeed", "TranslationalSpringDamper",
-           "TranslationalVehicle", "Vehicle"]
+           "TranslationalVehicle", "Tyre", "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
@@ -94,4 +97,6 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   LinearSpeedTorque, InverseSpeedTorque, SignTorque,
                                   QuadraticSpeedForce, LinearSpeedForce, InverseSpeedForce,
                                   SignForce, EddyCurrentBrake, TranslationalEddyCurrentBrake,
-                                  LossyGearWithLash)}
+                                  LossyGearWithLash,
+                                  # the vehicle around the driveline
+                                  Tyre, TorsionalMount)}
