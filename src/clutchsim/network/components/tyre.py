@@ -47,7 +47,8 @@ class Tyre(Component):
         Param("sigma", "m", "relaxation length", low=0.0, strict=True, high=10.0),
         Param("v_eps", "m/s", "speed below which |V| is regularised (sqrt(V² + v_eps²))",
               default=0.1, low=0.0, strict=True, high=10.0),
-        Param("v0", "m/s", "initial speed of the wheel and the body (both V = ω·r)",
+        Param("v0", "m/s", "initial speed of the wheel and the body (ω = v0/r at both; 0: "
+              "left to the other components)",
               default=0.0, low=-100.0, high=100.0),
     )
     states = (StateSpec("kappa", "-", "transient longitudinal slip κ'"),)
@@ -56,6 +57,10 @@ class Tyre(Component):
         return {"wheel": self.J_wheel}
 
     def initial_speeds(self):
+        """``v0/r`` at both flanges; ``v0 = 0`` leaves them to the other components
+        (a prescribed speed, an inertia's ``omega0``), 0 where none sets them."""
+        if self.v0 == 0.0:
+            return {}
         w = self.v0 / self.radius
         return {"wheel": w, "body": w}
 
