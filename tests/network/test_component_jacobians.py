@@ -116,8 +116,10 @@ from clutchsim.network.components import (
     TorqueConverter,
     TorquePulsation,
     TorqueSource,
+    TorsionalMount,
     TranslationalBrake,
     TranslationalSpringDamper,
+    Tyre,
     Vehicle,
 )
 from clutchsim.network.wear import WearLaw
@@ -461,6 +463,27 @@ def _mass_stop(rng, model=None):
     return Case(net, {"f": (-40.0, 40.0)}, scales={"stretch_spring": 0.05})
 
 
+def _vehicle_around(rng, model=None):
+    """A torque source reacting on a powertrain block on its mounts, a driveshaft, a tyre
+    with longitudinal slip (inside its brush curve and saturated) and a vehicle."""
+    r = _f(rng, 0.25, 0.35)
+    net = Network([
+        TorqueSource("drive", input="tau"),
+        TorsionalMount("mounts", J=_f(rng, 2.0, 10.0), c=_f(rng, 1e4, 5e4),
+                       d=_f(rng, 10.0, 200.0)),
+        Inertia("a", J=_f(rng, 0.1, 1.0)),
+        SpringDamper("shaft", c=_f(rng, 5e3, 2e4), d=_f(rng, 10.0, 100.0)),
+        Tyre("tyre", radius=r, J_wheel=_f(rng, 0.5, 2.0), Fz=_f(rng, 3e3, 8e3),
+             mu=_f(rng, 0.5, 1.2), C_kappa=_f(rng, 5e4, 1.5e5), sigma=_f(rng, 0.1, 0.5),
+             v_eps=_f(rng, 0.05, 0.5)),
+        Vehicle("car", mass=_f(rng, 800.0, 1500.0), tyre_radius=r, rolling=0.01,
+                cd_area=_f(rng, 0.5, 0.8)),
+    ], [["drive.flange", "a.a"], ["drive.support", "mounts.block"], ["a.b", "shaft.a"],
+        ["shaft.b", "tyre.wheel"], ["tyre.body", "car.flange"]], name="jac_vehicle_around")
+    return Case(net, {"tau": (-500.0, 500.0)},
+                scales={"tyre.kappa": 0.1, "phi_mounts": 0.01, "phi_shaft": 0.05})
+
+
 #: registered component kind -> builder of a test network that contains it.  The friction
 #: builders take each friction model of the registry in turn (FRICTION_BUILDERS).
 BUILDERS = {
@@ -480,6 +503,7 @@ BUILDERS = {
     "force": _translational_friction, "translational_brake": _translational_friction,
     "support_friction": _translational_friction,
     "mass_with_stop_and_friction": _mass_stop,
+    "tyre": _vehicle_around, "torsional_mount": _vehicle_around,
 }
 #: networks for the other structural options of components that have a builder
 EXTRA_NETWORKS = (_options,)

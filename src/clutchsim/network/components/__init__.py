@@ -21,8 +21,8 @@ from .ideal_gear import IdealGear
 from .inertia import Inertia, Mass
 from .launch_controller import LaunchController
 from .lossy_gear import Gearbox, LossyGear
-from .mount import TorsionalMount
 from .mass_stop import MassWithStopAndFriction
+from .mount import TorsionalMount
 from .one_way_clutch import OneWayClutch
 from .planetary import Planetary
 from .prescribed import (

@@ -45,7 +45,7 @@ class Tyre(Component):
         Param("C_kappa", "N", "longitudinal slip stiffness dF/dκ at zero slip", low=0.0,
               strict=True, high=1e9),
         Param("sigma", "m", "relaxation length", low=0.0, strict=True, high=10.0),
-        Param("v_eps", "m/s", "speed below which |V| is regularised (sqrt(V² + v_eps²))",
+        Param("v_eps", "m/s", "speed scale of the slip regularisation: V_eps = sqrt(V² + v_eps²)",
               default=0.1, low=0.0, strict=True, high=10.0),
         Param("v0", "m/s", "initial speed of the wheel and the body (ω = v0/r at both; 0: "
               "left to the other components)",
