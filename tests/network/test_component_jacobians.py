@@ -484,6 +484,27 @@ def _vehicle_around(rng, model=None):
                 scales={"tyre.kappa": 0.1, "phi_mounts": 0.01, "phi_shaft": 0.05})
 
 
+def _faults(rng, model=None):
+    """Faults struck (phase 1, docs/components.md, faults): a clutch at a fraction of its
+    capacity, a spring-damper losing stiffness and damping (its loss growing in t)."""
+    net = Network([
+        TorqueSource("drive", input="tau"),
+        Inertia("a", J=_f(rng, 0.1, 1.0)),
+        Clutch("clutch", _random_model("tanh", rng), "cmd", fault_time=0.0,
+               fault_capacity_factor=_f(rng, 0.2, 0.8)).with_values(fault_phase=1),
+        Inertia("b", J=_f(rng, 0.1, 1.0)),
+        SpringDamper("spring", c=_f(rng, 500.0, 1e3), d=_f(rng, 0.5, 2.0), knee=0.05,
+                     c2=_f(rng, 2e3, 4e3), fault_time=0.0, fault_duration=2.0,
+                     fault_stiffness_loss=_f(rng, 0.2, 0.9),
+                     fault_damping_loss=_f(rng, 0.2, 0.9)).with_values(fault_phase=1),
+        Inertia("c", J=_f(rng, 0.5, 2.0)),
+    ], [["drive.flange", "a.a"], ["a.b", "clutch.a"], ["clutch.b", "b.a"],
+        ["b.b", "spring.a"], ["spring.b", "c.a"]], name="jac_faults")
+    return Case(net, {"tau": (-100.0, 100.0), "cmd": (0.0, 1.0)},
+                scales={"phi_spring": 0.05},
+                near={"phi_spring": lambda r, v: _edge(r, 0.05, 0.05)})
+
+
 #: registered component kind -> builder of a test network that contains it.  The friction
 #: builders take each friction model of the registry in turn (FRICTION_BUILDERS).
 BUILDERS = {
@@ -506,7 +527,7 @@ BUILDERS = {
     "tyre": _vehicle_around, "torsional_mount": _vehicle_around,
 }
 #: networks for the other structural options of components that have a builder
-EXTRA_NETWORKS = (_options,)
+EXTRA_NETWORKS = (_options, _faults)
 #: builders that take a friction model (built once per model of the registry)
 FRICTION_BUILDERS = (_rotational_friction, _translational_friction)
 #: components of either domain (domain None) must appear in a network of each domain
