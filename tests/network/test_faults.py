@@ -149,3 +149,28 @@ def test_bad_faults_are_refused_with_key_file_and_line(tmp_path, capsys, old, ne
     for w in words:
         assert w in err, (w, err)
     assert not (tmp_path / "o").exists()
+
+
+def test_fault_appears_in_the_summary_report_and_time_series(tmp_path, capsys):
+    """What failed and when: summary.json's "faults", a table of report.html, the run's
+    event and the output fault_<name>."""
+    import json
+
+    import pandas as pd
+    text = (EXAMPLES / "launch_tyre.toml").read_text(encoding="utf-8")
+    old = '[[component]]\ntype = "clutch"\nname = "clutch"\n'
+    path = tmp_path / "fault.toml"
+    path.write_text(text.replace(old, old + "fault_time = 3.0\nfault_capacity_factor = 0.3\n"),
+                    encoding="utf-8")
+    out = tmp_path / "o"
+    assert main(["run", str(path), "--out", str(out), "--no-plots", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["faults"] == [{"component": "clutch", "kind": "clutch",
+                                  "fault": "capacity x 0.3 at 3 s", "time_s": 3.0}]
+    assert "capacity x 0.3 at 3 s" in (out / "report.html").read_text(encoding="utf-8")
+    ts = pd.read_csv(out / "timeseries.csv")
+    col = next(c for c in ts.columns if c.startswith("fault_clutch"))
+    assert ts[col].iloc[0] == 0.0 and ts[col].iloc[-1] == 1.0
+    # 0.3 × 240 N·m still holds the car in first gear (2 events: lock-up, the fault)
+    assert summary["models"]["coulomb-robust"]["events"] == 2
+    assert summary["models"]["coulomb-robust"]["energy_balance_rel"] < 1e-8
