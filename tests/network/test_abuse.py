@@ -69,3 +69,46 @@ def test_clutch_dump_peak_torque_against_the_two_inertia_impact():
     # an undamped shaft would overshoot to 1 + sin(ωT/2)/(ωT/2) = 1.78 of it
     w = math.sqrt(K * (1 / J1 + 1 / J2))
     assert shaft[k] < quasi_static * (1 + math.sin(w * T_RAMP / 2) / (w * T_RAMP / 2))
+
+
+def test_hill_restarts_temperature_history_and_first_start_in_closed_form(tmp_path, capsys):
+    """examples/durability/hill_restarts.toml: 90 starts on 12 %, 10 s apart.  The
+    temperature history (durability.csv, the peak of each start) climbs start after start
+    and the lining wears out before the 90th; the first start's pressure-plate temperature
+    follows the lumped node's closed form ``θ(t) = θ_a + (θ0 − θ_a)·e^(−t/τ) + (s/C)·∫P(u)·
+    e^(−(t−u)/τ) du`` (τ = C/G, s its heat share, P the clutch's friction power)."""
+    import json
+
+    import pandas as pd
+
+    from clutchsim.cli import main
+    from clutchsim.scenario import load_scenario
+    duty = EXAMPLES / "durability" / "hill_restarts.toml"
+    out = tmp_path / "hill"
+    assert main(["durability", str(duty), "--full", "--out", str(out), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["outcome"] == "end_of_life" and summary["life_cycles"] < 90
+    assert summary["max_energy_balance_rel"] < 1e-6
+    hist = pd.read_csv(out / "durability.csv", skiprows=[1])
+    peaks = hist["peak_theta_C"].to_numpy()
+    assert len(peaks) == summary["life_cycles"] == 73
+    assert np.all(np.diff(peaks) > 0.0)                 # each start adds heat
+    assert peaks[10] == pytest.approx(131.8, abs=0.5)
+    assert summary["peak_theta_C"] > 450.0
+    # the first start alone, from 40 °C: pressure plate C = 1600 J/K, G = 5 W/K, share 0.5
+    sc = load_scenario(EXAMPLES / "launch_wear.toml", overrides=[
+        "vehicle.grade=12", 'inputs.throttle="0.1 + ramp(0.3, 0.5, 0.6)"'])
+    res = run_scenario(sc, "coulomb-robust").result
+    assert res.status == "completed", res.message
+    C, G, share, th0, tha = 1600.0, 5.0, 0.5, 40.0, 20.0
+    tau = C / G
+    t, P = res.t, np.abs(res["P_clutch"])
+    g = share * P * np.exp(t / tau)
+    integral = np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(t))])
+    closed = tha + (th0 - tha) * np.exp(-t / tau) + np.exp(-t / tau) * integral / C
+    theta = res["theta_pressure_plate"]
+    assert np.max(np.abs(theta - closed)) < 0.05
+    # adiabatic estimate share·W/C: 11 K, less what the plate loses to the air meanwhile
+    work = float(res["W_friction"][-1])
+    assert np.max(theta) - th0 == pytest.approx(share * work / C, abs=0.3)
+    assert peaks[0] == pytest.approx(np.max(theta), abs=0.05)
