@@ -486,12 +486,13 @@ def _vehicle_around(rng, model=None):
 
 def _faults(rng, model=None):
     """Faults struck (phase 1, docs/components.md, faults): a clutch at a fraction of its
-    capacity, a spring-damper losing stiffness and damping (its loss growing in t)."""
+    capacity, with drag, a spring-damper losing stiffness and damping (its loss growing in t)."""
     net = Network([
         TorqueSource("drive", input="tau"),
         Inertia("a", J=_f(rng, 0.1, 1.0)),
         Clutch("clutch", _random_model("tanh", rng), "cmd", fault_time=0.0,
-               fault_capacity_factor=_f(rng, 0.2, 0.8)).with_values(fault_phase=1),
+               fault_capacity_factor=_f(rng, 0.2, 0.8), drag=_f(rng, 1.0, 3.0),
+               fault_drag=_f(rng, 1.0, 5.0)).with_values(fault_phase=1),
         Inertia("b", J=_f(rng, 0.1, 1.0)),
         SpringDamper("spring", c=_f(rng, 500.0, 1e3), d=_f(rng, 0.5, 2.0), knee=0.05,
                      c2=_f(rng, 2e3, 4e3), fault_time=0.0, fault_duration=2.0,

@@ -86,6 +86,27 @@ def test_capacity_loss_scales_the_sliding_torque():
 WN = math.sqrt(1e4 * (1 / JA + 1 / JB))      # the two-mass mode before the fault [rad/s]
 
 
+def test_drag_increase_drags_the_open_clutch():
+    """An open clutch (command 0) between a driven and a loaded side: no torque until the
+    fault adds 5 N·m of drag, ``5·tanh(w/1 rad/s)``, booked as friction work."""
+    net = Network([TorqueSource("drive", input="tau"), Inertia("a", J=JA),
+                   Clutch("clutch", CoulombRobust(F_c=FC, F_s=1.2 * FC), "cmd",
+                          fault_time=0.5, fault_drag=5.0),
+                   Inertia("b", J=JB), TorqueSource("load", input="tl")],
+                  [["drive.flange", "a.a"], ["a.b", "clutch.a"], ["clutch.b", "b.a"],
+                   ["b.b", "load.flange"]], name="fault_drag")
+    res = simulate(net.build(), (0.0, 1.0), {"tau": 10.0, "tl": 0.0, "cmd": 0.0},
+                   options=OPTS)
+    assert res.status == "completed", res.message
+    assert energy_balance(res)["energy_balance_rel"] < 1e-8
+    t, w = res.t, res["w_slip_clutch"]
+    assert np.all(res["T_friction_clutch"][(t > 0.0) & (t < 0.5 - 1e-9)] == 0.0)  # (t = 0: stuck)
+    after = t > 0.5 + 1e-9
+    assert np.allclose(res["T_friction_clutch"][after], 5.0 * np.tanh(w[after]), rtol=1e-9)
+    assert res["W_friction"][-1] > 0.0
+    assert "clutch: fault, drag +5 N·m at 0.5 s" in [e.name for e in res.events]
+
+
 def two_mass(loss_c=0.75, loss_d=0.0, d=0.0, dur=1e-4, t_fault=4 * math.pi / WN):
     return Network([Inertia("a", J=JA, omega0=0.0),
                     SpringDamper("spring", c=1e4, d=d, phi0=0.02, fault_time=t_fault,

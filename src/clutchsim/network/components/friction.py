@@ -60,7 +60,10 @@ class _FrictionElement(FaultPhase, Component):
               Param("fault_capacity_factor", "-", "fault: the capacity's factor from "
                     "fault_time on (1: no fault; 0: stuck open, no torque; below 1: capacity "
                     "loss; FAULT_LOCKED or more: stuck locked, a rigid joint)", default=1.0,
-                    low=0.0, high=1e9))
+                    low=0.0, high=1e9),
+              Param("fault_drag", "N·m", "fault: drag torque added from fault_time on "
+                    "(a dragging clutch, a binding brake): drag + fault_drag", default=0.0,
+                    low=0.0, high=1e6))
     side_a = "a"
     side_b = "b"
     #: the element reads its actuation from an input signal (False: always fully applied)
@@ -110,21 +113,31 @@ class _FrictionElement(FaultPhase, Component):
         self.wear = wear
         self.locked0 = locked0
         self.z0 = None if z0 is None else tuple(float(v) for v in z0)
-        self.has_drag = self.values.get("drag", 0.0) != 0.0
-        self.has_fault = self.values.get("fault_capacity_factor", 1.0) != 1.0
+        v = self.values
+        self.has_fault = (v.get("fault_capacity_factor", 1.0) != 1.0
+                          or v.get("fault_drag", 0.0) > 0.0)
+        self.has_drag = v.get("drag", 0.0) != 0.0 or v.get("fault_drag", 0.0) > 0.0
 
     def schedule(self) -> tuple:
         """Its fault: from ``fault_time`` on the capacity's factor (``_faults.py``)."""
-        return ((self.values["fault_time"], {"fault_phase": 1}),) if self.has_fault else ()
+        if not self.has_fault:
+            return ()
+        change = {"fault_phase": 1}
+        if self.values["fault_drag"] > 0.0:
+            change["drag"] = self.values["drag"] + self.values["fault_drag"]
+        return ((self.values["fault_time"], change),)
 
     def fault_description(self) -> str | None:
         """What fails and when (None: no fault), for the outputs' events and the report."""
         if not self.has_fault:
             return None
-        f = self.values["fault_capacity_factor"]
-        what = ("stuck open (no torque)" if f == 0.0 else "stuck locked" if f >= FAULT_LOCKED
-                else f"capacity x {f:g}")
-        return f"{what} at {self.values['fault_time']:g} s"
+        f, drag = self.values["fault_capacity_factor"], self.values["fault_drag"]
+        what = [] if f == 1.0 else [
+            "stuck open (no torque)" if f == 0.0 else "stuck locked" if f >= FAULT_LOCKED
+            else f"capacity x {f:g}"]
+        if drag > 0.0:
+            what.append(f"drag +{drag:g} N·m")
+        return f"{', '.join(what)} at {self.values['fault_time']:g} s"
 
     @property
     def reads_force(self) -> bool:
@@ -332,7 +345,7 @@ class Clutch(_FrictionElement):
     kind = "clutch"
     title = "friction clutch (any friction model)"
     flanges = ("a", "b")
-    fault_keys = ("fault_time", "fault_capacity_factor")
+    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag")
 
 
 class Brake(_FrictionElement):
@@ -341,7 +354,7 @@ class Brake(_FrictionElement):
     kind = "brake"
     title = "friction brake (any friction model)"
     flanges = ("flange", "support")
-    fault_keys = ("fault_time", "fault_capacity_factor")
+    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag")
     grounded = ("support",)
     side_a = "support"
     side_b = "flange"
