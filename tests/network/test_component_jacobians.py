@@ -120,8 +120,10 @@ from clutchsim.network.components import (
     TorqueConverter,
     TorquePulsation,
     TorqueSource,
+    TorsionalMount,
     TranslationalBrake,
     TranslationalSpringDamper,
+    Tyre,
     Vehicle,
 )
 from clutchsim.network.wear import WearLaw
@@ -493,6 +495,49 @@ def _mass_stop(rng, model=None):
     return Case(net, {"f": (-40.0, 40.0)}, scales={"stretch_spring": 0.05})
 
 
+def _vehicle_around(rng, model=None):
+    """A torque source reacting on a powertrain block on its mounts, a driveshaft, a tyre
+    with longitudinal slip (inside its brush curve and saturated) and a vehicle."""
+    r = _f(rng, 0.25, 0.35)
+    net = Network([
+        TorqueSource("drive", input="tau"),
+        TorsionalMount("mounts", J=_f(rng, 2.0, 10.0), c=_f(rng, 1e4, 5e4),
+                       d=_f(rng, 10.0, 200.0)),
+        Inertia("a", J=_f(rng, 0.1, 1.0)),
+        SpringDamper("shaft", c=_f(rng, 5e3, 2e4), d=_f(rng, 10.0, 100.0)),
+        Tyre("tyre", radius=r, J_wheel=_f(rng, 0.5, 2.0), Fz=_f(rng, 3e3, 8e3),
+             mu=_f(rng, 0.5, 1.2), C_kappa=_f(rng, 5e4, 1.5e5), sigma=_f(rng, 0.1, 0.5),
+             v_eps=_f(rng, 0.05, 0.5)),
+        Vehicle("car", mass=_f(rng, 800.0, 1500.0), tyre_radius=r, rolling=0.01,
+                cd_area=_f(rng, 0.5, 0.8)),
+    ], [["drive.flange", "a.a"], ["drive.support", "mounts.block"], ["a.b", "shaft.a"],
+        ["shaft.b", "tyre.wheel"], ["tyre.body", "car.flange"]], name="jac_vehicle_around")
+    return Case(net, {"tau": (-500.0, 500.0)},
+                scales={"tyre.kappa": 0.1, "phi_mounts": 0.01, "phi_shaft": 0.05})
+
+
+def _faults(rng, model=None):
+    """Faults struck (phase 1, docs/components.md, faults): a clutch at a fraction of its
+    capacity, with drag, a spring-damper losing stiffness and damping (its loss growing in t)."""
+    net = Network([
+        TorqueSource("drive", input="tau"),
+        Inertia("a", J=_f(rng, 0.1, 1.0)),
+        Clutch("clutch", _random_model("tanh", rng), "cmd", fault_time=0.0,
+               fault_capacity_factor=_f(rng, 0.2, 0.8), drag=_f(rng, 1.0, 3.0),
+               fault_drag=_f(rng, 1.0, 5.0)).with_values(fault_phase=1),
+        Inertia("b", J=_f(rng, 0.1, 1.0)),
+        SpringDamper("spring", c=_f(rng, 500.0, 1e3), d=_f(rng, 0.5, 2.0), knee=0.05,
+                     c2=_f(rng, 2e3, 4e3), fault_time=0.0, fault_duration=2.0,
+                     fault_stiffness_loss=_f(rng, 0.2, 0.9),
+                     fault_damping_loss=_f(rng, 0.2, 0.9)).with_values(fault_phase=1),
+        Inertia("c", J=_f(rng, 0.5, 2.0)),
+    ], [["drive.flange", "a.a"], ["a.b", "clutch.a"], ["clutch.b", "b.a"],
+        ["b.b", "spring.a"], ["spring.b", "c.a"]], name="jac_faults")
+    return Case(net, {"tau": (-100.0, 100.0), "cmd": (0.0, 1.0)},
+                scales={"phi_spring": 0.05},
+                near={"phi_spring": lambda r, v: _edge(r, 0.05, 0.05)})
+
+
 #: registered component kind -> builder of a test network that contains it.  The friction
 #: builders take each friction model of the registry in turn (FRICTION_BUILDERS).
 BUILDERS = {
@@ -514,9 +559,10 @@ BUILDERS = {
     "mass_with_stop_and_friction": _mass_stop,
     "cone_clutch": _rotational_friction, "band_brake": _differential,
     "open_differential": _differential, "dog_clutch": _differential,
+    "tyre": _vehicle_around, "torsional_mount": _vehicle_around,
 }
 #: networks for the other structural options of components that have a builder
-EXTRA_NETWORKS = (_options,)
+EXTRA_NETWORKS = (_options, _faults)
 #: builders that take a friction model (built once per model of the registry)
 FRICTION_BUILDERS = (_rotational_friction, _translational_friction)
 #: components of either domain (domain None) must appear in a network of each domain

@@ -674,4 +674,7 @@ def compile_network(net: Network) -> Plan:
     plan = _PLANS.get(key)
     if plan is None:
         plan = _PLANS[key] = Plan(net)
+    else:       # checks of values against the network (a tyre's radius and its vehicle's)
+        for c in net.components:
+            c.check_network(net)
     return plan

@@ -288,6 +288,10 @@ def build_network(scenario, model: str | None = None):
             sub = getattr(exc, "key", None)
             fail(str(exc), f"{key}.{sub}" if isinstance(sub, str) and sub in t else key)
         where[t["name"]] = key
+        c = comps[-1]
+        if getattr(c, "has_fault", False) and not c.values["fault_time"] < scenario.t_end:
+            fail(f"= {c.values['fault_time']:g} s is outside the run: a fault strikes in "
+                 f"[0, t_end) = [0, {scenario.t_end:g}) s", f"{key}.fault_time")
     _check_signals(scenario, fail, comps, needs, where)
     try:
         net = Network(comps, data["network"]["connect"], name=scenario.name,

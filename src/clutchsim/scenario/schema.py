@@ -332,7 +332,12 @@ def key_spec(data: dict, key: str) -> Key | None:
 def check_table(table: dict, keys: tuple, path: str, fail) -> None:
     """Check one table against its keys; ``fail(problem, key_path)`` raises."""
     known = {k.name: k for k in keys}
-    for name in table:
+    for name, value in table.items():
+        if name not in known and name.startswith("fault_") and \
+                not any(k.startswith("fault_") for k in known):
+            fail(f"= {quote(value)} declares a fault on a part that cannot have one: "
+                 "faults are the fault_* keys of clutch, brake and spring_damper components "
+                 "(docs/components.md, faults)", f"{path}.{name}")
         if name not in known:
             fail(f"unknown key {name!r}{suggest(name, known)} (valid keys: "
                  f"{', '.join(known)})", f"{path}.{name}")

@@ -26,6 +26,7 @@ from .inertia import Inertia, Mass
 from .launch_controller import LaunchController
 from .lossy_gear import Gearbox, LossyGear
 from .mass_stop import MassWithStopAndFriction
+from .mount import TorsionalMount
 from .one_way_clutch import OneWayClutch
 from .planetary import Planetary
 from .prescribed import (
@@ -63,6 +64,7 @@ from .translational import (
     TranslationalSpringDamper,
 )
 from .translational_vehicle import TranslationalVehicle
+from .tyre import Tyre
 from .vehicle import Vehicle
 
 __all__ = ["COMPONENTS", "Accelerate", "BandBrake", "Brake", "Clutch", "ConeClutch",
@@ -74,10 +76,11 @@ __all__ = ["COMPONENTS", "Accelerate", "BandBrake", "Brake", "Clutch", "ConeClut
            "OpenDifferential", "Planetary", "Position", "QuadraticSpeedForce",
            "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator", "SignForce", "SignTorque",
            "Speed", "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
-           "TorquePulsation", "TorqueSource", "TranslationalAccelerate", "TranslationalBrake",
-           "TranslationalConstantSpeed", "TranslationalDamper", "TranslationalEddyCurrentBrake",
-           "TranslationalMove", "TranslationalPosition", "TranslationalSpeed",
-           "TranslationalSpringDamper", "TranslationalVehicle", "Vehicle"]
+           "TorquePulsation", "TorqueSource", "TorsionalMount", "TranslationalAccelerate",
+           "TranslationalBrake", "TranslationalConstantSpeed", "TranslationalDamper",
+           "TranslationalEddyCurrentBrake", "TranslationalMove", "TranslationalPosition",
+           "TranslationalSpeed", "TranslationalSpringDamper", "TranslationalVehicle", "Tyre",
+           "Vehicle"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
@@ -101,4 +104,6 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   SignForce, EddyCurrentBrake, TranslationalEddyCurrentBrake,
                                   LossyGearWithLash,
                                   # shift elements and differentials (issue 38)
-                                  BandBrake, ConeClutch, DogClutch, OpenDifferential)}
+                                  BandBrake, ConeClutch, DogClutch, OpenDifferential,
+                                  # the vehicle around the driveline (issue 39)
+                                  Tyre, TorsionalMount)}

@@ -22,6 +22,7 @@ from ...friction.base import FrictionModel
 from ..component import Component
 from ..spec import Param, check_table
 from ..wear import WearLaw
+from ._faults import FaultPhase
 
 #: the tables of a friction element and the least value each may hold: a clamp force
 #: and a friction coefficient's factor are never negative (the one place these rules live:
@@ -34,8 +35,15 @@ def _table(owner, key, tab):
                                                 low=TABLE_LOW[key])
 
 
-class _FrictionElement(Component):
+#: a capacity factor from which a fault is "stuck locked" (the element seizes: whatever it
+#: carries, it holds; ``docs/components.md``, faults)
+FAULT_LOCKED = 1e3
+
+
+class _FrictionElement(FaultPhase, Component):
     friction = True
+    #: the keys of the faults it can have (``docs/components.md``, faults)
+    fault_keys: tuple = ()
     params = (Param("drag", "N·m", "drag torque of the open element, drag·tanh(w/1 rad/s)",
                     default=0.0, low=0.0, high=1e6),
               Param("installed_shift", "-", "lining wear's shift of the diaphragm spring's "
@@ -46,7 +54,16 @@ class _FrictionElement(Component):
               Param("clamp_reference", "N", "clamp load at which the friction model's force "
                     "parameters hold; > 0: the command is a clamp force [N] (a release "
                     "system's or an actuator's signal) read as command/clamp_reference; 0: "
-                    "the command is the normalised actuation [-]", default=0.0, low=0.0))
+                    "the command is the normalised actuation [-]", default=0.0, low=0.0),
+              Param("fault_time", "s", "time at which the fault (fault_capacity_factor) "
+                    "strikes", default=0.0, low=0.0),
+              Param("fault_capacity_factor", "-", "fault: the capacity's factor from "
+                    "fault_time on (1: no fault; 0: stuck open, no torque; below 1: capacity "
+                    "loss; FAULT_LOCKED or more: stuck locked, a rigid joint)", default=1.0,
+                    low=0.0, high=1e9),
+              Param("fault_drag", "N·m", "fault: drag torque added from fault_time on "
+                    "(a dragging clutch, a binding brake): drag + fault_drag", default=0.0,
+                    low=0.0, high=1e6))
     side_a = "a"
     side_b = "b"
     #: the element reads its actuation from an input signal (False: always fully applied)
@@ -96,7 +113,31 @@ class _FrictionElement(Component):
         self.wear = wear
         self.locked0 = locked0
         self.z0 = None if z0 is None else tuple(float(v) for v in z0)
-        self.has_drag = self.values.get("drag", 0.0) != 0.0
+        v = self.values
+        self.has_fault = (v.get("fault_capacity_factor", 1.0) != 1.0
+                          or v.get("fault_drag", 0.0) > 0.0)
+        self.has_drag = v.get("drag", 0.0) != 0.0 or v.get("fault_drag", 0.0) > 0.0
+
+    def schedule(self) -> tuple:
+        """Its fault: from ``fault_time`` on the capacity's factor (``_faults.py``)."""
+        if not self.has_fault:
+            return ()
+        change = {"fault_phase": 1}
+        if self.values["fault_drag"] > 0.0:
+            change["drag"] = self.values["drag"] + self.values["fault_drag"]
+        return ((self.values["fault_time"], change),)
+
+    def fault_description(self) -> str | None:
+        """What fails and when (None: no fault), for the outputs' events and the report."""
+        if not self.has_fault:
+            return None
+        f, drag = self.values["fault_capacity_factor"], self.values["fault_drag"]
+        what = [] if f == 1.0 else [
+            "stuck open (no torque)" if f == 0.0 else "stuck locked" if f >= FAULT_LOCKED
+            else f"capacity x {f:g}"]
+        if drag > 0.0:
+            what.append(f"drag +{drag:g} N·m")
+        return f"{', '.join(what)} at {self.values['fault_time']:g} s"
 
     @property
     def reads_force(self) -> bool:
@@ -126,7 +167,7 @@ class _FrictionElement(Component):
         return (self.model.name, self.model.code, self.model.n_states,
                 self.model.event_names(), len(self.model.pack()), self.command, tabs,
                 tuple(n for n, _ in self.heat), self.has_drag, self.runout is not None,
-                self.wear is not None, self.reads_force)
+                self.wear is not None, self.reads_force, self.has_fault)
 
     def slip(self):
         return {self.side_b: 1.0, self.side_a: -1.0}
@@ -161,6 +202,9 @@ class _FrictionElement(Component):
                 d[key] = np.concatenate([tab[0], tab[1]])
         if self.runout is not None:
             d["runout_amplitude"], d["runout_order"] = self.runout
+        if self.has_fault:
+            d["fault_now"] = self.values["fault_capacity_factor"] if self.fault_phase else 1.0
+            d["fault_on"] = float(self.fault_phase > 0)
         if self.wear is not None:
             d.update(self.wear.pack())
         return d
@@ -260,6 +304,19 @@ class _FrictionElement(Component):
             self._partials.append((e.kx("runout"), dro))
             e.deriv("runout", e.w(self.side_b))
             e.dderiv("runout", e.kw(self.side_b), "1.0")
+        if self.has_fault:
+            # a fault: the capacity's factor from fault_time on (a scheduled value change at
+            # a located time event; the lock and break-away tests see the new capacity)
+            fac = e.par("fault_now")
+            for d in (dth, dsl, dx):
+                if d is not None:
+                    e.line(f"{d} = {d} * {fac}")
+            for k, (key, d) in enumerate(self._partials):
+                self._partials[k] = (key, f"({d}) * {fac}")
+            e.line(f"{sc} = {sc} * {fac}")
+            e.event(f"{self.name}: fault, {{fault_description}}", 1,
+                    f"t - {e.par('fault_time')}", "bank")
+            e.output(f"fault_{self.name}", "-", e.par("fault_on"))
         if self.commanded:
             self._partials += e.chain(self.command, dx)
         if dth is not None:
@@ -288,6 +345,7 @@ class Clutch(_FrictionElement):
     kind = "clutch"
     title = "friction clutch (any friction model)"
     flanges = ("a", "b")
+    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag")
 
 
 class Brake(_FrictionElement):
@@ -296,6 +354,7 @@ class Brake(_FrictionElement):
     kind = "brake"
     title = "friction brake (any friction model)"
     flanges = ("flange", "support")
+    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag")
     grounded = ("support",)
     side_a = "support"
     side_b = "flange"

@@ -164,8 +164,9 @@ class OneWayClutch(Clutch):
                     "(mu·cgeo·fn_max)", low=0.0, high=1e7),
               Param("peak", "-", "static over sliding torque of the clutch", default=1.0,
                     low=1.0, high=100.0),
-              *Clutch.params)
+              *(p for p in Clutch.params if p.name not in Clutch.fault_keys))
     lockable = True
+    fault_keys = ()
 
     def __init__(self, name, command, heat=(), mu_temperature=None, locked0=None, **values):
         label = f"one way clutch {name!r}"

@@ -34,6 +34,7 @@ class TranslationalSpringDamper(SpringDamper):
         Param("stretch0", "m", "initial stretch s_rel − s_rel0 (the flanges' initial distance "
               "minus the unstretched length)", default=0.0),
     )
+    fault_keys = ()
 
     def state_layout(self):
         return [("phi", f"stretch_{self.name}", "m")]
@@ -61,6 +62,7 @@ class _TranslationalFriction(Brake):
     domain = "translational"
     params = (Param("drag", "N", "drag force of the open element, drag·tanh(v/1 m/s)",
                     default=0.0, low=0.0),)
+    fault_keys = ()
 
     def __init__(self, name, model, command=None, mu_slip=None, heat=(), locked0=None,
                  z0=None, **values):
