@@ -176,3 +176,13 @@ def test_the_fixed_step_fmu_takes_the_kernels_steps(rt_1khz):
     rt = run_realtime(RealtimeKernel(rt_1khz.out), sc)
     w = np.interp(rt.t, f["time"], f["omega_engine"])
     assert np.max(np.abs(w - rt["omega_engine"])) * 30 / math.pi < 0.05     # rpm
+
+
+def test_without_a_c_compiler_the_cli_says_so_before_any_work(tmp_path, capsys, monkeypatch):
+    monkeypatch.delenv("CC", raising=False)
+    monkeypatch.setenv("PATH", str(tmp_path / "empty"))
+    code = main(["rt", str(EXAMPLES / "launch.toml"), "--out", str(tmp_path / "rt")])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert "no C compiler found" in err and "Traceback" not in err
+    assert not (tmp_path / "rt").exists()

@@ -48,7 +48,7 @@ from pathlib import Path
 import numpy as np
 
 from .._util import claim_output_dir
-from ..cgen.compiler import compile_shared
+from ..cgen.compiler import compile_shared, find_compiler
 from .export import FmuError, _parameters, export_fmu, model_h, printed_plant
 
 __all__ = ["AGREEMENT", "OMEGA_H_MAX", "RT_MODEL", "RealtimeError", "RealtimeExport", "RealtimeKernel",
@@ -229,6 +229,7 @@ def export_realtime(scenario, out, model: str | None = None, *, step: float = 1e
                             "(0, 0.1]")
     if not (isinstance(follow_hz, (int, float)) and math.isfinite(follow_hz) and follow_hz > 0):
         raise RealtimeError(f"--follow {follow_hz!r}: a frequency [Hz] > 0")
+    find_compiler()             # no compiler: NoCompilerError now, before any work
     overrides = list(overrides or ())
     base = resolve_scenario(scenario, overrides)
     sc = resolve_scenario(scenario, overrides + _clutch_override(base, model, reset))
