@@ -91,14 +91,14 @@ def main(argv=None) -> int:
     ap.add_argument("--budget", type=float, default=20.0, help="µs")
     args = ap.parse_args(argv)
     from clutchsim.cgen.compiler import CFLAGS, find_compiler
-    from clutchsim.fmu.realtime import _inputs_on, export_realtime
+    from clutchsim.fmu.realtime import export_realtime, sampled_inputs
     from clutchsim.scenario import resolve_scenario
     work = Path(tempfile.mkdtemp(prefix="rt_step."))
     try:
         info = export_realtime(None, work / "rt", step=args.step)
         sc = resolve_scenario(None, None)
         per = round(sc.t_end / args.step)
-        u = _inputs_on(sc, info.inputs, np.arange(per) * args.step)
+        u = sampled_inputs(sc, info.inputs, np.arange(per) * args.step)
         u.astype(np.float64).tofile(work / "inputs.bin")
         (work / "driver.c").write_text(DRIVER)
         exe = work / "driver"

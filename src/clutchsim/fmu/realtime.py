@@ -41,6 +41,7 @@ from __future__ import annotations
 import ctypes
 import json
 import math
+import re
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
@@ -53,12 +54,13 @@ from .export import FmuError, _parameters, export_fmu, model_h, printed_plant
 
 __all__ = ["AGREEMENT", "OMEGA_H_MAX", "RT_MODEL", "RealtimeError", "RealtimeExport", "RealtimeKernel",
            "compare_realtime", "export_realtime", "ros2_damping", "run_realtime",
-           "step_limit"]
+           "sampled_inputs", "step_limit"]
 
 _HERE = Path(__file__).parent
 #: the kernel's C files (copied next to the printed plant)
 RT_SOURCES = ("clutchsim_rt.h", "rt_kernel.c", "ros2.c")
-#: the clutch law of the real-time library unless told otherwise: model (6), reset = stop
+#: the clutch law of the real-time library when the scenario lists it: model (6), with the
+#: scenario's reset policy
 RT_MODEL = "mykhailevych2020"
 #: the largest ω·h of a followed mode (ROS2's numerical damping ratio 0.18 there)
 OMEGA_H_MAX = 0.5
@@ -128,23 +130,23 @@ def step_limit(sc, system, step: float, follow_hz: float = FOLLOW_HZ, reference=
                ) -> tuple[float, list[Mode]]:
     """``(h_max, modes)``: the largest step that follows every mode up to ``follow_hz``
     (``ω·h <= OMEGA_H_MAX``) and the oscillatory modes of the plant linearised at its
-    initial state and at the lock-up (else the end) of ``reference`` (a
-    :class:`~clutchsim.core.Result` of ``system``; None: the initial state only)."""
-    u0 = np.array([float(np.asarray(sc.inputs[n](0.0)).ravel()[0])
-                   for n in system.input_names])
-    modes = _modes(system, 0.0, system.y0, u0, "initial state", step, follow_hz)
-    if reference is not None and reference.t.size:
-        from ..analysis.launch_metrics import launch_metrics
-        t_lock = launch_metrics(reference, sc.clutch).get("lockup_time_s") if sc.clutch \
-            else None
-        t = reference.t[-1] if t_lock is None or not math.isfinite(t_lock) else t_lock + 0.05
-        i = min(int(np.searchsorted(reference.t, t)), reference.t.size - 1)
-        y = np.array([reference[s][i] for s in system.state_names])
-        u = np.array([float(np.asarray(sc.inputs[n](reference.t[i])).ravel()[0])
-                      for n in system.input_names])
-        where = "after lock-up" if t_lock is not None and math.isfinite(t_lock) else "end"
-        modes += _modes(system, reference.t[i], y, u, f"{where} (t = {reference.t[i]:.3g} s)",
-                        step, follow_hz)
+    initial state and 50 ms after the lock-up (else at the end) of ``reference`` (a
+    :class:`~clutchsim.scenario.run.LaunchResult` of ``system``; None: the initial state
+    only)."""
+    def inputs_at(t):
+        return sampled_inputs(sc, system.input_names, np.array([float(t)]))[0]
+
+    modes = _modes(system, 0.0, system.y0, inputs_at(0.0), "initial state", step, follow_hz)
+    res = None if reference is None else reference.result
+    if res is not None and res.t.size:
+        t_lock = reference.metrics.get("lockup_time_s")
+        locked = t_lock is not None and math.isfinite(t_lock)
+        i = min(int(np.searchsorted(res.t, t_lock + 0.05 if locked else res.t[-1])),
+                res.t.size - 1)
+        y = np.array([res[s][i] for s in system.state_names])
+        where = "after lock-up" if locked else "end"
+        modes += _modes(system, res.t[i], y, inputs_at(res.t[i]),
+                        f"{where} (t = {res.t[i]:.3g} s)", step, follow_hz)
     fastest = max((m.hz for m in modes if m.followed), default=0.0)
     h_max = OMEGA_H_MAX / (2.0 * math.pi * fastest) if fastest > 0 else math.inf
     return h_max, modes
@@ -176,11 +178,8 @@ class RealtimeExport:
                 "check": self.check}
 
 
-def _clutch_override(sc, model: str | None, reset: str | None) -> list[str]:
-    """The override that puts model (6)'s reset policy ``reset`` on the scenario's clutch
-    (none: the scenario's own)."""
-    if reset is None:
-        return []
+def _clutch_override(sc, reset: str) -> list[str]:
+    """The override that puts model (6)'s reset policy ``reset`` on the scenario's clutch."""
     for kind in ("coupling", "component"):
         for i, t in enumerate(sc.data.get(kind, [])):
             if t.get("name") == sc.clutch and isinstance(t.get("friction"), dict):
@@ -190,7 +189,6 @@ def _clutch_override(sc, model: str | None, reset: str | None) -> list[str]:
 
 
 def _c_name(name: str) -> str:
-    import re
     return re.sub(r"\W", "_", name, flags=re.ASCII)
 
 
@@ -212,7 +210,10 @@ def export_realtime(scenario, out, model: str | None = None, *, step: float = 1e
         The output directory (claimed as clutchsim's output directories are: an existing one
         only if it is empty or an earlier ``clutchsim rt`` output; written atomically).
     model : str, optional
-        The clutch's friction model (default: model (6) with the ``stop`` reset).
+        The clutch's friction model (default: model (6) when the scenario lists it, else
+        the scenario's first).
+    reset : str, optional
+        Model (6)'s reset policy on the clutch (default: the scenario's).
     step : float
         The fixed step [s] (default 1 ms: 1 kHz).
     follow_hz : float
@@ -231,19 +232,20 @@ def export_realtime(scenario, out, model: str | None = None, *, step: float = 1e
         raise RealtimeError(f"--follow {follow_hz!r}: a frequency [Hz] > 0")
     find_compiler()             # no compiler: NoCompilerError now, before any work
     overrides = list(overrides or ())
-    base = resolve_scenario(scenario, overrides)
-    sc = resolve_scenario(scenario, overrides + _clutch_override(base, model, reset))
+    sc = resolve_scenario(scenario, overrides)
+    if reset is not None:
+        sc = resolve_scenario(scenario, overrides + _clutch_override(sc, reset))
     if model is None and sc.models:
         model = sc.models[0] if RT_MODEL not in sc.models else RT_MODEL
     plan, comps, system, u0, program = printed_plant(sc, model)
     reference = run_system(sc, system, model)
-    h_max, modes = step_limit(sc, system, step, follow_hz, reference.result)
+    h_max, modes = step_limit(sc, system, step, follow_hz, reference)
     if step > h_max * (1.0 + 1e-12):
         worst = max((m for m in modes if m.followed), key=lambda m: m.hz)
         raise RealtimeError(
             f"--step {step:g} s: too long for the mode at {worst.hz:.4g} Hz of "
-            f"{', '.join(worst.states)} ({worst.where}, damping ratio {worst.zeta:.3g}): ω·h = {worst.omega_h:.3g} > {OMEGA_H_MAX} "
-            f"(ROS2 would damp it by a numerical damping ratio of "
+            f"{', '.join(worst.states)} ({worst.where}, damping ratio {worst.zeta:.3g}): "
+            f"ω·h = {worst.omega_h:.3g} > {OMEGA_H_MAX} (ROS2 would damp it by a numerical damping ratio of "
             f"{ros2_damping(worst.omega_h)[1]:.2g}); the largest step is {h_max:.3g} s "
             f"(or follow modes only up to a lower --follow than {follow_hz:g} Hz)")
     p = np.asarray(system.params, dtype=float)
@@ -278,8 +280,8 @@ def export_realtime(scenario, out, model: str | None = None, *, step: float = 1e
         info = RealtimeExport(out, out / _LIB, float(step), law, tuple(system.state_names),
                               tuple(system.input_names), tuple(system.output_names),
                               tuple(system.event_names), h_max, tuple(modes), check)
-        (part / "rt.json").write_text(json.dumps({**layout, **info.to_dict(),
-                                                  "out": None, "library": _LIB},
+        about = {k: v for k, v in info.to_dict().items() if k not in ("out", "library")}
+        (part / "rt.json").write_text(json.dumps({**layout, **about, "library": _LIB},
                                                  indent=2, allow_nan=False, default=float))
         export_fmu(sc, part / FMU_NAME, model, fmi="2", kind="cs", fixed_step=step)
         (part / "README.md").write_text(_readme(sc.name, law, step, system))
@@ -294,9 +296,10 @@ Fixed step {step:g} s, clutch law {law}.  Build with any C99 compiler:
     cc -O2 -std=c99 -c rt_kernel.c plant.c
 
 and call it as `clutchsim_rt.h` shows.  `{FMU_NAME}`: the same steps as an FMI 2.0
-co-simulation FMU (communication steps: multiples of {step:g} s).  Inputs (`s.u[CS_RT_U_<name>]`): {", ".join(
-        system.input_names)}.  States: {len(system.state_names)}; outputs:
-{len(system.output_names)} (names and units in rt.json and model.h).
+co-simulation FMU (communication steps: multiples of {step:g} s).
+Inputs (`s.u[CS_RT_U_<name>]`): {", ".join(system.input_names)}.
+States: {len(system.state_names)}; outputs: {len(system.output_names)} (names and units in
+rt.json and model.h).
 """
 
 
@@ -326,8 +329,9 @@ class RealtimeKernel:
         ``k``; ``(rec, status)``: after each step the signals ``record`` (names of states
         and outputs; all of them by default) as the rows of ``rec`` (NaN after the run
         ended), and the status (0 ran through, 1 stopped by an event of the plant, 2 the
-        step failed, 3 an event of the plant ended it as a failure: an engine stall).  ``parameters``: ``{name: value}`` of the plant's parameter vector
-        (``rt.json``'s ``parameters``) set after the reset."""
+        step failed, 3 an event of the plant ended it as a failure: an engine stall).
+        ``parameters``: ``{name: value}`` of the plant's parameter vector (``rt.json``'s
+        ``parameters``) set after the reset."""
         names = self.names if record is None else tuple(record)
         idx = np.array([self.names.index(n) for n in names], dtype=np.int32)
         u = np.ascontiguousarray(inputs, dtype=float).reshape(-1, max(self._nu, 1))
@@ -345,7 +349,9 @@ class RealtimeKernel:
         return rec, int(st)
 
 
-def _inputs_on(sc, names, t) -> np.ndarray:
+def sampled_inputs(sc, names, t) -> np.ndarray:
+    """The scenario's input signals ``names`` at the times ``t``: one row per time (a
+    column of zeros without inputs: the kernel's input array is never empty)."""
     return np.column_stack([np.broadcast_to(np.asarray(sc.inputs[n](t), dtype=float),
                                             t.shape) for n in names]) if names else \
         np.zeros((t.size, 1))
@@ -360,7 +366,7 @@ def run_realtime(kernel: RealtimeKernel, sc, t_end: float | None = None):
     t_end = sc.t_end if t_end is None else float(t_end)
     n = round(t_end / h)
     starts = np.arange(n) * h
-    u = _inputs_on(sc, kernel.info["inputs"], starts)
+    u = sampled_inputs(sc, kernel.info["inputs"], starts)
     rec, status = kernel.run(u)
     t = np.arange(1, n + 1) * h
     done = ~np.isnan(rec[:, 0])
@@ -398,9 +404,8 @@ def compare_realtime(kernel: RealtimeKernel, sc, model: str | None = None, *,
         out["engine_speed_max_error_rpm"] = float(np.max(np.abs(rt["omega_engine"] - w_ref))
                                                   * 30.0 / math.pi)
     warnings = []
-    if rt.status != reference.result.status:
-        warnings.append(f"the kernel's run {rt.status}, the variable-step run "
-                        f"{reference.result.status}")
+    if rt.status != ref.status:
+        warnings.append(f"the kernel's run {rt.status}, the variable-step run {ref.status}")
     for key, limit in AGREEMENT.items():
         v = out.get(key)
         err = v.get("relative_error") if isinstance(v, dict) else v
