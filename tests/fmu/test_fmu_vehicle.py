@@ -83,3 +83,33 @@ def test_fault_fmu_opens_the_clutch_as_clutchsim(tmp_path):
     for name in names:
         assert tube(f, res, name) <= TUBE, name
     assert energy_balance(f) < 1e-6
+
+
+@pytest.mark.slow
+def test_temperature_triggered_fault_fmu_strikes_as_clutchsim(tmp_path):
+    """hill_start.toml with the clutch losing a tenth of its capacity when the pressure plate
+    first exceeds 45 °C (a signal-triggered fault, docs/components.md, faults): the trigger
+    is an event indicator of the FMU, whose bank copies only the clutch's values, and
+    FMPy's run strikes it as clutchsim's does and follows it in the tube."""
+    text = (EXAMPLES / "hill_start.toml").read_text(encoding="utf-8")
+    old = 'name = "clutch"\ntype = "clutch"\n'
+    src = tmp_path / "trig.toml"
+    src.write_text(text.replace(old, old + "fault_temperature = 45.0\n"
+                                "fault_capacity_factor = 0.9\n"), encoding="utf-8")
+    sc = load_scenario(src)
+    path = tmp_path / "trig.fmu"
+    info = export_fmu(sc, path, None)
+    assert validate_fmu(str(path)) == []
+    name = "clutch: fault, capacity x 0.9 when pressure_plate first exceeds 45 °C"
+    assert name in info.event_indicators
+    res = run_scenario(sc, None, overrides=["solver.dt_out=1e-3"]).result
+    assert res.status == "completed", res.message
+    struck = [e.t for e in res.events if e.name == name]
+    assert len(struck) == 1 and 0.0 < struck[0] < sc.t_end
+    names = ["omega_engine", "omega_wheels", "theta_pressure_plate", "fault_clutch",
+             "E_kinetic", "E_spring", *ENERGY]
+    f = simulate(path, sc, names, 1e-8, 1e-3)
+    assert f["time"][-1] == pytest.approx(sc.t_end)
+    for n in names:
+        assert tube(f, res, n) <= TUBE, n
+    assert energy_balance(f) < 1e-6

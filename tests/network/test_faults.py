@@ -16,7 +16,14 @@ from clutchsim.cli import main
 from clutchsim.core import SolverOptions, simulate
 from clutchsim.friction import CoulombRobust
 from clutchsim.network import Network
-from clutchsim.network.components import Clutch, Inertia, SpringDamper, TorqueSource
+from clutchsim.network.components import (
+    Clutch,
+    Gearbox,
+    Inertia,
+    SpringDamper,
+    ThermalNode,
+    TorqueSource,
+)
 from clutchsim.network.components.friction import FAULT_LOCKED
 
 OPTS = SolverOptions(rtol=1e-10, atol=1e-12, dt_out=1e-3)
@@ -84,6 +91,57 @@ def test_capacity_loss_scales_the_sliding_torque():
 
 
 WN = math.sqrt(1e4 * (1 / JA + 1 / JB))      # the two-mass mode before the fault [rad/s]
+
+
+CAP, DT, JC = 500.0, 10.0, 0.3
+
+
+def triggered_rig(shift=None, factor=0.5):
+    """As :func:`rig`, with the clutch's heat into an adiabatic node (``CAP`` J/K, from
+    20 °C) and a capacity loss triggered at ``20 + DT`` °C; b drives a gearbox (2.0, then
+    1.5 from ``shift``) to c, which carries the load."""
+    return Network([TorqueSource("drive", input="tau"), Inertia("a", J=JA),
+                    Clutch("clutch", CoulombRobust(F_c=FC, F_s=1.2 * FC), "cmd",
+                           heat=(("disc", 1.0),), fault_temperature=20.0 + DT,
+                           fault_capacity_factor=factor),
+                    ThermalNode("disc", capacity=CAP, theta0=20.0), Inertia("b", J=JB),
+                    Gearbox("gb", (2.0, 1.5), shifts=() if shift is None else ((shift, 2),)),
+                    Inertia("c", J=JC), TorqueSource("load", input="tl")],
+                   [["drive.flange", "a.a"], ["a.b", "clutch.a"], ["clutch.b", "b.a"],
+                    ["b.b", "gb.a"],
+                    ["gb.b", "c.a"], ["c.b", "load.flange"]], name="fault_trigger_rig")
+
+
+def test_temperature_triggered_fault_strikes_once_when_the_heat_says():
+    """A slipping clutch heats an adiabatic node: ``C·ΔT = F_c·α·t²/2`` with the slip
+    acceleration ``α = (τ − F_c)/J_a − (F_c − τ_l/r)/(J_b + J_c/r²)`` (the load through the
+    gear of ratio r = 2), so the fault strikes at ``t* = sqrt(2·C·ΔT/(F_c·α))``, once, and
+    from there the clutch slides at half its torque."""
+    r = 2.0
+    alpha = (TAU - FC) / JA - (FC - LOAD / r) / (JB + JC / r ** 2)
+    t_star = math.sqrt(2.0 * CAP * DT / (FC * alpha))
+    res = run(triggered_rig(), t_end=1.5)
+    struck = [e for e in res.events if e.name.startswith("clutch: fault")]
+    assert [e.name for e in struck] == [
+        "clutch: fault, capacity x 0.5 when disc first exceeds 30 °C"]
+    assert struck[0].t == pytest.approx(t_star, rel=1e-8)
+    after = res.t > t_star + 1e-6
+    assert np.allclose(-res["T_friction_clutch"][after], 0.5 * FC, rtol=1e-9)
+    before = (res.t > 1e-6) & (res.t < t_star - 1e-6)     # at t = 0 it breaks away
+    assert np.allclose(-res["T_friction_clutch"][before], FC, rtol=1e-9)
+    assert res["fault_clutch"][0] == 0.0 and res["fault_clutch"][-1] == 1.0
+
+
+def test_a_gear_shift_after_a_triggered_fault_keeps_it_struck():
+    """The gearbox's shift is a timed bank of all values; it must not undo the fault that
+    its own event struck earlier (nor may the fault undo the shift)."""
+    res = run(triggered_rig(shift=1.2), t_end=1.5)
+    names = [e.name for e in res.events]
+    assert names.index("clutch: fault, capacity x 0.5 when disc first exceeds 30 °C") < \
+        next(i for i, n in enumerate(names) if n.startswith("gb"))
+    after = res.t > 1.2 + 1e-6
+    assert np.allclose(-res["T_friction_clutch"][after], 0.5 * FC, rtol=1e-9)
+    assert np.allclose(res["ratio_gb"][after], 1.5)
 
 
 def test_drag_increase_drags_the_open_clutch():
@@ -157,6 +215,17 @@ def test_damping_loss_keeps_the_balance():
     ('[[component]]\ntype = "inertia"\nname = "disc"\n',
      '[[component]]\ntype = "inertia"\nname = "disc"\nfault_time = 1.0\n',
      ["bad.toml:", "fault_time", "cannot have one", "clutch, brake and spring_damper"]),
+    ('[[component]]\ntype = "clutch"\nname = "clutch"\n',
+     ('[[component]]\ntype = "clutch"\nname = "clutch"\nfault_time = 1.0\n'
+      'fault_temperature = 250.0\nfault_capacity_factor = 0.5\n'),
+     ["bad.toml:", "fault_temperature", "= 250 °C and fault_time = 1 s are two triggers"]),
+    ('[[component]]\ntype = "clutch"\nname = "clutch"\n',
+     ('[[component]]\ntype = "clutch"\nname = "clutch"\nfault_temperature = 250.0\n'),
+     ["bad.toml:", "fault_temperature", "sets no fault to trigger"]),
+    ('[[component]]\ntype = "clutch"\nname = "clutch"\n',
+     ('[[component]]\ntype = "clutch"\nname = "clutch"\nfault_temperature = 250.0\n'
+      'fault_capacity_factor = 0.5\n'),
+     ["bad.toml:", "fault_temperature", "needs a thermal node (heat)"]),
 ])
 def test_bad_faults_are_refused_with_key_file_and_line(tmp_path, capsys, old, new, words):
     text = (EXAMPLES / "launch_tyre.toml").read_text(encoding="utf-8")
@@ -195,3 +264,33 @@ def test_fault_appears_in_the_summary_report_and_time_series(tmp_path, capsys):
     # 0.3 × 240 N·m still holds the car in first gear (2 events: lock-up, the fault)
     assert summary["models"]["coulomb-robust"]["events"] == 2
     assert summary["models"]["coulomb-robust"]["energy_balance_rel"] < 1e-8
+
+
+@pytest.mark.parametrize("limit, struck", [(41.0, True), (1500.0, False)])
+def test_triggered_fault_reports_when_it_struck_or_that_it_never_did(tmp_path, capsys,
+                                                                     limit, struck):
+    """summary.json's ``time_s`` of a temperature-triggered fault is its event's time in
+    the run, and null where the temperature never got there."""
+    import json
+    text = (EXAMPLES / "hill_start.toml").read_text(encoding="utf-8")
+    old = 'name = "clutch"\ntype = "clutch"\n'
+    assert old in text
+    path = tmp_path / "trig.toml"
+    path.write_text(text.replace(old, old + f"fault_temperature = {limit}\n"
+                                 "fault_capacity_factor = 0.9\n"), encoding="utf-8")
+    out = tmp_path / "o"
+    assert main(["run", str(path), "--out", str(out), "--no-plots", "--json", "--model",
+                 "coulomb-robust"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    (fault,) = summary["faults"]
+    assert fault["fault"] == f"capacity x 0.9 when pressure_plate first exceeds {limit:g} °C"
+    ts = __import__("pandas").read_csv(out / "timeseries.csv")
+    col = next(c for c in ts.columns if c.startswith("fault_clutch"))
+    if struck:
+        theta = next(c for c in ts.columns if c.startswith("theta_pressure_plate"))
+        hot = ts["time [s]"][ts[theta] > limit].iloc[0]
+        assert fault["time_s"] is not None and 0.0 < fault["time_s"] <= hot
+        assert ts[col].iloc[-1] == 1.0
+    else:
+        assert fault["time_s"] is None
+        assert ts[col].iloc[-1] == 0.0

@@ -37,7 +37,8 @@ element is a friction clutch, and the network has a vehicle or an engine) gets
 summary.json {"models": {MODEL: {"outcome", "warnings", metric: value}}, "failed":
 [MODEL, ...]}, launch_<model>.png and, with several models, comparison.png.  A
 scenario with faults adds "faults": [{"component", "kind", "fault", "time_s"}, ...] (what
-fails, when; docs/components.md, faults).  Any other
+fails, when it struck in the first model's run: null for a temperature-triggered fault
+that never did; docs/components.md, faults).  Any other
 network gets summary.json {"runs": {LABEL: {"outcome", "warnings", "speeds",
 "energies", "friction_elements", "temperatures", "located_events", ...}}, "failed": [LABEL,
 ...]} and network_<label>.png; LABEL is the scenario's name, or the model's where several
@@ -95,9 +96,6 @@ def _run(args, out) -> int:
         with out.build() as part:
             summary = write_runs(sc, models, part, plots=not args.no_plots, progress=bar)
             summary["failed"] = [n for n, m in _runs(summary).items() if not m["completed"]]
-            faults = declared_faults(sc, models[0])
-            if faults:
-                summary["faults"] = faults
             atomic_write(part / "summary.json", lambda p: p.write_text(
                 json.dumps(summary, indent=2, allow_nan=False, default=float)))
             write_command(part, args.argv)
@@ -116,18 +114,6 @@ def _run(args, out) -> int:
                                + "; ".join(f"{n} ({m[n]['outcome']}): {m[n]['message']}"
                                            for n in failed))
     return 0
-
-
-def declared_faults(sc, model) -> list[dict]:
-    """The faults the scenario declares (docs/components.md, faults): component, what fails
-    and when, for summary.json and the report."""
-    out = []
-    for c in sc.network(model).components:
-        what = c.fault_description() if hasattr(c, "fault_description") else None
-        if what:
-            out.append({"component": c.name, "kind": c.kind, "fault": what,
-                        "time_s": float(c.values["fault_time"])})
-    return out
 
 
 def _runs(summary: dict) -> dict:

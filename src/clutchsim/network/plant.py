@@ -129,7 +129,9 @@ class Plan:
         self.tables: dict = {}
         size = 0
         self._pack_shape = []
+        self.value_range: dict = {}     # component -> (first, end) of its values in p
         for c in comps:
+            first = size
             for key, val in c.pack().items():
                 if np.ndim(val) == 0:
                     self.slot[(c.name, key)] = size
@@ -141,6 +143,7 @@ class Plan:
                                                   n_val)
                     size += n_val
                     self._pack_shape.append((c.name, key, n_val))
+            self.value_range[c.name] = (first, size)
         self.n_values = size
         self._table_size = {(c, k): n for c, k, n in self._pack_shape if n}
         self._reductions: dict = {}
@@ -270,6 +273,16 @@ class Plan:
         entries = []
         for b, (name, j) in enumerate(self.banks):
             t, changes = cur[name].schedule()[j]
+            if t is None:
+                # a triggered change (a temperature-triggered fault): its time is the run's,
+                # so its bank is the start's values with this component's changed, and the
+                # plant copies only that component's values (render.py, _bank)
+                one = [c.with_values(**changes) if c.name == name else c for c in comps]
+                out[base * (b + 1):base * (b + 2)] = p_b = self._values(one)
+                if not np.array_equal(p_b[self.n_values:], p0[self.n_values:]):
+                    raise NetworkError(f"{cur[name].label}: a triggered change may not change "
+                                       "inertias or rigid relations", name)
+                continue
             entries.append(((float(t), order[name], j), name, changes, b))
         for _key, name, changes, b in sorted(entries, key=lambda x: x[0]):
             cur[name] = cur[name].with_values(**changes)

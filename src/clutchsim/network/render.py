@@ -79,6 +79,11 @@ class _PlantRenderer:
         for ev in self.banks:
             plan.banks.append((ev[4], counts.get(ev[4], 0)))
             counts[ev[4]] = counts.get(ev[4], 0) + 1
+        # banks without a time (triggered changes, Component.schedule): the component whose
+        # values each one switches, else None
+        comps = {c.name: c for c in plan.net.components}
+        self.triggered = [name if comps[name].schedule()[j][0] is None else None
+                          for name, j in plan.banks]
 
     # ------------------------------------------------------------ helpers
     def inv_mass(self, i, j):
@@ -710,8 +715,25 @@ class _PlantRenderer:
             return L + ["    return", ""]
         base = P.n_params
         body = [f"w{n} = {P.node_speed(n)}" for n in range(nn)]
-        body += ["ke0 = _ke(y, p)", f"o = {base} * (b + 1)",
-                 f"for i in range({base}):", "    p[i] = p[o + i]"]
+        body += ["ke0 = _ke(y, p)", f"o = {base} * (b + 1)"]
+        # a triggered bank copies its component's values only; a timed one all but those
+        # of the triggered components, whose values only their own banks change (so a
+        # fault struck before a gear shift stays struck after it)
+        trig = [(b, P.value_range[n]) for b, n in enumerate(self.triggered) if n is not None]
+        spans, start = [], 0            # what a timed bank copies: all but trig's values
+        for lo, hi in sorted(r for _b, r in trig):
+            spans += [(start, lo)] if lo > start else []
+            start = hi
+        spans.append((start, base))
+        timed = [ln for lo, hi in spans
+                 for ln in (f"for i in range({lo}, {hi}):", "    p[i] = p[o + i]")]
+        for b, (lo, hi) in trig:
+            body += [f"if b == {b}:", f"    for i in range({lo}, {hi}):",
+                     "        p[i] = p[o + i]"]
+        if trig:
+            body += [f"if {' and '.join(f'b != {b}' for b, _r in trig)}:"]
+            timed = ["    " + ln for ln in timed]
+        body += timed
         for k in range(nv):
             terms = [f"{P.N(n, k)} * {self.node_inertia(n)} * w{n}" for n in range(nn)
                      if asm.pattern[n][k]]

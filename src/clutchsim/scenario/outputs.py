@@ -11,9 +11,24 @@ from pathlib import Path
 from .._util import atomic_write
 from ..analysis.network_summary import network_summary
 
-__all__ = ["file_label", "write_runs"]
+__all__ = ["declared_faults", "file_label", "write_runs"]
 
 log = logging.getLogger("clutchsim")
+
+
+def declared_faults(scenario, model, result) -> list[dict]:
+    """The faults ``scenario`` declares (docs/components.md, faults): component, what fails
+    and when it struck in ``result`` (its run with ``model``), for summary.json and the
+    report.  ``time_s``: the fault's event in the run; None where a triggered fault never
+    struck."""
+    out = []
+    for c in scenario.network(model).components:
+        what = c.fault_description() if hasattr(c, "fault_description") else None
+        if what:
+            struck = [e.t for e in result.events if e.name.startswith(f"{c.name}: fault")]
+            out.append({"component": c.name, "kind": c.kind, "fault": what,
+                        "time_s": float(struck[0]) if struck else None})
+    return out
 
 
 def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
@@ -66,6 +81,9 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
         log.info("  %s: %s", label, doc["message"])
     if progress is not None:
         progress(len(models), len(models))
+    faults = declared_faults(scenario, models[0], next(iter(runs.values())))
+    if faults:
+        summary["faults"] = faults
     atomic_write(directory / "summary.json",
                  lambda p: Path(p).write_text(json.dumps(summary, indent=2, allow_nan=False,
                                                          default=float)))

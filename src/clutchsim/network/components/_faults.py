@@ -23,7 +23,11 @@ class FaultPhase:
         new = super().with_values(**changes)
         if phase is not None:
             new.fault_phase = int(phase)
+        new.check_fault()
         return new
+
+    def check_fault(self) -> None:
+        """Checks of its fault keys together (at construction and after with_values)."""
 
     def format_values(self) -> dict:
         """Its values and ``fault_description``, for its event names."""

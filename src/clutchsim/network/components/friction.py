@@ -63,7 +63,11 @@ class _FrictionElement(FaultPhase, Component):
                     low=0.0, high=1e9),
               Param("fault_drag", "N·m", "fault: drag torque added from fault_time on "
                     "(a dragging clutch, a binding brake): drag + fault_drag", default=0.0,
-                    low=0.0, high=1e6))
+                    low=0.0, high=1e6),
+              Param("fault_temperature", "°C", "fault trigger: > 0, the fault strikes when "
+                    "the temperature of the element's first heat node first rises past it "
+                    "(a signal-triggered fault, instead of at fault_time); 0: at fault_time",
+                    default=0.0, low=0.0, high=2000.0))
     side_a = "a"
     side_b = "b"
     #: the element reads its actuation from an input signal (False: always fully applied)
@@ -113,10 +117,40 @@ class _FrictionElement(FaultPhase, Component):
         self.wear = wear
         self.locked0 = locked0
         self.z0 = None if z0 is None else tuple(float(v) for v in z0)
+        self.check_fault()
+
+    # the flags below decide the generated equations; read from the values each time, they
+    # follow a with_values (a flag set once in __init__ did not: a copy with a fault
+    # changed by with_values kept the equations of the fault it had)
+    @property
+    def has_fault(self) -> bool:
         v = self.values
-        self.has_fault = (v.get("fault_capacity_factor", 1.0) != 1.0
-                          or v.get("fault_drag", 0.0) > 0.0)
-        self.has_drag = v.get("drag", 0.0) != 0.0 or v.get("fault_drag", 0.0) > 0.0
+        return v.get("fault_capacity_factor", 1.0) != 1.0 or v.get("fault_drag", 0.0) > 0.0
+
+    @property
+    def has_drag(self) -> bool:
+        return self.values.get("drag", 0.0) != 0.0 or self.values.get("fault_drag", 0.0) > 0.0
+
+    @property
+    def fault_triggered(self) -> bool:
+        """Is its fault temperature-triggered (``fault_temperature`` > 0)?"""
+        return self.values.get("fault_temperature", 0.0) > 0.0
+
+    def check_fault(self) -> None:
+        """A temperature-triggered fault: a fault to trigger, one trigger, a heat node."""
+        if not self.fault_triggered:
+            return
+        v, o = self.values, self.label
+        why = ("sets no fault to trigger (fault_capacity_factor 1, fault_drag 0)"
+               if not self.has_fault else
+               f"and fault_time = {v['fault_time']:g} s are two triggers: a fault has one "
+               "(fault_time 0 with fault_temperature)" if v["fault_time"] > 0.0 else
+               "needs a thermal node (heat) whose temperature triggers it"
+               if not self.heat else None)
+        if why is not None:
+            err = ValueError(f"{o}: fault_temperature = {v['fault_temperature']:g} °C {why}")
+            err.key = "fault_temperature"   # the scenario key it concerns (scenario/build.py)
+            raise err
 
     def schedule(self) -> tuple:
         """Its fault: from ``fault_time`` on the capacity's factor (``_faults.py``)."""
@@ -125,7 +159,8 @@ class _FrictionElement(FaultPhase, Component):
         change = {"fault_phase": 1}
         if self.values["fault_drag"] > 0.0:
             change["drag"] = self.values["drag"] + self.values["fault_drag"]
-        return ((self.values["fault_time"], change),)
+        # a temperature-triggered fault has no time: its event strikes it (``None``)
+        return ((None if self.fault_triggered else self.values["fault_time"], change),)
 
     def fault_description(self) -> str | None:
         """What fails and when (None: no fault), for the outputs' events and the report."""
@@ -137,6 +172,9 @@ class _FrictionElement(FaultPhase, Component):
             else f"capacity x {f:g}"]
         if drag > 0.0:
             what.append(f"drag +{drag:g} N·m")
+        if self.fault_triggered:
+            return (f"{', '.join(what)} when {self.heat[0][0]} first exceeds "
+                    f"{self.values['fault_temperature']:g} °C")
         return f"{', '.join(what)} at {self.values['fault_time']:g} s"
 
     @property
@@ -167,7 +205,8 @@ class _FrictionElement(FaultPhase, Component):
         return (self.model.name, self.model.code, self.model.n_states,
                 self.model.event_names(), len(self.model.pack()), self.command, tabs,
                 tuple(n for n, _ in self.heat), self.has_drag, self.runout is not None,
-                self.wear is not None, self.reads_force, self.has_fault)
+                self.wear is not None, self.reads_force, self.has_fault,
+                self.has_fault and self.fault_triggered)
 
     def slip(self):
         return {self.side_b: 1.0, self.side_a: -1.0}
@@ -314,8 +353,14 @@ class _FrictionElement(FaultPhase, Component):
             for k, (key, d) in enumerate(self._partials):
                 self._partials[k] = (key, f"({d}) * {fac}")
             e.line(f"{sc} = {sc} * {fac}")
-            e.event(f"{self.name}: fault, {{fault_description}}", 1,
-                    f"t - {e.par('fault_time')}", "bank")
+            if self.fault_triggered:
+                # the first heat node's temperature rising past fault_temperature, once:
+                # fault_on (1 from the fault on) lowers the function out of reach after it
+                trigger = (f"{e.theta(self.heat[0][0])} - {e.par('fault_temperature')} - "
+                           f"1e6 * {e.par('fault_on')}")
+            else:
+                trigger = f"t - {e.par('fault_time')}"
+            e.event(f"{self.name}: fault, {{fault_description}}", 1, trigger, "bank")
             e.output(f"fault_{self.name}", "-", e.par("fault_on"))
         if self.commanded:
             self._partials += e.chain(self.command, dx)
@@ -345,7 +390,7 @@ class Clutch(_FrictionElement):
     kind = "clutch"
     title = "friction clutch (any friction model)"
     flanges = ("a", "b")
-    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag")
+    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag", "fault_temperature")
 
 
 class Brake(_FrictionElement):
@@ -354,7 +399,7 @@ class Brake(_FrictionElement):
     kind = "brake"
     title = "friction brake (any friction model)"
     flanges = ("flange", "support")
-    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag")
+    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag", "fault_temperature")
     grounded = ("support",)
     side_a = "support"
     side_b = "flange"

@@ -84,9 +84,12 @@ class SpringDamper(FaultPhase, TwistCoupling):
         if self.knee > 0.0 and self.c2 <= 0.0:
             raise ValueError(f"{self.label}: a two-stage spring (knee = {self.knee:g} rad > 0) "
                              "needs c2 > 0 N·m/rad")
+
+    @property
+    def has_fault(self) -> bool:
+        # read from the values each time: it follows a with_values
         v = self.values
-        self.has_fault = (v.get("fault_stiffness_loss", 0.0) > 0.0
-                          or v.get("fault_damping_loss", 0.0) > 0.0)
+        return v.get("fault_stiffness_loss", 0.0) > 0.0 or v.get("fault_damping_loss", 0.0) > 0.0
 
     def options(self):
         return (self.has_fault,)
