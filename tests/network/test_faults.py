@@ -294,3 +294,20 @@ def test_triggered_fault_reports_when_it_struck_or_that_it_never_did(tmp_path, c
     else:
         assert fault["time_s"] is None
         assert ts[col].iloc[-1] == 0.0
+
+
+@pytest.mark.parametrize("make, changes", [
+    (lambda **v: Clutch("c", CoulombRobust(F_c=FC, F_s=1.2 * FC), "cmd", **v),
+     {"fault_time": 0.5, "fault_capacity_factor": 0.5}),
+    (lambda **v: Clutch("c", CoulombRobust(F_c=FC, F_s=1.2 * FC), "cmd", **v),
+     {"drag": 2.0}),
+    (lambda **v: SpringDamper("s", c=100.0, **v),
+     {"fault_time": 0.5, "fault_stiffness_loss": 0.5}),
+])
+def test_with_values_gives_the_equations_construction_gives(make, changes):
+    """A value that decides the equations (a fault, a drag) set by with_values gives the
+    same structure and packed values as the component built with it (they were flags set
+    once in __init__: a copy kept the equations of the values it was built with)."""
+    built, changed = make(**changes), make().with_values(**changes)
+    assert changed.options() == built.options()
+    assert changed.pack().keys() == built.pack().keys()
