@@ -21,8 +21,8 @@ from .judder_band import JUDDER_BAND_HZ, JUDDER_SLIP_RAD_S
 
 __all__ = ["DT_OUT_MAX_S", "ENERGY_STATES", "LAUNCH_DRIVES", "LOCK_HOLD", "LOCK_SLIP",
            "STEP_RATE_LIMIT", "RunSummary", "analyse_run", "energy_balance", "grid_problem",
-           "is_launch", "launch_metrics", "launch_warnings", "metrics_of", "warnings_of",
-           "with_weighted_acceleration"]
+           "is_launch", "launch_metrics", "launch_warnings", "metrics_of",
+           "shaft_torque_metrics", "warnings_of", "with_weighted_acceleration"]
 
 #: energy-account states of a launch driveline (integrals) [J]: the work put in, then the
 #: losses and stores it goes to (:func:`energy_balance`)
@@ -414,6 +414,48 @@ def metrics_of(sm: RunSummary, clutch: str) -> dict:
     m.update(steps=sm.steps, rhs_evals=sm.rhs_evals, events=sm.events,
              min_step_s=sm.min_step_s, wall_s=sm.wall_s)
     return m
+
+
+def _grid_peak(t: np.ndarray, x: np.ndarray) -> float:
+    """The largest value of the sampled signal ``x(t)``, refined by the parabola through the
+    largest sample and its neighbours (the vertex, where it lies between them): a peak read
+    off the samples alone is low by up to ``(ω·Δt)²/8`` of an oscillation at ω.  The clutch
+    dump's driveshaft peak on a 10 ms grid: the largest sample 0.25 % low, the vertex
+    0.05 % (against a 0.2 ms grid; tests/network/test_abuse.py)."""
+    k = int(np.argmax(x))
+    if 0 < k < x.size - 1:
+        (ta, tb, tc), (a, b, c) = t[k - 1:k + 2], x[k - 1:k + 2]
+        den = (ta - tb) * (ta - tc) * (tb - tc)
+        p2 = (tc * (b - a) + tb * (a - c) + ta * (c - b)) / den
+        p1 = (tc * tc * (a - b) + tb * tb * (c - a) + ta * ta * (b - c)) / den
+        if p2 < 0.0:
+            tv = -p1 / (2.0 * p2)
+            if ta <= tv <= tc:
+                return float(b + p1 * (tv - tb) + p2 * (tv * tv - tb * tb))
+    return float(x[k])
+
+
+def shaft_torque_metrics(res: Result, clutch: str, shaft: str, ratio: float) -> dict:
+    """The abuse-case metrics of a shaft (a clutch dump's driveshaft, docs/components.md,
+    abuse load cases): ``peak_shaft_torque_Nm``, the largest ``|T_<shaft>|`` of the run
+    (:func:`_grid_peak`); ``shaft_capacity_Nm``, the clutch's nominal capacity (the largest
+    static capacity ``capacity_<clutch>`` of the run) times ``ratio``, the gears' ratio
+    from the clutch's output to the shaft (:meth:`clutchsim.network.network.Assembly.
+    static_ratio`): what the clutch can put through the shaft quasi-statically; and
+    ``peak_shaft_torque_over_capacity``, their quotient (above 1: the impact overshoots
+    what the clutch can hold)."""
+    torque = res.data.get(f"T_{shaft}")
+    cap = res.data.get(f"capacity_{clutch}")
+    out = {"peak_shaft_torque_Nm": None, "shaft_capacity_Nm": None,
+           "peak_shaft_torque_over_capacity": None}
+    if torque is None or not torque.size:
+        return out
+    peak = _grid_peak(res.t, np.abs(torque))
+    out["peak_shaft_torque_Nm"] = peak
+    if cap is not None and cap.size and np.max(cap) > 0.0:
+        out["shaft_capacity_Nm"] = capacity = float(np.max(cap)) * abs(ratio)
+        out["peak_shaft_torque_over_capacity"] = peak / capacity
+    return out
 
 
 def analyse_run(res: Result, clutch: str = "clutch", *, expect_lockup: bool = True,

@@ -315,6 +315,27 @@ class Assembly:
                 owners.append((c, i))
         return np.array(rows), owners
 
+    def static_ratio(self, frm: tuple[str, str], to: tuple[str, str]) -> float | None:
+        """``ω_frm/ω_to`` with every compliant coupling (a declared ``twist_flanges``: springs,
+        lash, mounts, dual-mass flywheels) held rigid: the ratio of the gears between the two
+        flanges, by which a torque at ``frm`` reaches ``to`` in a quasi-static driveline.
+        ``frm``/``to``: (component, flange).  None when no gear path joins them (a friction
+        element or a differential between, a flange at rest)."""
+        rows = [self.G]
+        for c in self.net.components:
+            pair = getattr(c, "twist_flanges", None)
+            if pair:
+                r = np.zeros(self.n_nodes)
+                r[self.node_of[(c.name, pair[0])]] += 1.0
+                r[self.node_of[(c.name, pair[1])]] -= 1.0
+                rows.append(r[None, :])
+        N, _free, _rank = self.reduce(np.vstack(rows))
+        a, b = N[self.node_of[frm]], N[self.node_of[to]]
+        k = int(np.argmax(np.abs(b)))
+        if b[k] == 0.0 or not np.allclose(a, a[k] / b[k] * b, rtol=1e-12, atol=1e-14):
+            return None
+        return float(a[k] / b[k])
+
     def node_inertia(self) -> np.ndarray:
         """Inertia at each node [kg·m²]."""
         J = np.zeros(self.n_nodes)

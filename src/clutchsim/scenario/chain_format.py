@@ -37,11 +37,13 @@ _NAMES = {"engine": "engine_torque", "vehicle": "vehicle"}
 #: types or None for all) -> {key: (network component type, the key it becomes there,
 #: doc, required)}; a ``node`` becomes a connection (type and key None: a string)
 CHAIN_ONLY = {
-    ("inertia", None): {"load": ("torque", "input", "Input signal applied as a torque on "
-                                 "this inertia [N·m] (a `torque` component on it).", False)},
+    ("inertia", None): {"load": ("torque", "input", ("Input signal applied as a torque on "
+                                                    "this inertia [N·m] (a `torque` "
+                                                    "component on it)."), False)},
     ("coupling", ("clutch", "one_way_clutch", "spring_damper")): {
-        "ratio": ("ideal_gear", "ratio", "Ideal ratio on the input side (an `ideal_gear` "
-                  "between inertia k and the coupling; 1: none).", False)},
+        "ratio": ("ideal_gear", "ratio", ("Ideal ratio on the input side (an `ideal_gear` "
+                                          "between inertia k and the coupling; 1: none)."),
+                  False)},
     ("brake", None): {"node": (None, None, "Inertia the brake acts on.", True)},
     ("engine", None): {"node": (None, None, "Inertia the engine drives.", True)},
 }

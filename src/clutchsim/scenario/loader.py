@@ -487,7 +487,27 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
                     set_by=set_by, compare=compare)
     net = scen.network()   # build once: component-level validation errors surface here
     _check_input_ranges(scen, net)
+    if "shaft" in sc:
+        _check_shaft(scen, net, sc["shaft"], fail)
     return scen
+
+
+def _check_shaft(scen: Scenario, net, shaft: str, fail) -> None:
+    """``[scenario] shaft``: a compliant coupling geared to the clutch's output."""
+    names = [c.name for c in net.components if getattr(c, "twist_flanges", None)]
+    if shaft not in names:
+        fail(f"= {shaft!r} is not a compliant coupling of the network{suggest(shaft, names)} "
+             f"(the peak torque is read from one: {', '.join(names) or 'none'})",
+             "scenario.shaft")
+    clutch = net.component(scen.clutch) if scen.clutch in [c.name for c in net.components] \
+        else None
+    frm = (clutch.name, clutch.side_b) if clutch is not None and \
+        getattr(clutch, "side_b", None) else None
+    sh = net.component(shaft)
+    if frm is None or net.compile().asm.static_ratio(frm, (shaft, sh.twist_flanges[0])) is None:
+        fail(f"= {shaft!r}: no gears join it to the output of the clutch {scen.clutch!r} (the "
+             "shaft's capacity is the clutch's times their ratio): name a shaft behind the "
+             "clutch on its gear path", "scenario.shaft")
 
 
 def _check_input_ranges(scen: Scenario, net) -> None:

@@ -14,13 +14,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..analysis.actuation import controller_warnings, has_controller
-from ..analysis.launch_metrics import LAUNCH_DRIVES, analyse_run, grid_problem, is_launch
+from ..analysis.launch_metrics import (
+    LAUNCH_DRIVES,
+    analyse_run,
+    grid_problem,
+    is_launch,
+    shaft_torque_metrics,
+)
 from ..core import Result, SolverOptions, simulate
 from .loader import resolve_scenario
 
 __all__ = ["LAUNCH_DRIVES", "LaunchResult", "batch_reason", "engine_max_speed",
            "expects_lockup", "is_launch", "lining_geometry", "run_batch", "run_scenario",
-           "surface_node"]
+           "shaft_ratio", "surface_node"]
 
 @dataclass(frozen=True)
 class LaunchResult:
@@ -72,6 +78,10 @@ def run_system(scenario, system, model: str | None = None, *, solver: str | None
                                lining=lining_geometry(scenario),
                                engine_max_radps=engine_max_speed(scenario),
                                surface_node=surface_node(scenario))
+    shaft = scenario.data["scenario"].get("shaft")
+    if shaft:
+        metrics.update(shaft_torque_metrics(res, scenario.clutch, shaft,
+                                            shaft_ratio(scenario, model)))
     extra = controller_warnings(scenario, system, res)
     if extra:
         res = res.with_warnings(*extra)
@@ -86,6 +96,8 @@ def batch_reason(scenario, system) -> str:
         return "a controller's stability check needs each run's result"
     if surface_node(scenario):
         return "the friction-surface temperature is read from each run's result"
+    if scenario.data["scenario"].get("shaft"):
+        return "the shaft's peak torque is read from each run's result"
     from ..analysis.launch_batch import batch_supported
     return batch_supported(system, (0.0, scenario.t_end), scenario.clutch)
 
@@ -123,6 +135,17 @@ def _check_grid(scenario, options: SolverOptions) -> None:
     why = grid_problem(options.dt_out)
     if why:
         raise ValueError(f"{scenario.name}: {why}")
+
+
+def shaft_ratio(scenario, model: str | None = None) -> float:
+    """The gears' ratio from the output of the scenario's clutch to its ``[scenario] shaft``
+    (:meth:`clutchsim.network.network.Assembly.static_ratio`; the loader checked that one
+    exists)."""
+    net = scenario.network(model)
+    clutch, shaft = net.component(scenario.clutch), net.component(
+        scenario.data["scenario"]["shaft"])
+    return net.compile().asm.static_ratio((clutch.name, clutch.side_b),
+                                       (shaft.name, shaft.twist_flanges[0]))
 
 
 def surface_node(scenario) -> str | None:

@@ -50,6 +50,11 @@ SCENARIO = (
     Key("expect_lockup", "bool", "Whether that element should lock up during the run: if it "
         "never does, the run gets a warning (default: true when it is a `clutch`, as in a "
         "launch; false for the other kinds)."),
+    Key("shaft", "str", "A compliant coupling (a `spring_damper`, a lash, ...) whose peak "
+        "torque each run reports against what the clutch can put through it: "
+        "`peak_shaft_torque_Nm`, `shaft_capacity_Nm` (the clutch's nominal capacity times "
+        "the gears' ratio to the shaft), `peak_shaft_torque_over_capacity` (the abuse load "
+        "cases of clutch sizing, docs/components.md)."),
     Key("compare", "str", "Another scenario file (relative to this one) to compare this "
         "launch with: `clutchsim run` runs it too and writes `quality_comparison.json` (the "
         "launch-quality metrics, one row per launch, in the report) and "
