@@ -13,7 +13,7 @@ from _dl_paths import EXAMPLES
 
 from clutchsim.analysis.launch_metrics import energy_balance
 from clutchsim.cli import main
-from clutchsim.core import SolverOptions, simulate
+from clutchsim.core import Ramp, SolverOptions, simulate
 from clutchsim.friction import CoulombRobust
 from clutchsim.network import Network
 from clutchsim.network.components import (
@@ -132,6 +132,27 @@ def test_temperature_triggered_fault_strikes_once_when_the_heat_says():
     assert res["fault_clutch"][0] == 0.0 and res["fault_clutch"][-1] == 1.0
 
 
+def test_input_triggered_fault_strikes_where_the_signal_crosses_one_half():
+    """``fault_input``: the fault strikes where its signal, a ramp from 0 at 0.3 s to 1 at
+    0.7 s, first passes 0.5 (0.5 s, located), once, although the signal stays above."""
+    net = Network([TorqueSource("drive", input="tau"), Inertia("a", J=JA),
+                   Clutch("clutch", CoulombRobust(F_c=FC, F_s=1.2 * FC), "cmd",
+                          fault_input="flag", fault_capacity_factor=0.25),
+                   Inertia("b", J=JB), TorqueSource("load", input="tl")],
+                  [["drive.flange", "a.a"], ["a.b", "clutch.a"], ["clutch.b", "b.a"],
+                   ["b.b", "load.flange"]], name="fault_input_rig")
+    res = simulate(net.build(), (0.0, 1.0), {"tau": TAU, "tl": -LOAD, "cmd": 1.0,
+                                             "flag": Ramp(0.3, 0.4, 1.0)}, options=OPTS)
+    assert res.status == "completed", res.message
+    assert energy_balance(res)["energy_balance_rel"] < 1e-8
+    struck = [e for e in res.events if e.name.startswith("clutch: fault")]
+    assert [e.name for e in struck] == ["clutch: fault, capacity x 0.25 when flag first "
+                                        "rises past 0.5"]
+    assert struck[0].t == pytest.approx(0.5, abs=1e-9)
+    after = res.t > 0.5 + 1e-6
+    assert np.allclose(-res["T_friction_clutch"][after], 0.25 * FC, rtol=1e-9)
+
+
 def test_a_gear_shift_after_a_triggered_fault_keeps_it_struck():
     """The gearbox's shift is a timed bank of all values; it must not undo the fault that
     its own event struck earlier (nor may the fault undo the shift)."""
@@ -218,7 +239,7 @@ def test_damping_loss_keeps_the_balance():
     ('[[component]]\ntype = "clutch"\nname = "clutch"\n',
      ('[[component]]\ntype = "clutch"\nname = "clutch"\nfault_time = 1.0\n'
       'fault_temperature = 250.0\nfault_capacity_factor = 0.5\n'),
-     ["bad.toml:", "fault_temperature", "= 250 °C and fault_time = 1 s are two triggers"]),
+     ["bad.toml:", "fault_temperature", "= 250 °C and fault_time = 1 s are 2 triggers"]),
     ('[[component]]\ntype = "clutch"\nname = "clutch"\n',
      ('[[component]]\ntype = "clutch"\nname = "clutch"\nfault_temperature = 250.0\n'),
      ["bad.toml:", "fault_temperature", "sets no fault to trigger"]),
@@ -226,6 +247,14 @@ def test_damping_loss_keeps_the_balance():
      ('[[component]]\ntype = "clutch"\nname = "clutch"\nfault_temperature = 250.0\n'
       'fault_capacity_factor = 0.5\n'),
      ["bad.toml:", "fault_temperature", "needs a thermal node (heat)"]),
+    ('[[component]]\ntype = "clutch"\nname = "clutch"\n',
+     ('[[component]]\ntype = "clutch"\nname = "clutch"\nfault_input = "throttle"\n'
+      'fault_time = 1.0\nfault_capacity_factor = 0.5\n'),
+     ["bad.toml:", "fault_input", "= 'throttle' and fault_time = 1 s are 2 triggers"]),
+    ('[[component]]\ntype = "clutch"\nname = "clutch"\n',
+     ('[[component]]\ntype = "clutch"\nname = "clutch"\nfault_input = "no_such"\n'
+      'fault_capacity_factor = 0.5\n'),
+     ["bad.toml:", "fault_input", "no_such"]),
 ])
 def test_bad_faults_are_refused_with_key_file_and_line(tmp_path, capsys, old, new, words):
     text = (EXAMPLES / "launch_tyre.toml").read_text(encoding="utf-8")

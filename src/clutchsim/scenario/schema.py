@@ -103,6 +103,11 @@ FRICTION_ELEMENT = (
         "E_a = J/mol, theta_ref = °C, theta_crit = °C, crit_gain = 1/K, shift = 1/m}` "
         "(clutchsim.network.wear; needs `heat`): adds the state `wear_<name>` [m]."),
 )
+#: the signal that strikes a clutch's or brake's fault (docs/components.md, faults)
+FAULT_INPUT = Key("fault_input", "str", "Fault trigger: an input signal; the fault "
+                  "(`fault_capacity_factor`, `fault_drag`) strikes when it first rises past "
+                  "0.5, instead of at `fault_time` (fault injection from a test bench or an "
+                  "FMU input).")
 #: the lining geometry keys of a clutch: the launch metrics read them, the plant does not
 LINING = (
     _n("r_inner", "Inner radius of the friction linings (with `r_outer`; only for the "
@@ -152,8 +157,8 @@ def _component_keys(cls) -> tuple:
                         required=p.default is None and not optional,
                         low=p.low, high=p.high, strict=p.strict, nonzero=p.nonzero))
     extra = {
-        "clutch": (*FRICTION_ELEMENT, RUNOUT, *LINING),
-        "brake": (*FRICTION_ELEMENT, RUNOUT),
+        "clutch": (*FRICTION_ELEMENT, RUNOUT, FAULT_INPUT, *LINING),
+        "brake": (*FRICTION_ELEMENT, RUNOUT, FAULT_INPUT),
         "dual_mass_flywheel": (FRICTION_ELEMENT[1], *FRICTION_ELEMENT[3:6]),
         "torque_converter": (
             Key("speed_ratio", "numbers", "Speed ratios turbine/pump of the tables, strictly "

@@ -73,11 +73,17 @@ class _FrictionElement(FaultPhase, Component):
     #: the element reads its actuation from an input signal (False: always fully applied)
     commanded = True
 
+    #: its input signals beside the command (the scenario builder checks they exist)
+    signal_keys = ("fault_input",)
+
     def __init__(self, name, model, command, clamp_table=None, mu_temperature=None,
                  mu_slip=None, heat=(), locked0=None, z0=None, runout=None, wear=None,
-                 **values):
+                 fault_input=None, **values):
         super().__init__(name, **values)
         o = self.label
+        if fault_input is not None and (not isinstance(fault_input, str) or not fault_input):
+            raise ValueError(f"{o}: fault_input = {fault_input!r} must name an input signal")
+        self.fault_input = fault_input
         self.runout = None
         if runout is not None:
             amp, order = (float(v) for v in runout)
@@ -132,24 +138,39 @@ class _FrictionElement(FaultPhase, Component):
         return self.values.get("drag", 0.0) != 0.0 or self.values.get("fault_drag", 0.0) > 0.0
 
     @property
+    def fault_trigger(self) -> str:
+        """What strikes its fault: ``"time"`` (``fault_time``), ``"temperature"`` (its
+        first heat node rising past ``fault_temperature``) or ``"input"`` (the signal
+        ``fault_input`` rising past 0.5)."""
+        if getattr(self, "fault_input", None):
+            return "input"
+        return "temperature" if self.values.get("fault_temperature", 0.0) > 0.0 else "time"
+
+    @property
     def fault_triggered(self) -> bool:
-        """Is its fault temperature-triggered (``fault_temperature`` > 0)?"""
-        return self.values.get("fault_temperature", 0.0) > 0.0
+        """Is its fault struck by a signal (its time unknown before the run)?"""
+        return self.fault_trigger != "time"
 
     def check_fault(self) -> None:
-        """A temperature-triggered fault: a fault to trigger, one trigger, a heat node."""
+        """A signal-triggered fault: a fault to trigger, one trigger, a heat node."""
         if not self.fault_triggered:
             return
         v, o = self.values, self.label
+        key = "fault_input" if self.fault_trigger == "input" else "fault_temperature"
+        what = (f"fault_input = {self.fault_input!r}" if key == "fault_input" else
+                f"fault_temperature = {v['fault_temperature']:g} °C")
+        others = [f"fault_time = {v['fault_time']:g} s"] if v["fault_time"] > 0.0 else []
+        if key == "fault_input" and v.get("fault_temperature", 0.0) > 0.0:
+            others.append(f"fault_temperature = {v['fault_temperature']:g} °C")
         why = ("sets no fault to trigger (fault_capacity_factor 1, fault_drag 0)"
                if not self.has_fault else
-               f"and fault_time = {v['fault_time']:g} s are two triggers: a fault has one "
-               "(fault_time 0 with fault_temperature)" if v["fault_time"] > 0.0 else
+               f"and {' and '.join(others)} are {len(others) + 1} triggers: a fault has one"
+               if others else
                "needs a thermal node (heat) whose temperature triggers it"
-               if not self.heat else None)
+               if key == "fault_temperature" and not self.heat else None)
         if why is not None:
-            err = ValueError(f"{o}: fault_temperature = {v['fault_temperature']:g} °C {why}")
-            err.key = "fault_temperature"   # the scenario key it concerns (scenario/build.py)
+            err = ValueError(f"{o}: {what} {why}")
+            err.key = key                   # the scenario key it concerns (scenario/build.py)
             raise err
 
     def schedule(self) -> tuple:
@@ -172,9 +193,11 @@ class _FrictionElement(FaultPhase, Component):
             else f"capacity x {f:g}"]
         if drag > 0.0:
             what.append(f"drag +{drag:g} N·m")
-        if self.fault_triggered:
+        if self.fault_trigger == "temperature":
             return (f"{', '.join(what)} when {self.heat[0][0]} first exceeds "
                     f"{self.values['fault_temperature']:g} °C")
+        if self.fault_trigger == "input":
+            return f"{', '.join(what)} when {self.fault_input} first rises past 0.5"
         return f"{', '.join(what)} at {self.values['fault_time']:g} s"
 
     @property
@@ -206,7 +229,8 @@ class _FrictionElement(FaultPhase, Component):
                 self.model.event_names(), len(self.model.pack()), self.command, tabs,
                 tuple(n for n, _ in self.heat), self.has_drag, self.runout is not None,
                 self.wear is not None, self.reads_force, self.has_fault,
-                self.has_fault and self.fault_triggered)
+                self.has_fault and self.fault_trigger,
+                self.fault_input if self.has_fault else None)
 
     def slip(self):
         return {self.side_b: 1.0, self.side_a: -1.0}
@@ -216,7 +240,8 @@ class _FrictionElement(FaultPhase, Component):
         return tuple((node, f"share{k}") for k, (node, _s) in enumerate(self.heat))
 
     def inputs(self):
-        return (self.command,) if self.commanded else ()
+        fault = (self.fault_input,) if self.has_fault and self.fault_input else ()
+        return ((self.command,) if self.commanded else ()) + fault
 
     def check_network(self, net):
         for node, _ in self.heat:
@@ -354,10 +379,13 @@ class _FrictionElement(FaultPhase, Component):
                 self._partials[k] = (key, f"({d}) * {fac}")
             e.line(f"{sc} = {sc} * {fac}")
             if self.fault_triggered:
-                # the first heat node's temperature rising past fault_temperature, once:
-                # fault_on (1 from the fault on) lowers the function out of reach after it
-                trigger = (f"{e.theta(self.heat[0][0])} - {e.par('fault_temperature')} - "
-                           f"1e6 * {e.par('fault_on')}")
+                # the first heat node's temperature rising past fault_temperature, or the
+                # input past 0.5, once: fault_on (1 from the fault on) lowers the function
+                # out of reach after it
+                level = (f"{e.theta(self.heat[0][0])} - {e.par('fault_temperature')}"
+                         if self.fault_trigger == "temperature" else
+                         f"{e.u(self.fault_input)} - 0.5")
+                trigger = f"{level} - 1e6 * {e.par('fault_on')}"
             else:
                 trigger = f"t - {e.par('fault_time')}"
             e.event(f"{self.name}: fault, {{fault_description}}", 1, trigger, "bank")
@@ -390,7 +418,8 @@ class Clutch(_FrictionElement):
     kind = "clutch"
     title = "friction clutch (any friction model)"
     flanges = ("a", "b")
-    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag", "fault_temperature")
+    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag", "fault_temperature",
+                  "fault_input")
 
 
 class Brake(_FrictionElement):
@@ -399,7 +428,8 @@ class Brake(_FrictionElement):
     kind = "brake"
     title = "friction brake (any friction model)"
     flanges = ("flange", "support")
-    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag", "fault_temperature")
+    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag", "fault_temperature",
+                  "fault_input")
     grounded = ("support",)
     side_a = "support"
     side_b = "flange"
