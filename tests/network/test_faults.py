@@ -146,8 +146,8 @@ def test_input_triggered_fault_strikes_where_the_signal_crosses_one_half():
     assert res.status == "completed", res.message
     assert energy_balance(res)["energy_balance_rel"] < 1e-8
     struck = [e for e in res.events if e.name.startswith("clutch: fault")]
-    assert [e.name for e in struck] == ["clutch: fault, capacity x 0.25 when flag first "
-                                        "rises past 0.5"]
+    assert [e.name for e in struck] == [
+        "clutch: fault, capacity x 0.25 when flag first rises past 0.5"]
     assert struck[0].t == pytest.approx(0.5, abs=1e-9)
     after = res.t > 0.5 + 1e-6
     assert np.allclose(-res["T_friction_clutch"][after], 0.25 * FC, rtol=1e-9)
