@@ -94,6 +94,15 @@ def test_a_step_that_is_not_a_step_is_refused(tmp_path, step):
         export_realtime(None, tmp_path / "x", step=step)
 
 
+def test_an_unknown_reset_policy_names_the_option_the_user_typed(tmp_path, capsys):
+    code = main(["rt", str(EXAMPLES / "launch.toml"), "--step", "1e-3", "--reset", "bogus",
+                 "--out", str(tmp_path / "r")])
+    err = capsys.readouterr().err
+    assert code == 2 and "Traceback" not in err
+    assert "--reset bogus: model (6)'s reset policy is one of clamp, zero" in err
+    assert "overrides" not in err and not (tmp_path / "r").exists()
+
+
 def test_cli_exit_2_for_a_long_step_and_one_json_document(tmp_path, capsys):
     code = main(["rt", str(EXAMPLES / "launch.toml"), "--step", "0.005", "--out",
                  str(tmp_path / "r")])

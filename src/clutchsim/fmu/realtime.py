@@ -180,6 +180,12 @@ class RealtimeExport:
 
 def _clutch_override(sc, reset: str) -> list[str]:
     """The override that puts model (6)'s reset policy ``reset`` on the scenario's clutch."""
+    from ..friction.mykhailevych2020 import RESET_POLICIES
+    if reset not in RESET_POLICIES:
+        # checked here, not by the model: its message would name the override below, a
+        # key the user never typed
+        raise RealtimeError(f"--reset {reset}: model (6)'s reset policy is one of "
+                            f"{', '.join(RESET_POLICIES)}")
     for kind in ("coupling", "component"):
         for i, t in enumerate(sc.data.get(kind, [])):
             if t.get("name") == sc.clutch and isinstance(t.get("friction"), dict):
