@@ -142,3 +142,47 @@ def c_plant_difference(plan, system, k=100):
             assert ra == rb, (k_ev, ra, rb)
             worst = max(worst, rel(ya, yb))
     return worst, c, checked_lock or not locks
+
+
+def simulate_cs_slopes(path, scenario, names, rtol, dt):
+    """The FMI 2 co-simulation FMU driven by a master of our own that gives, with each
+    communication step's inputs, their slopes over the step (``fmi2SetRealInputDerivatives``:
+    the chord of the scenario's signal from ``t`` to just before ``t + dt``, exact for the
+    piecewise-linear commands between breakpoints).  FMPy's ``simulate_fmu`` has the
+    option (``set_input_derivatives``) but its buffer holds 9 derivatives whatever the FMU
+    (FMPy 0.3.x, simulation.py: ``(value_type * 9)()``), so a 2-input FMU fails there."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+
+    from clutchsim.scenario import resolve_scenario
+    sc = resolve_scenario(scenario, None)
+    md = read_model_description(str(path))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    ins = [v.name for v in md.modelVariables if v.causality == "input"]
+    sigs = [sc.inputs[n] for n in ins]
+    u_vr = [vr[n] for n in ins]
+    out_vr = [vr[n] for n in names]
+    fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(path)),
+                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName="m")
+    fmu.instantiate()
+    fmu.setupExperiment(tolerance=rtol, startTime=0.0)
+    fmu.enterInitializationMode()
+
+    def at(t):
+        return [float(np.asarray(s(t)).ravel()[0]) for s in sigs]
+    fmu.setReal(u_vr, at(0.0))
+    fmu.exitInitializationMode()
+    n = int(round(sc.t_end / dt))
+    rows = [[0.0, *fmu.getReal(out_vr)]]
+    for k in range(n):
+        t, t1 = k * dt, (k + 1) * dt
+        u0, u1 = at(t), at(np.nextafter(t1, -np.inf))
+        fmu.setReal(u_vr, u0)
+        fmu.setRealInputDerivatives(u_vr, [1] * len(u_vr),
+                                    [(b - a) / dt for a, b in zip(u0, u1)])
+        fmu.doStep(currentCommunicationPoint=t, communicationStepSize=dt)
+        rows.append([t1, *fmu.getReal(out_vr)])
+    fmu.terminate()
+    fmu.freeInstance()
+    data = np.array(rows)
+    return {"time": data[:, 0], **{n: data[:, i + 1] for i, n in enumerate(names)}}

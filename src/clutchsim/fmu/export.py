@@ -313,7 +313,7 @@ def _header(root, *, ident, t_end, rtol, variables, fmi, kind, fixed_step=None):
                        "providesDirectionalDerivative": "true"})
         me = {**common, "completedIntegratorStepNotNeeded": "true"}
         cs = {**common, "canHandleVariableCommunicationStepSize": "true",
-              "canInterpolateInputs": "false", "maxOutputDerivativeOrder": "0",
+              "canInterpolateInputs": "true", "maxOutputDerivativeOrder": "0",
               "canRunAsynchronuously": "false"}
     else:
         common.update({"canGetAndSetFMUState": "false", "canSerializeFMUState": "false",

@@ -156,8 +156,6 @@ UNSUPPORTED(fmi2FreeFMUstate, (fmi2Component c, fmi2FMUstate *s))
 UNSUPPORTED(fmi2SerializedFMUstateSize, (fmi2Component c, fmi2FMUstate s, size_t *n))
 UNSUPPORTED(fmi2SerializeFMUstate, (fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t n))
 UNSUPPORTED(fmi2DeSerializeFMUstate, (fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *s))
-UNSUPPORTED(fmi2SetRealInputDerivatives, (fmi2Component c, const fmi2ValueReference vr[], size_t n,
-            const fmi2Integer order[], const fmi2Real v[]))
 UNSUPPORTED(fmi2GetRealOutputDerivatives, (fmi2Component c, const fmi2ValueReference vr[], size_t n,
             const fmi2Integer order[], fmi2Real v[]))
 UNSUPPORTED(fmi2CancelStep, (fmi2Component c))
@@ -168,6 +166,40 @@ UNSUPPORTED(fmi2GetBooleanStatus, (fmi2Component c, const fmi2StatusKind k, fmi2
 UNSUPPORTED(fmi2GetStringStatus, (fmi2Component c, const fmi2StatusKind k, fmi2String *v))
 
 /* ---------------------------------------------------------------- co-simulation */
+/* The inputs' first derivatives for the next communication step (canInterpolateInputs) */
+FMI2_EXPORT fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[],
+                                                   size_t n, const fmi2Integer order[],
+                                                   const fmi2Real v[]) {
+    Instance *m = (Instance *)c;
+    size_t i;
+    if (!m->cosim) {
+        logf_(m, ST_ERROR, "error", "fmi2SetRealInputDerivatives: the instance is not for "
+              "co-simulation");
+        return fmi2Error;
+    }
+    for (i = 0; i < n; i++) {
+        if (vr[i] < CS_VR_U || vr[i] >= CS_VR_U + CS_NU) {
+            logf_(m, ST_ERROR, "error", "fmi2SetRealInputDerivatives: value reference %u is "
+                  "not an input", (unsigned)vr[i]);
+            return fmi2Error;
+        }
+        if (order[i] != 1) {
+            logf_(m, ST_ERROR, "error", "fmi2SetRealInputDerivatives: order %d for value "
+                  "reference %u: this FMU takes first derivatives only "
+                  "(canInterpolateInputs)", (int)order[i], (unsigned)vr[i]);
+            return fmi2Error;
+        }
+        if (!isfinite(v[i])) {
+            logf_(m, ST_ERROR, "error", "fmi2SetRealInputDerivatives: derivative %g of value "
+                  "reference %u is not finite", v[i], (unsigned)vr[i]);
+            return fmi2Error;
+        }
+        m->du[vr[i] - CS_VR_U] = v[i];
+        m->has_du = 1;
+    }
+    return fmi2OK;
+}
+
 FMI2_EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_prior) {
     (void)no_prior;
     return (fmi2Status)rb_do_step((Instance *)c, t, h, "fmi2DoStep");

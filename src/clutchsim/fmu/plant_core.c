@@ -55,6 +55,10 @@ struct Instance {
     int dy_ok, out_ok, mode, logging;
     int cosim;             /* instantiated for co-simulation */
     double rtol, h;        /* co-simulation: the solver's tolerance and its last step */
+    /* co-simulation with input derivatives (fmi2SetRealInputDerivatives): within a
+       communication step from t_step the inputs are u_step + du·(t − t_step) */
+    double du[ONE(CS_NU)], u_step[ONE(CS_NU)], t_step;
+    int has_du;
     char *name;
     core_logger log;
     const void *env;       /* the importer's callbacks or environment */

@@ -53,12 +53,19 @@ static void rb_solve(const double *a, const int *piv, int n, double *b) {
 }
 
 /* One ROS2 step of size h from (t, y0) with inputs u and parameters p into y1 (and the
-   error estimate into err); 0 if the matrix is singular or a value is not finite */
-static int ros2_step(double t, const double *y0, double *u, double *p, double h, double *y1,
-                     double *err) {
-    enum { N = ONE(CS_NX) };
-    double J[N * N], A[N * N], k1[N], k2[N], yt[N], f[N];
+   error estimate into err); 0 if the matrix is singular or a value is not finite.  du
+   (NULL: inputs held): the inputs' slopes, so the second stage, at t + h, reads u + h·du.
+   ROS2 is a W-method, second order with any matrix in place of the Jacobian, so the
+   missing ∂f/∂t column (time as a state) costs no order. */
+static int ros2_step(double t, const double *y0, double *u, const double *du, double *p,
+                     double h, double *y1, double *err) {
+    enum { N = ONE(CS_NX), U = ONE(CS_NU) };
+    double J[N * N], A[N * N], k1[N], k2[N], yt[N], f[N], u2[U], *ub = u;
     int piv[N], i, j, n = CS_NX;
+    if (du != NULL) {
+        for (i = 0; i < CS_NU; i++) u2[i] = u[i] + h * du[i];
+        ub = u2;
+    }
     memcpy(yt, y0, sizeof yt);
     memset(J, 0, sizeof J);
     cs_jac(t, yt, u, p, J, n);
@@ -70,7 +77,7 @@ static int ros2_step(double t, const double *y0, double *u, double *p, double h,
     rb_solve(A, piv, n, k1);
     for (i = 0; i < n; i++) yt[i] = y0[i] + h * k1[i];
     memset(f, 0, sizeof f);
-    cs_rhs(t + h, yt, u, p, f);
+    cs_rhs(t + h, yt, ub, p, f);
     for (i = 0; i < n; i++) k2[i] = f[i] - 2.0 * k1[i];
     rb_solve(A, piv, n, k2);
     for (i = 0; i < n; i++) {

@@ -1,8 +1,10 @@
 /* The co-simulation solver of a clutchsim FMU (clutchsim/fmu/rosenbrock.c), included by
    the FMI glue after plant_core.c.
 
-   The inputs are held over a communication step (FMI co-simulation without input
-   derivatives), so the right-hand side does not depend on time within it.  Events: after
+   The inputs are held over a communication step, or, where the importer gives their
+   first derivatives (FMI 2 canInterpolateInputs, fmi2SetRealInputDerivatives), follow
+   u + du·(t − t_step) within it: an importer's piecewise-linear input is then followed
+   as the native run follows it, where held inputs lag a ramp by half a step.  Events: after
    each accepted step the indicators are compared with the step's start; a crossing in
    the plant's direction is located by bisection on the step (each probe one ROS2 step from
    the step's start) to 1e-12 s, the state is placed just past it, and the core applies
@@ -10,9 +12,26 @@
 
 #include "ros2.c"
 
-/* One ROS2 step of the instance's plant (ros2.c) */
+/* The inputs at time t of the communication step (held without derivatives) */
+static void rb_inputs(Instance *m, double t) {
+    int i;
+    if (!m->has_du) return;
+    for (i = 0; i < CS_NU; i++) m->u[i] = m->u_step[i] + m->du[i] * (t - m->t_step);
+}
+
+/* One ROS2 step of the instance's plant (ros2.c) from t, its inputs following their
+   derivatives */
 static int rb_step(Instance *m, double t, const double *y0, double h, double *y1, double *err) {
-    return ros2_step(t, y0, m->u, m->p, h, y1, err);
+    rb_inputs(m, t);
+    return ros2_step(t, y0, m->u, m->has_du ? m->du : NULL, m->p, h, y1, err);
+}
+
+/* Place the instance at time t with state y (the inputs at t) */
+static void rb_place(Instance *m, double t, const double *y) {
+    m->t = t;
+    memcpy(m->y, y, sizeof m->y);
+    rb_inputs(m, t);
+    changed(m);
 }
 
 static double rb_norm(const double *y0, const double *y1, const double *err, double rtol, double atol) {
@@ -60,9 +79,7 @@ static int rb_integrate(Instance *m, double t_end, double rtol, double atol, dou
         {
             double t0 = m->t, y0[N];
             memcpy(y0, m->y, sizeof y0);
-            m->t = t0 + h;
-            memcpy(m->y, y1, sizeof y0);
-            changed(m);
+            rb_place(m, t0 + h, y1);
             indicators(m, gb);
             if (rb_crossing(m, ga, gb)) {
                 double lo = 0.0, hi = h, yh[N];
@@ -71,16 +88,12 @@ static int rb_integrate(Instance *m, double t_end, double rtol, double atol, dou
                 for (it = 0; it < 200 && hi - lo > 1e-12 * (1.0 + fabs(t0)); it++) {
                     double mid = 0.5 * (lo + hi), ym[N], gm[Z];
                     rb_step(m, t0, y0, mid, ym, err);
-                    m->t = t0 + mid;
-                    memcpy(m->y, ym, sizeof ym);
-                    changed(m);
+                    rb_place(m, t0 + mid, ym);
                     indicators(m, gm);
                     if (rb_crossing(m, ga, gm)) { hi = mid; memcpy(yh, ym, sizeof yh); }
                     else lo = mid;
                 }
-                m->t = t0 + hi;
-                memcpy(m->y, yh, sizeof yh);
-                changed(m);
+                rb_place(m, t0 + hi, yh);
                 {
                     int vc, term, st = core_event(m, &vc, &term);
                     if (term) { *h_io = h; return st == ST_OK ? ST_DISCARD : st; }
@@ -116,14 +129,12 @@ static int rb_fixed(Instance *m, double t_end) {
     }
     for (k = 1; k <= n; k++) {
         int j;
-        if (!ros2_step(m->t, m->y, m->u, m->p, CS_FIXED_STEP, y1, err)) {
+        if (!rb_step(m, m->t, m->y, CS_FIXED_STEP, y1, err)) {
             logf_(m, ST_ERROR, "error", "t = %.9g s: the fixed step failed (a singular "
                   "matrix or a value that is not finite)", m->t);
             return ST_ERROR;
         }
-        memcpy(m->y, y1, sizeof y1);
-        m->t = k == n ? t_end : t0 + k * CS_FIXED_STEP;
-        changed(m);
+        rb_place(m, k == n ? t_end : t0 + k * CS_FIXED_STEP, y1);
         indicators(m, g);
         if (rb_crossing(m, m->g_last, g)) {
             int vc, term, st = core_event(m, &vc, &term);
@@ -134,6 +145,15 @@ static int rb_fixed(Instance *m, double t_end) {
             if (g[j] != 0.0) m->g_last[j] = g[j];
     }
     return ST_OK;
+}
+
+/* The end of a communication step: the input derivatives served this step only (the
+   importer gives them again with the next step's inputs); the inputs stay at their
+   values at the step's end */
+static int rb_step_done(Instance *m, int status) {
+    memset(m->du, 0, sizeof m->du);
+    m->has_du = 0;
+    return status;
 }
 
 /* One communication step from t to t + h (fmi2DoStep, fmi3DoStep): an event at the
@@ -151,11 +171,13 @@ static int rb_do_step(Instance *m, double t, double h, const char *fn) {
         return ST_ERROR;
     }
     m->mode = MODE_CONT;
+    memcpy(m->u_step, m->u, sizeof m->u_step);
+    m->t_step = m->t;
     indicators(m, g);
     if (rb_crossing(m, m->g_last, g)) {
         int vc, term, st = core_event(m, &vc, &term);
-        if (term) return st == ST_OK ? ST_DISCARD : st;
+        if (term) return rb_step_done(m, st == ST_OK ? ST_DISCARD : st);
     }
-    if (CS_FIXED_STEP > 0.0) return rb_fixed(m, t + h);
-    return rb_integrate(m, t + h, m->rtol, 1e-2 * m->rtol, &m->h);
+    if (CS_FIXED_STEP > 0.0) return rb_step_done(m, rb_fixed(m, t + h));
+    return rb_step_done(m, rb_integrate(m, t + h, m->rtol, 1e-2 * m->rtol, &m->h));
 }

@@ -71,7 +71,7 @@ static int rt_events(cs_rt_instance *s) {
 int cs_rt_step(cs_rt_instance *s) {
     double y1[CS_RT_ONE(CS_NX)], err[CS_RT_ONE(CS_NX)];
     if (s->status != CS_RT_OK) return s->status;
-    if (!ros2_step(s->t, s->y, s->u, s->p, CS_RT_STEP, y1, err)) {
+    if (!ros2_step(s->t, s->y, s->u, NULL, s->p, CS_RT_STEP, y1, err)) {
         s->status = CS_RT_FAILED;
         return s->status;
     }
