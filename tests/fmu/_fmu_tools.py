@@ -172,7 +172,7 @@ def simulate_cs_slopes(path, scenario, names, rtol, dt):
         return [float(np.asarray(s(t)).ravel()[0]) for s in sigs]
     fmu.setReal(u_vr, at(0.0))
     fmu.exitInitializationMode()
-    n = int(round(sc.t_end / dt))
+    n = round(sc.t_end / dt)
     rows = [[0.0, *fmu.getReal(out_vr)]]
     for k in range(n):
         t, t1 = k * dt, (k + 1) * dt
