@@ -144,6 +144,19 @@ def test_each_invariant_names_element_time_and_values(rows, invariant, fatal):
     assert f"t = {v.t:.9g} s" in v.text and v.unit in v.text
 
 
+def test_a_mode_without_capacity_is_not_physics_and_with_capacity_it_is():
+    """An element at zero capacity has no force in either mode: sliding in mode -1 with a
+    positive slip creates nothing (a brake at zero command beside a naive clutch in its
+    sliding mode, fuzzed networks).  The same rows with capacity are a violation."""
+    rows = _rows([-1, -1, -1], [0, 0, 0], [1e-5, 3e-5, 0.5], [0, 0, 0], [0, 0, 0])
+    assert [v for v in _check()(*rows, rtol=1e-8, atol=1e-9)
+            if v.invariant == "mode_against_slip"] == []
+    rows = _rows([-1, -1, -1], [0, 0, 0], [1e-5, 3e-5, 0.5], [0, 0, 0], [0, 0, 2])
+    hit = [v for v in _check()(*rows, rtol=1e-8, atol=1e-9)
+           if v.invariant == "mode_against_slip"]
+    assert hit and hit[0].t == 2.0
+
+
 def test_consistent_rows_and_reset_left_limits_pass():
     """Sliding with the slip, stuck at zero slip within capacity, and a row over capacity
     that is the left limit of a reset at the same instant (the break-away's own row)."""

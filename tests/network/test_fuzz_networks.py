@@ -67,6 +67,41 @@ def test_a_chaotic_rattle_is_sensitive_not_a_problem():
     assert len(notes) == 1 and notes[0].startswith("sensitive"), notes
 
 
+def test_a_brake_at_zero_command_beside_a_naive_clutch_at_zero_slip():
+    """`fuzz_networks.py --count 600 --seed 7` (12 variants of one network): every speed
+    starts at -2.2e-309 rad/s; a naive clutch joins I0 to I2 and a coulomb-robust brake at
+    zero command holds I0.  The brake's stop at 6.5e-13 s keeps mode -1, decided by a
+    stick force that the naive clutch's sign at zero slip makes arbitrary, and its slip
+    goes to +2.6e-5 rad/s: a physics warning, although a brake with no capacity has no
+    force in either mode.  The naive clutch then chatters (its documented outcome).  No
+    physics check fires now."""
+    from _fuzz import Case
+
+    from clutchsim.core.signals import Constant, Ramp, Sine
+    from clutchsim.friction import make_model
+    from clutchsim.network.components import Brake, Clutch, Inertia, SpringDamper, TorqueSource
+
+    w0 = -2.225073858507203e-309
+    J = (1.0, 4.0, 0.05, 1.0, 1.0)
+    comps = [Inertia(f"I{i}", J=J[i], omega0=w0) for i in range(5)]
+    comps += [Clutch("c0", make_model("coulomb-robust").with_(F_c=50.0, F_s=65.0), "f_c0"),
+              Clutch("c1", make_model("coulomb-naive").with_(F_c=50.0, F_s=55.0), "f_c1"),
+              SpringDamper("c2", c=10.0, d=0.5), SpringDamper("c3", c=1000.0, d=0.5),
+              Brake("br0", make_model("coulomb-robust").with_(F_c=50.0, F_s=50.0), "f_br0"),
+              Brake("br2", make_model("mykhailevych2020").with_(
+                  T_stat=50.0, k_v=10533.333333333334), "f_br2"),
+              Brake("br4", make_model("stribeck").with_(
+                  F_c=100 / 3, F_s=50.0, sigma2=40 / 3), "f_br4"),
+              TorqueSource("src0", input="tau0"), TorqueSource("src1", input="tau1")]
+    connect = [["I0.a", "c0.a", "c1.a", "c2.a", "br0.flange", "src1.flange"],
+               ["I1.a", "c0.b"], ["I2.a", "c1.b", "br2.flange", "src0.flange"],
+               ["I3.a", "c2.b", "c3.a"], ["I4.a", "c3.b", "br4.flange"]]
+    inputs = {"f_c0": Ramp(0.0, 0.2, 1.0), "f_c1": Constant(1.0), "f_br0": Constant(0.0),
+              "f_br2": Sine(0.5, 2.0, 0.0, 0.5), "f_br4": Ramp(0.0, 0.2, -1.0, 1.0),
+              "tau0": Ramp(0.0, 0.2, 10.0), "tau1": Constant(10.0)}
+    assert check_run(Case(comps, connect, inputs)) == []
+
+
 def test_a_stiff_contact_entered_after_long_free_flight_releases_on_time():
     """Seed 7: two inertias (0.2 kg·m²) in a backlash (0.1 rad, 1e5 N·m/rad, 10 N·m·s/rad)
     under a torque step.  Free flight between contacts lets the steps grow to ~20 ms; a

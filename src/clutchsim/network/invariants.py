@@ -7,7 +7,12 @@ after each reset), with the solver's tolerances:
 
 ``mode_against_slip``
     A hybrid stick/slip element (coulomb-robust) that slides (mode ±1, unlocked) has a
-    slip of the sign of its mode: ``mode·w >= 0``.  A freewheel
+    slip of the sign of its mode: ``mode·w >= 0``, where its capacity is not zero (with
+    none it has no force in either mode: a brake at zero command whose stop was decided
+    by the stick force of a naive neighbour in its sliding mode, at zero slip and without
+    a solution there, kept mode -1 while its slip went to +3e-5 rad/s; fuzzed networks).
+    When the capacity rises again with a mode against the slip, its force does work
+    against the slip, and the check sees it.  A freewheel
     (:attr:`FrictionModel.forward_only`: the one-way clutch) that is not locked never
     slides backwards: ``w >= 0``.  A lossy gear's loss element (mode ±1 rolling forward
     or backward, 0 stuck) is checked as a hybrid element.
@@ -162,7 +167,10 @@ def scan(ts, ys, outs, el, speeds, w_fric, all_passive, rtol, atol, tab):
             if el[e, E_HYBRID]:
                 mode = ys[i, el[e, E_MODE]]
                 locked = ys[i, el[e, E_LOCKED]] > 0.5
-                if not locked and mode != 0.0:
+                # a sliding element's mode is the direction of its force; with no
+                # capacity it has no force, and its mode is not physics (below)
+                free = has_cap and outs[i, el[e, E_CAP]] == 0.0
+                if not locked and mode != 0.0 and not free:
                     _record(tab, o, i, ts[i], -mode * w, w_soft, w_hard, mode, w)
                 if mode == 0.0:
                     _record(tab, o + 1, i, ts[i], abs(w), w_soft, w_hard, mode, w)
