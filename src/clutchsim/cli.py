@@ -136,7 +136,11 @@ def main(argv=None) -> int:
     for flag in ("quiet", "verbose", "debug"):
         setattr(args, flag, getattr(args, flag, False) or getattr(args, f"g_{flag}", False))
     level = logging.WARNING if args.quiet else (logging.DEBUG if args.verbose else logging.INFO)
-    logging.basicConfig(level=level, format="%(message)s", stream=sys.stderr, force=True)
+    # clutchsim's own progress at that level; other libraries' at WARNING (INFO with
+    # --verbose): pandas' NumExpr said "NumExpr defaulting to 2 threads." on every run
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+                        format="%(message)s", stream=sys.stderr, force=True)
+    logging.getLogger("clutchsim").setLevel(level)
     previous = _install_sigterm()
     name = f"clutchsim {args.command}"
     try:

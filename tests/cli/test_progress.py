@@ -35,3 +35,19 @@ def test_no_progress_when_quiet_in_ci_or_not_a_terminal(monkeypatch):
     monkeypatch.delenv("CI")
     # pytest captures stderr: not a terminal
     assert progress_for(types.SimpleNamespace(quiet=False)) is None
+
+
+def test_other_libraries_log_warnings_only(capsys):
+    """clutchsim's own messages at INFO, a library's (pandas' NumExpr announced its
+    threads on every run) only from WARNING, unless --verbose."""
+    import logging
+
+    from clutchsim.cli import main
+    assert main(["models"]) == 0
+    capsys.readouterr()
+    logging.getLogger("numexpr.utils").info("NumExpr defaulting to 2 threads.")
+    logging.getLogger("numexpr.utils").warning("a library's warning")
+    logging.getLogger("clutchsim").info("clutchsim's own progress")
+    err = capsys.readouterr().err
+    assert "NumExpr" not in err
+    assert "a library's warning" in err and "clutchsim's own progress" in err
