@@ -102,6 +102,48 @@ def test_a_brake_at_zero_command_beside_a_naive_clutch_at_zero_slip():
     assert check_run(Case(comps, connect, inputs)) == []
 
 
+def test_a_clutch_that_stops_does_not_slide_on_the_way_it_came():
+    """`fuzz_networks.py --count 2000 --seed 11` (4 variants of one network): a
+    coulomb-robust clutch in a loop (I0 -- stiff spring -- I1 -- gear -3 -- I2, the clutch
+    from I0 to I2) beside a Karnopp brake on I2 in its stick window.  Its slip came to zero
+    from below at 0.0249 s, and the stop's reset slid it on in mode -1 (the stick force,
+    which the Karnopp brake's clipped stick force makes depend on the clutch's own torque,
+    said so): a slip of +0.0076 rad/s against mode -1 at 0.025 s, the run
+    invariant_violated.  A stop never slides on the way it came: the clutch locks, and
+    breaks away at 0.2414 s as its release ramp lowers the capacity.  The tight rerun ends
+    at the Karnopp brake's window edge (step_collapse, its documented outcome)."""
+    from _fuzz import LOOSE, Case, run
+
+    from clutchsim.core.signals import Ramp
+    from clutchsim.friction import make_model
+    from clutchsim.network.components import (
+        Brake,
+        Clutch,
+        ElastoBacklash,
+        IdealGear,
+        Inertia,
+        TorqueSource,
+    )
+
+    J, w0 = (4.0, 0.05, 0.05), (0.5, -7.072201547744206e-299, 2.3574005159147354e-299)
+    comps = [Inertia(f"I{i}", J=J[i], omega0=w0[i]) for i in range(3)]
+    comps += [ElastoBacklash("c0", b=0.0, c=1e5, d=0.0), IdealGear("c1", ratio=-3.0),
+              Clutch("c2", make_model("coulomb-robust").with_(F_c=50.0, F_s=50.0), "f_c2"),
+              Brake("br2", make_model("karnopp").with_(F_c=50.0, F_s=50.0, DV=1e-4,
+                                                        sigma2=0.4), "f_br2"),
+              TorqueSource("src0", input="tau0")]
+    connect = [["I0.a", "c0.a", "c2.a"], ["I1.a", "c0.b", "c1.a"],
+               ["I2.a", "c1.b", "c2.b", "br2.flange", "src0.flange"]]
+    inputs = {"f_c2": Ramp(0.05, 0.2, -1.0, 1.0), "f_br2": Ramp(0.0, 0.2, -1.0, 1.0),
+              "tau0": Ramp(0.1, 0.2, -12.872160917277562)}
+    case = Case(comps, connect, inputs)
+    res = run(case, LOOSE)
+    assert res.outcome == "completed", res.message
+    names = [(round(e.t, 4), e.name) for e in res.events]
+    assert names == [(0.0249, "c2: stop"), (0.2414, "c2: breakaway")], names
+    assert check_run(case, res) == []
+
+
 def test_a_stiff_contact_entered_after_long_free_flight_releases_on_time():
     """Seed 7: two inertias (0.2 kg·m²) in a backlash (0.1 rad, 1e5 N·m/rad, 10 N·m·s/rad)
     under a torque step.  Free flight between contacts lets the steps grow to ~20 ms; a

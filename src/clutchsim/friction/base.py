@@ -246,6 +246,12 @@ class FrictionModel(abc.ABC):
     #: no useful derivative there)?  Plants then difference their Jacobian instead of using
     #: the exact one, and chatter detection stops a run at lock-up.  (coulomb-naive)
     jumps: ClassVar[bool] = False
+    #: does the force jump away from zero slip where no event marks it (Karnopp's window
+    #: edges ``|v| = DV``)?  The integrator steps across such a jump as small as the
+    #: tolerance demands; where the slip hovers at the edge (a stiff part beside it, at a
+    #: tight tolerance) the step collapses there: the model's documented outcome
+    #: (docs/models/karnopp.md), which the fuzzed networks accept from it.
+    edge_jumps: ClassVar[bool] = False
 
     # ------------------------------------------------------------------ hooks
     @abc.abstractmethod

@@ -210,7 +210,15 @@ def coulomb_robust_events(p, z, v, F_e, scale, g):
 @jit
 def coulomb_robust_reset(p, z, v, F_e, scale, k):
     if k == 0:
-        if abs(F_e) <= scale * p[1]:
+        # stop: stuck within the capacity, else sliding on with the stick force.  Never on
+        # in the direction it stopped from: the slip came to zero because the stick force
+        # did not exceed the friction that way (mode·F_e < the sliding level), so a stick
+        # force that says otherwise jumped at this instant with a neighbour (a Karnopp
+        # window, a naive law, a clipped stick force that depends on this element's own):
+        # it locks, and the plant's lock, which solves the locked elements together, finds
+        # the consistent torque and breaks it away if that is beyond the capacity (fuzzed
+        # networks: a clutch slid on in mode -1 against a slip of +0.008 rad/s)
+        if abs(F_e) <= scale * p[1] or sgn(F_e) == sgn(z[0]):
             z[0] = 0.0
             return RESET_STUCK
         z[0] = sgn(F_e)

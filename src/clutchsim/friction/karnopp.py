@@ -50,6 +50,7 @@ class Karnopp(FrictionModel):
 
     name: ClassVar[str] = "karnopp"
     uses_stick_force: ClassVar[bool] = True
+    edge_jumps: ClassVar[bool] = True
     citation: ClassVar[str] = (
         "Karnopp D., Computer simulation of stick-slip friction in mechanical dynamic systems, "
         "ASME Journal of Dynamic Systems, Measurement, and Control 107(1):100-103, 1985."

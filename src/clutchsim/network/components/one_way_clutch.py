@@ -135,12 +135,13 @@ def one_way_clutch_events(p, z, v, F_e, scale, g):
 
 @jit
 def one_way_clutch_reset(p, z, v, F_e, scale, k):
-    if k == 0:          # stop: the freewheel blocks unless the clutch is overloaded
-        if F_e <= _limit(p, scale):
-            z[0] = 0.0
-            return RESET_STUCK
-        z[0] = 1.0
-        return RESET_NONE
+    if k == 0:
+        # stop: the freewheel blocks.  Its slip came to zero from forward because the stick
+        # force did not exceed the clutch's torque, so a stick force beyond the limit here
+        # jumped at this instant with a neighbour (as coulomb-robust's stop): it locks, and
+        # the plant's lock breaks it away forward if the locked torque is beyond the limit
+        z[0] = 0.0
+        return RESET_STUCK
     if k == 1:          # break-away: slide forward
         z[0] = 1.0
         return RESET_RELEASED
