@@ -578,6 +578,11 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
         if (ev_dir[k] == -1 and g_old[k] < 0.0) or (ev_dir[k] == 1 and g_old[k] > 0.0):
             g_old[k] = -g_old[k]
             check_jump = True
+        # one that starts exactly on zero was placed there by the initial state, as by a
+        # reset: if it leaves in its own direction at once, it is due at the start (a dog
+        # clutch pushed in at t = 0 with its slip exactly at the window's edge, moving in,
+        # never engaged: taken as starting from the next sign, it never crossed)
+        placed[k] = 1.0 if g_old[k] == 0.0 else 0.0
 
     while True:
         # ---- events caused by a jump of the inputs at a breakpoint (or by a reset) ----
