@@ -28,11 +28,16 @@ of the thin-film (lubrication) equations equals the supply::
     Q/N_int = π·ρ·w²·h³·r_e²/(20·η)   ->   r_e² = 20·ν·(Q/N_int)/(π·h³·w²)
 
 clipped to ``[r_i, r_o]`` (the film-shrinkage model of Kitabayashi et al. 2003, Hu, Peng
-& Yuan 2009 and Iqbal et al. 2013, without their surface-tension and mist terms; the
-derivation is in docs/components.md).  The drag is linear in ``w`` up to the critical
-speed ``w_c = sqrt(20·ν·Q/N_int/(π·h³))/r_o``, peaks there, then falls as
-``a²/w³ − r_i⁴·w`` (``a = r_e²·w²``) to 0 where ``r_e`` reaches ``r_i``.  ``flow`` = 0 is a
-flooded pack: the full film at every speed.
+& Yuan 2009 and Iqbal et al. 2013, without their surface-tension term; the derivation is
+in docs/components.md).  Outside ``r_e`` the gap holds an air-oil mist of viscosity
+``mist·η`` (Iqbal et al.'s mist film; ``mist`` = 0: none)::
+
+    T_drag = drag_factor·N_int·π·η·w·((1 − mist)·r_e⁴ − r_i⁴ + mist·r_o⁴)/(2·h)
+
+The drag is linear in ``w`` up to the critical speed
+``w_c = sqrt(20·ν·Q/N_int/(π·h³))/r_o``, peaks there, then falls as ``a²/w³ − r_i⁴·w``
+(``a = r_e²·w²``, without mist) to the mist's share where ``r_e`` reaches ``r_i``.
+``flow`` = 0 is a flooded pack: the full film at every speed.
 
 Viscosity.  Walther's equation of ASTM D341 through the oil's two data-sheet points
 ``nu40`` and ``nu100`` [mm²/s]: ``log10(log10(ν + 0.7)) = A − B·log10(T)`` (T in K), and
@@ -115,6 +120,9 @@ class WetClutch(Clutch):
         Param("flow", "m³/s", "oil flow through the pack, shared by the interfaces (0: a "
               "flooded pack, the full film at every speed)", default=0.0, low=0.0,
               high=0.1),
+        Param("mist", "-", "viscosity of the aerated (air-oil mist) part of a shrunk film, "
+              "r_e..r_o, relative to the oil's (0: no drag there)", default=0.0, low=0.0,
+              high=1.0),
         Param("nu40", "mm²/s", "kinematic viscosity of the oil at 40 °C (data sheet)",
               default=30.0, low=2.0, high=1e5),
         Param("nu100", "mm²/s", "kinematic viscosity of the oil at 100 °C (data sheet, "
@@ -195,8 +203,9 @@ class WetClutch(Clutch):
         if self.flow > 0.0 and w != 0.0:
             a = 20.0 * nu * self.flow / self.interfaces / (math.pi * self.gap ** 3)
             re2 = min(max(a / (w * w), ri2), ro2)
-        return (self.drag_factor * self.interfaces * math.pi * self.density * nu * w
-                * (re2 * re2 - ri2 * ri2) / (2.0 * self.gap))
+        g = (1.0 - self.mist) * re2 * re2 - ri2 * ri2 + self.mist * ro2 * ro2
+        return (self.drag_factor * self.interfaces * math.pi * self.density * nu * w * g
+                / (2.0 * self.gap))
 
     def options(self):
         return (*super().options(), self.oil, self.flow > 0.0)
@@ -259,11 +268,13 @@ class WetClutch(Clutch):
             re2, mid = P("ro2"), "0.0"
         re4 = e.let("re4", f"{re2} * {re2}")
         e.output(f"r_film_{self.name}", "m", f"math.sqrt({re2})")
-        # dT/dw and dT/dν (ν in mm²/s): the full and the empty film are linear in w and ν;
-        # the shrinking one is k·ν·(c²ν²/w³ − r_i⁴·w)
-        dtw = e.let("dtw", f"{k} * {nu} * ({re4} - {ri4} - 4.0 * {mid} * {re4})")
-        dtn = e.let("dtn", f"{k} * {w} * ({re4} - {ri4} + 2.0 * {mid} * {re4})")
-        td = e.let("td", f"{k} * {nu} * {w} * ({re4} - {ri4})")
+        # T = k·ν·w·g: g = (1 − m)·r_e⁴ − r_i⁴ + m·r_o⁴ (oil film inside r_e, mist of relative
+        # viscosity m outside); r_e⁴ = c²ν²/w⁴ on the shrinking branch (mid), constant else
+        m1 = f"(1.0 - {P('mist')})"
+        g = e.let("g", f"{m1} * {re4} - {ri4} + {P('mist')} * {P('ro2')} * {P('ro2')}")
+        dtw = e.let("dtw", f"{k} * {nu} * ({g} - 4.0 * {mid} * {m1} * {re4})")
+        dtn = e.let("dtn", f"{k} * {w} * ({g} + 2.0 * {mid} * {m1} * {re4})")
+        td = e.let("td", f"{k} * {nu} * {w} * {g}")
         pd = e.let("pd", f"{td} * {w}")
         dpw = e.let("dpw", f"{dtw} * {w} + {td}")
         # the drag opposes the slip: −T on b, +T on a
