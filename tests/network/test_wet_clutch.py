@@ -9,7 +9,8 @@ clutch") against its closed forms.
   ``sqrt(c·ν)/r_i``, each at the outputs (1e-9);
 * viscosity: Walther's equation (ASTM D341) through the two data-sheet points, straight in
   ``log log(ν + 0.7)`` against ``log T``;
-* engagement: the capacity ``N·μ_s·max(0, p·A − F0 − k·stroke)·R_m``;
+* engagement: the capacity ``N·μ_s·max(0, p·A − F0 − k·stroke)·R_m``, and through a
+  hydraulic actuator's lagged pressure (the fill) from the kiss point on;
 * a launch whose energy balance closes, with the drag heating the oil and the friction the
   plates (``C·Δθ`` = the work of each);
 * bad input, from Python and from a scenario file through ``clutchsim run``.
@@ -183,6 +184,30 @@ def test_capacity_follows_the_piston_clamp_force(p):
     assert res["F_clamp_wc"][0] == pytest.approx(F, rel=1e-12, abs=1e-9)
     assert res["capacity_wc"][0] == pytest.approx(cap, rel=1e-12, abs=1e-9)
     assert wc.capacity_at(p) == pytest.approx(cap, rel=1e-12, abs=1e-9)
+
+
+def test_the_fill_through_a_hydraulic_actuator_delays_the_capacity_to_the_kiss_point():
+    """The pressure from a hydraulic actuator's first-order lag (``valve.pressure``, τ =
+    20 ms, a 6 bar step): ``p(t) = p_c·(1 − exp(−t/τ))``, the capacity 0 until the kiss
+    point at ``t_k = −τ·ln(1 − p_kiss/p_c)``, then ``N·μ_s·(p(t)·A − F_spring)·R_m``."""
+    from clutchsim.network.components import HydraulicActuator
+    tau, pc = 0.02, 6e5
+    wc = WetClutch("wc", CoulombRobust(F_c=0.12, F_s=MU_S), "valve.pressure", **PACK)
+    net = Network([HydraulicActuator("valve", command="pc", time_constant=tau, area=1e-3),
+                   Inertia("a", J=10.0, omega0=100.0), wc, Inertia("b", J=10.0)],
+                  [["a.b", "wc.a"], ["wc.b", "b.a"]])
+    res = simulate(net.build({"pc": pc}), (0.0, 0.1), {"pc": pc},
+                   options=SolverOptions(rtol=1e-10, atol=1e-10, dt_out=1e-4))
+    _clean(res)
+    t = res.t
+    p = pc * (1.0 - np.exp(-t / tau))
+    assert np.allclose(res["valve.pressure"], p, rtol=1e-7, atol=1e-6 * pc)
+    cap = np.array([wc.capacity_at(x) for x in p])
+    assert np.max(np.abs(res["capacity_wc"] - cap)) <= 1e-6 * cap.max()
+    t_k = -tau * math.log(1.0 - wc.kiss_pressure / pc)
+    first = t[np.flatnonzero(res["capacity_wc"] > 0.0)[0]]
+    assert t_k <= first <= t_k + 1e-4
+    assert np.all(res["w_slip_wc"] < 0.0)           # slipping throughout
 
 
 def test_launch_closes_its_energy_balance_with_drag_into_oil_and_friction_into_plates():
