@@ -263,11 +263,11 @@ def _wet_clutch(rng, model, open_pack=False):
     flow = (1e-9, 1e-7)
     if open_pack:           # slips of 0.01-3 rad/s (the velocity scale): w_c below and above
         mu, flow = lambda: make_model("tanh").with_(F_c=0.12, v_t=1.0), (1e-10, 2e-8)
-    pack = lambda: dict(interfaces=float(rng.integers(2, 12)), r_inner=_f(rng, 0.05, 0.07),
-                        r_outer=_f(rng, 0.08, 0.1), piston_area=_f(rng, 3e-3, 8e-3),
-                        spring_preload=_f(rng, 300.0, 800.0),
-                        spring_rate=_f(rng, 1e4, 5e4), stroke=_f(rng, 5e-4, 2e-3),
-                        gap=_f(rng, 1e-4, 3e-4), drag_factor=_f(rng, 0.5, 2.0))
+    pack = lambda: {"interfaces": float(rng.integers(2, 12)), "r_inner": _f(rng, 0.05, 0.07),
+                    "r_outer": _f(rng, 0.08, 0.1), "piston_area": _f(rng, 3e-3, 8e-3),
+                    "spring_preload": _f(rng, 300.0, 800.0),
+                    "spring_rate": _f(rng, 1e4, 5e4), "stroke": _f(rng, 5e-4, 2e-3),
+                    "gap": _f(rng, 1e-4, 3e-4), "drag_factor": _f(rng, 0.5, 2.0)}
     net = Network([
         TorqueSource("drive", input="tau"),
         Inertia("a", J=_f(rng, 0.1, 0.5)),

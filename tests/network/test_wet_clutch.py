@@ -37,8 +37,8 @@ from clutchsim.network.components.wet_clutch import couette_drag, walther_nu
 TIGHT = SolverOptions(rtol=1e-10, atol=1e-10, dt_out=1e-3)
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 #: a DCT-sized pack (examples/wet_dct_upshift.toml)
-PACK = dict(interfaces=8, r_inner=0.075, r_outer=0.095, piston_area=6e-3,
-            spring_preload=600.0, spring_rate=3e4, stroke=1.5e-3, gap=0.15e-3)
+PACK = {"interfaces": 8, "r_inner": 0.075, "r_outer": 0.095, "piston_area": 6e-3,
+        "spring_preload": 600.0, "spring_rate": 3e4, "stroke": 1.5e-3, "gap": 0.15e-3}
 MU_S = 0.13
 
 

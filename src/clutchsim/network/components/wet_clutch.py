@@ -133,8 +133,8 @@ class WetClutch(Clutch):
               default=40.0, low=-60.0, high=300.0),
     )
     signal_docs: ClassVar[dict] = {
-        "oil": ("Thermal node of the oil: its temperature sets the viscosity, and the drag "
-                "power heats it (default: none, `oil_temperature`).", False)}
+        "oil": (("Thermal node of the oil: its temperature sets the viscosity, and the drag "
+                 "power heats it (default: none, `oil_temperature`)."), False)}
 
     def __init__(self, name, model, command, mu_temperature=None, mu_slip=None, heat=(),
                  locked0=None, z0=None, oil=None, **values):
