@@ -22,8 +22,8 @@ SPEED_KEYS = {"name", "unit", "initial", "final", "min", "max"}
 ENERGY_KEYS = {"work_in_J", "friction_J", "damping_J", "road_J", "grade_J", "impacts_J",
                "heat_J", "kinetic_initial_J", "kinetic_final_J", "stored_initial_J",
                "stored_final_J"}
-FRICTION_KEYS = {"name", "kind", "model", "work_J", "peak_power_W", "lockups", "releases",
-                 "lockup_times_s", "locked_at_end"}
+FRICTION_KEYS = {"name", "kind", "model", "work_J", "peak_power_W", "drag_work_J", "lockups",
+                 "releases", "lockup_times_s", "locked_at_end"}
 EVENT_KEYS = {"name", "element", "count", "first_s", "last_s"}
 
 NETWORKS = {"elasto_gap": "ElastoGap", "coupled_clutches": "CoupledClutches",

@@ -1,6 +1,6 @@
 """FMUs of the issue-38 elements: the cone clutch (``cone_synchroniser.toml``), the band
-brake on an open differential (``band_brake_differential.toml``) and the dog clutch
-(``dog_clutch.toml``).  For each: the printed C
+brake on an open differential (``band_brake_differential.toml``), the dog clutch
+(``dog_clutch.toml``) and the wet clutch (``wet_clutch_engagement.toml``).  For each: the printed C
 equals the compiled plant on random states (right-hand side, outputs, Jacobian, events,
 resets), the FMU passes FMPy's compliance checks, and FMPy's run of it (CVode) follows
 clutchsim's run in the 2e-3 tube, locks where clutchsim locks, and closes its energy
@@ -41,6 +41,10 @@ CASES = {
                                 ["capacity_band", "T_diff_left", "T_diff_right"]),
     "dog_clutch": ("dog", ("engage", "release", "clash"), ["omega_input", "omega_output"],
                    ["dog.clashes"]),
+    # the wet clutch: its drag (film shrinkage, mist, the oil's viscosity) and the piston
+    "wet_clutch_engagement": ("pack", ("stop", "breakaway"),
+                              ["omega_shaft", "omega_load", "theta_oil", "theta_plates",
+                               "W_drag_pack"], ["capacity_pack", "W_drag_pack"]),
 }
 
 

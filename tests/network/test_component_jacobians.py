@@ -125,6 +125,7 @@ from clutchsim.network.components import (
     TranslationalSpringDamper,
     Tyre,
     Vehicle,
+    WetClutch,
 )
 from clutchsim.network.wear import WearLaw
 
@@ -247,6 +248,50 @@ def _rotational_friction(rng, model):
                 scales={"phi_dmf": 0.05},
                 near={"phi_dmf": lambda r, v: _edge(r, 0.2 if r.random() < 0.5 else 0.4,
                                                     0.05)})
+
+
+def _wet_clutch(rng, model, open_pack=False):
+    """Two wet clutches with ``model`` (its levels read as mu, ~0.13) on three inertias:
+    one with its oil film shrinking (a flow small enough that the critical speeds are a
+    few rad/s: the sampled slips cross the full, shrinking and emptied film), a mist,
+    mu(slip) and mu(theta) tables, the oil node's temperature and heat to the plates and
+    the oil; one flooded, at its parameter's temperature.  The pressures are above the
+    kiss points (at most 3·10⁵ Pa here): a held coulomb-robust element at zero capacity
+    with a speed-dependent torque across it has a wrong Jacobian in the plant (a clutch
+    and a damper show it too; reported), so the open packs are :func:`_wet_open`'s."""
+    mu = lambda: _random_model(model, rng, force=0.13 / make_model(model).static_capacity())
+    flow = (1e-9, 1e-7)
+    if open_pack:           # slips of 0.01-3 rad/s (the velocity scale): w_c below and above
+        mu, flow = lambda: make_model("tanh").with_(F_c=0.12, v_t=1.0), (1e-10, 2e-8)
+    pack = lambda: {"interfaces": float(rng.integers(2, 12)), "r_inner": _f(rng, 0.05, 0.07),
+                    "r_outer": _f(rng, 0.08, 0.1), "piston_area": _f(rng, 3e-3, 8e-3),
+                    "spring_preload": _f(rng, 300.0, 800.0),
+                    "spring_rate": _f(rng, 1e4, 5e4), "stroke": _f(rng, 5e-4, 2e-3),
+                    "gap": _f(rng, 1e-4, 3e-4), "drag_factor": _f(rng, 0.5, 2.0)}
+    net = Network([
+        TorqueSource("drive", input="tau"),
+        Inertia("a", J=_f(rng, 0.1, 0.5)),
+        WetClutch("wet", mu(), "p", oil="oil", heat=(("plates", 0.7), ("oil", 0.3)),
+                  mu_slip=((0.0, 2.0, 30.0), (1.0, 1.05, 1.15)),
+                  mu_temperature=((20.0, 120.0, 250.0), (1.0, 0.95, 0.8)),
+                  flow=_f(rng, *flow), mist=_f(rng, 0.0, 0.3), **pack()),
+        Inertia("b", J=_f(rng, 0.1, 0.5)),
+        WetClutch("flooded", mu(), "p2", oil_temperature=_f(rng, 20.0, 120.0), **pack()),
+        Inertia("c", J=_f(rng, 0.1, 0.5)),
+        ThermalNode("oil", capacity=_f(rng, 2e3, 5e3), conductance=_f(rng, 1.0, 5.0)),
+        ThermalNode("plates", capacity=_f(rng, 1e3, 3e3), link="oil",
+                    link_conductance=_f(rng, 5.0, 20.0)),
+    ], [["drive.flange", "a.a"], ["a.b", "wet.a"], ["wet.b", "b.a"], ["b.b", "flooded.a"],
+        ["flooded.b", "c.a"]], name=f"jac_wet_{model}")
+    if open_pack:           # below the kiss points: the packs only drag
+        return Case(net, {"tau": (-200.0, 200.0), "p": (-1e5, 5e4), "p2": (0.0, 5e4)})
+    return Case(net, {"tau": (-200.0, 200.0), "p": (3.1e5, 1.5e6), "p2": (3.1e5, 1e6)})
+
+
+def _wet_open(rng, _model):
+    """:func:`_wet_clutch` with both packs open (drag only) and tanh plates of velocity
+    scale 1 rad/s, so that the sampled slips cross the film's critical speeds."""
+    return _wet_clutch(rng, "tanh", open_pack=True)
 
 
 def _translational_friction(rng, model):
@@ -560,11 +605,12 @@ BUILDERS = {
     "cone_clutch": _rotational_friction, "band_brake": _differential,
     "open_differential": _differential, "dog_clutch": _differential,
     "tyre": _vehicle_around, "torsional_mount": _vehicle_around,
+    "wet_clutch": _wet_clutch,
 }
 #: networks for the other structural options of components that have a builder
-EXTRA_NETWORKS = (_options, _faults)
+EXTRA_NETWORKS = (_options, _faults, _wet_open)
 #: builders that take a friction model (built once per model of the registry)
-FRICTION_BUILDERS = (_rotational_friction, _translational_friction)
+FRICTION_BUILDERS = (_rotational_friction, _translational_friction, _wet_clutch)
 #: components of either domain (domain None) must appear in a network of each domain
 EITHER_DOMAIN = {"thermal_node": (_rotational_friction, _translational_friction)}
 

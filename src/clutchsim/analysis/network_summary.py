@@ -134,7 +134,9 @@ def _friction_elements(res, kinds) -> list[dict]:
                "work_J": float(work[-1]) if work is not None and work.size else
                (float(np.trapezoid(power, t)) if power is not None and t.size > 1 else 0.0),
                "peak_power_W": float(np.max(np.abs(power))) if power is not None
-               and power.size else 0.0}
+               and power.size else 0.0,
+               # the open-pack drag of a wet clutch (its own account, inside W_damping)
+               "drag_work_J": _final(res, f"W_drag_{name}")}
         row.update(_lockups(res, name))
         rows.append({k: (_finite(v) if isinstance(v, float) else v) for k, v in row.items()})
     return rows

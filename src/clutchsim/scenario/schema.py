@@ -131,7 +131,8 @@ LOSS_TABLE = Key("loss_table", "table", "`{speed = [rad/s ...], eta_mf1 = [...],
                  "Default: no losses (an ideal gear).")
 
 #: network component types with a `friction` table (a friction model; `--model` acts on them)
-FRICTION_TYPES = ("clutch", "brake", "support_friction", "translational_brake", "cone_clutch")
+FRICTION_TYPES = ("clutch", "brake", "support_friction", "translational_brake", "cone_clutch",
+                  "wet_clutch")
 
 #: the keys of a translational friction element besides its parameters
 TRANSLATIONAL_FRICTION = (
@@ -225,6 +226,14 @@ def _component_keys(cls) -> tuple:
             Key("friction", "table", "Friction model of the cone (see [friction]): its force "
                 "levels are read as the friction coefficient mu [-] (e.g. coulomb-robust "
                 "`overrides = {F_c = 0.1, F_s = 0.12}`).", required=True),
+            *FRICTION_ELEMENT[3:6]),
+        "wet_clutch": (
+            Key("command", "str", "Piston pressure [Pa] (a signal; below the kiss point "
+                "(spring_preload + spring_rate·stroke)/piston_area the pack is open).",
+                required=True),
+            Key("friction", "table", "Friction model of the plates (see [friction]): its "
+                "force levels are read as the friction coefficient mu [-] (e.g. "
+                "coulomb-robust `overrides = {F_c = 0.12, F_s = 0.13}`).", required=True),
             *FRICTION_ELEMENT[3:6]),
         "planetary": (Key("z_sun", "int", "Sun teeth (with z_ring, instead of ratio).",
                           low=1, high=1e4),

@@ -66,6 +66,7 @@ from .translational import (
 from .translational_vehicle import TranslationalVehicle
 from .tyre import Tyre
 from .vehicle import Vehicle
+from .wet_clutch import WetClutch
 
 __all__ = ["COMPONENTS", "Accelerate", "BandBrake", "Brake", "Clutch", "ConeClutch",
            "ConstantSpeed", "Damper", "DogClutch", "Driver", "DualMassFlywheel",
@@ -80,7 +81,8 @@ __all__ = ["COMPONENTS", "Accelerate", "BandBrake", "Brake", "Clutch", "ConeClut
            "TranslationalBrake", "TranslationalConstantSpeed", "TranslationalDamper",
            "TranslationalEddyCurrentBrake", "TranslationalMove", "TranslationalPosition",
            "TranslationalSpeed", "TranslationalSpringDamper", "TranslationalVehicle", "Tyre",
-           "Vehicle"]
+           "Vehicle",
+           "WetClutch"]
 
 #: scenario ``type`` -> component class
 COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, Gearbox,
@@ -106,4 +108,6 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   # shift elements and differentials (issue 38)
                                   BandBrake, ConeClutch, DogClutch, OpenDifferential,
                                   # the vehicle around the driveline (issue 39)
-                                  Tyre, TorsionalMount)}
+                                  Tyre, TorsionalMount,
+                                  # the wet multi-plate clutch (issue 38, item 3)
+                                  WetClutch)}

@@ -311,10 +311,16 @@ class _FrictionElement(FaultPhase, Component):
             vals.append(0.0)
         return vals
 
+    def _command(self, e) -> str:
+        """The command's expression: the input signal's value (``1.0`` for an element that
+        is always applied); a wet clutch reads its pressure above the kiss point.  Its
+        derivative by the signal is 1."""
+        return e.u(self.command) if self.commanded else "1.0"
+
     def emit(self, e):
         i = e.g.plan.fe_index[self.name]
         s, sc = f"s{i}", f"sc{i}"
-        x = e.u(self.command) if self.commanded else "1.0"
+        x = self._command(e)
         # dx: d(scale)/d(command) so far (the command may be another component's signal,
         # whose partials are chained in below)
         dx = e.tmp("dscx")
