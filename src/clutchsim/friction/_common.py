@@ -61,7 +61,8 @@ def clip_partials(F_e, scale, F_s, dF, j):
     elif F_e < -bound:
         dF[j + 1], dF[j + 2] = 0.0, -F_s
     else:
-        dF[j + 1], dF[j + 2] = 1.0, 0.0
+        # F_e itself; with no capacity (bound 0) the force is 0 whatever F_e
+        dF[j + 1], dF[j + 2] = (1.0 if bound > 0.0 else 0.0), 0.0
 
 
 @jit
