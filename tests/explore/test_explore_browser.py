@@ -36,19 +36,24 @@ def _severe(driver):
     return [e for e in driver.get_log("browser") if e.get("level") == "SEVERE"]
 
 
-def test_interactive_report_renders_offline(chrome, screenshot, launch_dir, tmp_path):
-    report = build_interactive_report(launch_dir)
-    chrome.get(report.resolve().as_uri())
-    deadline = time.monotonic() + 20
-    canvases = 0
-    while time.monotonic() < deadline and canvases < 5:
-        canvases = chrome.execute_script(_CANVASES)
+def assert_renders_offline(chrome, page, canvases: int, timeout_s: float = 20) -> None:
+    """``page`` (a file) in the browser draws at least ``canvases`` canvases within
+    ``timeout_s``, fetches nothing but data:, file: and blob: URLs, and logs no error."""
+    chrome.get(page.resolve().as_uri())
+    deadline, drawn = time.monotonic() + timeout_s, 0
+    while time.monotonic() < deadline and drawn < canvases:
+        drawn = chrome.execute_script(_CANVASES)
         time.sleep(0.2)
-    assert canvases >= 5, "the Bokeh figures did not render"
+    assert drawn >= canvases, "the Bokeh figures did not render"
     resources = chrome.execute_script(
         "return performance.getEntriesByType('resource').map(e => e.name)")
     assert not [r for r in resources if not r.startswith(("data:", "file:", "blob:"))]
     assert not _severe(chrome)
+
+
+def test_interactive_report_renders_offline(chrome, screenshot, launch_dir, tmp_path):
+    report = build_interactive_report(launch_dir)
+    assert_renders_offline(chrome, report, 5)
     assert screenshot(chrome, tmp_path / "screenshots" / "report_interactive.png") \
         .stat().st_size > 10_000
 

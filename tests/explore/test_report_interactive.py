@@ -31,24 +31,25 @@ class _Tags(HTMLParser):
 
 def _sources(page: str) -> list[dict]:
     """The ColumnDataSources of the embedded Bokeh document, columns decoded."""
+    return [{k: _array(v) for k, v in zip(*_entries(m["attributes"]["data"]))}
+            for m in _models(page) if m["name"] == "ColumnDataSource"]
+
+
+def _models(page: str) -> list[dict]:
+    """Every model of the embedded Bokeh document (``{"name", "attributes", ...}``)."""
     blob = re.search(r"const docs_json = '(.*?)';\n", page, re.DOTALL).group(1)
-    docs = json.loads(blob)
     found = []
 
     def walk(node):
         if isinstance(node, dict):
-            if node.get("name") == "ColumnDataSource":
-                data = node["attributes"]["data"]
-                cols = {}
-                for k, v in zip(*(e for e in _entries(data))):
-                    cols[k] = _array(v)
-                found.append(cols)
+            if "name" in node and isinstance(node.get("attributes"), dict):
+                found.append(node)
             for v in node.values():
                 walk(v)
         elif isinstance(node, list):
             for v in node:
                 walk(v)
-    walk(docs)
+    walk(json.loads(blob))
     return found
 
 
@@ -71,8 +72,10 @@ def report(launch_dir):
     return build_interactive_report(launch_dir)
 
 
-def test_self_contained_and_small(report):
-    page = report.read_text(encoding="utf-8")
+def assert_self_contained(page: str) -> None:
+    """Bokeh inlined (no script or stylesheet from anywhere, no URL in any attribute), a
+    policy that lets the page run its own scripts and fetch nothing, one Bokeh document
+    in the section "Interactive figures"."""
     parser = _Tags()
     parser.feed(page)
     for tag, attrs in parser.tags:
@@ -85,6 +88,12 @@ def test_self_contained_and_small(report):
     assert "default-src 'none'" in csp and "script-src 'unsafe-inline'" in csp
     assert "connect-src" not in csp                 # nothing fetched, not even by scripts
     assert "Bokeh" in page and 'id="interactive"' in page
+    assert page.count("const docs_json = ") == 1
+
+
+def test_self_contained_and_small(report):
+    page = report.read_text(encoding="utf-8")
+    assert_self_contained(page)
     assert "<h2>Metrics" in page and "<h2>Scenario" in page   # the static report's tables
     assert '<figure id="fig-launch_' not in page   # the PNGs of the traces: in the directory
     size = report.stat().st_size

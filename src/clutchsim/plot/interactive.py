@@ -67,24 +67,33 @@ def _extreme_rows(cols: np.ndarray, n: int, buckets: int) -> np.ndarray:
 
 
 def trace_figure(source, t_name: str, series, *, title: str, unit: str, x_range=None,
-                 height: int = 220, width: int = 900, dashed=(), x_label: str = "t [s]"):
+                 height: int = 220, width: int = 900, dashed=(), x_label: str = "t [s]",
+                 markers: bool = False):
     """One figure: the columns ``series`` (names in ``source``, a Bokeh ColumnDataSource
     with the time column ``t_name``) against time, with hover values in ``unit``, the
     legend toggling each line, and ``x_range`` shared with other figures (None: its own).
-    ``dashed``: names drawn dashed (a second model overlaid).  Returns the figure."""
+    ``dashed``: names drawn dashed (a second model overlaid).  ``x_label``: the x axis as
+    ``"name [unit]"`` (hover shows the x value with that name and unit); ``markers``: a
+    dot at each point too.  Returns the figure."""
     from bokeh.models import HoverTool
     from bokeh.plotting import figure
     kw = {"x_range": x_range} if x_range is not None else {}
     fig = figure(title=title, height=height, width=width, tools=_TOOLS,
                  active_drag="box_zoom", active_scroll="xwheel_zoom",
-                 x_axis_label=x_label, y_axis_label=f"[{unit}]", **kw)
+                 x_axis_label=x_label, y_axis_label=f"[{unit}]" if unit else "", **kw)
     fig.toolbar.logo = None
+    x_name, x_unit = _split_label(x_label)
+    x_fmt = "0.000" if x_unit == "s" else "0.[000]"
     for i, name in enumerate(series):
-        r = fig.line(t_name, name, source=source, color=PALETTE[i % len(PALETTE)],
+        color = PALETTE[i % len(PALETTE)]
+        r = fig.line(t_name, name, source=source, color=color,
                      line_width=1.6, line_dash="dashed" if name in dashed else "solid",
                      legend_label=name)
+        if markers:
+            fig.scatter(t_name, name, source=source, color=color, size=4, legend_label=name)
         fig.add_tools(HoverTool(renderers=[r], mode="vline", tooltips=[
-            (name, f"@{{{name}}}{{0.[000]}} {unit}"), ("t", f"@{{{t_name}}}{{0.000}} s")]))
+            (name, f"@{{{name}}}{{0.[000]}} {unit}"),
+            (x_name, f"@{{{t_name}}}{{{x_fmt}}} {x_unit}".rstrip())]))
     if fig.legend:
         _legend_right(fig)
     return fig
@@ -127,12 +136,14 @@ def overlay_figure(runs, *, title: str, unit: str, height: int = 300, width: int
 
 
 def traces_column(t, groups, *, units, title: str = "", max_points: int | None = None,
-                  t_name: str = "t", height: int = 220, width: int = 900, dashed=()):
+                  t_name: str = "t", height: int = 220, width: int = 900, dashed=(),
+                  x_label: str = "t [s]", markers: bool = False):
     """Figures of one run, one per group, their time axes linked.
 
     ``t``: time [s]; ``groups``: ``[(title, {series name: 1-D array}), ...]``; ``units``:
     series name -> unit (one unit a group); ``max_points``: draw at most this many rows
-    (:func:`display_rows`; None: all).  Returns ``(layout, source)``: a Bokeh column of
+    (:func:`display_rows`; None: all); ``x_label``, ``markers``: as
+    :func:`trace_figure`.  Returns ``(layout, source)``: a Bokeh column of
     the figures and the ColumnDataSource they share (replace its ``data`` to redraw)."""
     from bokeh.layouts import column
     from bokeh.models import ColumnDataSource, Div
@@ -150,11 +161,21 @@ def traces_column(t, groups, *, units, title: str = "", max_points: int | None =
         names = list(cols)
         unit = units.get(names[0], "") if names else ""
         fig = trace_figure(source, t_name, names, title=gtitle, unit=unit, x_range=x_range,
-                           height=height, width=width, dashed=dashed)
+                           height=height, width=width, dashed=dashed, x_label=x_label,
+                           markers=markers)
         x_range = x_range or fig.x_range
         figs.append(fig)
     items = ([Div(text=f"<h3>{_escape(title)}</h3>")] if title else []) + figs
     return column(*items), source
+
+
+def _split_label(text: str) -> tuple[str, str]:
+    """``("t", "s")`` from ``"t [s]"``; ``(text, "")`` without a unit."""
+    text = str(text)
+    if text.endswith("]") and " [" in text:
+        name, unit = text[:-1].rsplit(" [", 1)
+        return name, unit
+    return text, ""
 
 
 def _escape(text: str) -> str:

@@ -142,30 +142,47 @@ def interactive_figures(directory: str | Path, *, max_points: int = MAX_POINTS) 
     return out
 
 
-def _bokeh_parts(figures) -> tuple[str, str]:
+def _bokeh_parts(figures, note: str | None = None) -> tuple[str, str]:
     """``(head, body)``: the inlined Bokeh library and the figures' script, and their
-    ``div``\\ s under headings."""
+    ``div``\\ s under headings after ``note`` (default: how to use a run's figures)."""
     from bokeh.embed import components
     from bokeh.resources import Resources
     script, divs = components([f for _, f in figures])
     head = Resources(mode="inline", components=["bokeh"]).render_js() + script
     body = "".join(f"<h3>{escape(title)}</h3>{div}" for (title, _), div in zip(figures, divs))
-    note = ("<p>Drag to zoom, wheel to zoom time, click a legend entry to hide its line; "
-            f"at most {MAX_POINTS:,} rows of a run are drawn (the data files hold every "
-            "row).</p>")
-    return head, note + body
+    if note is None:
+        note = ("Drag to zoom, wheel to zoom time, click a legend entry to hide its line; "
+                f"at most {MAX_POINTS:,} rows of a run are drawn (the data files hold every "
+                "row).")
+    return head, f"<p>{escape(note)}</p>" + body
 
 
 def build_interactive_report(out_dir: str | Path, *, title: str | None = None,
                              max_points: int = MAX_POINTS) -> Path:
-    """Write ``out_dir/report.html`` with interactive figures (see the module docstring)
-    atomically; returns its path.  Raises as :func:`clutchsim.report.build_report`."""
+    """Write ``out_dir/report.html`` with interactive figures (see the module docstring;
+    sweeps, UQ, durability, judder and fit directories: :mod:`.interactive_kinds`)
+    atomically; returns its path.  A directory with nothing to draw interactively gets
+    the static report.  Raises as :func:`clutchsim.report.build_report`."""
     from .._util import atomic_write
+    from .interactive_kinds import KINDS, directory_kind, kind_figures
     data = gather(out_dir, title=title)
-    figures = interactive_figures(out_dir, max_points=max_points)
-    if figures:     # the PNGs of the traces stay in the directory, for printing
-        kept = [f for f in data.figures if not f.name.startswith(REPLACED)]
-        page = render(replace(data, figures=kept), interactive=_bokeh_parts(figures))
+    kind = directory_kind(out_dir)
+    if kind is not None:
+        replaced, note = KINDS[kind][1], KINDS[kind][2]
+        try:
+            figures = kind_figures(out_dir, kind)
+        except (OSError, ValueError, KeyError, TypeError, IndexError) as exc:
+            # a damaged data file: the static figures, and the page says why
+            figures = []
+            data.problems.append(f"the interactive figures of this {kind} directory could "
+                                 f"not be drawn ({type(exc).__name__}: {exc}); the static "
+                                 "figures are shown")
+    else:
+        figures = interactive_figures(out_dir, max_points=max_points)
+        replaced, note = REPLACED, None
+    if figures:     # the PNGs the figures replace stay in the directory, for printing
+        kept = [f for f in data.figures if not f.name.startswith(replaced)]
+        page = render(replace(data, figures=kept), interactive=_bokeh_parts(figures, note))
     else:
         page = render(data)
     return atomic_write(Path(out_dir) / REPORT_NAME, lambda p: _write(Path(p), page))
