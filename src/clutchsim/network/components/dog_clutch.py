@@ -137,21 +137,37 @@ def dog_clutch_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
 
 
 @jit
+def dog_window(push, v, w_max, align):
+    """The engagement event function of a dog: ``max(push, |v| − w_max, align)``, <= 0
+    where the teeth may enter the gaps (``push`` <= 0: the sleeve is pushed in; ``|v| <=
+    w_max``: the speed window; ``align`` <= 0: the angular window).  The synchroniser
+    (:mod:`.synchronizer`) reads its blocker through it."""
+    return max(max(push, abs(v) - w_max), align)
+
+
+@jit
+def dog_may_engage(push, v, w_max, align):
+    """Does the dog engage at a located crossing of :func:`dog_window` (the windows checked
+    again, to the event's tolerance)?  1.0 yes, 0.0 no (a number: the plant's C printer
+    takes conditions as comparisons)."""
+    return 1.0 if (push <= 0.0 and abs(v) <= w_max * (1.0 + 1e-9) and align <= 1e-9) else 0.0
+
+
+@jit
 def dog_clutch_events(p, z, v, F_e, scale, g):
     g[0], g[1], g[2] = NO_EVENT, NO_EVENT, NO_EVENT
     if z[0] == 0.0:
         g[1] = scale - 0.5
     else:
-        g[0] = max(max(0.5 - scale, abs(v) - p[0]), p[2] - math.cos(p[1] * z[2]))
+        g[0] = dog_window(0.5 - scale, v, p[0], p[2] - math.cos(p[1] * z[2]))
         g[2] = max(0.5 - scale, p[0] - abs(v))
 
 
 @jit
 def dog_clutch_reset(p, z, v, F_e, scale, k):
     if k == 0:          # engage: only in the window of speed and angle, while pushed in
-        ok = (scale >= 0.5 and abs(v) <= p[0] * (1.0 + 1e-9)
-              and math.cos(p[1] * z[2]) >= p[2] - 1e-9)
-        if z[0] != 0.0 and ok:
+        if z[0] != 0.0 and dog_may_engage(0.5 - scale, v, p[0],
+                                          p[2] - math.cos(p[1] * z[2])) > 0.5:
             z[0] = 0.0
             return RESET_STUCK
         return RESET_NONE
