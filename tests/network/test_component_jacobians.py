@@ -78,6 +78,7 @@ time.  Measured on the shared 2-core machine (load ~5): 25 s warm, 133 s cold.
 
 from __future__ import annotations
 
+import math
 import zlib
 from collections import Counter
 from dataclasses import dataclass, field
@@ -500,6 +501,26 @@ def _synchronizer(rng, model=None):
     return Case(net, {"tau": (-50.0, 50.0), "fsleeve": (-100.0, 1000.0)})
 
 
+def _dog_teeth(rng, model=None):
+    """A dog clutch whose engaged teeth have a free play and a contact stiffness and
+    damping (the lash law at the offset from the centre of the tooth gap), between two
+    inertias driven by a torque; its relative angle near a flank of some tooth gap."""
+    teeth = float(rng.integers(8, 30))
+    pitch = 2.0 * math.pi / teeth
+    b = _f(rng, 0.005, 0.05)
+    net = Network([
+        TorqueSource("drive", input="tau"),
+        Inertia("a", J=_f(rng, 0.05, 0.3)),
+        DogClutch("dog", "sleeve", w_max=_f(rng, 0.5, 5.0), teeth=teeth,
+                  window=_f(rng, 0.3, 1.0) * pitch, c_contact=_f(rng, 1e3, 1e5),
+                  d_contact=_f(rng, 0.0, 20.0), backlash=b),
+        Inertia("b", J=_f(rng, 0.1, 0.5)),
+    ], [["drive.flange", "a.a"], ["a.b", "dog.a"], ["dog.b", "b.a"]], name="jac_dog_teeth")
+    return Case(net, {"tau": (-100.0, 100.0), "sleeve": (0.0, 1.0)},
+                near={"phi_dog": lambda r, v: float(r.integers(-3, 4)) * pitch
+                      + _edge(r, 0.5 * b, 1e-2)})
+
+
 def _mass_stop(rng, model=None):
     """Modelica's MassWithStopAndFriction on a spring, pushed by a force."""
     net = Network([
@@ -582,7 +603,7 @@ BUILDERS = {
     "synchronizer": _synchronizer,
 }
 #: networks for the other structural options of components that have a builder
-EXTRA_NETWORKS = (_options, _faults)
+EXTRA_NETWORKS = (_options, _faults, _dog_teeth)
 #: builders that take a friction model (built once per model of the registry)
 FRICTION_BUILDERS = (_rotational_friction, _translational_friction)
 #: components of either domain (domain None) must appear in a network of each domain
@@ -748,6 +769,8 @@ def _sample(plan, system, case, rng, stick=False):
             y[idx["z1"]] = float(rng.integers(0, 2)) if rg == "locked" else 0.0
         elif law == "dog-clutch":        # engaged (0) when locked, else open (1)
             y[idx["z0"]] = 0.0 if rg == "locked" else 1.0
+            if "locked" not in idx:      # elastic teeth: engaged or open, never locked
+                y[idx["z0"]] = float(rng.integers(0, 2))
             y[idx["z1"]] = float(rng.integers(0, 5))
         elif law == "mass-with-stop":
             lo, hi = c.model.s_low, c.model.s_high
