@@ -1,6 +1,8 @@
 """FMUs of the issue-38 elements: the cone clutch (``cone_synchroniser.toml``), the band
 brake on an open differential (``band_brake_differential.toml``), the dog clutch
-(``dog_clutch.toml``) and the wet clutch (``wet_clutch_engagement.toml``).  For each: the printed C
+(``dog_clutch.toml``), its elastic teeth (``dog_backlash.toml``), the synchroniser
+(``synchronizer.toml``) and the wet clutch (``wet_clutch_engagement.toml``).  For each:
+the printed C
 equals the compiled plant on random states (right-hand side, outputs, Jacobian, events,
 resets), the FMU passes FMPy's compliance checks, and FMPy's run of it (CVode) follows
 clutchsim's run in the 2e-3 tube, locks where clutchsim locks, and closes its energy
@@ -45,6 +47,10 @@ CASES = {
     "wet_clutch_engagement": ("pack", ("stop", "breakaway"),
                               ["omega_shaft", "omega_load", "theta_oil", "theta_plates",
                                "W_drag_pack"], ["capacity_pack", "W_drag_pack"]),
+    "synchronizer": ("sync", ("stop", "release", "engage"), ["omega_gear", "omega_shaft"],
+                     ["sync.engaged"]),
+    "dog_backlash": ("dog", ("flank +backlash/2", "flank -backlash/2"),
+                     ["omega_input", "omega_output"], ["contact_dog"]),
 }
 
 
@@ -61,7 +67,9 @@ def test_fmu_of_the_shift_elements_runs_as_clutchsim(tmp_path, example):
     assert worst <= 1e-12 and checked_lock
     res = run_scenario(sc, None).result
     assert res.status == "completed"
-    names = [*speeds, *outputs, "E_kinetic", "E_spring", *ENERGY, f"{element}.locked"]
+    # (elastic dog teeth are never locked: no lock state)
+    lock = [f"{element}.locked"] if f"{element}.locked" in res.signals else []
+    names = [*speeds, *outputs, "E_kinetic", "E_spring", *ENERGY, *lock]
     # 0.1 ms: FMPy sets the inputs only where CVode calls its root functions, and a coarser
     # input table stalls CVode on the force ramps (mxstep before 0.5 ms at 1 ms)
     f = simulate(path, sc, names, 1e-8, 1e-4, record_events=True)
@@ -70,7 +78,7 @@ def test_fmu_of_the_shift_elements_runs_as_clutchsim(tmp_path, example):
     # output interval of clutchsim's run)
     for name in [*speeds, *ENERGY]:
         assert tube_tv(f, res, name, 1e-3) <= TUBE, name
-        if example != "dog_clutch":
+        if example not in ("dog_clutch", "synchronizer"):
             assert tube(f, res, name) <= TUBE, name
     # the counters and capacities at the end
     for name in outputs:
@@ -78,6 +86,9 @@ def test_fmu_of_the_shift_elements_runs_as_clutchsim(tmp_path, example):
     # the element locks (or breaks away) where clutchsim's does (after t0: the FMU settles
     # the band, at rest with no force, in its initialisation)
     t = f["time"]
+    if not lock:
+        assert energy_balance(f) < 1e-6
+        return
     theirs = t[1:][(np.diff(f[f"{element}.locked"]) != 0) & (np.diff(t) == 0)]
     locks = {f"{element}: {e}" for e in ("stop", "breakaway", "engage", "release")}
     ours = [e.t for e in res.events if e.name in locks and e.t > 0.0]

@@ -78,6 +78,7 @@ time.  Measured on the shared 2-core machine (load ~5): 25 s warm, 133 s cold.
 
 from __future__ import annotations
 
+import math
 import zlib
 from collections import Counter
 from dataclasses import dataclass, field
@@ -86,7 +87,7 @@ import numpy as np
 import pytest
 
 from clutchsim.core.system import call_jac, call_rhs, has_jacobian
-from clutchsim.friction import MODELS, make_model
+from clutchsim.friction import MODELS, CoulombRobust, make_model
 from clutchsim.network import Network
 from clutchsim.network.components import (
     COMPONENTS,
@@ -117,6 +118,7 @@ from clutchsim.network.components import (
     ServoActuator,
     SpringDamper,
     SupportFriction,
+    Synchronizer,
     ThermalNode,
     TorqueConverter,
     TorquePulsation,
@@ -527,6 +529,44 @@ def _differential(rng, model=None):
     return Case(net, {"tau": (-300.0, 300.0), "fa": (-50.0, 500.0), "sleeve": (0.0, 1.0)})
 
 
+def _synchronizer(rng, model=None):
+    """A synchroniser between an idler gear and its shaft (cone, blocker, dog), driven by a
+    torque, with a drag and heat into the cone ring."""
+    net = Network([
+        TorqueSource("drive", input="tau"),
+        Inertia("gear", J=_f(rng, 0.01, 0.05)),
+        Synchronizer("sync", CoulombRobust(F_c=_f(rng, 0.08, 0.12), F_s=0.13,
+                                           sigma2=_f(rng, 0.0, 0.01)), "fsleeve",
+                     R_m=_f(rng, 0.03, 0.06), alpha=_f(rng, 6.0, 12.0),
+                     w_sync=_f(rng, 0.1, 2.0), F_block=_f(rng, 100.0, 500.0),
+                     drag=_f(rng, 0.01, 0.1), heat=(("ring", 1.0),)),
+        ThermalNode("ring", capacity=_f(rng, 20.0, 80.0), conductance=_f(rng, 0.5, 2.0)),
+        Inertia("shaft", J=_f(rng, 0.02, 0.1)),
+    ], [["drive.flange", "gear.a"], ["gear.b", "sync.a"], ["sync.b", "shaft.a"]],
+        name="jac_synchronizer")
+    return Case(net, {"tau": (-50.0, 50.0), "fsleeve": (-100.0, 1000.0)})
+
+
+def _dog_teeth(rng, model=None):
+    """A dog clutch whose engaged teeth have a free play and a contact stiffness and
+    damping (the lash law at the offset from the centre of the tooth gap), between two
+    inertias driven by a torque; its relative angle near a flank of some tooth gap."""
+    teeth = float(rng.integers(8, 30))
+    pitch = 2.0 * math.pi / teeth
+    b = _f(rng, 0.005, 0.05)
+    net = Network([
+        TorqueSource("drive", input="tau"),
+        Inertia("a", J=_f(rng, 0.05, 0.3)),
+        DogClutch("dog", "sleeve", w_max=_f(rng, 0.5, 5.0), teeth=teeth,
+                  window=_f(rng, 0.3, 1.0) * pitch, c_contact=_f(rng, 1e3, 1e5),
+                  d_contact=_f(rng, 0.0, 20.0), backlash=b),
+        Inertia("b", J=_f(rng, 0.1, 0.5)),
+    ], [["drive.flange", "a.a"], ["a.b", "dog.a"], ["dog.b", "b.a"]], name="jac_dog_teeth")
+    return Case(net, {"tau": (-100.0, 100.0), "sleeve": (0.0, 1.0)},
+                near={"phi_dog": lambda r, v: float(r.integers(-3, 4)) * pitch
+                      + _edge(r, 0.5 * b, 1e-2)})
+
+
 def _mass_stop(rng, model=None):
     """Modelica's MassWithStopAndFriction on a spring, pushed by a force."""
     net = Network([
@@ -607,9 +647,10 @@ BUILDERS = {
     "open_differential": _differential, "dog_clutch": _differential,
     "tyre": _vehicle_around, "torsional_mount": _vehicle_around,
     "wet_clutch": _wet_clutch,
+    "synchronizer": _synchronizer,
 }
 #: networks for the other structural options of components that have a builder
-EXTRA_NETWORKS = (_options, _faults, _wet_open)
+EXTRA_NETWORKS = (_options, _faults, _wet_open, _dog_teeth)
 #: builders that take a friction model (built once per model of the registry)
 FRICTION_BUILDERS = (_rotational_friction, _translational_friction, _wet_clutch)
 #: components of either domain (domain None) must appear in a network of each domain
@@ -639,7 +680,8 @@ def _discrete(plan) -> set:
     out = set()
     for c in plan.fes:
         for key, label, _u in c.state_layout():
-            if key == "locked" or label.endswith((".mode", ".stop", ".clashes")):
+            if key == "locked" or label.endswith((".mode", ".stop", ".clashes",
+                                                  ".engaged")):
                 out.add(plan.state_index[(c.name, key)])
     return out
 
@@ -769,8 +811,13 @@ def _sample(plan, system, case, rng, stick=False):
             y[idx["z0"]] = 0.0 if rg in ("locked", "held") else (1.0 if s >= 0.0 else -1.0)
         elif law == "one-way-clutch":
             y[idx["z0"]] = 0.0 if rg == "locked" else 1.0
+        elif law == "synchronizer":      # locked: the dog in or the cone stuck
+            y[idx["z0"]] = 0.0 if rg == "locked" else (1.0 if s >= 0.0 else -1.0)
+            y[idx["z1"]] = float(rng.integers(0, 2)) if rg == "locked" else 0.0
         elif law == "dog-clutch":        # engaged (0) when locked, else open (1)
             y[idx["z0"]] = 0.0 if rg == "locked" else 1.0
+            if "locked" not in idx:      # elastic teeth: engaged or open, never locked
+                y[idx["z0"]] = float(rng.integers(0, 2))
             y[idx["z1"]] = float(rng.integers(0, 5))
         elif law == "mass-with-stop":
             lo, hi = c.model.s_low, c.model.s_high
@@ -824,7 +871,7 @@ def _scales(plan, system, case, V):
     for c in (own[c.name] for c in plan.fes):
         if c.model.n_states and c.model.name not in ("coulomb-robust", "one-way-clutch",
                                                       "lossy-gear", "mass-with-stop",
-                                                      "dog-clutch"):
+                                                      "dog-clutch", "synchronizer"):
             zs = np.abs(c.model.sliding_state(10.0 * _velocity_scale(c.model)))
             for k in range(c.model.n_states):
                 S[plan.state_index[(c.name, f"z{k}")]] = max(zs[k], 1e-12)

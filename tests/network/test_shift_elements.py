@@ -256,12 +256,19 @@ def test_dog_engagement_at_zero_slip_conserves_momentum():
     _clean(res)
     eng = [e.t for e in res.events if e.name == "dog: engage"]
     assert eng == [pytest.approx(0.02, abs=1e-12)]
+    assert_one_body(res, J_a, J_b, w0, T, 0.05)
+
+
+def assert_one_body(res, J_a, J_b, w0, T, t_on):
+    """Inertias ``a`` and ``b`` joined at ``w0`` with no loss (``W_sync`` 0, 1e-9), a torque
+    ``T`` on ``a`` from ``t_on``: the momentum is ``L0 + ∫T dt`` (1e-9) and ``b`` turns
+    with the two as one body."""
     L = J_a * res["omega_a"] + J_b * res["omega_b"]
-    L_ref = (J_a + J_b) * w0 + T * np.maximum(res.t - 0.05, 0.0)
+    L_ref = (J_a + J_b) * w0 + T * np.maximum(res.t - t_on, 0.0)
     assert np.max(np.abs(L - L_ref)) <= 1e-9 * L_ref.max()
     assert abs(res["W_sync"][-1]) <= 1e-9
-    after = res.t > 0.05
-    assert np.allclose(res["omega_b"][after], w0 + T * (res.t[after] - 0.05) / (J_a + J_b),
+    after = res.t > t_on
+    assert np.allclose(res["omega_b"][after], w0 + T * (res.t[after] - t_on) / (J_a + J_b),
                        rtol=1e-9)
 
 

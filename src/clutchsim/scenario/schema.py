@@ -235,6 +235,14 @@ def _component_keys(cls) -> tuple:
                 "force levels are read as the friction coefficient mu [-] (e.g. "
                 "coulomb-robust `overrides = {F_c = 0.12, F_s = 0.13}`).", required=True),
             *FRICTION_ELEMENT[3:6]),
+        "synchronizer": (
+            Key("command", "str", "Sleeve force [N] (a signal; negative values read as 0): "
+                "it presses the cone, passes the blocker from `F_block` and holds the "
+                "engaged dog while positive.", required=True),
+            Key("friction", "table", "Friction model of the cone: coulomb-robust, its levels "
+                "read as the friction coefficient mu [-] (`overrides = {F_c = 0.1, F_s = "
+                "0.12}`).", required=True),
+            *FRICTION_ELEMENT[5:6]),
         "planetary": (Key("z_sun", "int", "Sun teeth (with z_ring, instead of ratio).",
                           low=1, high=1e4),
                       Key("z_ring", "int", "Ring teeth.", low=1, high=1e4)),

@@ -54,6 +54,7 @@ from .speed_torque import (
     SignTorque,
 )
 from .spring_damper import SpringDamper
+from .synchronizer import Synchronizer
 from .thermal import ThermalNode
 from .torque_pulsation import TorquePulsation
 from .torque_source import TorqueSource
@@ -76,7 +77,8 @@ __all__ = ["COMPONENTS", "Accelerate", "BandBrake", "Brake", "Clutch", "ConeClut
            "LossyGearWithLash", "Mass", "MassWithStopAndFriction", "Move", "OneWayClutch",
            "OpenDifferential", "Planetary", "Position", "QuadraticSpeedForce",
            "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator", "SignForce", "SignTorque",
-           "Speed", "SpringDamper", "SupportFriction", "ThermalNode", "TorqueConverter",
+           "Speed", "SpringDamper", "SupportFriction", "Synchronizer",
+           "ThermalNode", "TorqueConverter",
            "TorquePulsation", "TorqueSource", "TorsionalMount", "TranslationalAccelerate",
            "TranslationalBrake", "TranslationalConstantSpeed", "TranslationalDamper",
            "TranslationalEddyCurrentBrake", "TranslationalMove", "TranslationalPosition",
@@ -107,6 +109,7 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   LossyGearWithLash,
                                   # shift elements and differentials (issue 38)
                                   BandBrake, ConeClutch, DogClutch, OpenDifferential,
+                                  Synchronizer,
                                   # the vehicle around the driveline (issue 39)
                                   Tyre, TorsionalMount,
                                   # the wet multi-plate clutch (issue 38, item 3)

@@ -9,6 +9,26 @@ from .spring_damper import TwistCoupling
 B_EPS = 1e-10
 
 
+def lash_law(e, s: str, w: str, b: str, c: str, d: str) -> tuple[str, ...]:
+    """The lash's torque at the offset ``s`` from the centre of the gap ``[−b/2, b/2]`` and
+    the twist rate ``w`` (:class:`ElastoBacklash`'s law, also the engaged teeth of an
+    elastic dog clutch): the locals ``(τ, τ_c, ∂τ_c/∂s, ∂τ/∂s, ∂τ/∂w, side, b/2, plain)``."""
+    hb = e.let("hb", f"0.5 * {b}")
+    plain = e.let("plain", f"{b} <= {B_EPS!r}")
+    # side of the contact: +1 beyond +b/2, -1 beyond -b/2, 0 in the gap (and plain)
+    sg = e.let("sg", f"0.0 if {plain} else (1.0 if {s} > {hb} else "
+                     f"(-1.0 if {s} < -{hb} else 0.0))")
+    kc = e.let("kc", f"{c} if ({plain} or {sg} != 0.0) else 0.0")
+    tc = e.let("tc", f"{kc} * ({s} - {sg} * {hb})")
+    td = e.let("td", f"{d} * {w}")
+    cut = e.let("cut", f"(not {plain}) and {sg} * ({tc} + {td}) <= 0.0")
+    lim = e.let("lim", f"(not {plain}) and {sg} * ({td} - {tc}) >= 0.0")
+    tau = e.let("tau", f"0.0 if {cut} else (2.0 * {tc} if {lim} else {tc} + {td})")
+    kp = e.let("kp", f"0.0 if {cut} else (2.0 * {c} if {lim} else {c})")
+    kw = e.let("kw", f"0.0 if ({cut} or {lim}) else {d}")
+    return tau, tc, kc, kp, kw, sg, hb, plain
+
+
 class ElastoBacklash(TwistCoupling):
     """Backlash ``b`` in series with a spring ``c`` and a damper ``d`` between flanges a, b.
 
@@ -53,19 +73,7 @@ class ElastoBacklash(TwistCoupling):
         b, c, d, phi_rel0 = (e.par(k) for k in ("b", "c", "d", "phi_rel0"))
         phi, w = self.twist(e)
         s = e.let("s", f"{phi} - {phi_rel0}")
-        hb = e.let("hb", f"0.5 * {b}")
-        plain = e.let("plain", f"{b} <= {B_EPS!r}")
-        # side of the contact: +1 beyond +b/2, -1 beyond -b/2, 0 in the gap (and plain)
-        sg = e.let("sg", f"0.0 if {plain} else (1.0 if {s} > {hb} else "
-                         f"(-1.0 if {s} < -{hb} else 0.0))")
-        kc = e.let("kc", f"{c} if ({plain} or {sg} != 0.0) else 0.0")
-        tc = e.let("tc", f"{kc} * ({s} - {sg} * {hb})")
-        td = e.let("td", f"{d} * {w}")
-        cut = e.let("cut", f"(not {plain}) and {sg} * ({tc} + {td}) <= 0.0")
-        lim = e.let("lim", f"(not {plain}) and {sg} * ({td} - {tc}) >= 0.0")
-        tau = e.let("tau", f"0.0 if {cut} else (2.0 * {tc} if {lim} else {tc} + {td})")
-        kp = e.let("kp", f"0.0 if {cut} else (2.0 * {c} if {lim} else {c})")
-        kw = e.let("kw", f"0.0 if ({cut} or {lim}) else {d}")
+        tau, tc, kc, kp, kw, sg, hb, plain = lash_law(e, s, w, b, c, d)
         self.emit_twist(e, w, tau, kp, kw)
         # damping power (τ − τ_c)·w: everything the spring does not store
         e.power("damp", f"({tau} - {tc}) * {w}")

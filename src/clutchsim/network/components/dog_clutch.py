@@ -21,8 +21,15 @@ The slip is ``w = ω_b − ω_a`` and the relative angle ``φ`` (state ``phi_<na
 * **Engaged** (``mode`` 0, locked): rigid teeth that hold any torque, until the command
   falls below 0.5 (event ``release``).
 
-Engaged teeth are rigid: the backlash between the dogs and their contact stiffness are not
-modelled.  The window must fit in a tooth pitch (``window <= 2π/teeth``).
+Engaged teeth are rigid by default.  With a contact stiffness ``c_contact`` > 0 they have
+a free play ``backlash`` (the gap ``[−backlash/2, backlash/2]`` around the centre of the
+tooth space they entered) and a contact damping ``d_contact``: the engagement does not lock
+the element, the slip carries the teeth across the gap, and the flanks touch through the
+lash law of :mod:`.backlash` (``T = c·(s ∓ backlash/2) + d·w`` in contact, the damping
+limited so that the contact never pulls), at the offset ``s = (φ + pitch/2) mod pitch − pitch/2``
+from the centre of the gap.  Their torque is ``T_teeth_<name>``, ``contact_<name>`` the
+flank in contact (±1, 0 in the gap); the spring's energy is in ``E_spring``, the damping's
+work in ``W_damping``.  The window must fit in a tooth pitch (``window <= 2π/teeth``).
 
 References
 ----------
@@ -54,6 +61,7 @@ from ...friction.base import (
 )
 from ..component import Component
 from ..spec import Param
+from .backlash import lash_law
 from .friction import Clutch
 
 
@@ -65,6 +73,7 @@ class DogLaw(FrictionModel):
     w_max: float
     teeth: float
     window: float
+    elastic: float = 0.0
 
     name: ClassVar[str] = "dog-clutch"
     code: ClassVar[int] = -4
@@ -75,6 +84,7 @@ class DogLaw(FrictionModel):
         "w_max": ("velocity", "largest slip at which the teeth engage"),
         "teeth": ("1", "number of dogs on each ring"),
         "window": ("displacement", "angular window in which the teeth enter the gaps"),
+        "elastic": ("1", "1: engaged teeth with backlash and contact stiffness, 0 rigid"),
     }
     phenomena: ClassVar[dict[str, Expectation]] = {}
     default_parameter_set: ClassVar[str] = ""
@@ -96,7 +106,8 @@ class DogLaw(FrictionModel):
                       f"in (0, 2π/teeth = {2.0 * math.pi / self.teeth:g} rad]")
 
     def _pack(self) -> list[float]:
-        return [self.w_max, self.teeth, math.cos(0.5 * self.teeth * self.window)]
+        return [self.w_max, self.teeth, math.cos(0.5 * self.teeth * self.window),
+                self.elastic]
 
     def _state_spec(self) -> tuple[tuple[str, str], ...]:
         return (("mode", "1"), ("clashes", "1"), ("phi", "displacement"))
@@ -112,10 +123,10 @@ class DogLaw(FrictionModel):
 def dog_clutch_force(p, z, v, F_e, scale, dz):
     dz[0] = 0.0
     dz[1] = 0.0
-    if z[0] == 0.0:         # engaged: rigid teeth, any torque
+    if z[0] == 0.0 and p[3] == 0.0:     # engaged: rigid teeth, any torque
         dz[2] = 0.0
         return F_e
-    dz[2] = v
+    dz[2] = v       # open, or elastic teeth (their torque is the element's lash law)
     return 0.0
 
 
@@ -129,11 +140,28 @@ def dog_clutch_jacobian(p, z, v, F_e, scale, dz, Jz, dF):
             Jz[i, j] = 0.0
     for j in range(6):
         dF[j] = 0.0
-    if z[0] == 0.0:
+    if z[0] == 0.0 and p[3] == 0.0:
         dF[4] = 1.0
     else:
         Jz[2, 3] = 1.0
     return F
+
+
+@jit
+def dog_window(push, v, w_max, align):
+    """The engagement event function of a dog: ``max(push, |v| − w_max, align)``, <= 0
+    where the teeth may enter the gaps (``push`` <= 0: the sleeve is pushed in; ``|v| <=
+    w_max``: the speed window; ``align`` <= 0: the angular window).  The synchroniser
+    (:mod:`.synchronizer`) reads its blocker through it."""
+    return max(max(push, abs(v) - w_max), align)
+
+
+@jit
+def dog_may_engage(push, v, w_max, align):
+    """Does the dog engage at a located crossing of :func:`dog_window` (the windows checked
+    again, to the event's tolerance)?  1.0 yes, 0.0 no (a number: the plant's C printer
+    takes conditions as comparisons)."""
+    return 1.0 if (push <= 0.0 and abs(v) <= w_max * (1.0 + 1e-9) and align <= 1e-9) else 0.0
 
 
 @jit
@@ -142,23 +170,22 @@ def dog_clutch_events(p, z, v, F_e, scale, g):
     if z[0] == 0.0:
         g[1] = scale - 0.5
     else:
-        g[0] = max(max(0.5 - scale, abs(v) - p[0]), p[2] - math.cos(p[1] * z[2]))
+        g[0] = dog_window(0.5 - scale, v, p[0], p[2] - math.cos(p[1] * z[2]))
         g[2] = max(0.5 - scale, p[0] - abs(v))
 
 
 @jit
 def dog_clutch_reset(p, z, v, F_e, scale, k):
     if k == 0:          # engage: only in the window of speed and angle, while pushed in
-        ok = (scale >= 0.5 and abs(v) <= p[0] * (1.0 + 1e-9)
-              and math.cos(p[1] * z[2]) >= p[2] - 1e-9)
-        if z[0] != 0.0 and ok:
-            z[0] = 0.0
-            return RESET_STUCK
+        if z[0] != 0.0 and dog_may_engage(0.5 - scale, v, p[0],
+                                          p[2] - math.cos(p[1] * z[2])) > 0.5:
+            z[0] = 0.0     # rigid teeth lock; elastic ones enter the gaps with the slip
+            return RESET_CHANGED if p[3] > 0.0 else RESET_STUCK
         return RESET_NONE
     if k == 1:          # release: the sleeve is withdrawn
         if z[0] == 0.0 and scale < 0.5:
             z[0] = 1.0
-            return RESET_RELEASED
+            return RESET_CHANGED if p[3] > 0.0 else RESET_RELEASED
         return RESET_NONE
     if k == 2 and z[0] != 0.0:      # clash: counted, the teeth stay apart
         z[1] = z[1] + 1.0
@@ -176,7 +203,6 @@ class DogClutch(Clutch):
     kind = "dog_clutch"
     title = "dog clutch (engages below a slip and inside an angular window, counts clashes)"
     own_law = True
-    lockable = True
     params = (
         Param("w_max", "rad/s", "largest slip |omega_b - omega_a| at which the teeth engage",
               low=0.0, strict=True, high=1e3),
@@ -191,6 +217,13 @@ class DogClutch(Clutch):
               low=0.0, high=1.0),
         Param("drag", "N·m", "drag torque of the open dog, drag·tanh(w/1 rad/s)",
               default=0.0, low=0.0, high=1e6),
+        Param("c_contact", "N·m/rad", "contact stiffness of the engaged teeth (0: rigid "
+              "teeth, locked when engaged)", default=0.0, low=0.0, high=1e9),
+        Param("d_contact", "N·m·s/rad", "contact damping of the engaged teeth (with "
+              "c_contact)", default=0.0, low=0.0, high=1e7),
+        Param("backlash", "rad", "free play of the engaged teeth, the gap "
+              "[-backlash/2, backlash/2] (with c_contact; less than a tooth pitch)",
+              default=0.0, low=0.0, high=2.0 * math.pi),
     )
 
     def __init__(self, name, command, **values):
@@ -206,31 +239,94 @@ class DogClutch(Clutch):
             raise err
         if self.engaged0 not in (0.0, 1.0):
             raise ValueError(f"{self.label}: engaged0 = {self.engaged0:g} must be 0 or 1")
-        law = DogLaw(w_max=self.w_max, teeth=self.teeth, window=self.window)
+        for key in ("backlash", "d_contact"):
+            if self.values[key] > 0.0 and self.c_contact == 0.0:
+                err = ValueError(f"{self.label}: {key} = {self.values[key]:g} needs a contact "
+                                 "stiffness c_contact > 0 N·m/rad (rigid teeth, c_contact = "
+                                 "0, have neither free play nor damping)")
+                err.key = key
+                raise err
+        if self.backlash >= pitch:
+            err = ValueError(f"{self.label}: backlash = {self.backlash:g} rad must be < the "
+                             f"tooth pitch 2π/teeth = {pitch:g} rad (teeth = "
+                             f"{self.teeth:g}): the gap lies between two teeth")
+            err.key = "backlash"
+            raise err
+        law = DogLaw(w_max=self.w_max, teeth=self.teeth, window=self.window,
+                     elastic=1.0 if self.elastic else 0.0)
         super().__init__(name, law, command, **values)
 
     def with_values(self, **changes):
         Component.with_values(self, **changes)            # the changes, checked
         return type(self)(self.name, self.command, **{**self.values, **changes})
 
+    @property
+    def elastic(self) -> bool:
+        """Do the engaged teeth have a contact stiffness (and a free play)?"""
+        return self.values["c_contact"] > 0.0
+
+    @property
+    def lockable(self) -> bool:
+        """Rigid teeth lock when engaged; elastic ones touch through their lash law."""
+        return not self.elastic
+
     def input_ranges(self):
         return {self.command: (-1.0, 1.0, "-", "its sleeve command (engaged from 0.5)")}
 
     def options(self):
-        return ("dog",) + super().options()[1:]
+        return ("dog", self.elastic) + super().options()[1:]
 
     def pack(self):
         d = super().pack()
         d["capacity"] = 0.0
+        d["pitch"] = 2.0 * math.pi / self.teeth
         return d
 
     def state_layout(self):
-        return [("z0", f"{self.name}.mode", "-"), ("z1", f"{self.name}.clashes", "-"),
-                ("z2", f"phi_{self.name}", "rad"), ("locked", f"{self.name}.locked", "-")]
+        out = [("z0", f"{self.name}.mode", "-"), ("z1", f"{self.name}.clashes", "-"),
+               ("z2", f"phi_{self.name}", "rad")]
+        return out if self.elastic else [*out, ("locked", f"{self.name}.locked", "-")]
 
     def initial_state(self, ctx):
         engaged = self.engaged0 == 1.0
-        return [0.0 if engaged else 1.0, 0.0, self.phi0, 1.0 if engaged else 0.0]
+        z = [0.0 if engaged else 1.0, 0.0, self.phi0]
+        return z if self.elastic else [*z, 1.0 if engaged else 0.0]
 
     def _locked0(self, ctx) -> bool:
-        return self.engaged0 == 1.0
+        return self.engaged0 == 1.0 and not self.elastic
+
+    def emit(self, e):
+        super().emit(e)
+        if self.elastic:
+            self.emit_teeth(e)
+
+    def emit_teeth(self, e) -> None:
+        """The engaged elastic teeth: the lash law at the offset from the centre of the
+        tooth gap, ``+T`` on a and ``−T`` on b (``φ = φ_b − φ_a``), 0 while open."""
+        phi, pitch = e.x("z2"), e.par("pitch")
+        w = e.let("wr", f"{e.w('b')} - {e.w('a')}")
+        eng = e.let("eng", f"{e.x('z0')} == 0.0")
+        s = e.let("s", f"({phi} + 0.5 * {pitch}) % {pitch} - 0.5 * {pitch}")
+        tau, tc, kc, kp, kw, sg, hb, _plain = lash_law(
+            e, s, w, e.par("backlash"), e.par("c_contact"), e.par("d_contact"))
+        tg, tcg, kcg, kpg, kwg = (e.let(n, f"{x} if {eng} else 0.0") for n, x in (
+            ("tg", tau), ("tcg", tc), ("kcg", kc), ("kpg", kp), ("kwg", kw)))
+        e.torque("a", tg)
+        e.torque("b", f"-{tg}")
+        for fl, sgn in (("a", ""), ("b", "-")):
+            e.dtorque(fl, e.kx("z2"), f"{sgn}{kpg}")
+            e.dtorque(fl, e.kw("b"), f"{sgn}{kwg}")
+            e.dtorque(fl, e.kw("a"), f"{'-' if not sgn else ''}{kwg}")
+        # damping power (τ − τ_c)·w: everything the contact spring does not store
+        e.power("damp", f"({tg} - {tcg}) * {w}")
+        e.dpower("damp", e.kx("z2"), f"({kpg} - {kcg}) * {w}")
+        dpw = e.let("dpw", f"{tg} - {tcg} + {kwg} * {w}")
+        e.dpower("damp", e.kw("b"), dpw)
+        e.dpower("damp", e.kw("a"), f"-{dpw}")
+        e.spring_energy(f"(0.5 * {tcg} * {tcg} / {e.par('c_contact')})")
+        e.output(f"T_teeth_{self.name}", "N·m", tg)
+        e.output(f"contact_{self.name}", "-", f"{sg} if {eng} else 0.0")
+        # the flanks: the torque's slope jumps there (while open: on the gap's side)
+        for side, edge, open_ in (("+", f"{s} - {hb}", "-1.0"), ("-", f"{s} + {hb}", "1.0")):
+            e.event(f"{self.name}: flank {side}backlash/2", 0, f"{edge} if {eng} else {open_}",
+                    "continue")
