@@ -1,6 +1,6 @@
 """FMUs of the issue-38 elements: the cone clutch (``cone_synchroniser.toml``), the band
 brake on an open differential (``band_brake_differential.toml``), the dog clutch
-(``dog_clutch.toml``), its elastic teeth (``dog_backlash.toml``), the synchroniser
+(``dog_clutch.toml``), the synchroniser
 (``synchronizer.toml``) and the wet clutch (``wet_clutch_engagement.toml``).  For each:
 the printed C
 equals the compiled plant on random states (right-hand side, outputs, Jacobian, events,
@@ -49,8 +49,6 @@ CASES = {
                                "W_drag_pack"], ["capacity_pack", "W_drag_pack"]),
     "synchronizer": ("sync", ("stop", "release", "engage"), ["omega_gear", "omega_shaft"],
                      ["sync.engaged"]),
-    "dog_backlash": ("dog", ("flank +backlash/2", "flank -backlash/2"),
-                     ["omega_input", "omega_output"], ["contact_dog"]),
 }
 
 
