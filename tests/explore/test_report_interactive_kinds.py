@@ -15,7 +15,6 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-import tomlkit
 
 pytest.importorskip("bokeh", reason="the interactive report needs Bokeh (clutchsim[explore])")
 from test_explore_browser import assert_renders_offline
@@ -51,12 +50,12 @@ def dirs(tmp_path_factory):
                  "1", "--out", str(d["uq"]), *FAST]) == 0
     duty = base / "duty.toml"
     scenario = Path(__file__).resolve().parents[2] / "examples" / "launch_wear.toml"
-    duty.write_text(tomlkit.dumps({
-        "duty": {"name": "report duty", "cycles": 12, "model": "coulomb-robust",
-                 "clamp_force": 4000.0},
-        "manoeuvre": [{"name": "launch", "scenario": scenario.as_posix(), "rest": 20.0,
-                       "set": ["thermal[0].theta0=120", "thermal[1].theta0=120"]}],
-        "cycle": [{"manoeuvre": "launch", "count": 1}]}))
+    duty.write_text(
+        '[duty]\nname = "report duty"\ncycles = 12\nmodel = "coulomb-robust"\n'
+        'clamp_force = 4000.0\n\n[[manoeuvre]]\nname = "launch"\n'
+        f'scenario = "{scenario.as_posix()}"\nrest = 20.0\n'
+        'set = ["thermal[0].theta0=120", "thermal[1].theta0=120"]\n\n'
+        '[[cycle]]\nmanoeuvre = "launch"\ncount = 1\n')
     assert _cli(["durability", str(duty), "--cycles", "12", "--out", str(d["durability"]),
                  "--no-plots", "-q"]) == 0
     assert _cli(["judder", "--model", "coulomb-robust", "--at", "3", "--out",
