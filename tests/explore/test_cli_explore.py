@@ -1,5 +1,6 @@
-"""``clutchsim explore``: --list, a busy port, and Bokeh missing (a clear message, and the
-other commands unaffected)."""
+"""``clutchsim explore``: --list, a busy port, the extra missing (a clear message, and the
+other commands unaffected), and the server: loopback only, its own Host and origin only, no
+file but its page's."""
 
 from __future__ import annotations
 
@@ -54,13 +55,14 @@ def _log_handlers():
     root.handlers[:] = saved
 
 
-def test_without_bokeh(monkeypatch, capsys, launch_dir):
-    for name in [m for m in sys.modules if m == "bokeh" or m.startswith("bokeh.")]:
-        monkeypatch.delitem(sys.modules, name)
-    monkeypatch.setitem(sys.modules, "bokeh", None)     # import bokeh fails
+def test_without_the_extra(monkeypatch, capsys, launch_dir):
+    for top in ("bokeh", "tornado"):
+        for name in [m for m in sys.modules if m == top or m.startswith(top + ".")]:
+            monkeypatch.delitem(sys.modules, name)
+        monkeypatch.setitem(sys.modules, top, None)     # import bokeh / tornado fails
     assert main(["explore", "--no-browser"]) == 2
     err = capsys.readouterr().err
-    assert "clutchsim[explore]" in err and "Bokeh" in err
+    assert "clutchsim[explore]" in err and "Tornado" in err
     assert main(["report", str(launch_dir), "--interactive"]) == 2
     assert "clutchsim[explore]" in capsys.readouterr().err
     assert main(["report", str(launch_dir)]) == 0        # the static report needs no Bokeh
@@ -73,11 +75,30 @@ def test_port_range(port, capsys):
     assert "--port" in capsys.readouterr().err
 
 
+def _get(url, host=None):
+    """``(status, headers, body)`` of a GET of ``url`` (``host``: that Host header)."""
+    import urllib.error
+    import urllib.request
+    req = urllib.request.Request(url, headers={"Host": host} if host else {})
+    try:
+        with urllib.request.urlopen(req, timeout=120) as r:
+            return r.status, r.headers, r.read()
+    except urllib.error.HTTPError as exc:
+        return exc.code, exc.headers, b""
+
+
 def test_serves_on_loopback_until_ctrl_c(tmp_path):
-    """The URL on stdout is on 127.0.0.1, the page loads, Ctrl-C ends it with 130."""
+    """The URL on stdout is on 127.0.0.1, the page loads with a policy that lets it reach
+    nothing but its own server, only the page's files are served, a request for another
+    Host (DNS rebinding) or a websocket from another origin is refused, Ctrl-C ends it
+    with 130."""
+    import asyncio
     import signal
     import subprocess
-    import urllib.request
+
+    pytest.importorskip("tornado", reason="the explorer needs the extra clutchsim[explore]")
+    from tornado.httpclient import HTTPClientError, HTTPRequest
+    from tornado.websocket import websocket_connect
     log = tmp_path / "explore.log"
     with open(log, "w") as err:
         proc = subprocess.Popen([sys.executable, "-m", "clutchsim", "explore", "--no-browser"],
@@ -85,8 +106,28 @@ def test_serves_on_loopback_until_ctrl_c(tmp_path):
     try:
         url = proc.stdout.readline().strip()
         assert url.startswith("http://127.0.0.1:"), log.read_text()
-        with urllib.request.urlopen(url, timeout=120) as page:
-            assert b"clutchsim explore: passenger-car launch" in page.read()
+        status, headers, body = _get(url)
+        assert status == 200 and b"clutchsim explore: passenger-car launch" in body
+        port = url.rsplit(":", 1)[1].strip("/")
+        assert "connect-src ws://127.0.0.1:" + port in headers["Content-Security-Policy"]
+        assert "default-src 'none'" in headers["Content-Security-Policy"]
+        assert _get(url + "static/explore.js")[0] == 200
+        for path in ("static/..%2F__init__.py", "static/app.py", "static/explore.html",
+                     "static/%2Fetc%2Fpasswd", "../../etc/passwd", "ws/../app.py"):
+            assert _get(url + path)[0] in (403, 404), path
+        assert _get(url, host=f"attacker.example:{port}")[0] == 403
+
+        async def connect(origin):
+            req = HTTPRequest(url.replace("http", "ws") + "ws", headers={"Origin": origin})
+            try:
+                ws = await websocket_connect(req)
+            except HTTPClientError as exc:
+                return exc.code
+            first = await ws.read_message()        # the page's controls
+            ws.close()
+            return json.loads(first)["op"]
+        assert asyncio.run(connect("http://attacker.example")) == 403
+        assert asyncio.run(connect(url.rstrip("/"))) == "controls"
     finally:
         proc.send_signal(signal.SIGINT)
         proc.communicate(timeout=30)

@@ -1,6 +1,7 @@
 """In headless Chromium (the ``chrome`` fixture of tests/conftest.py; skips without one):
 the interactive report renders offline, and the explorer answers a slider within the
-latency budget, showing the lock-up time the simulation gives."""
+latency budget (issue 42: 100 ms), showing the lock-up time the simulation gives, also at
+the end of a drag."""
 
 from __future__ import annotations
 
@@ -60,18 +61,37 @@ def test_interactive_report_renders_offline(chrome, screenshot, launch_dir, tmp_
 
 _MOVE = """
 const [key, value, done] = arguments;
-const doc = Bokeh.documents[0];
-const slider = doc.get_model_by_name(key), metrics = doc.get_model_by_name('metrics');
-const before = metrics.text, t0 = performance.now();
-slider.value = value;
-// the server sends the new traces, then the metrics: once the metrics changed, the next
-// frame paints the figures with the new data (two frames: the one drawn after it)
-const painted = () => requestAnimationFrame(() => requestAnimationFrame(
-  () => done([performance.now() - t0, metrics.text])));
+const input = document.querySelector(`input[name="${key}"]`), ex = window.explorer;
+const out = {}, t0 = performance.now();
+input.value = value;                              // the slider moved, as a drag moves it
+input.dispatchEvent(new Event('input'));
+const seq = ex.sent;
+out.value = +input.value;                         // on the slider's step grid
 (function check() {
-  if (metrics.text !== before) painted();
-  else if (performance.now() - t0 > 10000) done([null, before]);
-  else requestAnimationFrame(check);
+  if (out.metrics === undefined && ex.metricsSeq >= seq) out.metrics = performance.now() - t0;
+  if (ex.drawnSeq >= seq) {                       // uPlot has drawn the new traces: the
+    out.drawn = performance.now() - t0;           // next frame shows them
+    requestAnimationFrame(() => {
+      out.painted = performance.now() - t0;
+      out.html = document.getElementById('metrics').innerHTML;
+      done(out);
+    });
+  } else if (performance.now() - t0 > 10000) done(out);
+  else setTimeout(check, 0);
+})();
+"""
+
+
+_DRAG = """
+const [key, values, done] = arguments;
+const input = document.querySelector(`input[name="${key}"]`), ex = window.explorer;
+const before = ex.sent;
+for (const v of values) { input.value = v; input.dispatchEvent(new Event('input')); }
+(function check() {
+  if (ex.doneSeq === ex.sent && ex.drawnSeq === ex.sent && ex.sent > before)
+    done({requests: ex.sent - before, value: +input.value,
+          html: document.getElementById('metrics').innerHTML});
+  else setTimeout(check, 5);
 })();
 """
 
@@ -97,33 +117,38 @@ def explorer(tmp_path):
 def test_explorer_slider_latency(chrome, screenshot, explorer, tmp_path):
     chrome.get(explorer)
     chrome.set_script_timeout(30)
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:
+    deadline, ready = time.monotonic() + 60, False
+    while time.monotonic() < deadline and not ready:
         ready = chrome.execute_script(
-            "return typeof Bokeh !== 'undefined' && Bokeh.documents.length > 0 && "
-            "Bokeh.documents[0].get_model_by_name('metrics') !== null")
-        if ready:
-            break
+            "return !!window.explorer && window.explorer.drawnSeq >= 0 && "
+            "window.explorer.charts.length === 5")
         time.sleep(0.2)
     assert ready, "the explorer page did not load"
-    times, shown = [], None
-    for m in MASSES:
-        ms, shown = chrome.execute_async_script(_MOVE, "vehicle.mass", m)
-        assert ms is not None, "the metrics never updated"
-        times.append(ms)
-    median = float(np.median(times))
-    print(f"explorer latency, slider -> figures repainted: median {median:.1f} ms, "
-          f"max {max(times):.1f} ms over {len(times)} moves")
-    # the lock-up time shown is the one the simulation gives for the last mass
+    assert chrome.execute_script(_CANVASES) >= 5
+    moves = [chrome.execute_async_script(_MOVE, "vehicle.mass", m) for m in MASSES]
+    assert all("painted" in m for m in moves), "the traces were never redrawn"
+    painted = [m["painted"] for m in moves]
+    metrics = [m["metrics"] for m in moves]
+    median = float(np.median(painted))
+    print(f"explorer latency over {len(moves)} moves, load {os.getloadavg()[0]:.1f}: slider -> "
+          f"metrics shown median {np.median(metrics):.1f} ms, -> traces repainted median "
+          f"{median:.1f} ms (max {max(painted):.1f} ms)")
+    # the lock-up time shown is the one the simulation gives for the slider's last value
     s = Session()
-    s.set("vehicle.mass", MASSES[-1])
+    s.set("vehicle.mass", moves[-1]["value"])
     expected = s.run().metrics["lockup_time_s"]
-    got = float(re.search(r'id="lockup_time_s"[^>]*>([^<]+)<', shown).group(1))
+    got = float(re.search(r'id="lockup_time_s"[^>]*>([^<]+)<', moves[-1]["html"]).group(1))
     assert got == pytest.approx(expected, rel=1e-3)
+    # a drag: many values at once; one request in flight, then only the latest value runs,
+    # and the page ends on the last value's run
+    drag = chrome.execute_async_script(_DRAG, "vehicle.mass", list(np.linspace(1300, 1900, 25)))
+    assert drag["requests"] == 2
+    s.set("vehicle.mass", drag["value"])
+    got = float(re.search(r'id="lockup_time_s"[^>]*>([^<]+)<', drag["html"]).group(1))
+    assert got == pytest.approx(s.run().metrics["lockup_time_s"], rel=1e-3)
     assert not _severe(chrome)
     screenshot(chrome, tmp_path / "screenshots" / "explorer.png")
-    # issue 42 asks <= 100 ms; on the shared 2-core development machine the median was
-    # 120-370 ms with other jobs running (docs/explore.md).  The default bound catches a
-    # re-run that rebuilds or recompiles; CLUTCHSIM_EXPLORE_LATENCY_MS tightens it.
-    bound = float(os.environ.get("CLUTCHSIM_EXPLORE_LATENCY_MS", "1000"))
-    assert median <= bound, times
+    # issue 42: slider -> traces and metrics redrawn within 100 ms (median).  Measured on the
+    # shared 2-core development machine at a load of 4-6: 20-35 ms (docs/explore.md)
+    bound = float(os.environ.get("CLUTCHSIM_EXPLORE_LATENCY_MS", "100"))
+    assert median <= bound, painted

@@ -1,4 +1,4 @@
-"""``clutchsim explore [SCENARIO]``: the launch explorer in the browser (a Bokeh server on
+"""``clutchsim explore [SCENARIO]``: the launch explorer in the browser (a small Tornado server on
 127.0.0.1 over :class:`clutchsim.explore.Session`)."""
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ traces, the --set items of its state and the scenario with them (explore_scenari
 into that folder, and nowhere else.  See docs/explore.md.
 
 exit status: 0 after --list, 130 when ended with Ctrl-C, 2 bad input (a scenario or value
-error, a port in use, Bokeh not installed).
+error, a port in use, the extra clutchsim[explore] not installed).
 """
 
 
@@ -96,9 +96,8 @@ def run(args) -> int:
         if out.exists() and not out.is_dir():
             raise UserError(f"--out {args.out!r} is a file, not a folder")
     try:
-        from ..plot.interactive import require_bokeh
-        require_bokeh()
-        from ..explore.app import serve
+        from ..explore.app import require_server, serve
+        require_server()
     except ModuleNotFoundError as exc:
         raise UserError(str(exc)) from None
 
