@@ -70,3 +70,21 @@ def test_units_from_names():
     assert label("engine_speed_min_rpm") == ("engine speed min", "rpm")
     for symbol in ("F_s", "v_s", "F_c", "sigma0", "energy_balance_rel"):
         assert split_unit(symbol)[1] is None
+
+
+def test_a_fault_that_never_struck_says_so():
+    """summary.json keeps null for a triggered fault that never struck; the report's fault
+    table says "not struck" (a null elsewhere stays an empty "—")."""
+    doc = {"faults": [{"component": "clutch", "kind": "friction_clutch",
+                       "fault": "capacity x 0.5 when the first heat node passes 180 °C",
+                       "time_s": None},
+                      {"component": "damper", "kind": "spring_damper",
+                       "fault": "stiffness x 0.2 at t = 1 s", "time_s": 1.0}],
+           "other": [{"name": "a", "time_s": None}, {"name": "b", "time_s": 2.0}]}
+    sec = analyse("summary.json", doc)
+    faults = next(t for t in sec.tables if t.title == "summary.json › faults")
+    col = faults.columns.index("time_s") + 1
+    assert [r[col] for r in faults.rows] == ["not struck", 1.0]
+    other = next(t for t in sec.tables if t.title == "summary.json › other")
+    assert [r[other.columns.index("time_s") + 1] for r in other.rows] == [None, 2.0]
+    assert doc["faults"][0]["time_s"] is None

@@ -234,6 +234,11 @@ def _walk(obj, path, out: Sections) -> None:
             _walk(v, path + (k,), out)
 
 
+#: what a null says in a column of a records table, by (table key, column); the JSON keeps
+#: its null (summary.json: a triggered fault that never struck has ``time_s`` null)
+NULL_MEANS = {("faults", "time_s"): "not struck"}
+
+
 def _records(records: dict, path, out: Sections) -> None:
     rows, failed, columns, nested = [], set(), [], {}
     for i, (name, rec) in enumerate(records.items()):
@@ -245,7 +250,7 @@ def _records(records: dict, path, out: Sections) -> None:
             if isinstance(v, list) and not v:     # nothing to show (a run without events)
                 continue
             if is_scalar(v):
-                row[k] = v
+                row[k] = NULL_MEANS.get((str(path[-1]), k), v) if v is None else v
                 if k not in columns:
                     columns.append(k)
             else:
