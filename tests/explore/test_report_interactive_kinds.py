@@ -39,9 +39,11 @@ def _cli(argv) -> int:
 
 @pytest.fixture(scope="module")
 def dirs(tmp_path_factory):
-    """Output directories of sweep, uq, durability, judder (modes, map) and fit."""
+    """Output directories of sweep (sampled, 2-D grid), uq, durability, judder (modes, map,
+    frequency response) and fit."""
     base = tmp_path_factory.mktemp("kinds")
-    d = {k: base / k for k in ("sweep", "uq", "durability", "judder", "jmap", "fit")}
+    d = {k: base / k for k in ("sweep", "uq", "durability", "judder", "jmap", "fit", "grid",
+                               "frf")}
     assert _cli(["sweep", "--vary", "vehicle.mass=uniform(1100,1500)", "--vary",
                  "vehicle.grade=uniform(0,6)", "--samples", "6", "--seed", "5", "--out",
                  str(d["sweep"]), *FAST]) == 0
@@ -62,6 +64,10 @@ def dirs(tmp_path_factory):
                  str(d["judder"]), "-q"]) == 0
     assert _cli(["judder", "--map", "coupling[1].d=0.1:1:3", "--map", "vehicle.grade=0:1:2",
                  "--out", str(d["jmap"]), "-q"]) == 0
+    assert _cli(["sweep", "--vary", "vehicle.mass=1100:1500:3", "--vary",
+                 "vehicle.grade=0:6:2", "--out", str(d["grid"]), *FAST]) == 0
+    assert _cli(["judder", "--model", "coulomb-robust", "--at", "3", "--frf",
+                 "throttle:a_vehicle", "--points", "60", "--out", str(d["frf"]), "-q"]) == 0
     record = base / "rec.csv"
     assert _cli(["rig", "--model", "tanh", "--velocity", "sine(0.05, 0.5)", "--t-end", "2",
                  "--out", str(record), "-q"]) == 0
@@ -132,6 +138,26 @@ def test_sweep_scatter_panels_hold_every_run(dirs, capsys):
     assert len({r["data_source"]["id"] for r in scatter}) == 1
     assert "BoxSelectTool" in page and "LassoSelectTool" in page
     assert '<figure id="fig-scatter_' not in page and '<figure id="fig-histograms' not in page
+
+
+def test_grid_sweep_heat_maps_hold_every_grid_point(dirs, capsys):
+    page = _report(dirs["grid"], capsys)
+    models = _models(page)
+    table = read_results(dirs["grid"])
+    ok = (table["status"] == "completed").to_numpy()
+    assert ok.sum() >= 4
+    cells = [s for s in _sources(models) if {"x", "y", "z"} <= set(s)]
+    assert len(cells) == 3                        # the main metrics, as heatmap_*.png
+    want = {(m, g): t for m, g, t, good in zip(table["vehicle.mass"], table["vehicle.grade"],
+                                               table["lockup_time_s"], ok) if good}
+    lockup = next(c for c in cells if np.nanmax(c["z"]) < 10)       # seconds, not joules
+    got = {(x, y): z for x, y, z in zip(lockup["x"], lockup["y"], lockup["z"])}
+    assert len(got) == 3 * 2 and all(got[k] == pytest.approx(v, rel=1e-9)
+                                     for k, v in want.items())
+    assert {"vehicle.mass [kg]", "vehicle.grade [%]"} <= _texts(models, "axis_label")
+    assert "lockup_time_s [s]" in _texts(models, "title")            # the colour bar
+    assert '<figure id="fig-heatmap_' not in page
+    assert (dirs["grid"] / "heatmap_lockup_time_s.png").is_file()   # kept for printing
 
 
 def test_uq_distributions_quantiles_sobol_and_convergence(dirs, capsys):
@@ -221,6 +247,31 @@ def test_fit_measured_simulated_and_residual(dirs, capsys):
     # the two figures share one time axis (zoom one, the other follows)
     ranges = [m["attributes"]["x_range"]["id"] for m in models if m["name"] == "Figure"]
     assert len(ranges) == 2 and len(set(ranges)) == 1
+    # the output's unit, from the data file (F [N]), on the axes and in the hover
+    assert json.loads((dirs["fit"] / "fit.json").read_text())["output_unit"] == "N"
+    assert "[N]" in _texts(models, "axis_label") and "t [s]" in _texts(models, "axis_label")
+    assert "F in N against time [s]" in page
+
+
+def test_frequency_response_magnitude_and_phase(dirs, capsys):
+    page = _report(dirs["frf"], capsys)
+    models = _models(page)
+    doc = json.loads((dirs["frf"] / "frf.json").read_text())
+    src = next(s for s in _sources(models) if {"f", "mag", "phase"} <= set(s))
+    np.testing.assert_allclose(src["f"], doc["frequency_hz"], rtol=1e-12)
+    np.testing.assert_allclose(src["mag"], doc["magnitude"], rtol=1e-12)
+    # the phase drawn unwrapped: equal to the file's modulo 360 degrees, and continuous
+    d = np.asarray(src["phase"]) - np.asarray(doc["phase_deg"])
+    np.testing.assert_allclose((d + 180) % 360 - 180, 0, atol=1e-9)
+    assert np.all(np.abs(np.diff(src["phase"])) < 180)
+    labels = _texts(models, "axis_label")
+    assert {"frequency [Hz]", "phase [deg]", f"|a_vehicle/throttle| [{doc['unit']}]"} <= labels
+    logs = [m for m in models if m["name"] == "LogAxis"]
+    assert len(logs) >= 2                                          # the frequency axes
+    if doc["peaks"]:
+        peaks = next(s for s in _sources(models) if set(s) == {"f", "mag"})
+        np.testing.assert_allclose(peaks["f"], [p["frequency_hz"] for p in doc["peaks"]])
+    assert '<figure id="fig-frf.png"' not in page
 
 
 def test_damaged_data_file_gives_the_static_figures_and_says_why(dirs, tmp_path, capsys):

@@ -214,8 +214,13 @@ def _from_data(args):
     if missing:
         raise UserError(f"{', '.join(missing)} required with a data file (or use a TOML spec)")
     columns = _pairs(args.column, "column", str) or None
-    read = {"time": args.time or "t", "columns": columns, "scale": _pairs(args.scale, "scale"),
-            "nan": args.nan or "error"}
+    scale = _pairs(args.scale, "scale")
+    # a file column named "F [N]" gives F its unit (not when --scale converts it)
+    from ..plot.interactive import split_label
+    units = {k: u for k, v in (columns or {}).items()
+             if k not in scale and (u := split_label(v)[1])}
+    read = {"time": args.time or "t", "columns": columns, "scale": scale,
+            "units": units, "nan": args.nan or "error"}
     data = read_measurements(args.data, **read)
     window = _window(args.window)
     if window:

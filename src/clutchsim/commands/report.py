@@ -14,13 +14,22 @@ examples:
   clutchsim report drift/ --title "Drift, LuGre" --json    # {"report": "drift/report.html"}
   clutchsim run examples/launch.toml --out launch/
   clutchsim report launch/ --interactive       # zoom, hover, linked time axes (Bokeh)
+  clutchsim report mass_grade/ --interactive   # a sweep: linked scatter panels, heat maps
 
 The report is one HTML file (figures embedded, no network access, opens from disk) with the
 status and warnings, metrics, parameters, scenario, solver statistics, figures and a list
-of the data files of DIR.  With --interactive the time series are interactive figures
-(zoom, pan, hover values, linked time axes, a lock-up zoom panel, the models overlaid;
-Bokeh inlined, still one file that opens offline, ~2.1 MB for a default run; needs the
-extra clutchsim[explore]).  See docs/report.md.
+of the data files of DIR.  With --interactive its figures become interactive (zoom, pan,
+hover values with units, series toggled from the legend), drawn from the data files of
+DIR (nothing is simulated again): for a run, the time series (linked time axes, a lock-up
+zoom panel, the models overlaid); a sweep, every metric against every swept parameter
+(a box or lasso selection shared by all panels), histograms with their CDF and, for a 2-D
+grid, heat maps; a UQ study, distributions with p05/p50/p95, Sobol' or Morris indices with
+their intervals, convergence; a durability study, temperature, work, wear, clamp force
+and capacity per start; a judder analysis, the modes, the stability map and the frequency
+response; a fit, measured, simulated and residual against time.  Bokeh is inlined: still
+one file that opens offline (~2.1 MB for a default run); needs the extra
+clutchsim[explore].  Other directories get the static report.  See docs/report.md and
+docs/explore.md.
 """
 
 
@@ -32,7 +41,8 @@ def register(sub, common):
     p.add_argument("dir", metavar="DIR", help="output directory of run/bench/sweep/fit")
     p.add_argument("--title", help="page title (default: from the directory kind)")
     p.add_argument("--interactive", action="store_true",
-                   help="interactive figures of the time series (Bokeh, inlined)")
+                   help="interactive figures (Bokeh, inlined): a run's time series, a "
+                   "sweep, UQ, durability, judder or fit study's figures")
     p.add_argument("--json", action="store_true", help='print {"report": PATH}')
 
 

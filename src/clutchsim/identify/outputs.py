@@ -11,14 +11,15 @@ __all__ = ["report_markdown", "write_outputs"]
 def write_outputs(result, out: Path, *, plots: bool = True, unit: str = "") -> dict[str, Path]:
     """fit.json, traces.csv, report.md and (optionally) the two figures in ``out``.
 
-    ``unit`` labels the output axis of the figures.
+    ``unit`` (the output's, from the data file) labels the output axis of the figures and
+    is recorded in fit.json as ``output_unit`` (the interactive report's axes read it).
     """
     import numpy as np
 
     from .._util import atomic_write
     out.mkdir(parents=True, exist_ok=True)
     files = {}
-    doc = result.as_dict()
+    doc = {**result.as_dict(), "output_unit": unit}
     files["fit.json"] = atomic_write(out / "fit.json", lambda p: p.write_text(
         json.dumps(doc, indent=2, allow_nan=False)))
     tr = result.fit_trace

@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["BOKEH_EXTRA", "DISPLAY_UNITS", "GROUP_TITLES", "PALETTE", "display_rows",
-           "overlay_figure", "require_bokeh", "trace_figure", "traces_column", "unit_groups"]
+           "overlay_figure", "require_bokeh", "split_label", "trace_figure", "traces_column",
+           "unit_groups"]
 
 #: the extra that installs Bokeh
 BOKEH_EXTRA = "explore"
@@ -82,7 +83,7 @@ def trace_figure(source, t_name: str, series, *, title: str, unit: str, x_range=
                  active_drag="box_zoom", active_scroll="xwheel_zoom",
                  x_axis_label=x_label, y_axis_label=f"[{unit}]" if unit else "", **kw)
     fig.toolbar.logo = None
-    x_name, x_unit = _split_label(x_label)
+    x_name, x_unit = split_label(x_label)
     x_fmt = "0.000" if x_unit == "s" else "0.[000]"
     for i, name in enumerate(series):
         color = PALETTE[i % len(PALETTE)]
@@ -169,8 +170,9 @@ def traces_column(t, groups, *, units, title: str = "", max_points: int | None =
     return column(*items), source
 
 
-def _split_label(text: str) -> tuple[str, str]:
-    """``("t", "s")`` from ``"t [s]"``; ``(text, "")`` without a unit."""
+def split_label(text: str) -> tuple[str, str]:
+    """``("t", "s")`` from ``"t [s]"`` (a label or a data file's column name);
+    ``(text, "")`` without a unit."""
     text = str(text)
     if text.endswith("]") and " [" in text:
         name, unit = text[:-1].rsplit(" [", 1)

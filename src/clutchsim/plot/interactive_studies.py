@@ -1,6 +1,7 @@
 """Interactive figures of studies (Bokeh): scatter panels of a sweep with linked selection,
 distributions with their quantiles marked, indices with their intervals as error bars,
-estimates converging with their bands, a driveline's modes and a stability map.
+estimates converging with their bands, a driveline's modes, a map over a grid (stability
+margin or a sweep's metric) and a frequency response.
 
 Drawing only, as :mod:`clutchsim.plot.interactive`: the functions take arrays and names
 with their units and return Bokeh models; what to draw is chosen by the caller
@@ -13,8 +14,8 @@ import numpy as np
 
 from .interactive import PALETTE, _legend_right
 
-__all__ = ["OUTCOME_COLOURS", "band_figure", "distribution_figure", "interval_figure",
-           "map_figure", "modes_figure", "scatter_grid"]
+__all__ = ["OUTCOME_COLOURS", "band_figure", "bode_figures", "distribution_figure",
+           "interval_figure", "map_figure", "modes_figure", "scatter_grid"]
 
 #: the colour of an outcome in the scatter panels (others take the palette in turn)
 OUTCOME_COLOURS = {"completed": "#0072b2", "stopped": "#56b4e9", "stalled": "#d55e00",
@@ -234,19 +235,26 @@ def _num(v) -> float:
 
 
 def map_figure(x, y, z, *, x_label: str, y_label: str, z_label: str, title: str,
-               extra=None, width: int = 760, height: int = 480):
-    """A map over a grid: ``z[i, j]`` at ``(x[j], y[i])`` as coloured cells (a diverging
-    colour scale symmetric about 0, red below: a stability margin), a colour bar, and hover
-    giving the point, ``z`` and the ``extra`` columns (``{name: (array like z, unit)}``).
-    Returns the figure."""
+               extra=None, diverging: bool = True, width: int = 760, height: int = 480):
+    """A map over a grid: ``z[i, j]`` at ``(x[j], y[i])`` as coloured cells, a colour bar,
+    and hover giving the point, ``z`` and the ``extra`` columns (``{name: (array like z,
+    unit)}``); cells without a value (NaN: a run that failed) grey.  ``diverging``: a
+    colour scale symmetric about 0, red below (a stability margin); else Viridis from the
+    smallest to the largest value (a metric).  Returns the figure."""
     from bokeh.models import ColorBar, ColumnDataSource, HoverTool, LinearColorMapper
-    from bokeh.palettes import RdBu11
+    from bokeh.palettes import RdBu11, Viridis256
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
     z = np.asarray(z, dtype=float)
     X, Y = np.meshgrid(x, y)
-    lim = float(np.nanmax(np.abs(z))) if np.isfinite(z).any() else 1.0
-    lim = lim if lim > 0 else 1.0
-    mapper = LinearColorMapper(palette=list(reversed(RdBu11)), low=-lim, high=lim, nan_color="#dddddd")
+    finite = z[np.isfinite(z)]
+    if diverging:
+        lim = float(np.abs(finite).max()) if finite.size else 1.0
+        lim = lim if lim > 0 else 1.0
+        palette, low, high = list(reversed(RdBu11)), -lim, lim
+    else:
+        low, high = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+        palette, high = list(Viridis256), (high if high > low else low + 1.0)
+    mapper = LinearColorMapper(palette=palette, low=low, high=high, nan_color="#dddddd")
     data = {"x": X.ravel(), "y": Y.ravel(), "z": z.ravel(),
             "w": np.broadcast_to(_cell(x), X.shape).ravel(),
             "h": np.broadcast_to(_cell(y)[:, None], X.shape).ravel()}
@@ -261,6 +269,41 @@ def map_figure(x, y, z, *, x_label: str, y_label: str, z_label: str, title: str,
     fig.add_tools(HoverTool(renderers=[r], tooltips=tips))
     fig.add_layout(ColorBar(color_mapper=mapper, title=z_label), "right")
     return fig
+
+
+def bode_figures(frequency_hz, magnitude, phase_deg, *, name: str, unit: str, peaks=(),
+                 title: str = "", width: int = 900, height: int = 260):
+    """A frequency response: ``|H|`` [``unit``] (log-log; a linear magnitude axis where it
+    is 0 somewhere) over its phase [deg] (unwrapped along the grid), their frequency axes
+    [Hz] linked, ``peaks`` (``[{"frequency_hz", "magnitude"}]``) marked in red, hover
+    giving frequency, magnitude and phase.  ``name``: what H is (``"a_vehicle/throttle"``).
+    Returns a column of the two figures."""
+    from bokeh.layouts import column
+    from bokeh.models import ColumnDataSource, HoverTool
+    f = np.asarray(frequency_hz, dtype=float)
+    mag = np.asarray(magnitude, dtype=float)
+    phase = np.degrees(np.unwrap(np.radians(np.asarray(phase_deg, dtype=float))))
+    src = ColumnDataSource({"f": f, "mag": mag, "phase": phase})
+    tips = [("frequency", "@f{0.[000]} Hz"), (f"|{name}|", f"@mag{{0.[0000]}}{_fmt(unit)}"),
+            ("phase", "@phase{0.[0]} deg")]
+    top = _new(title, "frequency [Hz]", _axis(f"|{name}|", unit), width=width, height=height,
+               x_axis_type="log", y_axis_type="log" if np.all(mag > 0) else "linear")
+    r = top.line("f", "mag", source=src, color=PALETTE[0], line_width=1.6)
+    top.add_tools(HoverTool(renderers=[r], mode="vline", tooltips=tips))
+    pk = [p for p in peaks if isinstance(p, dict)]
+    if pk:
+        marks = ColumnDataSource({"f": [_num(p.get("frequency_hz")) for p in pk],
+                                  "mag": [_num(p.get("magnitude")) for p in pk]})
+        m = top.scatter("f", "mag", source=marks, marker="inverted_triangle", size=10,
+                        color="#b3261e", legend_label="peak")
+        top.add_tools(HoverTool(renderers=[m], tooltips=[
+            ("peak", "@f{0.[000]} Hz"), (f"|{name}|", f"@mag{{0.[0000]}}{_fmt(unit)}")]))
+        _legend_right(top)
+    bottom = _new("", "frequency [Hz]", "phase [deg]", width=width, height=height - 40,
+                  x_axis_type="log", x_range=top.x_range)
+    r = bottom.line("f", "phase", source=src, color=PALETTE[1], line_width=1.6)
+    bottom.add_tools(HoverTool(renderers=[r], mode="vline", tooltips=tips))
+    return column(top, bottom)
 
 
 def _cell(v: np.ndarray) -> np.ndarray:

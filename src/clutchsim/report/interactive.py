@@ -20,13 +20,13 @@ of it Bokeh's library).
 from __future__ import annotations
 
 import json
-import re
 from dataclasses import replace
 from html import escape
 from pathlib import Path
 
 import numpy as np
 
+from ..plot.interactive import split_label
 from .build import _write
 from .gather import REPORT_NAME, gather
 from .html import render
@@ -41,7 +41,6 @@ MAX_POINTS = 2500
 REPLACED = ("launch_", "comparison.png", "network_")
 #: the lock-up zoom panel: this long before and after the lock-up time [s]
 ZOOM_S = 0.1
-_COLUMN = re.compile(r"^(.*?) \[(.*)\]$")
 
 
 def read_series(path: Path) -> tuple[np.ndarray, dict, dict]:
@@ -51,8 +50,7 @@ def read_series(path: Path) -> tuple[np.ndarray, dict, dict]:
     frame = pd.read_parquet(path) if path.suffix == ".parquet" else pd.read_csv(path)
     cols, units = {}, {}
     for c in frame.columns:
-        m = _COLUMN.match(str(c))
-        name, unit = (m.group(1), m.group(2)) if m else (str(c), "")
+        name, unit = split_label(c)
         if not np.issubdtype(frame[c].dtype, np.number):
             continue
         cols[name], units[name] = frame[c].to_numpy(dtype=float), unit

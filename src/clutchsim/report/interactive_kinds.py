@@ -7,7 +7,8 @@ again) and returns ``[(title, Bokeh layout), ...]`` for :mod:`clutchsim.report.i
   each, the runs coloured by outcome, hover giving the run, its parameter values and its
   outcome; the panels share one data source, so a box or lasso selection in one selects
   the same runs in all; histograms with the empirical CDF of the main metrics (completed
-  runs).  Replaces ``scatter_*.png`` and ``histograms.png`` (heat maps stay).
+  runs); a 2-D grid sweep, its main metrics as maps over the grid.  Replaces
+  ``scatter_*.png``, ``histograms.png`` and ``heatmap_*.png``.
 * **uq** (``uq.json``, ``results.parquet``): histogram and empirical CDF of every metric
   with the study's p05/p50/p95 marked; Sobol' S1 and ST (Morris mu*) per input with their
   95 % intervals as error bars; the convergence of the estimates against the number of
@@ -15,11 +16,14 @@ again) and returns ``[(title, Bokeh layout), ...]`` for :mod:`clutchsim.report.i
   ``uq_convergence.png``; the probabilities stay a table (and ``uq_probabilities.png``).
 * **durability** (``durability.csv``): peak temperature, friction work, wear, clamp force
   and capacity against the start number, linked.  Replaces ``durability.png``.
-* **judder** (``judder.json``, ``judder_map.json``): the modes (damping ratio against
-  natural frequency, unstable ones in red) and the stability map (smallest damping ratio
-  over the grid).  Replaces ``judder.png`` and ``judder_map.png`` (``frf.png`` stays).
+* **judder** (``judder.json``, ``judder_map.json``, ``frf.json``): the modes (damping
+  ratio against natural frequency, unstable ones in red), the stability map (smallest
+  damping ratio over the grid) and the frequency response (magnitude over phase, log
+  frequency axis, peaks marked).  Replaces ``judder.png``, ``judder_map.png`` and
+  ``frf.png``.
 * **fit** (``traces.csv``): measured and simulated output, and the residual, against
-  time with linked time axes.  Replaces ``fit.png`` and ``residuals.png``.
+  time with linked time axes, in the output's unit (``output_unit`` of fit.json).
+  Replaces ``fit.png`` and ``residuals.png``.
 
 Large tables are drawn downsampled (:data:`MAX_ROWS` runs of a sweep, :data:`MAX_POINTS`
 rows of a trace); the data files keep every row.
@@ -45,7 +49,7 @@ _SOLVER = ("steps", "rhs_evals", "events", "min_step_s", "rejected", "wall_s")
 #: the file that tells a directory's kind, in the order they are looked for
 _KIND_FILE = (("uq", "uq.json"), ("sweep", "sweep.json"), ("durability", "durability.csv"),
               ("judder", "judder.json"), ("judder", "judder_map.json"),
-              ("fit", "traces.csv"))
+              ("judder", "frf.json"), ("fit", "traces.csv"))
 
 
 def directory_kind(directory) -> str | None:
@@ -94,6 +98,7 @@ def sweep_figures(d: Path) -> list:
     if not keys or not metrics or table.empty:
         return []
     ok = (table["status"] == "completed").to_numpy()
+    out = _heat_maps(table, manifest, metrics, units)
     rows = _shown_rows(ok, MAX_ROWS)
     shown = table.iloc[rows]
     data = {"run": shown["run"].to_numpy(dtype=float), "outcome": list(shown["outcome"])}
@@ -101,16 +106,44 @@ def sweep_figures(d: Path) -> list:
         data[c] = shown[c].to_numpy(dtype=float, na_value=np.nan)
     note = "" if rows.size == len(table) else \
         f" ({rows.size:,} of {len(table):,} runs drawn; results.parquet holds all)"
-    out = [((f"{len(metrics)} metrics against {len(keys)} swept "
-            f"parameter{'s' if len(keys) > 1 else ''}: {len(table):,} runs{note}; "
-            "select runs with the box or lasso tool"),
-            scatter_grid(data, keys, metrics, units=units, hover=("run", *keys, "outcome")))]
+    out.append(((f"{len(metrics)} metrics against {len(keys)} swept "
+                 f"parameter{'s' if len(keys) > 1 else ''}: {len(table):,} runs{note}; "
+                 "select runs with the box or lasso tool"),
+                scatter_grid(data, keys, metrics, units=units,
+                             hover=("run", *keys, "outcome"))))
     from ..plot.sweep import MAIN_METRICS
     hist = [m for m in MAIN_METRICS if m in metrics]
     if hist:
         figs = [distribution_figure(table[m][ok].to_numpy(dtype=float, na_value=np.nan),
                                     name=m, unit=units.get(m, "")) for m in hist]
         out.append((f"distributions over the {int(ok.sum()):,} completed runs", _grid(figs)))
+    return out
+
+
+def _heat_maps(table, manifest: dict, metrics, units: dict) -> list:
+    """A 2-D grid sweep (two grid keys, nothing sampled): the main metrics as coloured maps
+    over the grid (as ``heatmap_*.png``; runs that did not complete grey), hover giving
+    the point and the metric."""
+    from ..plot.interactive_studies import _axis, map_figure
+    from ..plot.sweep import MAIN_METRICS
+    grid = [k for k in manifest.get("grid_keys") or [] if k in table.columns]
+    if len(grid) != 2 or manifest.get("random_keys"):
+        return []
+    x, y = grid
+    xv, yv = (table[k].to_numpy(dtype=float) for k in grid)
+    xs, ys = np.unique(xv), np.unique(yv)
+    ix, iy = np.searchsorted(xs, xv), np.searchsorted(ys, yv)
+    ok = (table["status"] == "completed").to_numpy()
+    out = []
+    for m in [m for m in MAIN_METRICS if m in metrics][:3]:
+        z = np.full((ys.size, xs.size), np.nan)
+        z[iy[ok], ix[ok]] = table[m].to_numpy(dtype=float, na_value=np.nan)[ok]
+        label = _axis(m, units.get(m, ""))
+        fig = map_figure(xs, ys, z, x_label=_axis(x, units.get(x, "")),
+                         y_label=_axis(y, units.get(y, "")), z_label=label,
+                         title=f"{m} over {x} × {y} (grey: no completed run)",
+                         diverging=False)
+        out.append((f"{label} over the grid of {x} and {y}", fig))
     return out
 
 
@@ -250,7 +283,26 @@ def judder_figures(d: Path) -> list:
         if fig is not None:
             out.append(((f"stability map of {doc.get('model', 'the driveline')} at t = "
                         f"{doc.get('t_s', 0):g} s"), fig))
+    p = d / "frf.json"
+    if p.is_file():
+        out += _frf(json.loads(p.read_text(encoding="utf-8")))
     return out
+
+
+def _frf(doc: dict) -> list:
+    """The frequency response of ``frf.json`` (``clutchsim judder --frf``): magnitude over
+    phase against frequency, the peaks marked."""
+    from ..plot.interactive_studies import bode_figures
+    f, mag, phase = (np.asarray(doc.get(k) or [], dtype=float)
+                     for k in ("frequency_hz", "magnitude", "phase_deg"))
+    if not f.size or not f.size == mag.size == phase.size:
+        return []
+    name = f"{doc.get('output', 'output')}/{doc.get('input', 'input')}"
+    at = f" at t = {doc['t_s']:g} s" if isinstance(doc.get("t_s"), (int, float)) else ""
+    warned = f"; {len(doc['warnings'])} warning(s), see frf.json" if doc.get("warnings") else ""
+    title = f"frequency response {name} of {doc.get('model', 'the driveline')}{at}"
+    return [(title + warned, bode_figures(f, mag, phase, name=name, unit=str(doc.get("unit", "")),
+                                          peaks=doc.get("peaks") or [], title=title))]
 
 
 def _map(doc: dict, map_figure):
@@ -301,22 +353,25 @@ def fit_figures(d: Path) -> list:
         return []
     doc = json.loads((d / "fit.json").read_text(encoding="utf-8"))
     output = str(doc.get("output", "output"))
+    unit = doc.get("output_unit")
     col = lambda c: frame[c].to_numpy(float)
     groups = [(f"{output}: measured and simulated", {"measured": col("measured"),
                                                      "simulated": col("simulated")}),
               (f"{output}: residual (measured − simulated)", {"residual": col("residual")})]
-    units = {"measured": "", "simulated": "", "residual": ""}
+    units = dict.fromkeys(("measured", "simulated", "residual"), unit or "")
     layout, _ = traces_column(col("t"), groups, units=units, max_points=MAX_POINTS,
                               height=240)
     drawn = min(len(frame), MAX_POINTS)
-    return [((f"fit of {doc.get('model', '?')}: {output} against time ({drawn:,} of "
-             f"{len(frame):,} rows drawn; traces.csv holds all; the unit is the data "
-             "file's)"), layout)]
+    said = f"{output} in {unit}" if unit else (
+        f"{output} (its unit: the data file's; fit.json of this directory does not record "
+        "it)")
+    return [((f"fit of {doc.get('model', '?')}: {said} against time [s] ({drawn:,} of "
+             f"{len(frame):,} rows drawn; traces.csv holds all)"), layout)]
 
 
 #: kind -> (figures of the directory, PNGs (name prefixes) the figures replace, a note)
 KINDS = {
-    "sweep": (sweep_figures, ("scatter_", "histograms.png"),
+    "sweep": (sweep_figures, ("scatter_", "histograms.png", "heatmap_"),
               ("Box or lasso select runs in one panel to see them in all; hover a point for "
               "its run, parameters and outcome; click an outcome in the legend to hide it.")),
     "uq": (uq_figures, ("uq_distributions.png", "uq_sensitivity.png",
@@ -325,8 +380,9 @@ KINDS = {
            "hide it.")),
     "durability": (durability_figures, ("durability.png",),
                    "Drag to zoom (the start axes are linked), hover for the values."),
-    "judder": (judder_figures, ("judder.png", "judder_map.png"),
-               "Hover a mode or a map cell for its values."),
+    "judder": (judder_figures, ("judder.png", "judder_map.png", "frf.png"),
+               ("Hover a mode, a map cell or the frequency response for its values (the "
+                "magnitude and phase share their frequency axis).")),
     "fit": (fit_figures, ("fit.png", "residuals.png"),
             ("Drag to zoom (the time axes are linked), hover for the values, click a legend "
             "entry to hide its line.")),
