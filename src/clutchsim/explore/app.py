@@ -321,7 +321,16 @@ def make_app(session: Session, port: int, *, out_dir: str | Path | None = None):
                 msg = json.loads(message)
             except (TypeError, ValueError):
                 msg = {"op": None}
-            self._send(self.explorer.handle(msg if isinstance(msg, dict) else {"op": None}))
+            msg = msg if isinstance(msg, dict) else {"op": None}
+            try:
+                answers = self.explorer.handle(msg)
+            except Exception as exc:     # a bug: said on the page and logged, the page goes on
+                log.exception("clutchsim explore: internal error")
+                seq = msg.get("seq", 0)
+                answers = [{"op": "error", "seq": seq, "text": f"internal error (a bug in "
+                            f"clutchsim): {type(exc).__name__}: {exc}"},
+                           {"op": "done", "seq": seq}]
+            self._send(answers)
 
         def _send(self, answers):
             for a in answers:
