@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -211,9 +212,10 @@ class Invariants:
     speed_unit: str
     effort_unit: str
 
-    @property
+    @cached_property
     def arrays(self) -> tuple:
-        """``(el, speeds, w_fric, all_passive, table rows)``: :func:`scan`'s arguments."""
+        """``(el, speeds, w_fric, all_passive, table rows)``: :func:`scan`'s arguments (made
+        once per layout: every run of the plant reads them)."""
         el = np.array([[c.hybrid, c.passive, c.mode, c.locked, c.torque, c.slip, c.capacity,
                         c.forward_only] for c in self.elements],
                       dtype=np.int64).reshape(-1, N_E)
@@ -230,6 +232,8 @@ class Invariants:
 
     def violations(self, tab) -> list[Violation]:
         """The violations a :func:`scan` table holds, earliest first."""
+        if not (tab[:, R_ROW] >= 0).any():
+            return []
         su, eu = self.speed_unit, self.effort_unit
         words = {
             0: lambda a, b: (f"free freewheel sliding backwards, slip {b:.6g} {su}" if a == 2
