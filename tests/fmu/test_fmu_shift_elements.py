@@ -1,5 +1,6 @@
 """FMUs of the issue-38 elements: the cone clutch (``cone_synchroniser.toml``), the band
-brake on an open differential (``band_brake_differential.toml``), the dog clutch
+brake on an open differential (``band_brake_differential.toml``), the limited-slip
+differential (``lsd_split_mu.toml``), the dog clutch
 (``dog_clutch.toml``), its elastic teeth (``dog_backlash.toml``), the synchroniser
 (``synchronizer.toml``) and the wet clutch (``wet_clutch_engagement.toml``).  For each:
 the printed C
@@ -50,6 +51,9 @@ CASES = {
                                "W_drag_pack"], ["capacity_pack", "W_drag_pack"]),
     "synchronizer": ("sync", ("stop", "release", "engage"), ["omega_gear", "omega_shaft"],
                      ["sync.engaged"]),
+    # the limited-slip differential: the packs hold, then break away (split-mu launch)
+    "lsd_split_mu": ("lsd", ("stop", "breakaway"), ["omega_left", "omega_right"],
+                     ["capacity_lsd", "F_clamp_lsd", "T_lsd"]),
     # the elastic teeth: their mode is a discrete state the FMU keeps between events (CVode
     # once carried round-off into it and fired "engage" at every step, plant_core.c)
     "dog_backlash": ("dog", ("flank +backlash/2", "flank -backlash/2"),
