@@ -701,14 +701,10 @@ _UNIT_SCALE = {"rad": 0.05, "m": 1e-3, "°C": 30.0, "J": 1.0, "Pa": 1e5, "N": 1e
 
 
 def _discrete(plan) -> set:
-    """Indices of discrete states (modes, lock flags, a mass's stop, a dog's clashes)."""
-    out = set()
-    for c in plan.fes:
-        for key, label, _u in c.state_layout():
-            if key == "locked" or label.endswith((".mode", ".stop", ".clashes",
-                                                  ".engaged")):
-                out.add(plan.state_index[(c.name, key)])
-    return out
+    """Indices of discrete states (modes, lock flags, a mass's stop, a dog's clashes): what
+    each component declares (:meth:`Component.discrete_states`)."""
+    return {plan.state_index[(c.name, key)] for c in plan.net.components
+            for key in c.discrete_states()}
 
 
 def _reduced(plan, p):
@@ -999,7 +995,13 @@ def _check_case(builder, model, points=POINTS, stick=False):
         t = float(rng.uniform(0.0, 1.0))
         J, C, T, ok, smooth = _compare(system, y, u, t, S, discrete, plan.asm.n_v)
         assert np.all(np.isfinite(J)), f"{case.net.name}: non-finite Jacobian at y={y}"
+        dy = np.zeros(len(y))
+        call_rhs(system.tag, t, y, u, system.params, dy)
         for j in discrete:
+            # a discrete state changes only at events: its derivative and its row are 0
+            assert dy[j] == 0.0 and not np.any(J[j] != 0.0), (
+                f"{case.net.name}: discrete state {system.state_names[j]} moves between "
+                f"events (derivative {dy[j]:g})")
             bad = np.flatnonzero(J[:, j] != 0.0)
             assert not bad.size, (f"{case.net.name}: column of discrete state "
                                   f"{system.state_names[j]} is not 0 in rows "
