@@ -146,3 +146,27 @@ def test_the_fmu_keeps_its_discrete_states_between_events(tmp_path):
     assert y[i_mode] == 0.0 and y[i_phi] == x[i_phi]
     fmu.terminate()
     fmu.freeInstance()
+
+
+def test_fmu_of_the_double_sided_synchroniser_shifts_as_clutchsim(tmp_path):
+    """examples/amt_upshift_sleeve.toml (one sleeve force, sides +1 and -1): the printed C
+    equals the compiled plant, FMPy validates the FMU, and its run releases first gear and
+    engages second where clutchsim does."""
+    sc = load_scenario(EXAMPLES / "amt_upshift_sleeve.toml")
+    path = tmp_path / "amt_upshift_sleeve.fmu"
+    export_fmu(sc, path, None)
+    assert validate_fmu(str(path)) == []
+    plan, _, system, _ = _plant_of(sc, None)
+    worst, _, checked_lock = c_plant_difference(plan, system, k=30)
+    assert worst <= 1e-12 and checked_lock
+    res = run_scenario(sc, None).result
+    f = simulate(path, sc, ["omega_output", "sync1.locked", "sync2.locked", "sync1.mode",
+                            "sync2.mode", "sync2.engaged"], 1e-8, 1e-4, record_events=True)
+    assert f["time"][-1] == pytest.approx(sc.t_end)
+    t = f["time"]
+    for side, name in (("sync1", "release"), ("sync2", "engage")):
+        theirs = t[1:][(np.diff(f[f"{side}.locked"]) != 0) & (np.diff(t) == 0)]
+        [ours] = [e.t for e in res.events if e.name == f"{side}: {name}"]
+        assert np.min(np.abs(theirs - ours)) <= SWITCH_TOL, (side, theirs, ours)
+    assert f["sync2.engaged"][-1] == 1.0
+    assert tube_tv(f, res, "omega_output", 1e-3) <= TUBE
