@@ -107,6 +107,7 @@ from clutchsim.network.components import (
     IdealGear,
     Inertia,
     LaunchController,
+    LimitedSlipDifferential,
     LossyGear,
     Mass,
     MassWithStopAndFriction,
@@ -529,6 +530,29 @@ def _differential(rng, model=None):
     return Case(net, {"tau": (-300.0, 300.0), "fa": (-50.0, 500.0), "sleeve": (0.0, 1.0)})
 
 
+def _limited_slip(rng, model=None):
+    """A limited-slip differential driven by an engine whose torque signal (a function of
+    its speed and throttle) is the ramps' torque: the clamp force's partials chained
+    through |T| (the ramp gain times its sign), with a drag and heat from the packs."""
+    net = Network([
+        Engine("engine", speeds=(0.0, 100.0, 300.0, 600.0),
+               torques=(-40.0, 150.0, 200.0, 120.0), throttle="thr",
+               drag0=_f(rng, 1.0, 10.0), drag1=_f(rng, 0.01, 0.05)),
+        Inertia("eng", J=_f(rng, 0.1, 0.3)),
+        LimitedSlipDifferential("lsd", "engine.torque", ratio=_f(rng, 2.5, 4.5),
+                                mu=_f(rng, 0.08, 0.12), mu_s=0.13,
+                                n_faces=float(rng.integers(2, 8)), R_m=_f(rng, 0.03, 0.06),
+                                F_preload=_f(rng, 0.0, 3000.0),
+                                ramp_angle=_f(rng, 15.0, 60.0), r_ramp=_f(rng, 0.03, 0.08),
+                                drag=_f(rng, 0.01, 0.1), heat=(("pack", 1.0),)),
+        ThermalNode("pack", capacity=_f(rng, 1e3, 3e3), conductance=_f(rng, 0.5, 2.0)),
+        Inertia("left", J=_f(rng, 0.5, 2.0)),
+        Inertia("right", J=_f(rng, 0.5, 2.0)),
+    ], [["engine.flange", "eng.a"], ["eng.b", "lsd.input"], ["lsd.left", "left.a"],
+        ["lsd.right", "right.a"]], name="jac_limited_slip")
+    return Case(net, {"thr": (0.0, 1.0)})
+
+
 def _synchronizer(rng, model=None):
     """A synchroniser between an idler gear and its shaft (cone, blocker, dog), driven by a
     torque, with a drag and heat into the cone ring."""
@@ -648,6 +672,7 @@ BUILDERS = {
     "tyre": _vehicle_around, "torsional_mount": _vehicle_around,
     "wet_clutch": _wet_clutch,
     "synchronizer": _synchronizer,
+    "limited_slip_differential": _limited_slip,
 }
 #: networks for the other structural options of components that have a builder
 EXTRA_NETWORKS = (_options, _faults, _wet_open, _dog_teeth)
@@ -676,14 +701,10 @@ _UNIT_SCALE = {"rad": 0.05, "m": 1e-3, "°C": 30.0, "J": 1.0, "Pa": 1e5, "N": 1e
 
 
 def _discrete(plan) -> set:
-    """Indices of discrete states (modes, lock flags, a mass's stop, a dog's clashes)."""
-    out = set()
-    for c in plan.fes:
-        for key, label, _u in c.state_layout():
-            if key == "locked" or label.endswith((".mode", ".stop", ".clashes",
-                                                  ".engaged")):
-                out.add(plan.state_index[(c.name, key)])
-    return out
+    """Indices of discrete states (modes, lock flags, a mass's stop, a dog's clashes): what
+    each component declares (:meth:`Component.discrete_states`)."""
+    return {plan.state_index[(c.name, key)] for c in plan.net.components
+            for key in c.discrete_states()}
 
 
 def _reduced(plan, p):
@@ -974,7 +995,13 @@ def _check_case(builder, model, points=POINTS, stick=False):
         t = float(rng.uniform(0.0, 1.0))
         J, C, T, ok, smooth = _compare(system, y, u, t, S, discrete, plan.asm.n_v)
         assert np.all(np.isfinite(J)), f"{case.net.name}: non-finite Jacobian at y={y}"
+        dy = np.zeros(len(y))
+        call_rhs(system.tag, t, y, u, system.params, dy)
         for j in discrete:
+            # a discrete state changes only at events: its derivative and its row are 0
+            assert dy[j] == 0.0 and not np.any(J[j] != 0.0), (
+                f"{case.net.name}: discrete state {system.state_names[j]} moves between "
+                f"events (derivative {dy[j]:g})")
             bad = np.flatnonzero(J[:, j] != 0.0)
             assert not bad.size, (f"{case.net.name}: column of discrete state "
                                   f"{system.state_names[j]} is not 0 in rows "

@@ -191,6 +191,16 @@ BAD = [
       "2π/teeth = 0.314159 rad"]),
     ("dog_clutch", "w_max = 2.0", "w_max = -2.0",
      ["component[2].w_max", "= -2.0 rad/s", "must be > 0 rad/s"]),
+    ("lsd_split_mu", "F_preload = 2000.0", "F_preload = -2000.0",
+     ["component[1].F_preload", "= -2000.0 N", "must be >= 0 N"]),
+    ("lsd_split_mu", "ramp_angle = 30.0", "ramp_angle = 0.0",
+     ["component[1].ramp_angle", "= 0.0 °", "must be > 0 °"]),
+    ("lsd_split_mu", "ramp_angle = 30.0", "ramp_angle = 90.0",
+     ["component[1].ramp_angle", "ramp_angle = 90° must be in (0, 90)°"]),
+    ("lsd_split_mu", "ramp_angle = 30.0", "ramp_angle = 120.0",
+     ["component[1].ramp_angle", "= 120.0 °", "must be <= 90 °"]),
+    ("lsd_split_mu", "mu_s = 0.12", "mu_s = 0.05",
+     ["component[1].mu_s", "mu_s = 0.05 must be >= mu = 0.1"]),
 ]
 
 

@@ -434,13 +434,25 @@ def _deriv_unit(u: str) -> str:
     return known.get(u, "")
 
 
-def model_h(title: str, system, u0, p, settable, defines: dict) -> str:
+def discrete_mask(plan, comps) -> list[int]:
+    """1 for each state of the plant that is discrete (:meth:`Component.discrete_states`:
+    it changes only at events), 0 for the continuous ones."""
+    mask = [0] * len(plan.state_names)
+    for c in comps:
+        for key in c.discrete_states():
+            mask[plan.state_index[(c.name, key)]] = 1
+    return mask
+
+
+def model_h(title: str, system, u0, p, settable, defines: dict, discrete=None) -> str:
     """``model.h``: the layout of a printed plant for its C drivers (the FMUs' glue, the
     real-time kernel): sizes ``CS_NX``, ``CS_NU``, ``CS_NY``, ``CS_NZ``, ``CS_NP``, the start
     values ``cs_y0``, ``cs_u0``, ``cs_p0``, which parameters may be set (``cs_p_settable``),
+    which states are discrete (``cs_discrete``, :func:`discrete_mask`; none if not given),
     the event functions' directions and names, and the driver's own ``defines``."""
     nx, nu, ny = len(system.state_names), len(system.input_names), len(system.output_names)
     nz = len(system.event_names)
+    discrete = [0] * nx if discrete is None else discrete
     return "\n".join([
         f"/* Layout of {title} (clutchsim {__version__}). Do not edit. */",
         f"#define CS_NX {nx}", f"#define CS_NU {nu}", f"#define CS_NY {ny}",
@@ -450,6 +462,7 @@ def model_h(title: str, system, u0, p, settable, defines: dict) -> str:
         _c_array("cs_u0", "double", [_num(v) for v in u0]),
         _c_array("cs_p0", "double", [_num(v) for v in p]),
         _c_array("cs_p_settable", "int", [str(int(v)) for v in settable]),
+        _c_array("cs_discrete", "int", [str(int(v)) for v in discrete]),
         _c_array("cs_event_dir", "int", [str(int(d)) for d in system.event_directions]),
         f"static const char *cs_event_names[{max(nz, 1)}] = {{"
         + (", ".join(_c_string(e) for e in system.event_names) or "0") + "};", ""])
@@ -561,7 +574,8 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
                                 "CS_GUID": _c_string(guid),
                                 "CS_MODEL_EXCHANGE": int(kind in ("me", "both")),
                                 "CS_COSIM": int(kind in ("cs", "both")),
-                                "CS_FIXED_STEP": repr(float(fixed_step or 0.0))})
+                                "CS_FIXED_STEP": repr(float(fixed_step or 0.0))},
+                     discrete=discrete_mask(plan, comps))
     variables = _variables(
         states=system.state_names, state_units=system.state_units, y0=system.y0,
         inputs=system.input_names, input_units=system.input_units,

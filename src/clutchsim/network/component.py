@@ -150,6 +150,16 @@ class Component:
         :attr:`states` as ``<component>.<state>``."""
         return [(s.name, f"{self.name}.{s.name}", s.unit) for s in self.states]
 
+    def discrete_states(self) -> list[str]:
+        """Keys (of :meth:`state_layout`) of its discrete states: the ones that change only
+        at its events (a switching law's mode, a lock flag, a counter), whose derivative is
+        0 between events.  They are the dimensionless ("-") states of the layout that are
+        not among its :attr:`states` (continuous by declaration).  An FMU keeps them as its
+        last event left them (``clutchsim/fmu/plant_core.c``): an importer's integrator
+        moves them only by round-off, and a mode of 1e-51 is not the mode 0."""
+        own = {s.name for s in self.states}
+        return [k for k, _, unit in self.state_layout() if unit == "-" and k not in own]
+
     def initial_speeds(self) -> dict[str, float]:
         """Initial speed [rad/s] it prescribes at its flanges (inertias)."""
         return {}

@@ -217,6 +217,12 @@ def _component_keys(cls) -> tuple:
             Key("command", "str", "Apply force of the band [N] (a signal; negative values "
                 "read as 0).", required=True),
             *FRICTION_ELEMENT[5:6]),
+        "limited_slip_differential": (
+            Key("command", "str", "Signal of the torque into the input flange [N·m] (an "
+                "input torque source's signal, or the torque of the propshaft's "
+                "compliance): the ramps press the packs with ratio·|T|·tan(ramp_angle)/"
+                "r_ramp beside the preload.", required=True),
+            *FRICTION_ELEMENT[5:6]),
         "dog_clutch": (
             Key("command", "str", "Sleeve engagement command [-] (a signal; the teeth are "
                 "pushed in from 0.5).", required=True),),

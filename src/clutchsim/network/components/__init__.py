@@ -24,6 +24,7 @@ from .hydraulic_actuator import HydraulicActuator
 from .ideal_gear import IdealGear
 from .inertia import Inertia, Mass
 from .launch_controller import LaunchController
+from .limited_slip_differential import LimitedSlipDifferential
 from .lossy_gear import Gearbox, LossyGear
 from .mass_stop import MassWithStopAndFriction
 from .mount import TorsionalMount
@@ -73,7 +74,7 @@ __all__ = ["COMPONENTS", "Accelerate", "BandBrake", "Brake", "Clutch", "ConeClut
            "ConstantSpeed", "Damper", "DogClutch", "Driver", "DualMassFlywheel",
            "EddyCurrentBrake", "ElastoBacklash", "ElastoGap", "Engine", "Force", "Gearbox",
            "HydraulicActuator", "IdealGear", "Inertia", "InverseSpeedForce", "InverseSpeedTorque",
-           "LaunchController", "LinearSpeedForce", "LinearSpeedTorque", "LossyGear",
+           "LaunchController", "LimitedSlipDifferential", "LinearSpeedForce", "LinearSpeedTorque", "LossyGear",
            "LossyGearWithLash", "Mass", "MassWithStopAndFriction", "Move", "OneWayClutch",
            "OpenDifferential", "Planetary", "Position", "QuadraticSpeedForce",
            "QuadraticSpeedTorque", "ReleaseSystem", "ServoActuator", "SignForce", "SignTorque",
@@ -113,4 +114,6 @@ COMPONENTS = {c.kind: c for c in (Inertia, SpringDamper, IdealGear, LossyGear, G
                                   # the vehicle around the driveline (issue 39)
                                   Tyre, TorsionalMount,
                                   # the wet multi-plate clutch (issue 38, item 3)
-                                  WetClutch)}
+                                  WetClutch,
+                                  # the limited-slip differential (issue 38, item 4)
+                                  LimitedSlipDifferential)}

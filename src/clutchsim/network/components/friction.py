@@ -314,8 +314,13 @@ class _FrictionElement(FaultPhase, Component):
     def _command(self, e) -> str:
         """The command's expression: the input signal's value (``1.0`` for an element that
         is always applied); a wet clutch reads its pressure above the kiss point.  Its
-        derivative by the signal is 1."""
+        derivative by the signal is :meth:`_command_slope`."""
         return e.u(self.command) if self.commanded else "1.0"
+
+    def _command_slope(self, e) -> str:
+        """The derivative of :meth:`_command` by its signal (1; a limited-slip
+        differential's clamp force reads the signal through its ramps)."""
+        return "1.0"
 
     def emit(self, e):
         i = e.g.plan.fe_index[self.name]
@@ -397,7 +402,7 @@ class _FrictionElement(FaultPhase, Component):
             e.event(f"{self.name}: fault, {{fault_description}}", 1, trigger, "bank")
             e.output(f"fault_{self.name}", "-", e.par("fault_on"))
         if self.commanded:
-            self._partials += e.chain(self.command, dx)
+            self._partials += e.chain(self.command, f"{dx} * {self._command_slope(e)}")
         if dth is not None:
             self._partials.append((e.ktheta(self.heat[0][0]), dth))
         if dsl is not None:

@@ -33,8 +33,14 @@ The three events are ``stop`` (the cone's slip reaches zero: the dog engages the
 force passes the blocker, else the cone sticks or slides on), ``release`` (the locked
 element frees: sleeve withdrawn, or the cone breaking away) and ``engage``.  The blocker's
 window and force are required: without them nothing keeps the dog from engaging above
-synchronism.  Single-sided: one gear (for the two gears of a sleeve, two synchronisers
-with their own force signals).
+synchronism.
+
+**Double-sided** (one sleeve between two gears): two synchronisers on the sleeve's shaft
+(flange ``b`` of both), one per gear, reading the same sleeve force with ``side`` +1 and
+-1: a positive force presses the first side's cone (the second reads 0: open), a negative
+one the second's, and no force is the neutral position.  The force's sign choosing the
+side, the sleeve cannot be in both gears: reversing the force withdraws it from one side
+(``release`` as the force passes 0) before it presses the other.
 
 References
 ----------
@@ -237,7 +243,10 @@ class Synchronizer(ConeClutch):
                     "blocker ring once synchronised (the dog engages from it)", low=0.0,
                     strict=True, high=1e6),
               Param("engaged0", "-", "1: the dog starts engaged (locked), 0 open",
-                    default=0.0, low=0.0, high=1.0))
+                    default=0.0, low=0.0, high=1.0),
+              Param("side", "-", "its side of a double-sided synchroniser: +1 pressed by a "
+                    "positive sleeve force, -1 by a negative one (a single-sided one: +1)",
+                    default=1.0, low=-1.0, high=1.0))
 
     def __init__(self, name, model, command, heat=(), **values):
         if not isinstance(model, CoulombRobust):
@@ -252,6 +261,11 @@ class Synchronizer(ConeClutch):
         super().__init__(name, model, command, heat=heat, **values)
         if self.engaged0 not in (0.0, 1.0):
             raise ValueError(f"{self.label}: engaged0 = {self.engaged0:g} must be 0 or 1")
+        if self.side not in (-1.0, 1.0):
+            err = ValueError(f"{self.label}: side = {self.side:g} must be +1 or -1 (the sign "
+                             "of the sleeve force that presses this side's cone)")
+            err.key = "side"
+            raise err
         self.model = SyncLaw(w_sync=self.w_sync, block_scale=self.F_block * self.wedge,
                              F_c=model.F_c, F_s=model.F_s, v_s=model.v_s,
                              delta=model.delta, sigma2=model.sigma2)
@@ -262,7 +276,16 @@ class Synchronizer(ConeClutch):
                           heat=self.heat, **{**self.values, **changes})
 
     def options(self):
-        return ("synchronizer",) + super().options()[1:]
+        return ("synchronizer", self.side) + super().options()[1:]
+
+    def _command(self, e) -> str:
+        """The force on this side's cone: the sleeve force times ``side`` (the other
+        side's force, of the other sign, reads as 0 here)."""
+        u = e.u(self.command)
+        return u if self.side > 0.0 else f"(-{u})"
+
+    def _command_slope(self, e) -> str:
+        return "1.0" if self.side > 0.0 else "-1.0"
 
     def state_layout(self):
         return [("z0", f"{self.name}.mode", "-"), ("z1", f"{self.name}.engaged", "-"),
