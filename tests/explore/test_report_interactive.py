@@ -132,3 +132,35 @@ def test_display_rows_keep_samples_and_peaks():
     assert np.all(np.diff(rows) > 0)
     assert 31_415 in rows                           # the peak survives
     assert np.array_equal(display_rows(t[:500], [y[:500]], 1000), np.arange(500))
+
+
+def test_engine_torque_against_its_full_load_curve(report, launch_dir):
+    """Each run's engine torque under its full-load torque at the same speed (the plant's
+    ``T_full_load``): a figure of its own holding both columns; the engine never gives more
+    than full load, and gives it where the throttle (governor included) is wide open."""
+    sources = _sources(report.read_text(encoding="utf-8"))
+    engine = [s for s in sources if set(s) >= {"t", "T_engine", "T_full_load"}
+              and "W_friction" not in s]
+    assert len(engine) == 2                            # one per model
+    t, cols, _ = read_series(sorted(launch_dir.glob("timeseries_*.parquet"))[0])
+    rows = display_rows(t, [cols["T_engine"], cols["T_full_load"]], MAX_POINTS)
+    np.testing.assert_allclose(engine[0]["T_full_load"], cols["T_full_load"][rows], rtol=1e-6)
+    assert np.all(cols["T_full_load"] - cols["T_engine"] >= -1e-9 * np.abs(cols["T_full_load"]).max())
+
+
+def test_full_load_torque_is_the_engine_torque_at_full_throttle():
+    """``T_full_load`` is the full-load table at the engine's speed minus its drag: at full
+    throttle the engine gives exactly that."""
+    from clutchsim.scenario.run import run_scenario
+    full = run_scenario(None, overrides=["inputs.throttle=1.0"]).result
+    np.testing.assert_allclose(full["T_engine"], full["T_full_load"], rtol=0, atol=1e-12)
+    # the table itself, read at the engine's speed (drag 8 N·m + 0.02 N·m·s/rad·ω in
+    # the packaged launch), with the rev limiter's ramp to 0 over 5 % above its last
+    # speed, where this full-throttle launch takes the engine (653 rad/s)
+    w = full["omega_engine"]
+    speed = [0.0, 62.8, 104.7, 157.1, 209.4, 314.2, 418.9, 628.3, 628.3 * 1.05]
+    torque = [0.0, 110.0, 150.0, 180.0, 200.0, 200.0, 185.0, 140.0, 0.0]
+    assert w.max() > speed[-2]
+    drag = 8.0 * np.tanh(w) + 0.02 * w
+    np.testing.assert_allclose(full["T_full_load"], np.interp(w, speed, torque) - drag,
+                               rtol=1e-12, atol=1e-9)

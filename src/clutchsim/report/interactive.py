@@ -6,7 +6,8 @@ nothing (its Content-Security-Policy allows its own inline scripts only).
 
 Per run (``timeseries[_MODEL].csv`` or ``.parquet``): one figure per unit (speeds in rpm,
 torques, slip power in kW, accelerations raw and ISO-weighted, temperatures, energy flow,
-commands), a lock-up zoom panel (the speeds from 0.1 s before to 0.1 s after the lock-up
+commands), the engine's torque against its full-load torque at the same speed
+(``T_engine``, ``T_full_load``: the torque reserve), a lock-up zoom panel (the speeds from 0.1 s before to 0.1 s after the lock-up
 time of ``summary.json``) and, with several models, their speeds overlaid on one axis.
 To keep the file small the figures draw at most :data:`MAX_POINTS` rows of a run
 (:func:`clutchsim.plot.interactive.display_rows`: samples of the run, peaks kept); the
@@ -39,6 +40,8 @@ MAX_POINTS = 2500
 #: PNG figures of the time series that the interactive figures replace in the page (the
 #: others, e.g. an actuation chain's characteristics, stay)
 REPLACED = ("launch_", "comparison.png", "network_")
+#: the engine's torque and its full-load torque at the same speed (its own figure)
+ENGINE_LOAD = ("T_engine", "T_full_load")
 #: the lock-up zoom panel: this long before and after the lock-up time [s]
 ZOOM_S = 0.1
 
@@ -119,6 +122,15 @@ def interactive_figures(directory: str | Path, *, max_points: int = MAX_POINTS) 
             continue
         layout, _ = traces_column(t, groups, units=shown, max_points=max_points, height=200)
         out.append((f"{label}: {path.name}", layout))
+        if all(n in cols for n in ENGINE_LOAD):
+            # the engine's torque under its full-load curve (T_full_load: what it would give
+            # at that speed at full throttle), the torque reserve a driver or controller has
+            rows = display_rows(t, [cols[n] for n in ENGINE_LOAD], max_points)
+            src = ColumnDataSource({"t": t[rows], **{n: cols[n][rows].astype(np.float32)
+                                                     for n in ENGINE_LOAD}})
+            out.append((f"{label}: engine torque and its full-load curve", trace_figure(
+                src, "t", list(ENGINE_LOAD), title=f"{label}: engine torque against its "
+                "full-load torque at the same speed", unit="N·m", height=220)))
         tl = lockup.get(label)
         if tl is not None and label in speeds:
             ts, sp = speeds[label]

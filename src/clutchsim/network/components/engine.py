@@ -31,7 +31,10 @@ class Engine(Component):
     The run gets a warning when the engine overspeeds
     (:func:`clutchsim.analysis.launch_metrics.launch_warnings`).  It produces the signal ``<name>.torque`` [N·m]
     (``T``: a launch controller's feed-forward); the throttle may be another component's
-    signal (a driver model).
+    signal (a driver model).  Outputs: ``T_engine`` [N·m] and ``T_full_load`` [N·m], the
+    torque it would give at its present speed at full throttle (``T_max(ω)`` minus the
+    drag: its full-load curve along the run; ``T_engine <= T_full_load``, equal at full
+    load).
     """
 
     kind = "engine"
@@ -156,6 +159,9 @@ class Engine(Component):
             e.dtorque("support", key, f"-{d}")
             e.dpower("in", key, f"{d} * {w}")
         e.output("T_engine", "N·m", tq)
+        # what it could give at this speed at full throttle (the full-load curve, rev
+        # limiter and drag included): T_engine <= T_full_load, equal at full load
+        e.output("T_full_load", "N·m", f"{tf} - {drag}")
         e.signal("torque", tq)
         for fl, s in (("flange", ""), ("support", "-")):
             e.dsignal("torque", e.kw(fl), f"{s}{dtw}")
