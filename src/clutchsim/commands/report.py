@@ -14,6 +14,8 @@ examples:
   clutchsim report drift/ --title "Drift, LuGre" --json    # {"report": "drift/report.html"}
   clutchsim run examples/launch.toml --out launch/
   clutchsim report launch/ --interactive       # zoom, hover, linked time axes (Bokeh)
+  clutchsim sweep examples/launch.toml --vary vehicle.mass=1100:1700:3 \\
+      --vary vehicle.grade=0:6:3 --out mass_grade/
   clutchsim report mass_grade/ --interactive   # a sweep: linked scatter panels, heat maps
 
 The report is one HTML file (figures embedded, no network access, opens from disk) with the
