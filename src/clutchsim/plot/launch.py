@@ -11,6 +11,10 @@ __all__ = ["plot_comparison", "plot_launch"]
 _RPM = 30.0 / math.pi
 
 
+#: the disc dashed: after lock-up it runs at the engine's speed and would hide its line
+_LINE = {"omega_disc": "--"}
+
+
 def plot_launch(result, *, clutch: str = "clutch", title: str = "", **kw):
     """Six panels of one run; returns ``(figure, axes)``.  Unknown keywords raise."""
     if kw:
@@ -20,7 +24,7 @@ def plot_launch(result, *, clutch: str = "clutch", title: str = "", **kw):
     a = ax[0, 0]
     for name in result.signals:
         if name.startswith("omega_") and name in ("omega_engine", "omega_disc", "omega_wheels"):
-            a.plot(t, result[name] * _RPM, label=name[6:])
+            a.plot(t, result[name] * _RPM, _LINE.get(name, "-"), label=name[6:])
     a.set_ylabel("speed [rpm]")
     a.legend(loc="best", fontsize=8)
     a.set_title("engine, disc and wheel speeds")
@@ -71,7 +75,7 @@ def plot_comparison(runs: dict, *, clutch: str = "clutch", **kw):
         a = ax[i, 0]
         for name in ("omega_engine", "omega_disc"):
             if name in res.signals:
-                a.plot(t, res[name] * _RPM, label=name[6:])
+                a.plot(t, res[name] * _RPM, _LINE.get(name, "-"), label=name[6:])
         a.set_ylabel("speed [rpm]")
         end = "" if res.status == "completed" else f" — {res.status} at t = {t[-1]:.3f} s"
         a.set_title(f"{model}: speeds{end}", fontsize=10)
