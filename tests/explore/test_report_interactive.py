@@ -142,7 +142,7 @@ def test_engine_torque_against_its_full_load_curve(report, launch_dir):
     engine = [s for s in sources if set(s) >= {"t", "T_engine", "T_full_load"}
               and "W_friction" not in s]
     assert len(engine) == 2                            # one per model
-    t, cols, _ = read_series(sorted(launch_dir.glob("timeseries_*.parquet"))[0])
+    t, cols, _ = read_series(min(launch_dir.glob("timeseries_*.parquet")))
     rows = display_rows(t, [cols["T_engine"], cols["T_full_load"]], MAX_POINTS)
     np.testing.assert_allclose(engine[0]["T_full_load"], cols["T_full_load"][rows], rtol=1e-6)
     assert np.all(cols["T_full_load"] - cols["T_engine"] >= -1e-9 * np.abs(cols["T_full_load"]).max())
