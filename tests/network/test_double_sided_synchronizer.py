@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from test_shift_elements import (
     test_bad_input_names_key_value_rule_file_and_line_and_exits_2 as _bad_input,
@@ -78,6 +78,9 @@ def test_the_force_sign_chooses_the_side_that_synchronises_in_the_closed_form_ti
 
 
 @settings(max_examples=15, deadline=None)
+# all at rest at zero force: each cone starts locked at zero capacity and breaks away at t0
+@example(J1=0.25, J2=0.25, Js=0.25, w1=0.0, w2=0.0, torque=1.0, w_sync=1.0, F=0.0,
+         F_block=100.0, t_push=0.0)
 @given(J1=st.floats(0.01, 0.3), J2=st.floats(0.01, 0.3), Js=st.floats(0.02, 0.3),
        w1=st.floats(-100.0, 100.0), w2=st.floats(-100.0, 100.0),
        torque=st.floats(-20.0, 20.0), w_sync=st.floats(0.05, 3.0),
@@ -98,7 +101,11 @@ def test_only_the_pressed_side_engages_and_only_inside_its_blocker(J1, J2, Js, w
     me, other = ("sync1", "sync2") if F >= 0.0 else ("sync2", "sync1")
     Jg = J1 if F >= 0.0 else J2
     assert np.all(res[f"{other}.engaged"] == 0.0)
-    assert np.all(res[f"T_{other}"] == 0.0)
+    # a row followed by another at the same instant is the state before a reset (as the
+    # physics checks read it): a cone at rest at zero force starts locked and is freed by
+    # the event at t0, the row before it holding the lock's torque
+    after = np.append(res.t[1:] != res.t[:-1], True)
+    assert np.all(res[f"T_{other}"][after] == 0.0)
     if abs(F) < F_block:
         assert np.all(res[f"{me}.engaged"] == 0.0)
     if res[f"{me}.engaged"][-1] == 1.0:
