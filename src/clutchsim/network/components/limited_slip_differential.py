@@ -52,6 +52,7 @@ import math
 from ...friction.coulomb_robust import CoulombRobust
 from ..component import Component
 from ..spec import Param
+from .differential import OpenDifferential
 from .friction import Clutch
 
 
@@ -66,8 +67,7 @@ class LimitedSlipDifferential(Clutch):
     side_a = "left"
     side_b = "right"
     params = (
-        Param("ratio", "-", "final-drive ratio ω_input/ω_case", default=1.0, low=0.0,
-              strict=True, high=100.0),
+        *OpenDifferential.params,         # ratio: the gears are the open differential's
         Param("mu", "-", "sliding friction coefficient of the plates", low=0.0, strict=True,
               high=2.0),
         Param("mu_s", "-", "static friction coefficient of the plates (>= mu; 0: mu)",
@@ -135,8 +135,8 @@ class LimitedSlipDifferential(Clutch):
     def input_ranges(self):
         return {}
 
-    def constraints(self):
-        return [{"input": 2.0 / self.ratio, "left": -1.0, "right": -1.0}]
+    #: the open differential's gear relation ``2·ω_input/ratio = ω_left + ω_right``
+    constraints = OpenDifferential.constraints
 
     def pack(self):
         d = super().pack()
