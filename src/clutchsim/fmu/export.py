@@ -77,11 +77,10 @@ _UNITS = {
     "J/K": {"kg": 1, "m": 2, "s": -2, "K": -1}, "W/K": {"kg": 1, "m": 2, "s": -3, "K": -1},
     "N·m/rad": {"kg": 1, "m": 2, "s": -2, "rad": -1}, "°C": {"K": 1, "offset": 273.15},
     "K": {"K": 1}, "1/s": {"s": -1}, "Pa": {"kg": 1, "m": -1, "s": -2},
+    "N·s/m": {"kg": 1, "s": -1}, "N/m": {"kg": 1, "s": -2}, "N/s": {"kg": 1, "m": 1, "s": -3},
+    "N·m/s": {"kg": 1, "m": 2, "s": -3},
 }
 _DIMLESS = {"", "-", "1"}
-#: units of a rotational friction model's parameter kinds
-_FRICTION_UNITS = {"force": "N·m", "velocity": "rad/s", "displacement": "rad",
-                   "force/velocity": "N·m·s/rad", "force/displacement": "N·m/rad"}
 
 
 class FmuError(ValueError):
@@ -230,9 +229,10 @@ def _parameters(plan, comps) -> list[dict]:
             if len(fields) != n_val:
                 fields = [f"model[{i}]" for i in range(n_val)]
             for i, f in enumerate(fields):
-                kind, doc = info.get(f, ("", ""))
+                _kind, doc = info.get(f, ("", ""))
                 out.append(_param(off + i, f"{c_name}.friction.{f}",
-                                  _FRICTION_UNITS.get(kind, ""),
+                                  model.unit_of(f, c.domain or "rotational") if f in info
+                                  else "",
                                   f"{model.name}: {doc}" if doc else model.name,
                                   not structural and f not in options,
                                   _OPTION if f in options else _STRUCTURAL))

@@ -109,6 +109,21 @@ class Component:
         of a table, ...); parameter values never are."""
         return ()
 
+    def parameter_values(self) -> dict[str, dict]:
+        """Every value its equations read, for a run's records and reports: ``{name:
+        {"value", "unit", "description"}}``, its declared parameters (:attr:`params`) and
+        then what :meth:`described_values` adds (a friction model's fields, tables)."""
+        out = {p.name: {"value": self.values[p.name], "unit": p.unit, "description": p.doc}
+               for p in self.params}
+        out.update(self.described_values())
+        return out
+
+    def described_values(self) -> dict[str, dict]:
+        """The values of :meth:`parameter_values` beyond the declared scalars (a component
+        constructed with a friction model or a table says them here; tables through
+        :func:`~clutchsim.network.spec.table_entry`)."""
+        return {}
+
     def inputs(self) -> tuple[str, ...]:
         """Names of the input signals it reads."""
         return ()

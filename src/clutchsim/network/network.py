@@ -112,6 +112,13 @@ class Network:
         raise NetworkError(f"network: no component {name!r}"
                            f"{closest(name, [c.name for c in self.components])}", name)
 
+    def parameter_values(self) -> dict[str, dict[str, dict]]:
+        """Every value the equations read, per component: ``{component: {parameter:
+        {"value", "unit", "description"}}}``
+        (:meth:`~clutchsim.network.component.Component.parameter_values`), the
+        ``parameters`` of a run's ``summary.json`` and its report."""
+        return {c.name: c.parameter_values() for c in self.components}
+
     def compile(self):
         """The compiled :class:`~clutchsim.network.plant.Plan` (cached per topology)."""
         from .plant import compile_network

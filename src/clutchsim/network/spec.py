@@ -101,6 +101,20 @@ def check_value(owner: str, spec: Param, value) -> float:
     return x
 
 
+def table_entry(description: str, x, x_unit: str, y, y_unit: str) -> dict:
+    """A tabulated parameter as a run's record reads it (:meth:`Component.parameter_values`):
+    its breakpoints ``x`` and values ``y`` as lists, their units as ``"x_unit → y_unit"``,
+    and a one-line ``value`` for tables of results (the points ``x → y``; a long table shows its first and last
+    three)."""
+    x = [float(v) for v in x]
+    y = [float(v) for v in y]
+    pts = [f"{a:g} → {b:g}" for a, b in zip(x, y)]
+    if len(pts) > 8:
+        pts = pts[:3] + ["…"] + pts[-3:]
+    return {"value": f"{len(x)} point{'s' if len(x) != 1 else ''}: " + ", ".join(pts),
+            "unit": f"{x_unit} → {y_unit}", "description": description, "x": x, "y": y}
+
+
 def check_table(owner: str, key: str, xs, ys, *, min_points: int = 2,
                 low: float | None = None):
     """A piecewise-linear table ``(breakpoints, values)`` as two tuples of floats, or a

@@ -31,15 +31,34 @@ def declared_faults(scenario, model, result) -> list[dict]:
     return out
 
 
+def run_parameters(scenario, models, labels) -> dict:
+    """Every value the runs' equations read, per component: ``{component: {parameter:
+    {"value", "unit", "description"}}}``
+    (:meth:`clutchsim.network.Network.parameter_values`).  A component whose values differ
+    between the runs (the clutch, compared over friction models) is listed once per run,
+    as ``"<component> (<label>)"``."""
+    per_run = [scenario.network(m).parameter_values() for m in models]
+    out: dict = {}
+    for name, first in per_run[0].items():
+        if all(pv.get(name) == first for pv in per_run[1:]):
+            out[name] = first
+        else:
+            for label, pv in zip(labels, per_run):
+                out[f"{name} ({label})"] = pv[name]
+    return out
+
+
 def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
                progress=None) -> dict:
     """Run ``scenario`` once per friction model and write the results into ``directory``.
 
     A launch (:func:`clutchsim.analysis.launch_metrics.is_launch`: a friction clutch with a vehicle or
     an engine) gets ``summary.json`` ``{"kind", "scenario", "file", "models": {MODEL:
-    launch metrics}}``, one ``launch_MODEL.png`` per model and, for several models,
+    launch metrics}, "parameters"}``, one ``launch_MODEL.png`` per model and, for several models,
     ``comparison.png``.  Any other network gets ``summary.json`` ``{"kind", "scenario",
-    "file", "runs": {LABEL: summary}}`` (:func:`clutchsim.analysis.network_summary.network_summary`)
+    "file", "runs": {LABEL: summary}, "parameters"}``
+    (:func:`clutchsim.analysis.network_summary.network_summary`; ``parameters``:
+    :func:`run_parameters`, every value with its unit)
     and one ``network_LABEL.png`` per run (:func:`clutchsim.plot.network.plot_network`):
     LABEL is the scenario's name for one run, the model's name where several models are
     compared.  Both write ``timeseries[_MODEL].csv`` / ``.parquet`` (units in the column
@@ -81,6 +100,7 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
         log.info("  %s: %s", label, doc["message"])
     if progress is not None:
         progress(len(models), len(models))
+    summary["parameters"] = run_parameters(scenario, models, list(runs))
     faults = declared_faults(scenario, models[0], next(iter(runs.values())))
     if faults:
         summary["faults"] = faults

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..component import Component
-from ..spec import check_table
+from ..spec import check_table, table_entry
 
 #: speed [rad/s] below which the faster of pump and turbine counts as standing (no torque)
 W_EPS = 1e-9
@@ -64,6 +64,12 @@ class TorqueConverter(Component):
 
     def options(self):
         return (len(self.speed_ratio),)
+
+    def described_values(self):
+        return {"K": table_entry("capacity factor over the speed ratio ω_t/ω_p",
+                                 self.speed_ratio, "-", self.K, "rad/s/sqrt(N·m)"),
+                "torque_ratio": table_entry("torque ratio over the speed ratio ω_t/ω_p",
+                                            self.speed_ratio, "-", self.torque_ratio, "-")}
 
     def pack(self):
         d = dict(self.values)

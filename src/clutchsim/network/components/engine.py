@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..component import Component
-from ..spec import Param, check_table
+from ..spec import Param, check_table, table_entry
 
 #: highest idle (and stall) speed accepted [rad/s]: 2,000 rpm, above any engine's idle
 #: (passenger cars 600-900 rpm, trucks 500-700 rpm); 800 typed as rad/s (7,640 rpm) is
@@ -62,6 +62,11 @@ class Engine(Component):
             raise ValueError(f"{self.label}: stall_speed = {self.stall_speed:g} rad/s must be "
                              f"below idle_speed = {self.idle_speed:g} rad/s")
         self.speeds, self.torques, self.throttle = x, v, str(throttle)
+
+    def described_values(self):
+        return {"full_load": table_entry("full-load torque curve at throttle 1 (engine "
+                                         "speed → torque)", self.speeds, "rad/s",
+                                         self.torques, "N·m")}
 
     @property
     def governed(self) -> bool:

@@ -16,11 +16,13 @@ and free (a state ``<name>.locked``); the generated plant solves their stick tor
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from ...friction.base import FrictionModel
 from ..component import Component
-from ..spec import Param, check_table
+from ..spec import Param, check_table, table_entry
 from ..wear import WearLaw
 from ._faults import FaultPhase
 
@@ -28,11 +30,20 @@ from ._faults import FaultPhase
 #: and a friction coefficient's factor are never negative (the one place these rules live:
 #: the chain's friction elements read them too)
 TABLE_LOW = {"clamp_table": 0.0, "mu_temperature": 0.0, "mu_slip": 0.0}
+#: what each table is: (its argument, the argument's unit, what the table gives)
+TABLE_DOCS = {"clamp_table": ("actuator position", "-", "normalised clamp force [-]"),
+              "mu_temperature": ("temperature", "°C", "friction factor μ(θ)/μ_ref [-]"),
+              "mu_slip": ("slip speed", "rad/s", "friction factor μ(|w|)/μ_ref [-]")}
 
 
 def _table(owner, key, tab):
     return None if tab is None else check_table(owner, key, tab[0], tab[1],
                                                 low=TABLE_LOW[key])
+
+
+#: units of the wear law's fields (:class:`~clutchsim.network.wear.WearLaw`)
+_WEAR_UNITS = {"k_w": "m³/J", "area": "m²", "reserve": "m", "lining": "m", "E_a": "J/mol",
+               "theta_ref": "°C", "theta_crit": "°C", "crit_gain": "1/K", "shift": "1/m"}
 
 
 #: a capacity factor from which a fault is "stuck locked" (the element seizes: whatever it
@@ -124,6 +135,38 @@ class _FrictionElement(FaultPhase, Component):
         self.locked0 = locked0
         self.z0 = None if z0 is None else tuple(float(v) for v in z0)
         self.check_fault()
+
+    def described_values(self):
+        model = self.model
+        domain = self.domain or "rotational"
+        out = {"friction.model": {"value": model.name, "unit": "",
+                                  "description": "friction model"}}
+        for f in dataclasses.fields(model):
+            kind_doc = model.parameter_info.get(f.name)
+            out[f"friction.{f.name}"] = {
+                "value": getattr(model, f.name),
+                "unit": model.unit_of(f.name, domain) if kind_doc else "",
+                "description": kind_doc[1] if kind_doc else "option of the friction model"}
+        for key, (arg, unit, what) in TABLE_DOCS.items():
+            tab = getattr(self, key)
+            if tab is not None:
+                out[key] = table_entry(f"{arg} → {what}", tab[0], unit, tab[1], "-")
+        if self.runout is not None:
+            out["runout.amplitude"] = {"value": self.runout[0], "unit": "-",
+                                       "description": "clamp load runout, a fraction of the "
+                                       "clamp load"}
+            out["runout.order"] = {"value": self.runout[1], "unit": "-",
+                                   "description": "runout order (cycles per revolution of "
+                                   "the slip angle)"}
+        for node, share in self.heat:
+            out[f"heat.{node}"] = {"value": share, "unit": "-",
+                                   "description": f"share of the friction heat into {node!r}"}
+        if self.wear is not None:
+            for f in dataclasses.fields(self.wear):
+                out[f"wear.{f.name}"] = {"value": getattr(self.wear, f.name),
+                                         "unit": _WEAR_UNITS.get(f.name, ""),
+                                         "description": "wear law"}
+        return out
 
     # the flags below decide the generated equations; read from the values each time, they
     # follow a with_values (a flag set once in __init__ did not: a copy with a fault

@@ -33,10 +33,15 @@ from __future__ import annotations
 import numpy as np
 
 from ..component import Component
-from ..spec import Param
+from ..spec import Param, table_entry
 
 #: columns of a loss table
 LOSS_COLUMNS = ("speed", "eta_mf1", "eta_mf2", "tau_bf1", "tau_bf2")
+#: what each column after ``speed`` [rad/s] gives, and its unit
+LOSS_COLUMN_DOCS = {"eta_mf1": ("efficiency, power flowing from a to b", "-"),
+                    "eta_mf2": ("efficiency, power flowing from b to a", "-"),
+                    "tau_bf1": ("bearing friction torque, power flowing from a to b", "N·m"),
+                    "tau_bf2": ("bearing friction torque, power flowing from b to a", "N·m")}
 
 
 class _LossModel:
@@ -149,6 +154,12 @@ class LossyGear(Component):
     def options(self):
         return (len(self.loss_columns[0]), self.friction)
 
+    def described_values(self):
+        speed, *cols = self.loss_columns
+        return {f"loss_table.{name}": table_entry(f"{doc} over the speed of flange a", speed,
+                                                  "rad/s", col, unit)
+                for (name, (doc, unit)), col in zip(LOSS_COLUMN_DOCS.items(), cols)}
+
     def constraints(self):
         r = self.gear_ratio()
         return [{"a": 1.0, self.out_flange: -r, "support": r - 1.0}]
@@ -252,6 +263,17 @@ class Gearbox(LossyGear):
 
     def options(self):
         return (len(self.ratios), self.friction, len(self.shifts))
+
+    def described_values(self):
+        # its losses are the scalar parameters (efficiency, drag_torque): no loss table
+        out = {"ratios": {"value": ", ".join(f"{r:g}" for r in self.ratios), "unit": "-",
+                          "description": "gear ratios ω_a/ω_b of gears 1, 2, ... (times "
+                          "final_drive)", "values": list(self.ratios)}}
+        if self.shifts:
+            out["shifts"] = {"value": ", ".join(f"gear {g} at {t:g} s" for t, g in self.shifts),
+                             "unit": "s", "description": "scheduled shifts (time, gear)",
+                             "values": [list(s) for s in self.shifts]}
+        return out
 
     def schedule(self) -> tuple:
         """``(time [s], values)`` at which this component's values change (shifts)."""

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..component import Component
-from ..spec import Param
+from ..spec import Param, table_entry
 
 
 def monotone_spring(owner: str, key: str, xs, fs, xname: str) -> tuple[np.ndarray, np.ndarray]:
@@ -101,6 +101,14 @@ class ReleaseSystem(Component):
 
     def options(self):
         return (self.travel, len(self.characteristic[0]), self.has_play)
+
+    def described_values(self):
+        out = {"cushion": table_entry("cushion spring: compression → force", self.cushion[0],
+                                      "m", self.cushion[1], "N")}
+        if self.spring is not None:
+            out["spring"] = table_entry("diaphragm spring: deflection → force",
+                                        self.spring[0], "m", self.spring[1], "N")
+        return out
 
     def inputs(self):
         return (self.travel,)

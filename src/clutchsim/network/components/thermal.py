@@ -42,6 +42,12 @@ class ThermalNode(Component):
     def options(self):
         return (self.link,)
 
+    def described_values(self):
+        if self.link is None:
+            return {}
+        return {"link": {"value": self.link, "unit": "",
+                         "description": "the thermal node it conducts to (link_conductance)"}}
+
     def check_network(self, net):
         if self.link is None:
             return

@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..component import Component
-from ..spec import Param, check_table
+from ..spec import Param, check_table, table_entry
 
 
 class TorquePulsation(Component):
@@ -57,6 +57,13 @@ class TorquePulsation(Component):
 
     def options(self):
         return (None if self.amplitude_table is None else len(self.amplitude_table[0]),)
+
+    def described_values(self):
+        if self.amplitude_table is None:
+            return {}
+        x, v = self.amplitude_table
+        return {"amplitude_table": table_entry("amplitude of the harmonic over the speed",
+                                               x, "rad/s", v, "N·m")}
 
     def pack(self):
         d = dict(self.values)
