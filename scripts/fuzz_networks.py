@@ -64,7 +64,8 @@ def main() -> int:
                 print(f"SENSITIVE {notes}\n{c!r}\n", flush=True)
             if found:
                 problems.append((c, found))
-                print(f"PROBLEM {found}\n{c!r}\n", flush=True)
+                print(f"PROBLEM (the run: {res.outcome} at t = {res.t[-1]:.9g} s) {found}\n"
+                      f"{c!r}\n", flush=True)
             n = sum(tally.values())
             if n % 50 == 0:
                 print(f"{n} networks, {len(problems)} problems, "
