@@ -67,7 +67,7 @@ def test_a_network_run_has_its_own_summary_and_figure(outputs, stem):
     out, doc, _ = outputs[stem]
     name = NETWORKS[stem]
     assert json.loads((out / "summary.json").read_text()) == doc     # --json: the summary
-    assert set(doc) == {"kind", "scenario", "file", "runs", "failed"}
+    assert set(doc) == {"kind", "scenario", "file", "runs", "parameters", "failed"}
     assert doc["kind"] == "run" and doc["scenario"] == name and doc["failed"] == []
     assert list(doc["runs"]) == [name]                 # named by the scenario, no model key
     run = doc["runs"][name]
@@ -219,7 +219,7 @@ def test_a_launch_keeps_its_launch_summary(tmp_path):
              "--json")
     assert p.returncode == 0, p.stderr
     doc = json.loads(p.stdout)
-    assert set(doc) == {"kind", "scenario", "file", "models", "failed"}
+    assert set(doc) == {"kind", "scenario", "file", "models", "parameters", "failed"}
     m = doc["models"]["coulomb-robust"]
     assert {"lockup_time_s", "slip_energy_J", "engine_dip_rpm", "vdv_mps175",
             "energy_balance_rel"} <= set(m)

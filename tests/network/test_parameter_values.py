@@ -33,6 +33,7 @@ def _check(net) -> None:
         rec = pv[c.name]
         for k, r in rec.items():
             assert set(r) >= {"value", "unit", "description"}, (c.name, k)
+            assert r["value"] is not None, (c.name, k)        # no nulls in a summary
             assert r["description"], (c.name, k)
         for p in c.params:
             assert rec[p.name]["value"] == c.values[p.name], (c.name, p.name)
@@ -41,6 +42,9 @@ def _check(net) -> None:
             model = c.model
             assert rec["friction.model"]["value"] == model.name
             for f in dataclasses.fields(model):
+                if getattr(model, f.name) is None:
+                    assert f"friction.{f.name}" not in rec
+                    continue
                 r = rec[f"friction.{f.name}"]
                 assert r["value"] == getattr(model, f.name), (c.name, f.name)
                 if f.name in model.parameter_info:

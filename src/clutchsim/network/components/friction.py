@@ -142,6 +142,8 @@ class _FrictionElement(FaultPhase, Component):
         out = {"friction.model": {"value": model.name, "unit": "",
                                   "description": "friction model"}}
         for f in dataclasses.fields(model):
+            if getattr(model, f.name) is None:      # an option not in use
+                continue
             kind_doc = model.parameter_info.get(f.name)
             out[f"friction.{f.name}"] = {
                 "value": getattr(model, f.name),
@@ -163,6 +165,8 @@ class _FrictionElement(FaultPhase, Component):
                                    "description": f"share of the friction heat into {node!r}"}
         if self.wear is not None:
             for f in dataclasses.fields(self.wear):
+                if getattr(self.wear, f.name) is None:     # theta_crit: no critical rise
+                    continue
                 out[f"wear.{f.name}"] = {"value": getattr(self.wear, f.name),
                                          "unit": _WEAR_UNITS.get(f.name, ""),
                                          "description": "wear law"}
