@@ -168,3 +168,23 @@ def test_a_stiff_contact_entered_after_long_free_flight_releases_on_time():
     assert len(t_loose) == len(t_tight) == 8
     assert np.max(np.abs(t_loose - t_tight)) < 1e-6, t_loose - t_tight
     assert check_run(case, loose) == []
+
+
+def test_a_physics_warning_inside_a_naive_laws_chatter_window_is_that_chatter():
+    """The fuzz property's rule for a run a naive switching law ended in chatter: a physics
+    warning inside the guard's window (the rows where the modes did not settle) is the
+    chatter itself; one before the window is still a problem."""
+    from types import SimpleNamespace
+
+    import numpy as np
+    from _fuzz import _in_chatter_window
+
+    res = SimpleNamespace(t=np.array([0.0, 0.25, 0.250665274]),
+                          message="chatter detected: 200 events within 6e-05 s, the last of "
+                                  "them 'br3: stop' at t = 0.250665274 s. ...")
+    inside = ("physics check: br3: stick over capacity at t = 0.250661199 s (locked with "
+              "torque 15.6 N·m, capacity 11 N·m)")
+    before = inside.replace("0.250661199", "0.182756466")
+    assert _in_chatter_window(res, inside)
+    assert not _in_chatter_window(res, before)
+    assert not _in_chatter_window(SimpleNamespace(t=res.t, message="completed"), inside)
