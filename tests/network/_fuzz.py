@@ -22,7 +22,13 @@ loose run did (at least a tenth of that), the network amplifies tolerance-level 
 (an undamped backlash rattling between a light and a heavy inertia is chaotic: its final
 speeds at rtol 1e-7 ... 1e-11 all differ by rad/s while every run converges over the
 first 0.25 s) and no solver can do better: not a problem, counted as ``sensitive``.
-Otherwise the loose run was wrong beyond its tolerance: a problem.
+Perturbing the initial speeds alone can miss such a network (the loose run's step errors
+all along are larger than that perturbation), so a fourth run is the convergence test: the
+tight run against a tighter one (rtol 1e-11).  A run that converges with its tolerance
+moves about a hundred times less from 1e-9 to 1e-11 than from 1e-7 to 1e-9; when they
+still differ by a tenth of what the loose run did, the network does not converge at any
+tolerance here: ``sensitive`` too.  Otherwise the loose run was wrong beyond its
+tolerance: a problem.
 """
 
 from __future__ import annotations
@@ -53,6 +59,8 @@ T_END = 0.6
 #: the loose run and the tight rerun
 LOOSE = dict(rtol=1e-7, atol=1e-9)
 TIGHT = dict(rtol=1e-9, atol=1e-11)
+#: the tighter rerun of a network whose loose and tight runs disagree (check_run)
+TIGHTER = {"rtol": 1e-11, "atol": 1e-13}
 #: the fraction of the loose run's difference that the perturbed tight run must reach for
 #: the network to count as sensitive (check_run)
 SENSITIVE = 0.1
@@ -329,9 +337,18 @@ def check_run(case: Case, res=None, notes: list | None = None) -> list[str]:
                              f"run, a tight run from speeds perturbed by the loose "
                              f"tolerance {d2:.3g} rad/s")
             return problems
+        # the convergence test (module docstring)
+        d3 = final_difference(ref, run(case, TIGHTER), speeds)
+        if np.isfinite(d3) and d3 > SENSITIVE * d1:
+            if notes is not None:
+                notes.append(f"sensitive: the loose run ends {d1:.3g} rad/s from the tight "
+                             f"run, and the tight run {d3:.3g} rad/s from a tighter one "
+                             f"(rtol {TIGHTER['rtol']:g}): it does not converge")
+            return problems
         problems.append(f"final speeds differ from the tight rerun by {d1:.3g} rad/s "
                         f"(scale {wmax:.3g}; perturbed by the loose tolerance, the tight run "
-                        f"moves {d2:.3g} rad/s)")
+                        f"moves {d2:.3g} rad/s; the tight run is {d3:.3g} rad/s from a "
+                        "tighter one)")
     return problems
 
 
