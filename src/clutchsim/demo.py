@@ -55,6 +55,8 @@ def _run_demo(out: Path, claimed, plots: bool) -> dict:
             "scenario": launch["scenario"],
             "launch": launch["models"],
             "drift": drift.metrics_json()["results"],
+            # every value of the launches' equations, the clutch once per model
+            "parameters": launch["parameters"],
             "wall_s": time.perf_counter() - t0,
         }
         atomic_write(part / "demo.json", lambda p: Path(p).write_text(

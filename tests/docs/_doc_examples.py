@@ -231,7 +231,12 @@ def _naive_stopped(ex: Example, cwd: Path):
     out = _out_path(ex, cwd)
     demo = out / "demo.json"
     if demo.is_file():
-        launch = json.loads(demo.read_text())["launch"]
+        doc = json.loads(demo.read_text())
+        launch = doc["launch"]
+        # the demo report's Parameters section: the clutch of each compared model
+        for name in launch:
+            assert doc["parameters"][f"clutch ({name})"]["friction.model"]["value"] == name
+        assert 'id="parameters"' in (out / "report.html").read_text(encoding="utf-8")
     else:
         launch = json.loads((out / "summary.json").read_text())["models"]
     assert launch["coulomb-naive"]["outcome"] == "chatter", launch["coulomb-naive"]
