@@ -188,3 +188,41 @@ def test_a_physics_warning_inside_a_naive_laws_chatter_window_is_that_chatter():
     assert _in_chatter_window(res, inside)
     assert not _in_chatter_window(res, before)
     assert not _in_chatter_window(SimpleNamespace(t=res.t, message="completed"), inside)
+
+
+def test_a_disagreement_is_sensitive_only_when_a_tighter_run_moves_as_far(monkeypatch):
+    """The classification of a loose run that ends away from its tight rerun (stub runs:
+    final speed 1.0 tight; the loose run 1.1).  The perturbed tight run moves nowhere;
+    then the convergence test decides: a tighter run at 1.0 + 1e-6 (converged: the loose
+    run is wrong, a problem), or at 1.05 (the tight run does not converge either:
+    sensitive, a note)."""
+    import _fuzz
+    import numpy as np
+    from _fuzz import LOOSE, TIGHT, TIGHTER, check_run
+
+    from clutchsim.core import Outcome
+
+    class Run:
+        def __init__(self, w):
+            self.outcome, self.warnings, self.message = Outcome.COMPLETED, (), ""
+            self.cols = {"omega_I0": np.array([0.0, w]), "W_in": np.zeros(2),
+                         "E_kinetic": np.zeros(2), "E_spring": np.zeros(2),
+                         **{k: np.zeros(2) for k in ("W_friction", "W_damping", "W_road",
+                                                     "E_grade", "W_sync")}}
+            self.signals = list(self.cols)
+
+        def __getitem__(self, k):
+            return self.cols[k]
+
+    for tighter, sensitive in ((1.0 + 1e-6, False), (1.05, True)):
+        finals = {str(LOOSE): 1.1, str(TIGHT): 1.0, str(TIGHTER): tighter}
+        monkeypatch.setattr(_fuzz, "run", lambda case, tol, f=finals: Run(f[str(tol)]))
+        monkeypatch.setattr(_fuzz, "perturbed", lambda case, rel: case)
+        notes: list = []
+        problems = check_run(None, Run(1.1), notes)
+        assert (problems == []) is sensitive, problems
+        assert (len(notes) == 1) is sensitive, notes
+        if sensitive:
+            assert "tighter one (rtol 1e-11): 0.05 rad/s" in notes[0], notes
+        else:
+            assert "the tight run is 1e-06 rad/s from a tighter one" in problems[0]
