@@ -247,7 +247,8 @@ def test_cli_frf_json_csv_and_figure(scenario_file, tmp_path):
     doc = json.loads(p.stdout)
     assert set(doc) == {"kind", "model", "t_s", "input", "output", "unit", "input_unit",
                         "output_unit", "frequency_hz", "magnitude", "phase_deg", "peaks",
-                        "warnings"}
+                        "warnings", "parameters"}
+    assert all(r["unit"] is not None for c in doc["parameters"].values() for r in c.values())
     assert doc["kind"] == "frf" and doc["unit"] == "rad/s/(N·m)"
     assert doc["frequency_hz"][0] == 1.0 and doc["frequency_hz"][-1] == pytest.approx(100.0)
     assert len(doc["magnitude"]) == 50 and len(doc["peaks"]) == 1

@@ -25,8 +25,11 @@ def test_cli_json_shape_and_out(tmp_path):
              str(tmp_path / "j"))
     assert p.returncode == 0, p.stderr
     doc = json.loads(p.stdout)
-    assert set(doc) == {"kind", "model", "operating_point", "modes", "stable"}
+    assert set(doc) == {"kind", "model", "operating_point", "modes", "stable", "parameters"}
     assert doc["kind"] == "judder" and doc["model"] == "coulomb-robust"
+    # the linearised network's values with units (the report's Parameters section)
+    assert doc["parameters"]["clutch"]["friction.model"]["value"] == "coulomb-robust"
+    assert doc["parameters"]["driveshaft"]["c"]["unit"] == "N·m/rad"
     assert doc["operating_point"]["t_s"] == 3.0
     assert doc["operating_point"]["elements"]["clutch"] == {
         "slip_rad_s": pytest.approx(0.0, abs=1e-9), "friction_slope_Nms": None,

@@ -43,12 +43,15 @@ throttle [-]) to an output or state (a_vehicle, T_clutch, omega_wheels, ...), ov
 frequencies log-spaced from --f-min to --f-max [Hz] (default 0.1 to 1000, 400 points).
 --json prints {"kind": "frf", "model", "t_s", "input", "output", "unit", "input_unit",
 "output_unit", "frequency_hz": [...], "magnitude": [...], "phase_deg": [...], "peaks":
-[{"frequency_hz", "magnitude"}], "warnings": [...]}; --out writes frf.csv, frf.json and
-frf.png.
+[{"frequency_hz", "magnitude"}], "warnings": [...], "parameters"}; --out writes frf.csv,
+frf.json and frf.png.
 
 --json prints {"kind": "judder", "model", "operating_point": {"t_s", "elements": {NAME:
 {"slip_rad_s", "friction_slope_Nms", "state"}}}, "modes": [{"frequency_hz",
-"damping_ratio", "growth_rate_1_s", "stable", "dominant_states"}], "stable"}.  --out DIR
+"damping_ratio", "growth_rate_1_s", "stable", "dominant_states"}], "stable",
+"parameters"}; "parameters" is every value of the linearised network with its unit
+(COMPONENT: {PARAMETER: {"value", "unit", "description"}}, as a run's summary.json), also
+in the FRF's document.  --out DIR
 writes judder.json and judder.png (atomically: DIR.partial put in place when complete; an
 existing DIR only if empty or an earlier `clutchsim judder` output, --force: beside other
 files, which are kept).
@@ -147,7 +150,7 @@ def _dispatch(args, out) -> int:
         result = judder_analysis(sc, args.model, args.at, elements=args.element)
     except OperatingPointError as exc:
         raise SimulationFailed(str(exc)) from None
-    doc = result.as_dict()
+    doc = {**result.as_dict(), "parameters": sc.network(args.model).parameter_values()}
     if out is not None:
         from ..plot.judder import plot_modes
         _write_out(out, "judder", doc, lambda p: plot_modes(result, p))
@@ -258,7 +261,7 @@ def _run_frf(args, out) -> int:
         raise SimulationFailed(str(exc)) from None
     for w in fr.warnings:
         log.warning("frf: %s", w)
-    doc = fr.as_dict()
+    doc = {**fr.as_dict(), "parameters": sc.network(args.model).parameter_values()}
     if out is not None:
         from ..plot.judder import plot_frf
         _write_out(out, "frf", doc, lambda p: plot_frf(fr, p), fr.rows())
