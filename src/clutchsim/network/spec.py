@@ -104,8 +104,8 @@ def check_value(owner: str, spec: Param, value) -> float:
 def table_entry(description: str, x, x_unit: str, y, y_unit: str) -> dict:
     """A tabulated parameter as a run's record reads it (:meth:`Component.parameter_values`):
     its breakpoints ``x`` and values ``y`` as lists, their units as ``"x_unit → y_unit"``,
-    and a one-line ``value`` for tables of results (the points ``x → y``; a long table shows its first and last
-    three)."""
+    and a one-line ``value`` for tables of results (the points ``x → y``; a long table
+    shows its first and last three)."""
     x = [float(v) for v in x]
     y = [float(v) for v in y]
     pts = [f"{a:g} → {b:g}" for a, b in zip(x, y)]

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 __all__ = ["GAS_CONSTANT", "WearLaw"]
 
@@ -84,24 +85,33 @@ class WearLaw:
     crit_gain: float = 0.0
     shift: float = 0.0
 
+    #: the unit of each field (its checks, the scenario key's documentation and a run's
+    #: parameter records read it here)
+    UNITS: ClassVar[dict[str, str]] = {
+        "k_w": "m³/J", "area": "m²", "reserve": "m", "lining": "m", "E_a": "J/mol",
+        "theta_ref": "°C", "theta_crit": "°C", "crit_gain": "1/K", "shift": "1/m"}
+
     def __post_init__(self):
-        o = "wear"
+        o, u = "wear", self.UNITS
         set_ = object.__setattr__
-        set_(self, "k_w", _num(o, "k_w", self.k_w, low=0.0, unit="m³/J"))
-        set_(self, "area", _num(o, "area", self.area, low=0.0, strict=True, unit="m²"))
-        set_(self, "reserve", _num(o, "reserve", self.reserve, low=0.0, strict=True, unit="m"))
-        set_(self, "lining", _num(o, "lining", self.lining, low=0.0, strict=True, unit="m"))
+        set_(self, "k_w", _num(o, "k_w", self.k_w, low=0.0, unit=u["k_w"]))
+        set_(self, "area", _num(o, "area", self.area, low=0.0, strict=True, unit=u["area"]))
+        set_(self, "reserve", _num(o, "reserve", self.reserve, low=0.0, strict=True,
+                                   unit=u["reserve"]))
+        set_(self, "lining", _num(o, "lining", self.lining, low=0.0, strict=True,
+                                  unit=u["lining"]))
         if self.reserve > self.lining:
             raise ValueError(f"{o}: reserve = {self.reserve:g} m must be <= lining = "
                              f"{self.lining:g} m (the wear reserve cannot exceed the lining)")
-        set_(self, "E_a", _num(o, "E_a", self.E_a, low=0.0, unit="J/mol"))
+        set_(self, "E_a", _num(o, "E_a", self.E_a, low=0.0, unit=u["E_a"]))
         set_(self, "theta_ref", _num(o, "theta_ref", self.theta_ref, low=-273.15, strict=True,
-                                     unit="°C"))
+                                     unit=u["theta_ref"]))
         if self.theta_crit is not None:
             set_(self, "theta_crit", _num(o, "theta_crit", self.theta_crit, low=-273.15,
-                                          strict=True, unit="°C"))
-        set_(self, "crit_gain", _num(o, "crit_gain", self.crit_gain, low=0.0, unit="1/K"))
-        set_(self, "shift", _num(o, "shift", self.shift, unit="1/m"))
+                                          strict=True, unit=u["theta_crit"]))
+        set_(self, "crit_gain", _num(o, "crit_gain", self.crit_gain, low=0.0,
+                                     unit=u["crit_gain"]))
+        set_(self, "shift", _num(o, "shift", self.shift, unit=u["shift"]))
 
     def factor(self, theta: float) -> float:
         """``k(θ)/k_w`` [-]."""

@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 from .._util import quote
 from ..core.controllers import CONTROLLERS
 from ..core.options import DEFAULT_METHOD, SOLVERS
+from ..network.wear import WearLaw
 from .chain_format import CHAIN_ONLY, COUPLING_TYPES, KIND_OF
 
 __all__ = ["LINING_KEYS", "SECTIONS", "Key", "chain_keys", "check_lining", "check_table",
@@ -99,9 +100,9 @@ FRICTION_ELEMENT = (
     Key("mu_slip", "table", "`{slip = [rad/s ...], factor = [...]}`: mu(|w|)/mu_ref."),
     Key("heat", "tables", "`[{node = \"pressure_plate\", share = 0.5}, ...]`: where the "
         "friction power |T·w| goes."),
-    Key("wear", "table", "Lining wear law `{k_w = m³/J, area = m², reserve = m, lining = m, "
-        "E_a = J/mol, theta_ref = °C, theta_crit = °C, crit_gain = 1/K, shift = 1/m}` "
-        "(clutchsim.network.wear; needs `heat`): adds the state `wear_<name>` [m]."),
+    Key("wear", "table", "Lining wear law `{"
+        + ", ".join(f"{k} = {u}" for k, u in WearLaw.UNITS.items())
+        + "}` (clutchsim.network.wear; needs `heat`): adds the state `wear_<name>` [m]."),
 )
 #: the signal that strikes a clutch's or brake's fault (docs/components.md, faults)
 FAULT_INPUT = Key("fault_input", "str", "Fault trigger: an input signal; the fault "

@@ -41,11 +41,6 @@ def _table(owner, key, tab):
                                                 low=TABLE_LOW[key])
 
 
-#: units of the wear law's fields (:class:`~clutchsim.network.wear.WearLaw`)
-_WEAR_UNITS = {"k_w": "m³/J", "area": "m²", "reserve": "m", "lining": "m", "E_a": "J/mol",
-               "theta_ref": "°C", "theta_crit": "°C", "crit_gain": "1/K", "shift": "1/m"}
-
-
 #: a capacity factor from which a fault is "stuck locked" (the element seizes: whatever it
 #: carries, it holds; ``docs/components.md``, faults)
 FAULT_LOCKED = 1e3
@@ -168,7 +163,7 @@ class _FrictionElement(FaultPhase, Component):
                 if getattr(self.wear, f.name) is None:     # theta_crit: no critical rise
                     continue
                 out[f"wear.{f.name}"] = {"value": getattr(self.wear, f.name),
-                                         "unit": _WEAR_UNITS.get(f.name, ""),
+                                         "unit": WearLaw.UNITS[f.name],
                                          "description": "wear law"}
         return out
 
