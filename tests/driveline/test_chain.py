@@ -151,7 +151,9 @@ def test_lossy_gear_sticks_until_the_load_beats_the_efficiency():
     # push it through eta) and it sticks; it rolls back once 3·t > 10/0.5 = 20 N·m
     assert t_start_back and t_start_back[-1] == pytest.approx(20.0 / 3.0, abs=1e-6)
     stuck = (res["g.locked"] > 0.5)
-    assert np.all(res["omega_a"][stuck] == 0.0)
+    # at rest up to the round-off of the lock's projection (the stop is located within
+    # event_tol, where the speed is ~1e-13 rad/s past zero; the projection leaves ~1e-29)
+    assert np.all(np.abs(res["omega_a"][stuck]) <= 1e-20)
     assert res["omega_a"][-1] < 0.0
 
 

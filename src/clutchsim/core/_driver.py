@@ -571,6 +571,20 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     last_nonfinite = -1
     have_history = False  # g_prev at t_prev is a valid step end before g_old at t
     restart = False       # a step ended at an event: cap the next by a starting step
+    # A step that finds an event inside it is taken again, ending where the event was
+    # located (counted as a rejected step).  Its state then has the method's accuracy;
+    # the dense output that located the event is an order less accurate and not stiffly
+    # accurate, and restarting from it put that error into the state at every event that
+    # ends a step (1,443 times the tolerance on a stiff Prothero-Robinson problem:
+    # tests/core/test_event_state_accuracy.py).  The event itself is then found at the
+    # end of the shorter step or just after it.  Once per event: ``may_retry`` comes back
+    # when an event is applied.  Not for an event whose last reset passed (Action.PASS:
+    # the step goes on past it and keeps its own state; model (6)'s velocity zero
+    # crossings), which ``passes`` remembers, nor within 1e3 step-size floors of the
+    # step's start (a chatter's events: the chatter guard ends those).
+    may_retry = True
+    t_event_stop = np.inf
+    passes = np.zeros(max(n_ev, 1), dtype=np.bool_)
     # A directional event whose function starts on its post-crossing side fires once at t0
     # (e.g. a stuck friction element loaded beyond its capacity from the start).
     check_jump = False
@@ -654,6 +668,11 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
         if ib < bps.shape[0] and bps[ib] < t1:
             t_stop = bps[ib]
         h_floor = max(h_min_user, 1e-14 * max(1.0, abs(t)))
+        if t_event_stop - t <= h_floor:
+            t_event_stop = np.inf       # reached (or passed by an event before it)
+        stop_at_event = t_event_stop < t_stop
+        if stop_at_event:
+            t_stop = t_event_stop
         if t_stop - t <= h_floor:
             # a breakpoint within round-off of the current time: we are on it
             t = t_stop
@@ -855,6 +874,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
             t_seg = t
             ended = DONE
             action = _PASS
+            retry = False
             pending = False
             te = t_new
             while True:
@@ -903,6 +923,10 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 if k_first < 0:
                     break
                 te = t_first
+                if may_retry and not passes[k_first] and t_seg == t and te < t_new and \
+                        te - t > max(1e-3 * h, 1e3 * h_floor):
+                    retry = True                # the step is taken again (may_retry)
+                    break
                 if te < t_new:
                     if not dense_ready:
                         dense_coefficients(dkind, tab, K, y, y_new, f0, f1, h, dense)
@@ -935,6 +959,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 system_events(tag, te, y_ev, u, p, g_pre)
                 log, action, ended = _apply_event(tag, te, y_ev, u, p, k_first, log, ring,
                                                   ch_n, ch_window, stats)
+                passes[k_first] = action == _PASS
                 for k in range(n_ev):
                     g_tmp[k] = g_seg[k]
                 system_events(tag, te, y_ev, u, p, g_seg)
@@ -951,6 +976,17 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 if ended != DONE or action != _PASS:
                     break
                 t_seg = te
+            if retry:
+                # take the step again, to the located time
+                stats[S_STEPS] -= 1
+                stats[S_REJECTED] += 1
+                may_retry = False
+                t_event_stop = te
+                h = te - t
+                continue
+            if k_first >= 0:
+                may_retry = True
+                t_event_stop = np.inf
             if k_first >= 0 and ended != DONE:
                 status = ended
                 info_k = k_first
@@ -1013,7 +1049,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
         if not w_method or jac_age >= jac_max_age:
             jac_valid = False
         h = h_next
-        if hit and t_stop < t1:
+        if hit and t_stop < t1 and not stop_at_event:
             ib += 1
             while ib < bps.shape[0] and bps[ib] <= t:
                 ib += 1

@@ -2,7 +2,8 @@
 
 Harmonic oscillator (exact), Riccati equation y' = -2ty² (exact 1/(1+t²)), bouncing ball
 (analytic impact times), an oscillator watched by monitoring events (analytic crossing
-times), stiff van der Pol, a naive sign() switch (chatters), and a
+times), a stiff Prothero–Robinson equation watched by a clock event (exact cos t), stiff van
+der Pol, a naive sign() switch (chatters), and a
 right-hand side that turns NaN.  They live in the package (not in the tests) so that every
 process can import their tag types: numba's cache index records them.
 """
@@ -111,6 +112,40 @@ def ball_bounce_times(g, e, h0, n):
         t += 2 * v / g
         out.append(t)
     return np.array(out)
+
+
+class StiffTracker(NamedTuple):
+    """Prothero–Robinson ``y' = −λ·(y − cos t) − sin t`` (exact ``y = cos t``; stiff for
+    large λ) watched by a clock event ``sin(Ω·t) = 0`` whose reset changes nothing and
+    answers ``action``."""
+
+    k: int = 0
+
+
+@jit
+def _tracker_rhs(t, y, u, p, dy):
+    dy[0] = -p[0] * (y[0] - math.cos(t)) - math.sin(t)
+
+
+@jit
+def _tracker_events(t, y, u, p, g):
+    g[0] = math.sin(p[1] * t)
+
+
+@jit
+def _tracker_reset(t, y, u, p, k):
+    return int(p[2])
+
+
+register_system(StiffTracker, rhs=_tracker_rhs, events=_tracker_events,
+                reset=_tracker_reset)
+
+
+def stiff_tracker(lam=1e6, Omega=1.0, action=0):
+    """The :class:`StiffTracker` problem, ``y(0) = 1``; its events at ``t = k·π/Ω``."""
+    return System(StiffTracker(), np.array([lam, Omega, float(action)]), np.array([1.0]),
+                  ("y",), ("-",), event_names=("sin(Ωt) = 0",), event_directions=(0,),
+                  name="stiff tracker")
 
 
 class VanDerPol(NamedTuple):
