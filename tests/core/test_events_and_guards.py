@@ -167,3 +167,20 @@ def test_two_passing_crossings_in_one_step_are_both_located():
     assert t.size == 39                                    # k/2 inside (0, 20)
     assert np.abs(t - 0.5 * np.arange(1, 40)).max() < 1e-9
     assert res.stats.steps < t.size                        # some steps hold two
+
+
+@pytest.mark.parametrize("solver", ["rodas4", "rodas5p", "ros34pw2"])   # a stiff problem
+def test_the_earliest_of_three_crossings_in_one_step_is_found(solver):
+    # The clock sin(2t) of the stiff tracker has nothing to do with the step size, which
+    # grows to several seconds on its smooth solution: a step whose ends differ in sign
+    # can hold three crossings, and the root of its two ends alone was the last of them
+    # (π/2 and π were lost, 3π/2 came first).  Such a step is sampled like one whose ends
+    # come near zero, so that the earliest crossing is the one located.
+    from clutchsim.core.reference_problems import stiff_tracker
+    res = simulate(stiff_tracker(lam=1e6, Omega=2.0), (0.0, 10.0), solver=solver,
+                   options=SolverOptions(rtol=1e-4, atol=1e-6))
+    assert res.status == "completed"
+    exact = np.arange(1, 7) * np.pi / 2.0
+    times = np.array([ev.t for ev in res.events])
+    assert len(times) == len(exact), times
+    assert np.abs(times - exact).max() < 1e-9

@@ -157,9 +157,11 @@ def _engagements_inside_the_blocker(J_a, J_b, w0, torque, w_sync, F, F_block, t_
                    options=SolverOptions(rtol=1e-9, atol=1e-10, dt_out=H_MAX / 2.0,
                                          h_max=H_MAX))
     _clean(res)
+    # a stop that engages the dog: read on the row its reset wrote (the last at its time;
+    # the next row can lie past a later engage: a stop at 1e-12 s before a push at 1e-6 s)
     eng = _events(res, "engage") + [t for t in _events(res, "stop")
                                     if res["sync.engaged"][np.searchsorted(res.t, t,
-                                                                           "right")] == 1.0]
+                                                                           "right") - 1] == 1.0]
     # the slip at the engagement from its loss: the lock books J_eq·w²/2 in W_sync
     J_eq = J_a * J_b / (J_a + J_b)
     w_e = math.sqrt(2.0 * max(res["W_sync"][-1], 0.0) / J_eq)

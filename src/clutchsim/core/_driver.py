@@ -9,10 +9,11 @@ tableau of :mod:`clutchsim.core.methods`, packed into arrays); the steps are in
 :mod:`._engine`; the plant is reached only through ``system_*`` (see ``system.py``).
 
 Events are checked at the end of each step.  The event functions are sampled inside a step
-only where a crossing could hide between two same-sign ends: on the first step after the
-start, an event or a breakpoint (no history yet; a reset may leave ``g`` exactly on zero),
-when ``g`` starts exactly on zero, or when ``g`` ends the step close to zero compared with
-how much it changed over this step and the previous one (:func:`_may_hide_crossing`).  A
+only where a crossing could hide between two ends: on the first step after the start, an
+event or a breakpoint (no history yet; a reset may leave ``g`` exactly on zero), when ``g``
+starts exactly on zero, when its ends differ in sign (three crossings may lie between them,
+and the earliest is the one to locate), or when ``g`` ends the step close to zero compared
+with how much it changed over this step and the previous one (:func:`_may_hide_crossing`).  A
 sampled ``g`` that keeps its sign but whose samples fit a parabola that turns inside the
 step at no more than half its lowest sample has its least value searched on the dense output
 (:func:`_valley`); where that is past zero, it becomes a sample, so that the two crossings
@@ -845,10 +846,11 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
             for k in range(n_ev):
                 if sample:
                     break
-                # g on zero (a reset left it there), or near zero for its rate of change
-                sample = g_old[k] == 0.0 or (
-                    not _crossed(g_old[k], g_new[k], ev_dir[k])
-                    and _may_hide_crossing(g_prev[k], g_old[k], g_new[k]))
+                # g on zero (a reset left it there), ends of other signs (three crossings
+                # may lie between them, and the earliest is the one to locate), or near
+                # zero for its rate of change
+                sample = g_old[k] == 0.0 or (g_old[k] > 0.0) != (g_new[k] > 0.0) or \
+                    _may_hide_crossing(g_prev[k], g_old[k], g_new[k])
             ns = N_SAMPLES if sample else 1
             if sample:
                 dense_coefficients(dkind, tab, K, y, y_new, f0, f1, h, dense)
