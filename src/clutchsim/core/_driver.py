@@ -144,6 +144,30 @@ def _may_hide_crossing(g_prev, g0, g1):
     return min(abs(g0), abs(g1)) <= NEAR_ZERO * change
 
 
+@jit(inline="always")
+def _round_off(y):
+    """The round-off of a function of the state ``y``: 64 ulps of its largest entry."""
+    scale = 1.0
+    for i in range(y.shape[0]):
+        scale = max(scale, abs(y[i]))
+    return 64.0 * 2.220446049250313e-16 * scale
+
+
+@jit(inline="always")
+def _place(g_pre, g_post, y, placed):
+    """Mark the event functions a reset placed on zero (``placed``), after snapping onto
+    zero those it moved to within round-off of it: a lock's projection leaves its slip at
+    ~1e-14 of zero, of either sign, and a break-away later starts the slide there.  On the
+    far side of zero already, the slide's stop would never cross it and never be located
+    (a freewheel released forward while a stiff neighbour drives it back slid backwards
+    for good)."""
+    tiny = _round_off(y)
+    for k in range(g_post.shape[0]):
+        if g_post[k] != g_pre[k] and g_post[k] != 0.0 and abs(g_post[k]) <= tiny:
+            g_post[k] = 0.0
+        placed[k] = 1.0 if g_post[k] == 0.0 and g_pre[k] != 0.0 else 0.0
+
+
 @jit
 def _grow(a, cap):
     b = np.empty((cap,) + a.shape[1:], dtype=a.dtype)
@@ -614,8 +638,11 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     kk = k
                     break
             if kk < 0:
+                tiny = _round_off(y)
                 for k in range(n_ev):
-                    g_old[k] = g_new[k]
+                    # a function a reset placed on zero stays there (_place)
+                    if not (placed[k] != 0.0 and g_old[k] == 0.0 and abs(g_new[k]) <= tiny):
+                        g_old[k] = g_new[k]
             else:
                 log, action, ended = _apply_event(tag, t, y, u, p, kk, log, ring, ch_n,
                                                   ch_window, stats)
@@ -628,8 +655,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     jac_valid = False
                     lu_h = 0.0
                     system_events(tag, t, y, u, p, g_tmp)
-                    for k in range(n_ev):
-                        placed[k] = 1.0 if g_tmp[k] == 0.0 and g_new[k] != 0.0 else 0.0
+                    _place(g_new, g_tmp, y, placed)
                     system_outputs(tag, t, y, u, p, out)
                     if n_out == cap:
                         cap, owners, rows = _more_rows(owners, cap)
@@ -966,8 +992,7 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     g_tmp[k] = g_seg[k]
                 system_events(tag, te, y_ev, u, p, g_seg)
                 stats[S_EV_CALLS] += 2
-                for k in range(n_ev):
-                    placed[k] = 1.0 if g_seg[k] == 0.0 and g_pre[k] != 0.0 else 0.0
+                _place(g_pre, g_seg, y_ev, placed)
                 pending = False
                 for k in range(n_ev):
                     if (k != k_first and g_tmp[k] != 0.0
