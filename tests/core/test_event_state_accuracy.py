@@ -6,8 +6,7 @@ error at every event that ends a step; on a stiff component that error is far ab
 tolerance (the dense output of a Rosenbrock method is not stiffly accurate).  Measured on
 the stiff tracker below (λ = 1e6, an event every π/2 s, 10 s), largest error over the
 tolerance: rodas4 16 at rtol 1e-4 and 1,443 at 1e-6, rodas5p 21 at 1e-6 when restarting
-from the dense output; now at most 0.025.  A rattling double backlash (c = 1e5) at rtol
-1e-7 ended 0.022 rad/s from the rtol 1e-11 run, now 0.0012.
+from the dense output; now at most 0.025.
 """
 
 import math
