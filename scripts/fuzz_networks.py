@@ -5,8 +5,9 @@ brakes with every friction model, springs, lash, ideal and lossy gears, one-way 
 torque sources and commands that start at 0, cross 0, step, ramp and oscillate), runs each
 and checks the physics invariants, the energy balance and the agreement with a tight
 rerun (a network that amplifies tolerance-level errors, where a tight run from initial
-speeds perturbed by the loose tolerance moves as far, is counted as sensitive, not as a
-problem: tests/network/_fuzz.py).  Prints one line per problem and per sensitive
+speeds perturbed by the loose tolerance, the loose run at 1.25 times its tolerance or the
+tight run against a tighter one moves as far, is counted as sensitive, not as a problem:
+tests/network/_fuzz.py).  Prints one line per problem and per sensitive
 network and a summary (networks run, refused with a clear error, outcomes, problems,
 sensitive); exit 1 when any problem was found.
 """

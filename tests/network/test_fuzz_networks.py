@@ -192,10 +192,14 @@ def test_a_physics_warning_inside_a_naive_laws_chatter_window_is_that_chatter():
 
 def test_a_disagreement_is_sensitive_only_when_a_tighter_run_moves_as_far(monkeypatch):
     """The classification of a loose run that ends away from its tight rerun (stub runs:
-    final speed 1.0 tight; the loose run 1.1).  The perturbed tight run moves nowhere;
-    then the convergence test decides: a tighter run at 1.0 + 1e-6 (converged: the loose
-    run is wrong, a problem), or at 1.05 (the tight run does not converge either:
-    sensitive, a note)."""
+    final speed 1.0 tight; the loose run 1.1).  The perturbed tight run moves less than a
+    tenth as far; where it moved at least 100 times the perturbation (1e-3), the loose run
+    at 1.25 times its tolerance: moving a tenth as far (1.2), the loose result is its step
+    sequence's (sensitive, a note); where it did not (1e-6), that run is not asked, since
+    a non-amplifying network whose result moves with the step is a fault.  Then the
+    convergence test decides: a tighter run at 1.0 + 1e-6 (converged: the loose run is
+    wrong, a problem), or at 1.05 (the tight run does not converge either: sensitive, a
+    note)."""
     import _fuzz
     import numpy as np
     from _fuzz import LOOSE, TIGHT, TIGHTER, check_run
@@ -214,15 +218,20 @@ def test_a_disagreement_is_sensitive_only_when_a_tighter_run_moves_as_far(monkey
         def __getitem__(self, k):
             return self.cols[k]
 
-    for tighter, sensitive in ((1.0 + 1e-6, False), (1.05, True)):
-        finals = {str(LOOSE): 1.1, str(TIGHT): 1.0, str(TIGHTER): tighter}
-        monkeypatch.setattr(_fuzz, "run", lambda case, tol, f=finals: Run(f[str(tol)]))
-        monkeypatch.setattr(_fuzz, "perturbed", lambda case, rel: case)
+    nearby = str({k: v * _fuzz.NEARBY for k, v in LOOSE.items()})
+    for moved, tighter, near, sensitive, says in (
+            (0.0, 1.0 + 1e-6, 1.1, False, "the tight run is 1e-06 rad/s from a tighter one"),
+            (0.0, 1.05, 1.1, True, "tighter one (rtol 1e-11): 0.05 rad/s"),
+            (1e-3, 1.0 + 1e-6, 1.2, True, "the loose run at 1.25 times its tolerance: 0.1"),
+            # no amplification (1e-6 < 100 × 1e-7 × 2.1): the nearby loose run is not asked
+            (1e-6, 1.0 + 1e-6, 1.2, False, "the loose run moves 0 rad/s")):
+        finals = {str(LOOSE): 1.1, str(TIGHT): 1.0, str(TIGHTER): tighter, nearby: near,
+                  "perturbed": 1.0 + moved}
+        monkeypatch.setattr(_fuzz, "run", lambda case, tol, f=finals: Run(
+            f["perturbed"] if case == "perturbed" else f[str(tol)]))
+        monkeypatch.setattr(_fuzz, "perturbed", lambda case, rel: "perturbed")
         notes: list = []
         problems = check_run(None, Run(1.1), notes)
         assert (problems == []) is sensitive, problems
         assert (len(notes) == 1) is sensitive, notes
-        if sensitive:
-            assert "tighter one (rtol 1e-11): 0.05 rad/s" in notes[0], notes
-        else:
-            assert "the tight run is 1e-06 rad/s from a tighter one" in problems[0]
+        assert says in (notes[0] if sensitive else problems[0]), (notes, problems)
