@@ -132,13 +132,9 @@ def _tracker_events(t, y, u, p, g):
     g[0] = math.sin(p[1] * t)
 
 
-@jit
-def _tracker_reset(t, y, u, p, k):
-    return int(p[2])
-
-
+# its reset is the monitored oscillator's: nothing changes, the action is p[2]
 register_system(StiffTracker, rhs=_tracker_rhs, events=_tracker_events,
-                reset=_tracker_reset)
+                reset=_monitored_reset)
 
 
 def stiff_tracker(lam=1e6, Omega=1.0, action=0):
