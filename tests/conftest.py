@@ -69,3 +69,26 @@ def _screenshot(driver, path: Path) -> Path:
         Path(extra).mkdir(parents=True, exist_ok=True)
         shutil.copy(path, Path(extra) / path.name)
     return path
+
+
+@pytest.fixture
+def drop_c_compiler(monkeypatch, tmp_path):
+    """A function that takes the C compiler away for the rest of the test (``find_compiler``
+    raises what it raises on a machine without one) and empties the table of generated
+    plants into ``tmp_path``: the next generated plant goes the numba fallback's way.  It
+    returns ``tmp_path``."""
+    from clutchsim.cgen import NoCompilerError, compiler, loader
+    from clutchsim.network import plant as network_plant
+
+    def no_compiler():
+        raise NoCompilerError("no C compiler found (looked for cc, gcc, clang on the PATH)")
+
+    def drop():
+        monkeypatch.setattr(compiler, "find_compiler", no_compiler)
+        monkeypatch.setattr(loader, "module_dir", lambda kind: tmp_path)
+        monkeypatch.setattr(loader, "_LOADED", {})
+        monkeypatch.setattr(loader, "_FALLBACK_LOGGED", set())
+        monkeypatch.setattr(network_plant, "_PLANS", {})
+        return tmp_path
+
+    return drop

@@ -7,9 +7,10 @@ import logging
 import numpy as np
 import pytest
 
+from clutchsim.cgen import loader
 from clutchsim.core import NativeFunction, SolverOptions, simulate
 from clutchsim.core.system import kernels, plant_functions
-from clutchsim.network import Network, codegen
+from clutchsim.network import Network
 from clutchsim.network import plant as network_plant
 from clutchsim.network.components import Inertia, SpringDamper, TorqueSource
 from clutchsim.scenario import load_scenario
@@ -69,7 +70,7 @@ def test_launch_plant_is_native_and_both_faces_agree():
         assert np.any(a[3] != 0.0)
 
 
-def test_without_a_c_compiler_numba_compiles_the_same_plant(monkeypatch, tmp_path, caplog):
+def test_without_a_c_compiler_numba_compiles_the_same_plant(drop_c_compiler, caplog):
     """No C compiler: the network's module is compiled by numba instead (logged once, with
     why), and the run is the same up to round-off."""
     options = SolverOptions(rtol=1e-9, atol=1e-11, dt_out=1e-3)
@@ -83,16 +84,7 @@ def test_without_a_c_compiler_numba_compiles_the_same_plant(monkeypatch, tmp_pat
     native_sys, native = run()
     assert isinstance(plant_functions(native_sys.tag).rhs, NativeFunction)
 
-    from clutchsim.cgen import NoCompilerError, compiler
-
-    def no_compiler():
-        raise NoCompilerError("no C compiler found (looked for cc, gcc, clang on the PATH)")
-
-    monkeypatch.setattr(compiler, "find_compiler", no_compiler)
-    monkeypatch.setattr(codegen, "_module_dir", lambda: tmp_path)
-    monkeypatch.setattr(codegen, "_LOADED", {})
-    monkeypatch.setattr(codegen, "_FALLBACK_LOGGED", set())
-    monkeypatch.setattr(network_plant, "_PLANS", {})
+    tmp_path = drop_c_compiler()
     with caplog.at_level(logging.WARNING, logger="clutchsim"):
         fallback_sys, fallback = run()
     assert not isinstance(plant_functions(fallback_sys.tag).rhs, NativeFunction)
@@ -107,8 +99,8 @@ def test_without_a_c_compiler_numba_compiles_the_same_plant(monkeypatch, tmp_pat
 def test_the_library_is_built_once_and_reloaded(monkeypatch, tmp_path):
     """A topology's library is written once, atomically, beside its module; a process that
     has not loaded it (a fresh in-memory table) loads the file without compiling again."""
-    monkeypatch.setattr(codegen, "_module_dir", lambda: tmp_path)
-    monkeypatch.setattr(codegen, "_LOADED", {})
+    monkeypatch.setattr(loader, "module_dir", lambda kind: tmp_path)
+    monkeypatch.setattr(loader, "_LOADED", {})
     monkeypatch.setattr(network_plant, "_PLANS", {})
     two_mass().build()
     libs = list(tmp_path.glob("*.so"))
@@ -121,7 +113,7 @@ def test_the_library_is_built_once_and_reloaded(monkeypatch, tmp_path):
         raise AssertionError("the library was compiled again")
 
     monkeypatch.setattr(compiler, "compile_shared", must_not_compile)
-    monkeypatch.setattr(codegen, "_LOADED", {})
+    monkeypatch.setattr(loader, "_LOADED", {})
     monkeypatch.setattr(network_plant, "_PLANS", {})
     sys_ = two_mass(c=2e3).build()
     assert isinstance(plant_functions(sys_.tag).rhs, NativeFunction)

@@ -7,8 +7,8 @@ functions: ``rhs``, ``jac`` (exact), ``events``, ``reset`` and ``outputs`` (the
 the module depends only on the *topology* (components, their structural options, the
 connections and the sparsity of the speed reduction), so a sweep over values never
 recompiles.  The module's file name is a hash of the topology; it lives in clutchsim's
-numba cache directory (keyed by clutchsim's sources), so numba's on-disk cache works for
-it and a second process loads it without compiling.
+cache directory (keyed by clutchsim's sources) with its C library, so a second process
+loads it without compiling (:mod:`clutchsim.cgen.loader`, shared with the friction rig).
 
 Mechanics.  Node speeds are ``w = N·v`` (:class:`~clutchsim.network.network.Assembly`).
 Each component adds torques ``T`` on its flanges' nodes; the generalised forces are
@@ -30,21 +30,9 @@ from __future__ import annotations
 
 import ast
 import hashlib
-import importlib.util
-import logging
-import os
-import sys
-import tempfile
-import threading
-from pathlib import Path
 from typing import NamedTuple
 
-from .._jit import cache_dir
-from ..core import register_system
-
 __all__ = ["Emitter", "generate", "load_module"]
-
-log = logging.getLogger("clutchsim")
 
 #: energy accounts (quadrature states, in this order) and the key components book into
 ENERGY = (("W_in", "in"), ("W_friction", "fric"), ("W_damping", "damp"), ("W_road", "road"),
@@ -326,84 +314,10 @@ def generate(plan) -> Topology:
     return Topology(h.hexdigest(), src)
 
 
-_lock = threading.Lock()
-_LOADED: dict[str, object] = {}
-
-
-def _module_dir() -> Path:
-    base = Path(cache_dir) if cache_dir else Path(tempfile.gettempdir()) / "clutchsim-net"
-    d = base / "network"
-    d.mkdir(parents=True, exist_ok=True)
-    return d
-
-
-def _entries(mod) -> dict:
-    """The plant entry points module ``mod`` defines (:data:`~clutchsim.cgen.compiler.
-    PLANT_ENTRIES`; ``factor`` and ``solve`` only where its pattern gained from them)."""
-    from ..cgen.compiler import OPTIONAL_ENTRIES, PLANT_ENTRIES
-    return {k: v for k, v in PLANT_ENTRIES.items()
-            if k not in OPTIONAL_ENTRIES or hasattr(mod, k)}
-
-
-def _native(mod, name: str, entries: dict) -> dict | None:
-    """The plant functions ``entries`` of module ``mod`` printed as C and compiled by the
-    system C compiler (a library beside the module, built once), by name, or None when
-    that is impossible here (no C compiler, a construct the printer does not know, a numba
-    that passes arrays otherwise: logged once, and numba compiles the module instead)."""
-    from ..cgen import CompilerError, CPlant, CPrintError, build_plant_library
-    lib = _module_dir() / f"{name}.so"
-    try:
-        if not lib.exists():
-            build_plant_library(mod, lib, entries)
-        c = CPlant.load(lib, entries)
-        return {n: c.native(n) for n in entries}
-    except (CPrintError, CompilerError, OSError) as exc:
-        key = type(exc).__name__
-        if key not in _FALLBACK_LOGGED:
-            _FALLBACK_LOGGED.add(key)
-            log.warning("network plants are compiled by numba, not C (10–40 s per new "
-                        "topology instead of about 1 s): %s", exc)
-        return None
-
-
-_FALLBACK_LOGGED: set[str] = set()
-
-
 def load_module(topo: Topology, *, exact_jacobian: bool = True):
-    """Write (atomically, once) and import the module of ``topo``; register its tag (with
-    its exact Jacobian unless ``exact_jacobian`` is False).
-
-    The functions registered are the module printed as C and compiled by the system C
-    compiler (:mod:`clutchsim.cgen`; about a second for a new topology, a library loaded in
-    milliseconds after that); where that is impossible, the module's own functions,
-    compiled by numba (10–40 s for a new topology, then cached on disk)."""
-    with _lock:
-        mod = _LOADED.get(topo.key)
-        if mod is not None:
-            return mod
-        name = f"clutchsim_net_{topo.key}"
-        path = _module_dir() / f"{name}.py"
-        if not path.exists() or path.read_text() != topo.source:
-            fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
-            with os.fdopen(fd, "w") as f:
-                f.write(topo.source)
-            os.replace(tmp, path)
-        spec = importlib.util.spec_from_file_location(name, path)
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[name] = mod
-        spec.loader.exec_module(mod)
-        # one tag class per topology, created at run time (its name carries the hash)
-        tag = NamedTuple(f"Net_{topo.key}", [("k", int)])  # noqa: UP014
-        tag.__module__ = name
-        setattr(mod, tag.__name__, tag)
-        entries = _entries(mod)
-        fns = _native(mod, name, entries) or {n: getattr(mod, n) for n in entries}
-        if not exact_jacobian:      # the factors are written for the exact Jacobian
-            fns = {n: f for n, f in fns.items() if n not in ("jac", "factor", "solve")}
-        if "factor" in fns:
-            fns["factor_size"] = mod.FACTOR_SIZE
-        register_system(tag, **fns)
-        mod.TAG = tag
-        mod.FUNCTIONS = fns
-        _LOADED[topo.key] = mod
-        return mod
+    """Import and register the module of ``topo`` (with its exact Jacobian unless
+    ``exact_jacobian`` is False): :func:`clutchsim.cgen.loader.load_plant`, the module
+    printed as C and compiled by the system C compiler (about a second for a new topology,
+    a library loaded in milliseconds after that), numba where that is impossible."""
+    from ..cgen.loader import load_plant
+    return load_plant("network", topo.key, topo.source, exact_jacobian=exact_jacobian)
