@@ -2,7 +2,11 @@
 PY ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
-STAMP := $(VENV)/.installed-$(shell cat pyproject.toml | cksum | cut -d' ' -f1)
+HASH := $(shell cat pyproject.toml | cksum | cut -d' ' -f1)
+# what the demo needs (clutchsim and matplotlib), and everything (the test and dev extras):
+# the demo does not wait for the test tools; an install of everything serves both
+STAMP_RUN := $(VENV)/.installed-run-$(HASH)
+STAMP_ALL := $(VENV)/.installed-all-$(HASH)
 
 .PHONY: demo test bench clean
 
@@ -10,17 +14,21 @@ $(BIN)/python:
 	$(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
-$(STAMP): $(BIN)/python pyproject.toml
-	$(BIN)/python -m pip install --quiet -e ".[dev]"
-	rm -f $(VENV)/.installed-* && touch $(STAMP)
+$(STAMP_RUN): $(BIN)/python pyproject.toml
+	if [ ! -f $(STAMP_ALL) ]; then $(BIN)/python -m pip install --quiet -e ".[plot]"; fi
+	rm -f $(VENV)/.installed-run-* && touch $(STAMP_RUN)
 
-demo: $(STAMP)
+$(STAMP_ALL): $(BIN)/python pyproject.toml
+	$(BIN)/python -m pip install --quiet -e ".[dev]"
+	rm -f $(VENV)/.installed-* && touch $(STAMP_ALL) $(STAMP_RUN)
+
+demo: $(STAMP_RUN)
 	$(BIN)/clutchsim demo --out clutchsim-out/demo
 
-test: $(STAMP)
+test: $(STAMP_ALL)
 	$(BIN)/python -m pytest -n 2 --dist loadfile --durations=15
 
-bench: $(STAMP)
+bench: $(STAMP_ALL)
 	$(BIN)/python benchmarks/core_speed.py
 
 clean:
