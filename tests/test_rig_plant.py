@@ -7,12 +7,10 @@ registered functions are the C ones, they compute the rig's equations from the m
 kernels (called through the compiled dispatchers, an independent path) in both drives, a
 stuck reset stops the body, and the numba fallback gives the same run."""
 
-import logging
-
 import numpy as np
 import pytest
 
-from clutchsim.core import NativeFunction, simulate
+from clutchsim.core import NativeFunction
 from clutchsim.core.system import plant_functions
 from clutchsim.friction import MODELS, friction_force, make_model
 from clutchsim.rig import RIG_HEADER, make_rig, run_rig
@@ -88,24 +86,3 @@ def test_a_stuck_reset_stops_the_body():
     after = res.t > stop[0].t
     assert after.any() and np.all(res["v"][after] == 0.0) and np.all(res["mode"][after] == 0.0)
 
-
-def test_without_a_c_compiler_numba_runs_the_same_module(drop_c_compiler, caplog):
-    """The fallback: no C compiler, so the rig's module runs as numba compiled it (said
-    once in the log), with the same steps and the same trajectory as the C plant."""
-    m = _model("coulomb-robust")
-
-    def run():
-        system = make_rig(m, spring=2.0, pull_speed=0.1)
-        return system, simulate(system, (0.0, 1.5), {"force": 0.0, "scale": 1.0})
-
-    native_sys, native = run()
-    assert isinstance(plant_functions(native_sys.tag).rhs, NativeFunction)
-    tmp_path = drop_c_compiler()
-    with caplog.at_level(logging.WARNING, logger="clutchsim"):
-        fallback_sys, fallback = run()
-    assert not isinstance(plant_functions(fallback_sys.tag).rhs, NativeFunction)
-    assert not list(tmp_path.glob("*.so"))
-    assert any("compiled by numba, not C" in r.getMessage() for r in caplog.records)
-    assert fallback.stats.steps == native.stats.steps
-    for name in ("x", "v", "mode", "F"):
-        np.testing.assert_allclose(fallback[name], native[name], rtol=0, atol=1e-12)

@@ -70,17 +70,30 @@ def test_launch_plant_is_native_and_both_faces_agree():
         assert np.any(a[3] != 0.0)
 
 
-def test_without_a_c_compiler_numba_compiles_the_same_plant(drop_c_compiler, caplog):
-    """No C compiler: the network's module is compiled by numba instead (logged once, with
-    why), and the run is the same up to round-off."""
+def _two_mass_run():
     options = SolverOptions(rtol=1e-9, atol=1e-11, dt_out=1e-3)
+    sys_ = two_mass().build()
+    y0 = sys_.y0.copy()
+    y0[sys_.state_names.index("phi_k")] = 1e-3
+    return sys_, simulate(sys_, (0.0, 0.5), {"tau": 0.0}, y0=y0, options=options)
 
-    def run():
-        sys_ = two_mass().build()
-        y0 = sys_.y0.copy()
-        y0[sys_.state_names.index("phi_k")] = 1e-3
-        return sys_, simulate(sys_, (0.0, 0.5), {"tau": 0.0}, y0=y0, options=options)
 
+def _rig_run():
+    from clutchsim.friction import make_model
+    from clutchsim.rig import make_rig
+    sys_ = make_rig(make_model("coulomb-robust"), spring=2.0, pull_speed=0.1)
+    return sys_, simulate(sys_, (0.0, 1.5), {"force": 0.0, "scale": 1.0})
+
+
+@pytest.mark.parametrize(("run", "names"), [
+    (_two_mass_run, ("phi_k", "omega_a", "omega_b")),
+    (_rig_run, ("x", "v", "mode", "F")),
+], ids=["network", "rig"])
+def test_without_a_c_compiler_numba_compiles_the_same_plant(run, names, drop_c_compiler,
+                                                            caplog):
+    """No C compiler: a generated plant's module (a network's, the friction rig's) is
+    compiled by numba instead (logged once, with why), and the run is the same up to
+    round-off."""
     native_sys, native = run()
     assert isinstance(plant_functions(native_sys.tag).rhs, NativeFunction)
 
@@ -92,7 +105,7 @@ def test_without_a_c_compiler_numba_compiles_the_same_plant(drop_c_compiler, cap
     assert any("compiled by numba, not C" in r.getMessage() and "no C compiler" in
                r.getMessage() for r in caplog.records)
     assert fallback.stats.steps == native.stats.steps
-    for name in ("phi_k", "omega_a", "omega_b"):
+    for name in names:
         np.testing.assert_allclose(fallback[name], native[name], rtol=0, atol=1e-12)
 
 
