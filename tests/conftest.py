@@ -78,6 +78,7 @@ def drop_c_compiler(monkeypatch, tmp_path):
     plants into ``tmp_path``: the next generated plant goes the numba fallback's way.  It
     returns ``tmp_path``."""
     from clutchsim.cgen import NoCompilerError, compiler, loader
+    from clutchsim import rig
     from clutchsim.network import plant as network_plant
 
     def no_compiler():
@@ -89,6 +90,7 @@ def drop_c_compiler(monkeypatch, tmp_path):
         monkeypatch.setattr(loader, "_LOADED", {})
         monkeypatch.setattr(loader, "_FALLBACK_LOGGED", set())
         monkeypatch.setattr(network_plant, "_PLANS", {})
+        monkeypatch.setattr(rig, "_TAGS", {})
         return tmp_path
 
     return drop

@@ -85,7 +85,7 @@ def load_plant(kind: str, key: str, source: str, *, exact_jacobian: bool = True)
         if mod is not None:
             return mod
         d = module_dir(kind)
-        name = f"clutchsim_{'net' if kind == 'network' else kind}_{key}"
+        name = f"clutchsim_{kind}_{key}"
         path = d / f"{name}.py"
         if not path.exists() or path.read_text() != source:
             fd, tmp = tempfile.mkstemp(dir=d, suffix=".tmp")
