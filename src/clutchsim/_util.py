@@ -31,6 +31,7 @@ import json
 import logging
 import math
 import os
+import re
 import shutil
 import signal
 import tempfile
@@ -58,6 +59,7 @@ __all__ = [
     "format_bytes",
     "quote",
     "read_manifest",
+    "toml_line",
 ]
 
 #: most output rows of one run (``--max-output-rows``): 500,000 rows of a 70-signal launch
@@ -599,3 +601,77 @@ def check_run_count(n: int, max_runs: int, *, what: str = "sweep",
         raise ResourceError(f"{what}: {n:,} runs is above the limit of {max_runs:,} runs "
                             f"(the design alone would take {format_bytes(n * 8.0)} per key); "
                             f"use fewer points or samples, or raise the limit with {flag} N")
+
+
+# --------------------------------------------------------------------------- TOML lines
+#: a part of a key path: a bare or quoted name, optionally an index (``coupling[1]``)
+_KEY_PART = re.compile(r'\s*(?:"([^"]*)"|([A-Za-z0-9_\-]+))(?:\[(\d+)\])?\s*(?:\.|$)')
+#: a table header ``[a.b]`` or ``[[a.b]]`` (its name without the brackets)
+_HEADER = re.compile(r"^\[(\[?)\s*([^\[\]]+?)\s*\]\]?$")
+
+
+def _key_parts(path) -> list[tuple[str, int | None]]:
+    """``[(name, index or None), ...]`` of a key path: a string ``coupling[1].friction.model``
+    (a part with dots or spaces quoted: ``channels."engine speed"``) or a sequence of names
+    and ``(name, index)`` pairs."""
+    if not isinstance(path, str):
+        return [(p, None) if isinstance(p, str) else (p[0], p[1]) for p in path]
+    parts, pos = [], 0
+    while pos < len(path):
+        m = _KEY_PART.match(path, pos)
+        if m is None or m.end() == pos:
+            raise ValueError(f"not a key path: {path!r}")
+        name = m.group(1) if m.group(1) is not None else m.group(2)
+        parts.append((name, int(m.group(3)) if m.group(3) is not None else None))
+        pos = m.end()
+    return parts
+
+
+def _header_name(header: str) -> str:
+    """A header's dotted name with its quotes and the spaces around its dots removed."""
+    return ".".join(p.strip().strip('"') for p in header.split("."))
+
+
+def toml_line(text: str, path, key: str | None = None) -> int | None:
+    """The 1-based line of a TOML text where the key ``path`` is set (``coupling[1].friction.
+    model``, ``calibration.channels``, ``[("records", 2), "file"]``), with ``key`` one more
+    part taken as it is (a channel name with dots or spaces): the one place that turns a
+    key into the line an error message names.
+
+    Each part moves on from the line reached: to its table header (``[a.b]``, or the n-th
+    ``[[a.b]]`` for an index), or to a header below it (``[a.b.c]`` for the part ``b``), or
+    to the line that assigns it (``b = ...``, ``"b" = ...``, also inside an inline table:
+    ``{ b = ...`` or ``, b = ...``).  A part that is not written leaves the line reached
+    (the table's header: the place to add it); None when not even the first part is
+    written.  Comments are skipped; a top-level key is found before the first header only."""
+    lines = [raw.split("#", 1)[0].strip() for raw in text.splitlines()]
+    headers = []        # (line index, dotted name, is an array of tables)
+    for i, line in enumerate(lines):
+        m = _HEADER.match(line) if line.startswith("[") else None
+        if m:
+            headers.append((i, _header_name(m.group(2)), bool(m.group(1))))
+    first_header = headers[0][0] if headers else len(lines)
+    pos, prefix, reached = 0, "", None
+    parts = _key_parts(path) + ([(key, None)] if key is not None else [])
+    for name, index in parts:
+        full = f"{prefix}.{name}" if prefix else name
+        found = None
+        if index is not None:
+            arrays = [i for i, h, arr in headers if i >= pos and arr and h == full]
+            if index < len(arrays):
+                found = arrays[index]
+        else:
+            found = next((i for i, h, _arr in headers
+                          if i >= pos and (h == full or h.startswith(full + "."))), None)
+        if found is None:
+            # a key (or an inline table / array of them) in the table reached; at the top
+            # level only before the first header
+            end = first_header if not prefix else next(
+                (i for i, _h, _arr in headers if i > pos), len(lines))
+            assign = re.compile(rf'(^|[{{,])\s*"?{re.escape(name)}"?\s*=')
+            found = next((i for i in range(pos, end) if assign.search(lines[i])), None)
+        if found is None:
+            return reached
+        pos, prefix = found, full
+        reached = found + 1
+    return reached

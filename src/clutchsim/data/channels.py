@@ -30,13 +30,13 @@ from types import MappingProxyType
 
 import numpy as np
 
+from .._util import toml_line
 from ..core.system import closest
 from .logs import (
     DUPLICATE_POLICIES,
     TIME_ORDER_POLICIES,
     Channel,
     VehicleLog,
-    key_line,
     read_log,
     read_toml,
 )
@@ -106,7 +106,7 @@ class ChannelMap:
     text: str = ""
 
     def where(self, table: str, key: str | None = None) -> str:
-        line = key_line(self.text, table, key)
+        line = toml_line(self.text, table, key)
         return f"{self.path}:{line}" if line else self.path
 
     def read(self, path: str | Path, dbc: str | Path | None = None) -> MappedLog:
@@ -187,7 +187,7 @@ def load_channel_map(path: str | Path) -> ChannelMap:
                 raise ValueError(f"{where(table, key)}: [{table}] {key} = {value!r}: must be a "
                                  f"finite number{' other than 0' if key == 'scale' else ''}")
         channels[signal] = ChannelSpec(signal, entry["name"], unit, float(entry.get("scale", 1.0)),
-                                       float(entry.get("offset", 0.0)), key_line(text, table))
+                                       float(entry.get("offset", 0.0)), toml_line(text, table))
     dbc = log.get("dbc")
     if dbc is not None and not isinstance(dbc, str):
         raise ValueError(f"{where('log', 'dbc')}: [log] dbc must be a file name")

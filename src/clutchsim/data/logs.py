@@ -37,11 +37,11 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .._util import atomic_write
+from .._util import atomic_write, toml_line
 from ..core.system import closest
 
 __all__ = ["CAN_SUFFIXES", "CSV_SUFFIXES", "DUPLICATE_POLICIES", "MDF_SUFFIXES",
-           "TIME_ORDER_POLICIES", "Channel", "VehicleLog", "key_line", "read_log", "read_toml",
+           "TIME_ORDER_POLICIES", "Channel", "VehicleLog", "read_log", "read_toml",
            "write_log"]
 
 CSV_SUFFIXES = (".csv", ".txt")
@@ -433,7 +433,7 @@ def _write_can(log: VehicleLog, p: Path, dbc: Path) -> None:
 
 def read_toml(path: Path, error: type[Exception] = ValueError):
     """``(locate, document, text)`` of a TOML file: ``locate(table, key=None)`` is the
-    ``"FILE:LINE: [table] key"`` prefix of a message (:func:`key_line`); a file that is not
+    ``"FILE:LINE: [table] key"`` prefix of a message (:func:`clutchsim._util.toml_line`); a file that is not
     TOML raises ``error`` naming it."""
     import tomllib
     text = path.read_text(encoding="utf-8")
@@ -443,32 +443,6 @@ def read_toml(path: Path, error: type[Exception] = ValueError):
         raise error(f"{path}: not valid TOML: {exc}") from None
 
     def locate(table: str, key: str | None = None) -> str:
-        line = key_line(text, table, key)
+        line = toml_line(text, table, key)
         return f"{path}{f':{line}' if line else ''}: [{table}]" + (f" {key}" if key else "")
     return locate, doc, text
-
-
-def key_line(text: str, table: str, key: str | None = None) -> int | None:
-    """1-based line of ``key`` in ``[table]`` of a TOML text (the header's line without a
-    key or when the key is not written; a ``table = ...`` line before the first header when
-    ``table`` is a top-level key, not a table); None when neither is there."""
-    header = None
-    inside = False
-    top = True
-    for number, raw in enumerate(text.splitlines(), 1):
-        line = raw.split("#", 1)[0].strip()
-        if line.startswith("["):
-            top = False
-            inside = line.strip("[] ").replace('"', "") == table
-            if inside:
-                header = number
-            continue
-        if inside and key is not None and _assigns(line, key):
-            return number
-        if top and header is None and _assigns(line, table):
-            header = number
-    return header
-
-
-def _assigns(line: str, key: str) -> bool:
-    return re.match(rf'^"?{re.escape(key)}"?\s*=', line) is not None

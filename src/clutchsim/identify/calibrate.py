@@ -41,10 +41,11 @@ from scipy.optimize import least_squares
 from scipy.signal import savgol_filter
 from scipy.stats import norm
 
+from .._util import toml_line
 from ..core.system import closest
 from ..data.channels import ChannelMap, MappedLog, load_channel_map
 from ..data.launches import Launch, LaunchOptions, cut_launch, find_launches, slip_end
-from ..data.logs import key_line, read_toml
+from ..data.logs import read_toml
 from .fit import FitOptions, _at_bound
 from .launch_model import LAUNCH_PARAMETERS, LaunchInputs, LaunchVehicle, simulate_launches
 from .parameters import ParameterSpace
@@ -107,7 +108,7 @@ class CalibrationSpec:
     text: str = ""
 
     def where(self, table: str, key: str | None = None) -> str:
-        line = key_line(self.text, table, key) if self.text else None
+        line = toml_line(self.text, table, key) if self.text else None
         name = str(self.path) if self.path else "<spec>"
         return f"{name}:{line}" if line else name
 

@@ -69,6 +69,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .._util import toml_line
 from ..core import SolverOptions
 from ..core.options import check_solver
 from ..core.system import closest
@@ -93,29 +94,11 @@ _INPUT_KEYS = ("to", "gain", "unit")
 _RECORD_KEYS = ("file", "window", "weight")
 
 
-def line_of(text: str, table: str, key: str | None = None) -> int | None:
-    """1-based line of ``key`` in ``[table]`` of a TOML text (of the table header without
-    a key; None if not found).  ``table`` may be ``"inputs.F"`` or ``"records"`` (the first
-    ``[[records]]``, or ``"records#k"`` for the k-th, 0-based)."""
-    import re
+def _key_path(table: str):
+    """The key path of a table named as in messages: ``"inputs.F"``, ``"records"`` (the
+    first ``[[records]]``) or ``"records#k"`` (the k-th, 0-based)."""
     name, _, nth = table.partition("#")
-    want = int(nth) if nth else 0
-    current, seen, header_line = None, -1, None
-    for i, raw in enumerate(text.splitlines(), 1):
-        line = raw.split("#", 1)[0].strip() if not raw.lstrip().startswith("#") else ""
-        m = re.match(r"^\[\[?\s*([^\]]+?)\s*\]\]?$", line)
-        if m:
-            current = m.group(1).replace('"', "")
-            if current == name:
-                seen += 1
-                if seen == want:
-                    header_line = i
-            continue
-        if current == name and seen == want and key is not None and (
-                re.match(rf'^"?{re.escape(key)}"?\s*=', line)
-                or re.search(rf'[{{,]\s*"?{re.escape(key)}"?\s*=', line)):
-            return i
-    return header_line
+    return [(name, int(nth))] if nth else name
 
 
 @dataclass(frozen=True, eq=False)
@@ -136,7 +119,7 @@ class FitSpec:
 
     def where(self, table: str, key: str | None = None) -> str:
         """``"FILE:LINE: [table] key"`` for messages."""
-        line = line_of(self.text, table, key)
+        line = toml_line(self.text, _key_path(table), key)
         shown = (f"[[{table.partition('#')[0]}]] #{int(table.partition('#')[2] or 0) + 1}"
                  if table.startswith("records") else f"[{table}]")
         return f"{self.path}" + (f":{line}" if line else "") + f": {shown}" + \
@@ -273,7 +256,7 @@ def load_spec(path: str | Path) -> FitSpec:
     _check_keys(path, "top level", doc, _TABLES)
     moved = [k for k in ("solver", "rtol", "atol", "wall_time") if k in doc.get("fit", {})]
     if moved:
-        line = line_of(text, "fit", moved[0])
+        line = toml_line(text, "fit", moved[0])
         raise ValueError(f"{path}{f':{line}' if line else ''}: [fit] {moved[0]}: the "
                          "integrator and its options are written in a [solver] table, as in "
                          f"a scenario (keys: {', '.join(_TABLES['solver'])}; the integrator "

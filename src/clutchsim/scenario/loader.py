@@ -13,10 +13,10 @@ from typing import Any
 
 import numpy as np
 
-from .._util import quote
+from .._util import quote, toml_line
 from ..core import Constant, Ramp, Signal, Sine, SolverOptions, Step, Table
 from . import chain_format
-from .errors import ScenarioError, find_line
+from .errors import ScenarioError
 from .schema import (
     FRICTION,
     FRICTION_TYPES,
@@ -141,7 +141,7 @@ def _fail(problem: str, key: str, *, file: str, text: str, set_by: dict) -> None
     if isinstance(current, ScenarioError) and problem == str(current):
         raise current
     origin = _set_origin(key, set_by) if key else None
-    line = find_line(text, key) if key and text and origin is None else None
+    line = toml_line(text, key) if key and text and origin is None else None
     raise ScenarioError(problem, file=file, key=key, line=line, origin=origin)
 
 

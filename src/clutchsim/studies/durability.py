@@ -103,8 +103,9 @@ class Duty:
 
 
 def _fail(file, text, problem, key):
-    from ..scenario.errors import ScenarioError, find_line
-    raise ScenarioError(problem, file=file, key=key, line=find_line(text, key) if key else None)
+    from .._util import toml_line
+    from ..scenario.errors import ScenarioError
+    raise ScenarioError(problem, file=file, key=key, line=toml_line(text, key) if key else None)
 
 
 def load_duty(path) -> Duty:
