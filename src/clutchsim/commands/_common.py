@@ -4,6 +4,7 @@ from here, never the other way round."""
 
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 from dataclasses import replace
@@ -12,8 +13,9 @@ from pathlib import Path
 from .._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
 
 __all__ = ["SimulationFailed", "UserError", "add_force_flag", "add_limit_flags",
-           "add_sweep_flags", "check_sweep_flags", "checked_scenario", "emit_json",
-           "solver_option_items", "write_command"]
+           "add_output_flags", "add_study_flags", "add_sweep_flags", "check_sweep_flags", "checked_scenario",
+           "command_parser", "emit_json", "metric_names", "run_study", "solver_option_items",
+           "write_command"]
 
 
 class UserError(Exception):
@@ -41,7 +43,6 @@ def _json_default(obj):
 
 
 def _positive_int(text: str) -> int:
-    import argparse
     try:
         value = int(float(text)) if "e" in text.lower() else int(text)
     except ValueError:
@@ -87,6 +88,52 @@ def check_sweep_flags(args) -> None:
     if not (math.isfinite(args.connect_timeout) and args.connect_timeout > 0):
         raise UserError(f"--connect-timeout {args.connect_timeout!r}: must be a finite "
                         "number of seconds > 0")
+
+
+def command_parser(sub, common, name: str, *, help: str, description: str, epilog: str):
+    """The subcommand ``name`` with the common flags (``common``): ``help`` its line in the
+    command list, ``description`` the head of its --help, ``epilog`` the examples and exit
+    statuses below it, laid out as written."""
+    return sub.add_parser(name, parents=[common], help=help, description=description,
+                          epilog=epilog, formatter_class=argparse.RawDescriptionHelpFormatter)
+
+
+def add_output_flags(p, *, force: bool = True, figures: str = "the figures",
+                     json_help: str = "print one JSON document") -> None:
+    """``--out DIR`` (required), ``--force`` (``force``: not for a command that adds to an
+    existing study in place), ``--no-plots`` (skips ``figures``) and ``--json``."""
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    if force:
+        add_force_flag(p)
+    p.add_argument("--no-plots", action="store_true", help=f"skip {figures}")
+    p.add_argument("--json", action="store_true", help=json_help)
+
+
+def add_study_flags(p) -> None:
+    """The flags of a study of many runs of one scenario (sweep, uq): ``--metrics``,
+    ``--model``, ``--set`` and ``--option`` (read back by :func:`metric_names` and
+    :func:`solver_option_items`)."""
+    p.add_argument("--metrics", metavar="M1,M2", help="metric columns (default: all but "
+                   "wall_s)")
+    p.add_argument("--model", help="friction model of the clutch (default: the scenario's "
+                   "first)")
+    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
+                   help="override a key of the base scenario")
+    add_option_flag(p, what="every run")
+
+
+def metric_names(text: str | None) -> list[str] | None:
+    """The metric columns of ``--metrics M1,M2`` (None: every one)."""
+    return [m.strip() for m in text.split(",") if m.strip()] if text else None
+
+
+def run_study(args, kind: str, body) -> int:
+    """Run the study command ``kind`` (sweep, uq) into ``--out``, which it may add to in
+    place (an earlier study of the same kind resumes): ``body(args, directory)``."""
+    from .._util import claim_output_dir
+    check_sweep_flags(args)
+    with claim_output_dir(args.out, kind, in_place=True) as out:
+        return body(args, out.path)
 
 
 def add_force_flag(p) -> None:

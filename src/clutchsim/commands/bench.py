@@ -2,11 +2,17 @@
 
 from __future__ import annotations
 
-import argparse
 import json
 import logging
 
-from ._common import SimulationFailed, UserError, add_force_flag, emit_json, write_command
+from ._common import (
+    SimulationFailed,
+    UserError,
+    add_force_flag,
+    command_parser,
+    emit_json,
+    write_command,
+)
 
 log = logging.getLogger("clutchsim")
 
@@ -27,10 +33,9 @@ which are kept).
 
 
 def register(sub, common):
-    p = sub.add_parser("bench", parents=[common], help="run a friction benchmark",
+    p = command_parser(sub, common, "bench", help="run a friction benchmark",
                        description="Run a friction benchmark protocol on one or more "
-                       "models and report its metrics.", epilog=HELP,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
+                       "models and report its metrics.", epilog=HELP)
     p.add_argument("name", help="benchmark name")
     p.add_argument("--model", action="append", metavar="M",
                    help="model (repeatable; default: every applicable model)")

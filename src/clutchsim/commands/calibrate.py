@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
-import argparse
 import logging
 from pathlib import Path
 
-from ._common import UserError, add_force_flag, emit_json, write_command
+from ._common import (
+    UserError,
+    add_output_flags,
+    command_parser,
+    emit_json,
+    write_command,
+)
 
 log = logging.getLogger("clutchsim")
 
@@ -29,21 +34,16 @@ DIR/calibration.png (and report.html, one page of them).  --json prints one docu
 
 
 def register(sub, common):
-    p = sub.add_parser("calibrate", parents=[common],
-                       help="calibrate clutch and driveline from vehicle logs",
+    p = command_parser(sub, common, "calibrate", help="calibrate clutch and driveline from vehicle logs",
                        description="Fit clutch capacity, touch point, driveline stiffness "
                        "and damping and the engine-torque scale to the launches of vehicle "
-                       "logs, from measured speeds only.", epilog=HELP,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
+                       "logs, from measured speeds only.", epilog=HELP)
     p.add_argument("spec", metavar="SPEC", help="calibration spec (TOML)")
     p.add_argument("--log", action="extend", nargs="+", default=[], metavar="FILE",
                    help="log(s) to fit (several files, repeatable; replaces the spec's logs)")
     p.add_argument("--validate", action="extend", nargs="+", default=[], metavar="FILE",
                    help="log(s) whose launches are predicted (several files, repeatable)")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    add_force_flag(p)
-    p.add_argument("--no-plots", action="store_true", help="skip the figure")
-    p.add_argument("--json", action="store_true", help="print one JSON document")
+    add_output_flags(p, figures="the figure")
 
 
 def run(args) -> int:

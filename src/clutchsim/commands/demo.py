@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import argparse
-
-from ._common import add_force_flag, emit_json
+from ._common import add_force_flag, command_parser, emit_json
 
 HELP = """\
 examples:
@@ -19,10 +17,10 @@ stops at lock-up; the drift test runs on every applicable friction model.
 
 
 def register(sub, common):
-    p = sub.add_parser("demo", parents=[common], help="run the demo (what make demo runs)",
+    p = command_parser(sub, common, "demo", help="run the demo (what make demo runs)",
                        description="Default passenger-car launch with model (6), the robust "
                        "and the naive switching model, plus the drift test; HTML report.",
-                       epilog=HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=HELP)
     p.add_argument("--out", default="clutchsim-out/demo", metavar="DIR",
                    help="output directory (default: clutchsim-out/demo)")
     add_force_flag(p)

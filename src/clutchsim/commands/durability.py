@@ -2,10 +2,16 @@
 
 from __future__ import annotations
 
-import argparse
 import logging
 
-from ._common import SimulationFailed, UserError, add_force_flag, emit_json, write_command
+from ._common import (
+    SimulationFailed,
+    UserError,
+    add_output_flags,
+    command_parser,
+    emit_json,
+    write_command,
+)
 
 log = logging.getLogger("clutchsim")
 
@@ -36,10 +42,10 @@ written), 2 bad input.
 
 
 def register(sub, common):
-    p = sub.add_parser("durability", parents=[common], help="lining wear over a duty cycle",
+    p = command_parser(sub, common, "durability", help="lining wear over a duty cycle",
                        description="Run a duty cycle of manoeuvres cycle by cycle (wear and "
                        "temperatures carried over) and predict the clutch's life.",
-                       epilog=HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=HELP)
     p.add_argument("duty", help="duty-cycle TOML")
     p.add_argument("--cycles", type=int, default=None, metavar="N",
                    help="number of cycles (default: the duty file's)")
@@ -48,10 +54,7 @@ def register(sub, common):
                       help="simulate representative cycles and extrapolate (default)")
     mode.add_argument("--full", dest="accelerated", action="store_false",
                       help="simulate every cycle")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    add_force_flag(p)
-    p.add_argument("--no-plots", action="store_true", help="skip the figure")
-    p.add_argument("--json", action="store_true", help="print summary.json on stdout")
+    add_output_flags(p, figures="the figure", json_help="print summary.json on stdout")
 
 
 def run(args) -> int:

@@ -3,14 +3,13 @@
 
 from __future__ import annotations
 
-import argparse
 import errno
 import logging
 import socket
 import sys
 from pathlib import Path
 
-from ._common import UserError, emit_json
+from ._common import UserError, command_parser, emit_json
 
 log = logging.getLogger("clutchsim")
 
@@ -38,10 +37,10 @@ error, a port in use, the extra clutchsim[explore] not installed).
 
 
 def register(sub, common):
-    p = sub.add_parser("explore", parents=[common], help="tune a launch live in the browser",
+    p = command_parser(sub, common, "explore", help="tune a launch live in the browser",
                        description="Start the launch explorer: a local web page with sliders "
                        "for the launch parameters, re-simulating on every change.",
-                       epilog=HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=HELP)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--model", default=None,
                    help="friction model of the clutch element (default: the scenario's first)")

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import logging
 import math
 from pathlib import Path
@@ -10,8 +9,9 @@ from pathlib import Path
 from ._common import (
     SimulationFailed,
     UserError,
-    add_force_flag,
     add_option_flag,
+    add_output_flags,
+    command_parser,
     emit_json,
     solver_option_items,
     write_command,
@@ -50,10 +50,9 @@ unidentified: parameters the data cannot determine; warnings: why, for each).
 
 
 def register(sub, common):
-    p = sub.add_parser("fit", parents=[common], help="fit friction parameters to measured data",
+    p = command_parser(sub, common, "fit", help="fit friction parameters to measured data",
                        description="Output-error fit of a friction model (and plant "
-                       "parameters) to a measured record.", epilog=HELP,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
+                       "parameters) to a measured record.", epilog=HELP)
     p.add_argument("data", metavar="DATA_OR_SPEC", help="data file or TOML fit specification")
     p.add_argument("--model", help="friction model (default: the spec's [fit] model)")
     p.add_argument("--input", help="measured input column")
@@ -85,10 +84,7 @@ def register(sub, common):
                    help="integrator (default: the spec's [solver] method, else the core's, "
                         "rodas4)")
     add_option_flag(p, what="every simulation")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    add_force_flag(p)
-    p.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
-    p.add_argument("--json", action="store_true", help="print one JSON document")
+    add_output_flags(p, figures="the PNG figures")
 
 
 def _pairs(items, what, convert=float):

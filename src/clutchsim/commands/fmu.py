@@ -3,10 +3,9 @@ FMI 2.0 or 3.0)."""
 
 from __future__ import annotations
 
-import argparse
 import logging
 
-from ._common import UserError, emit_json
+from ._common import UserError, command_parser, emit_json
 
 log = logging.getLogger("clutchsim")
 
@@ -36,11 +35,10 @@ exported).
 
 
 def register(sub, common):
-    p = sub.add_parser("fmu", parents=[common], help="export a scenario as an FMU",
+    p = command_parser(sub, common, "fmu", help="export a scenario as an FMU",
                        description="Export a scenario's plant as a Functional Mock-up Unit "
                        "(FMI 2.0 or 3.0, Model Exchange or co-simulation) that any FMI tool "
-                       "can run.", epilog=HELP,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
+                       "can run.", epilog=HELP)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--model", default=None,
                    help="friction model of the clutch element (default: the scenario's first)")

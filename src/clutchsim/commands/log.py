@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import argparse
 import logging
 from pathlib import Path
 
-from ._common import UserError, add_force_flag, emit_json, write_command
+from ._common import UserError, add_force_flag, command_parser, emit_json, write_command
 
 log = logging.getLogger("clutchsim")
 
@@ -25,10 +24,9 @@ launches.json.  A CAN log (.blf, .asc) is decoded with --dbc or the map's [log] 
 
 
 def register(sub, common):
-    p = sub.add_parser("log", parents=[common], help="inspect a vehicle log and find launches",
+    p = command_parser(sub, common, "log", help="inspect a vehicle log and find launches",
                        description="Read a vehicle log (CSV, MDF4, CAN through a DBC): its "
-                       "channels, and the launches in it.", epilog=HELP,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
+                       "channels, and the launches in it.", epilog=HELP)
     p.add_argument("action", choices=("info", "launches"), help="what to do")
     p.add_argument("file", metavar="FILE", help="log file (.csv, .mf4, .blf, .asc)")
     p.add_argument("--channels", metavar="MAP", help="channel map (TOML; needed by launches)")

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import argparse
-
-from ._common import emit_json
+from ._common import command_parser, emit_json
 
 HELP = """\
 examples:
@@ -17,12 +15,11 @@ examples:
 
 
 def register(sub, common):
-    p = sub.add_parser("models", parents=[common], help="list the friction models",
+    p = command_parser(sub, common, "models", help="list the friction models",
                        description="List the friction models: states, parameters (units, "
                        "default values), the parameter sets usable with each (with their "
                        "domain: translational N, m, m/s or rotational N·m, rad, rad/s) and "
-                       "the citation.", epilog=HELP,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
+                       "the citation.", epilog=HELP)
     p.add_argument("name", nargs="?", help="show one model only")
     p.add_argument("--domain", choices=("translational", "rotational"), default="translational",
                    help="units to show (default: translational)")

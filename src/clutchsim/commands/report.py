@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
-from ._common import UserError, emit_json
+from ._common import UserError, command_parser, emit_json
 
 HELP = """\
 examples:
@@ -36,10 +35,9 @@ docs/explore.md.
 
 
 def register(sub, common):
-    p = sub.add_parser("report", parents=[common], help="rebuild the HTML report of a directory",
+    p = command_parser(sub, common, "report", help="rebuild the HTML report of a directory",
                        description="Write DIR/report.html from the JSON, TOML, PNG and data "
-                       "files in an output directory.", epilog=HELP,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
+                       "files in an output directory.", epilog=HELP)
     p.add_argument("dir", metavar="DIR", help="output directory of run/bench/sweep/fit")
     p.add_argument("--title", help="page title (default: from the directory kind)")
     p.add_argument("--interactive", action="store_true",

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import logging
 import math
@@ -12,6 +11,7 @@ from ._common import (
     UserError,
     add_limit_flags,
     add_option_flag,
+    command_parser,
     emit_json,
     solver_option_items,
 )
@@ -50,10 +50,9 @@ exit status: 0 completed, 1 the run did not complete (the CSV and JSON are still
 
 
 def register(sub, common):
-    p = sub.add_parser("rig", parents=[common], help="simulate the friction test rig",
+    p = command_parser(sub, common, "rig", help="simulate the friction test rig",
                        description="Simulate a mass (or inertia) on a friction contact, "
-                       "driven by a force/torque or an imposed velocity.", epilog=HELP,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
+                       "driven by a force/torque or an imposed velocity.", epilog=HELP)
     p.add_argument("--model", required=True, help="friction model (see 'clutchsim models')")
     p.add_argument("--params", metavar="SET", help="parameter set (default: the model's own)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",

@@ -3,10 +3,9 @@ loop (:func:`clutchsim.fmu.realtime.export_realtime`)."""
 
 from __future__ import annotations
 
-import argparse
 import logging
 
-from ._common import UserError, emit_json
+from ._common import UserError, command_parser, emit_json
 
 log = logging.getLogger("clutchsim")
 
@@ -34,10 +33,10 @@ no C compiler).
 
 
 def register(sub, common):
-    p = sub.add_parser("rt", parents=[common], help="export a fixed-step real-time C library",
+    p = command_parser(sub, common, "rt", help="export a fixed-step real-time C library",
                        description="Write a scenario's driveline as a fixed-step C99 library "
                        "for hardware-in-the-loop rigs, checked against the variable-step run.",
-                       epilog=HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=HELP)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--model", default=None,
                    help="friction model of the clutch element (default: the scenario's; "

@@ -2,16 +2,16 @@
 
 from __future__ import annotations
 
-import argparse
 import logging
 
 from ._common import (
     SimulationFailed,
     UserError,
-    add_force_flag,
     add_limit_flags,
     add_option_flag,
+    add_output_flags,
     checked_scenario,
+    command_parser,
     emit_json,
     scenario_with_options,
     write_command,
@@ -54,20 +54,16 @@ says which: "failed", and each model's "outcome"), 2 bad input.
 
 
 def register(sub, common):
-    p = sub.add_parser("run", parents=[common], help="simulate a driveline scenario",
+    p = command_parser(sub, common, "run", help="simulate a driveline scenario",
                        description="Simulate a driveline scenario (TOML) and write time "
-                       "series, metrics and figures.", epilog=HELP,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
+                       "series, metrics and figures.", epilog=HELP)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--model", action="append", default=None,
                    help="friction model of the clutch element (repeatable)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="override a scenario key, e.g. vehicle.grade=12")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    add_force_flag(p)
     add_option_flag(p, what="every model's run")
-    p.add_argument("--no-plots", action="store_true", help="skip the figures")
-    p.add_argument("--json", action="store_true", help="print summary.json on stdout")
+    add_output_flags(p, json_help="print summary.json on stdout")
     add_limit_flags(p)
 
 

@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
-import argparse
 import logging
 
 from ._common import (
     add_limit_flags,
-    add_option_flag,
+    add_output_flags,
+    add_study_flags,
     add_sweep_flags,
-    check_sweep_flags,
+    command_parser,
     emit_json,
+    metric_names,
+    run_study,
     solver_option_items,
     write_command,
 )
@@ -54,44 +56,31 @@ exit status: 0 (also when some runs failed: they are rows with their status and 
 
 
 def register(sub, common):
-    p = sub.add_parser("sweep", parents=[common], help="run a scenario over many parameter "
+    p = command_parser(sub, common, "sweep", help="run a scenario over many parameter "
                        "values", description="Run a scenario over a grid or seeded random "
-                       "samples of its parameters; one row of metrics per run.", epilog=HELP,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
+                       "samples of its parameters; one row of metrics per run.", epilog=HELP)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=SPEC", required=True,
                    help="a key to vary (repeatable)")
     p.add_argument("--samples", type=int, metavar="N", help="random samples")
     p.add_argument("--seed", type=int, metavar="S", help="seed of the random samples")
-    p.add_argument("--metrics", metavar="M1,M2", help="metric columns (default: all but "
-                   "wall_s)")
-    p.add_argument("--model", help="friction model of the clutch (default: the scenario's "
-                   "first)")
-    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
-                   help="override a key of the base scenario")
-    add_option_flag(p, what="every run")
+    add_study_flags(p)
     p.add_argument("--keep-traces", action="store_true", help="also write every run's time "
                    "series (traces/)")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_output_flags(p, force=False, json_help="print a summary on stdout")
     add_sweep_flags(p, "--dask")
-    p.add_argument("--no-plots", action="store_true", help="skip the figures")
-    p.add_argument("--json", action="store_true", help="print a summary on stdout")
     add_limit_flags(p, runs=True)
 
 
 def run(args) -> int:
-    from .._util import claim_output_dir
-    check_sweep_flags(args)
-    with claim_output_dir(args.out, "sweep", in_place=True) as out:
-        return _run(args, out.path)
+    return run_study(args, "sweep", _run)
 
 
 def _run(args, out) -> int:
     from ..progress import progress_for
     from ..report import build_report
     from ..studies.sweeps import SweepOptions, SweepSpec, sweep
-    metrics = [m.strip() for m in args.metrics.split(",") if m.strip()] \
-        if args.metrics else None
+    metrics = metric_names(args.metrics)
     spec = SweepSpec(vary=args.vary or (), samples=args.samples, seed=args.seed,
                      metrics=metrics, model=args.model, overrides=args.set or (),
                      solver_options=solver_option_items(args.option),

@@ -3,15 +3,17 @@ quantiles and sensitivity indices out)."""
 
 from __future__ import annotations
 
-import argparse
 import logging
 
 from ._common import (
     add_limit_flags,
-    add_option_flag,
+    add_output_flags,
+    add_study_flags,
     add_sweep_flags,
-    check_sweep_flags,
+    command_parser,
     emit_json,
+    metric_names,
+    run_study,
     solver_option_items,
     write_command,
 )
@@ -57,12 +59,12 @@ exit status: 0 (also when runs failed: that is what the probabilities count), 2 
 
 
 def register(sub, common):
-    p = sub.add_parser("uq", parents=[common], help="uncertainty study: failure "
+    p = command_parser(sub, common, "uq", help="uncertainty study: failure "
                        "probabilities, quantiles, sensitivity indices",
                        description="Sample scenario keys from distributions, run them as one "
                        "sweep and estimate the probability of each outcome, the quantiles "
                        "of every metric and (sobol, morris) the sensitivity to each input.",
-                       epilog=HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=HELP)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=DIST", required=True,
                    help="an uncertain input (repeatable)")
@@ -73,38 +75,26 @@ def register(sub, common):
     p.add_argument("--samples", type=int, metavar="N", help="samples (default: 1000 for "
                    "mc and lhs, 1024 for sobol, 20 for morris; see below)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="seed (default 0)")
-    p.add_argument("--metrics", metavar="M1,M2", help="metric columns (default: all but "
-                   "wall_s)")
-    p.add_argument("--model", help="friction model of the clutch (default: the scenario's "
-                   "first)")
-    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
-                   help="override a key of the base scenario")
-    add_option_flag(p, what="every run")
+    add_study_flags(p)
     p.add_argument("--judder-threshold", type=float, default=5.0, metavar="NM",
                    help="judder event: judder_amplitude_Nm above this [N·m] (default 5)")
     p.add_argument("--temperature-limit", type=float, default=300.0, metavar="C",
                    help="over_temperature event: the friction-surface temperature (else "
                    "the heat node's) above this [°C] (default 300)")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_output_flags(p, force=False, json_help="print the study on stdout")
     add_sweep_flags(p, "--address")
-    p.add_argument("--no-plots", action="store_true", help="skip the figures")
-    p.add_argument("--json", action="store_true", help="print the study on stdout")
     add_limit_flags(p, runs=True)
 
 
 def run(args) -> int:
-    from .._util import claim_output_dir
-    check_sweep_flags(args)
-    with claim_output_dir(args.out, "uq", in_place=True) as out:
-        return _run(args, out.path)
+    return run_study(args, "uq", _run)
 
 
 def _run(args, out) -> int:
     from ..progress import progress_for
     from ..report import build_report
     from ..studies.uq import uq
-    metrics = [m.strip() for m in args.metrics.split(",") if m.strip()] \
-        if args.metrics else None
+    metrics = metric_names(args.metrics)
     res = uq(args.scenario, args.vary, method=args.method, samples=args.samples,
              seed=args.seed, correlation=args.corr, metrics=metrics, model=args.model,
              overrides=args.set, options=solver_option_items(args.option), out=out,
