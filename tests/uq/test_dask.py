@@ -15,7 +15,7 @@ def test_dask_runs_the_same_study_as_threads(tmp_path):
     kw = {"method": "lhs", "samples": 12, "seed": 8, "chunk_size": 5}
     local = uq(None, vary, out=tmp_path / "threads", **kw)
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
-                                  dashboard_address=None) as cluster, \
+                                  dashboard_address=":0") as cluster, \
             distributed.Client(cluster) as client:
         remote = uq(None, vary, out=tmp_path / "dask", backend=client, **kw)
     assert read_results(remote.path).equals(read_results(local.path))

@@ -60,8 +60,11 @@ def dask_client(address: str = "local", workers: int | None = None,
         raise SweepError("the Dask backend needs dask.distributed: pip install "
                          "'clutchsim[dask]'") from None
     if address == "local":
+        # dashboard on a free port: with None, distributed (2026.8) still binds its HTTP
+        # server to 8787 first, and a second cluster on the machine (two sweeps at once, two
+        # test processes) warns and leaks the socket it tried
         cluster = LocalCluster(n_workers=max(1, workers or os.cpu_count() or 1),
-                               threads_per_worker=1, processes=True, dashboard_address=None)
+                               threads_per_worker=1, processes=True, dashboard_address=":0")
         return Client(cluster), True
     if "://" not in address:
         raise SweepError(f"Dask address {address!r}: expected 'local' or a scheduler address "
