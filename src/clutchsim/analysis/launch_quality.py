@@ -13,17 +13,21 @@ of 100 Hz) and the filtered signal is interpolated back onto the original times.
 The formulas run as compiled code (:mod:`clutchsim.analysis._kernels`); the same code
 computes all the metrics of a driveline run in one call
 (:func:`clutchsim.analysis._kernels.launch_kernel`).  scipy designs the filters
-(:func:`_wd_sos`, :func:`_lowpass_sos`), once per grid step.
+(:func:`_wd_sos`, :func:`_lowpass_sos`), once per grid step; the designs are kept on disk
+(:func:`_designed`), so that a later process does not import ``scipy.signal`` for them.
 """
 
 from __future__ import annotations
 
 import functools
+import hashlib
 import math
+from pathlib import Path
 
 import numpy as np
-from scipy import signal
 
+from .._jit import cache_dir
+from .._util import atomic_write
 from . import _kernels as _k
 
 __all__ = ["ENGAGE_THRESHOLD_REL", "FILTER_DT_MAX_S", "FILTER_DT_S", "JERK_CUTOFF_HZ",
@@ -132,6 +136,7 @@ def wd_analog_zpk():
 def wd_magnitude(f_Hz):
     """|W_d| at frequencies ``f_Hz`` [-], from :func:`wd_analog_zpk` (the analog filter,
     not its discretisation)."""
+    from scipy import signal
     z, p, k = wd_analog_zpk()
     _, h = signal.freqs_zpk(z, p, k, worN=2 * np.pi * np.atleast_1d(np.asarray(f_Hz, float)))
     return np.abs(h)
@@ -144,11 +149,13 @@ def _wd_sos(dt_s: float) -> tuple:
     steady state for a unit constant input (cached per step: designing it costs more
     than filtering a launch).  The compiled filter (``_kernels.sosfilt``) runs these
     second-order sections as difference equations."""
-    z, p, k = wd_analog_zpk()
-    zd, pd, kd = signal.bilinear_zpk(z, p, k, 1.0 / dt_s)
-    sos = np.ascontiguousarray(signal.zpk2sos(zd, pd, kd))
-    zi = np.ascontiguousarray(signal.sosfilt_zi(sos))
-    return sos, zi
+    def design():
+        from scipy import signal
+        z, p, k = wd_analog_zpk()
+        zd, pd, kd = signal.bilinear_zpk(z, p, k, 1.0 / dt_s)
+        sos = np.ascontiguousarray(signal.zpk2sos(zd, pd, kd))
+        return sos, np.ascontiguousarray(signal.sosfilt_zi(sos))
+    return _designed("wd", (dt_s,), design)
 
 
 @functools.lru_cache(maxsize=16)
@@ -160,9 +167,45 @@ def _lowpass_sos(cutoff_Hz: float, dt_s: float):
         raise ValueError(f"low-pass corner cutoff_Hz = {cutoff_Hz:g} Hz must be in (0, "
                          f"{0.5 / dt_s:g}) Hz, below half the filter grid's rate "
                          f"(step {dt_s:g} s)")
-    sos = np.ascontiguousarray(signal.butter(2, cutoff_Hz, btype="low", fs=1.0 / dt_s,
-                                             output="sos"))
-    return sos, np.ascontiguousarray(signal.sosfilt_zi(sos))
+
+    def design():
+        from scipy import signal
+        sos = np.ascontiguousarray(signal.butter(2, cutoff_Hz, btype="low", fs=1.0 / dt_s,
+                                                 output="sos"))
+        return sos, np.ascontiguousarray(signal.sosfilt_zi(sos))
+    return _designed("lowpass", (cutoff_Hz, dt_s), design)
+
+
+def _designed(name: str, key: tuple, design) -> tuple:
+    """The arrays ``design()`` returns (float64, C-contiguous), kept on disk beside the
+    compiled code (:data:`clutchsim._jit.cache_dir`, keyed by clutchsim's sources) under
+    ``name``, the exact values of ``key`` and scipy's version: importing ``scipy.signal``,
+    which designs them, takes ~0.7 s, more than a hundred launches, and a later process
+    loads the same bits in ~1 ms.  Without a cache directory, or where it cannot be read
+    or written, they are designed again."""
+    import scipy
+    tag = hashlib.blake2b(" ".join(float(v).hex() for v in key).encode(),
+                          digest_size=8).hexdigest()
+    path = Path(cache_dir) / "filters" / f"{name}-scipy{scipy.__version__}-{tag}.npz" \
+        if cache_dir else None
+    if path is not None:
+        try:
+            with np.load(path, allow_pickle=False) as f:
+                return tuple(np.ascontiguousarray(f[f"a{i}"], dtype=np.float64)
+                             for i in range(len(f.files)))
+        except (OSError, ValueError, KeyError):
+            pass
+    arrays = tuple(np.ascontiguousarray(a, dtype=np.float64) for a in design())
+
+    def write(tmp):
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **{f"a{i}": a for i, a in enumerate(arrays)})
+    if path is not None:
+        try:
+            atomic_write(path, write)
+        except OSError:
+            pass
+    return arrays
 
 
 def weighted_acceleration_mps2(t_s, a_mps2, dt_s: float = FILTER_DT_S):
