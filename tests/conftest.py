@@ -85,8 +85,8 @@ def drop_c_compiler(monkeypatch, tmp_path):
     raises what it raises on a machine without one) and empties the table of generated
     plants into ``tmp_path``: the next generated plant goes the numba fallback's way.  It
     returns ``tmp_path``."""
-    from clutchsim.cgen import NoCompilerError, compiler, loader
     from clutchsim import rig
+    from clutchsim.cgen import NoCompilerError, compiler, loader
     from clutchsim.network import plant as network_plant
 
     def no_compiler():

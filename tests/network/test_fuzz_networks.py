@@ -12,7 +12,6 @@ regression test below.
 import os
 
 import pytest
-
 from _fuzz import cases, check_run
 from hypothesis import HealthCheck, given, settings
 

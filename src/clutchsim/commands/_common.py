@@ -13,9 +13,9 @@ from pathlib import Path
 from .._util import DEFAULT_MAX_OUTPUT_ROWS, DEFAULT_MAX_RUNS, check_run_size
 
 __all__ = ["SimulationFailed", "UserError", "add_force_flag", "add_limit_flags",
-           "add_output_flags", "add_study_flags", "add_sweep_flags", "check_sweep_flags", "checked_scenario",
-           "command_parser", "emit_json", "metric_names", "run_study", "solver_option_items",
-           "write_command"]
+           "add_output_flags", "add_study_flags", "add_sweep_flags", "check_sweep_flags",
+           "checked_scenario", "command_parser", "emit_json", "metric_names", "run_study",
+           "solver_option_items", "write_command"]
 
 
 class UserError(Exception):

@@ -34,7 +34,8 @@ DIR/calibration.png (and report.html, one page of them).  --json prints one docu
 
 
 def register(sub, common):
-    p = command_parser(sub, common, "calibrate", help="calibrate clutch and driveline from vehicle logs",
+    p = command_parser(sub, common, "calibrate",
+                       help="calibrate clutch and driveline from vehicle logs",
                        description="Fit clutch capacity, touch point, driveline stiffness "
                        "and damping and the engine-torque scale to the launches of vehicle "
                        "logs, from measured speeds only.", epilog=HELP)

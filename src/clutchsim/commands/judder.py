@@ -63,10 +63,11 @@ unknown --frf input or output: the valid names are listed, --f-min >= --f-max, -
 
 
 def register(sub, common):
-    p = command_parser(sub, common, "judder", help="modes and friction slopes of a driveline at an operating time",
+    p = command_parser(sub, common, "judder",
+                       help="modes and friction slopes of a driveline at an operating time",
                        description="Linearise a driveline scenario at an operating time and "
-                       "report its modes (judder analysis), or with --frf the frequency response from an "
-                       "input to an output.", epilog=HELP)
+                       "report its modes (judder analysis), or with --frf the frequency "
+                       "response from an input to an output.", epilog=HELP)
     p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
     p.add_argument("--model", default=None, help="friction model of the clutch element")
     p.add_argument("--at", type=float, default=0.0, metavar="T",

@@ -433,8 +433,8 @@ def _write_can(log: VehicleLog, p: Path, dbc: Path) -> None:
 
 def read_toml(path: Path, error: type[Exception] = ValueError):
     """``(locate, document, text)`` of a TOML file: ``locate(table, key=None)`` is the
-    ``"FILE:LINE: [table] key"`` prefix of a message (:func:`clutchsim._util.toml_line`); a file that is not
-    TOML raises ``error`` naming it."""
+    ``"FILE:LINE: [table] key"`` prefix of a message (:func:`clutchsim._util.toml_line`); a
+    file that is not TOML raises ``error`` naming it."""
     import tomllib
     text = path.read_text(encoding="utf-8")
     try:
