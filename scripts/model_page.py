@@ -3,6 +3,7 @@
 
     python scripts/model_page.py NAME            # write docs/models/NAME.md (a new page)
     python scripts/model_page.py NAME --force    # overwrite an existing page
+    python scripts/model_page.py --tables        # every page's Parameters table, again
 
 The page (``docs/models/<name>.md``) gets the model's docstring, its states, events,
 parameters with their units in both domains, its parameter sets with their domains and
@@ -41,6 +42,34 @@ def _value(v) -> str:
     return str(v) if isinstance(v, (list, str)) else f"{v:g}"
 
 
+def parameter_table(cls) -> list[str]:
+    """The Markdown table of a model's parameters: units in both domains, the rule its
+    construction checks, the description (all from the class's ``parameters(...)``)."""
+    lines = ["| parameter | translational | rotational | rule | description |",
+             "|---|---|---|---|---|"]
+    for p, (_kind, text) in cls.parameter_info.items():
+        rule, text = (cls.parameter_rules.get(p, "") or "–",  # noqa: PLW2901
+                      text.replace("|", r"\|"))
+        lines.append(f"| `{p}` | {cls.unit_of(p)} | {cls.unit_of(p, 'rotational')} | {rule} | "
+                     f"{text} |")
+    return lines
+
+
+def refresh_tables(pages: dict[str, str]) -> dict[str, str]:
+    """``pages`` (model name -> page text) with each page's Parameters table rewritten from
+    the declarations (pure; the rest of a page, hand-written text included, is kept)."""
+    out = {}
+    for name, text in pages.items():
+        lines = text.split("\n")
+        start = lines.index("## Parameters") + 2
+        end = start
+        while end < len(lines) and lines[end].startswith("|"):
+            end += 1
+        out[name] = "\n".join(lines[:start] + parameter_table(get_model_class(name))
+                              + lines[end:])
+    return out
+
+
 def render_page(name: str) -> str:
     """The Markdown page of model ``name`` (pure: reads only declarations and data)."""
     cls = get_model_class(name)
@@ -65,11 +94,7 @@ def render_page(name: str) -> str:
     lines += ["## Events", ""]
     events = model.event_names()
     lines += [", ".join(f"`{e}`" for e in events) if events else "None.", ""]
-    lines += ["## Parameters", "", "| parameter | translational | rotational | description |",
-              "|---|---|---|---|"]
-    for p, (_kind, text) in cls.parameter_info.items():
-        lines.append(f"| `{p}` | {cls.unit_of(p)} | {cls.unit_of(p, 'rotational')} | {text} |")
-    lines += ["", "## Parameter sets", ""]
+    lines += ["## Parameters", "", *parameter_table(cls), "", "## Parameter sets", ""]
     for set_name in list_parameter_sets(name):
         pset = load_parameter_set(set_name)
         default = " (default)" if set_name == cls.default_parameter_set else ""
@@ -89,9 +114,22 @@ def render_page(name: str) -> str:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("name", help="registry name of the model")
+    ap.add_argument("name", nargs="?", help="registry name of the model")
     ap.add_argument("--force", action="store_true", help="overwrite an existing page")
+    ap.add_argument("--tables", action="store_true",
+                    help="rewrite the Parameters table of every existing page instead")
     args = ap.parse_args(argv)
+    if args.tables:
+        pages = {p.stem: p.read_text(encoding="utf-8") for p in sorted(DOCS.glob("*.md"))
+                 if p.stem != "README"}
+        for name, text in refresh_tables(pages).items():
+            if text != pages[name]:
+                atomic_write(DOCS / f"{name}.md",
+                             lambda tmp, t=text: tmp.write_text(t, encoding="utf-8", newline="\n"))
+                print(f"wrote {DOCS / f'{name}.md'}", file=sys.stderr)
+        return 0
+    if not args.name:
+        ap.error("give a model NAME (or --tables)")
     try:
         text = render_page(args.name)
     except ValueError as exc:

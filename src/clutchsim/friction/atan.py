@@ -9,7 +9,7 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import Expectation, FrictionKernels, FrictionModel, Scales
+from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["AtanFriction", "atan_force", "atan_jacobian"]
 
@@ -52,19 +52,11 @@ class AtanFriction(FrictionModel):
         "friction force models, Nonlinear Dynamics 83, 1785–1801, 2016 (arctan-regularised "
         "Coulomb friction)."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_c": ("force", "Coulomb friction level"),
-        "v_t": ("velocity", "arctan regularisation velocity (F = F_c/2 there)"),
-        "sigma2": ("force/velocity", "viscous friction coefficient"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("no", "no (creep)"),
-        "stribeck": Expectation("no", "no"),
-        "presliding": Expectation("no", "no"),
-        "lag": Expectation("no", "no"),
-        "varying_breakaway": Expectation("no", "no"),
-        "no_drift": Expectation("no", "no"),
-    }
+    parameter_info, parameter_rules = parameters(
+        F_c=">= 0", v_t=("velocity", "arctan regularisation velocity (F = F_c/2 there)", "> 0"),
+        sigma2=">= 0")
+    phenomena = expect(stiction="no (creep)", stribeck="no", presliding="no", lag="no",
+                       varying_breakaway="no", no_drift="no")
     #: atan(1/√3) = π/6, atan(1) = π/4, atan(√3) = π/3 with the default set (F_c = 1 N,
     #: v_t = 1e-4 m/s, sigma2 = 0.4 N·s/m)
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
@@ -80,11 +72,6 @@ class AtanFriction(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.F_c, self.v_t, ())
-
-    def _check(self) -> None:
-        self._require(self.F_c >= 0.0, "F_c", ">= 0")
-        self._require(self.v_t > 0.0, "v_t", "> 0")
-        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
 
     def _pack(self) -> list[float]:
         return [self.F_c, self.v_t, self.sigma2]

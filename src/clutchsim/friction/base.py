@@ -79,12 +79,14 @@ import abc
 import dataclasses
 import enum
 import math
+import re
 from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
-__all__ = ["DOMAINS", "PHENOMENA", "UNIT_KINDS", "Expectation", "FrictionKernels",
-           "FrictionModel", "FrictionReset", "Scales", "SelfExcitedWarning"]
+__all__ = ["DOMAINS", "PHENOMENA", "SHARED_PARAMETERS", "UNIT_KINDS", "ElementLaw",
+           "Expectation", "FrictionKernels", "FrictionModel", "FrictionReset", "Scales",
+           "SelfExcitedWarning", "expect", "parameters"]
 
 
 class FrictionReset(enum.IntEnum):
@@ -142,6 +144,75 @@ class Expectation(NamedTuple):
 
     expected: str
     text: str
+
+
+def expect(**texts: str) -> dict[str, Expectation]:
+    """A model's ``phenomena`` declaration: ``phenomenon="yes (with a note)"`` for every key
+    of :data:`PHENOMENA`.  A text opens with what is expected: ``yes``/``no`` (the text is
+    the statement, ``"no"`` alone means no) or ``depends:`` followed by what it depends on.
+    """
+    if set(texts) != set(PHENOMENA):
+        raise TypeError(f"expect() got {sorted(texts)}; it takes exactly {list(PHENOMENA)}")
+    out = {}
+    for key in PHENOMENA:
+        text = texts[key]
+        if text.startswith("depends:"):
+            out[key] = Expectation("depends", text.removeprefix("depends:").strip())
+        elif text.split(" ", 1)[0] in ("yes", "no"):
+            out[key] = Expectation(text.split(" ", 1)[0], text)
+        else:
+            raise TypeError(f"expect({key}={text!r}): the text must open with yes, no or "
+                            "depends:")
+    return out
+
+
+#: what the parameter names several models share mean: ``name -> (unit kind, description)``
+#: (a model's own parameters are described where it declares them, :func:`parameters`)
+SHARED_PARAMETERS: dict[str, tuple[str, str]] = {
+    "F_c": ("force", "Coulomb friction level"),
+    "F_s": ("force", "static friction level"),
+    "v_s": ("velocity", "Stribeck velocity"),
+    "delta": ("1", "Stribeck exponent"),
+    "sigma0": ("force/displacement", "bristle stiffness"),
+    "sigma1": ("force/velocity", "bristle damping"),
+    "sigma2": ("force/velocity", "viscous friction coefficient"),
+}
+
+_BOUND = re.compile(r"^(>=|>|<=|<) (\S+)$")
+_INTERVAL = re.compile(r"^in ([\[(])(\S+), (\S+)([\])])$")
+_CHOICE = re.compile(r"^(\S+) or (\S+)$")
+
+
+def parameters(**declared: str | tuple[str, str, str]
+               ) -> tuple[dict[str, tuple[str, str]], dict[str, str]]:
+    """A model's parameter declaration, in field order: ``name=rule`` for a name of
+    :data:`SHARED_PARAMETERS`, ``name=(unit kind, description, rule)`` for the model's own.
+    Returns ``(parameter_info, parameter_rules)``.
+
+    A rule is checked on construction, before the model's ``_check``: ``""`` (none),
+    ``"> 0"``, ``">= 0"``, ``"< 1"``, ``">= F_c"`` (another parameter), ``"in (0, 1)"``,
+    ``"in [0, 1]"``, ``"1 or 2"``.  Rules of another form (a sequence's elements, a
+    relation between several parameters) stay in the model's ``_check``.
+    """
+    info: dict[str, tuple[str, str]] = {}
+    rules: dict[str, str] = {}
+    for name, spec in declared.items():
+        if isinstance(spec, str):
+            if name not in SHARED_PARAMETERS:
+                raise TypeError(f"parameters(): {name!r} is not a shared parameter; give "
+                                "(unit kind, description, rule)")
+            info[name], rules[name] = SHARED_PARAMETERS[name], spec
+        else:
+            kind, doc, rules[name] = spec
+            info[name] = (kind, doc)
+        if info[name][0] not in UNIT_KINDS:
+            raise TypeError(f"parameters(): {name} has unit kind {info[name][0]!r}, not one "
+                            f"of {', '.join(UNIT_KINDS)}")
+        if rules[name] and not any(form.match(rules[name])
+                                   for form in (_BOUND, _INTERVAL, _CHOICE)):
+            raise TypeError(f"parameters(): {name}'s rule {rules[name]!r} is not of the "
+                            "forms '> 0', '>= F_c', 'in (0, 1]', '1 or 2'")
+    return info, rules
 
 
 class Scales(NamedTuple):
@@ -220,6 +291,9 @@ class FrictionModel(abc.ABC):
     #: model's code (by hand from the formula, or the literature's table); the tests compare
     #: :meth:`steady_state_force` with them
     steady_checks: ClassVar[tuple[tuple[float, float], ...]]
+    #: ``{parameter: rule}`` checked on construction (:func:`parameters` gives it with
+    #: ``parameter_info``); rules of other forms are the model's ``_check``
+    parameter_rules: ClassVar[dict[str, str]] = {}
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = ()
     #: does the force read the stick force ``F_e``?  (plants skip computing it otherwise;
     #: :func:`clutchsim.friction.kernels.uses_stick_force` is the compiled twin)
@@ -254,9 +328,8 @@ class FrictionModel(abc.ABC):
     edge_jumps: ClassVar[bool] = False
 
     # ------------------------------------------------------------------ hooks
-    @abc.abstractmethod
     def _check(self) -> None:
-        """Model-specific validation; raise ValueError via :meth:`_require`."""
+        """Validation beyond ``parameter_rules``; raise ValueError via :meth:`_require`."""
 
     @abc.abstractmethod
     def _pack(self) -> list[float]:
@@ -300,7 +373,33 @@ class FrictionModel(abc.ABC):
                 object.__setattr__(self, f.name, items)
             else:
                 object.__setattr__(self, f.name, self._as_float(f.name, value))
+        # the bounds by numbers first: a relation (``F_s >= F_c``) then reads checked values
+        rules = sorted(((p, r) for p, r in self.parameter_rules.items() if r),
+                       key=lambda pr: pr[1].split(" ")[-1] in self.parameter_info)
+        for param, rule in rules:
+            self._check_rule(param, rule)
         self._check()
+
+    def _check_rule(self, param: str, rule: str) -> None:
+        value = getattr(self, param)
+        bound = _BOUND.match(rule)
+        if bound:
+            op, rhs = bound.groups()
+            if rhs in self.parameter_info:
+                limit = getattr(self, rhs)
+                unit = UNIT_KINDS[self.parameter_info[rhs][0]][0]
+                rule = f"{op} {rhs} = {limit:g}" + ("" if unit == "-" else f" {unit}")
+            else:
+                limit = float(rhs)
+            ok = {">": value > limit, ">=": value >= limit, "<": value < limit,
+                  "<=": value <= limit}[op]
+        elif choice := _CHOICE.match(rule):
+            ok = value in (float(choice[1]), float(choice[2]))
+        else:
+            opening, low, high, closing = _INTERVAL.match(rule).groups()  # type: ignore[union-attr]
+            ok = ((value > float(low) if opening == "(" else value >= float(low))
+                  and (value < float(high) if closing == ")" else value <= float(high)))
+        self._require(ok, param, rule)
 
     def _as_float(self, param: str, value: Any) -> float:
         cls = type(self).__name__
@@ -437,3 +536,16 @@ class FrictionModel(abc.ABC):
                 f"{cls.__name__} has no parameter {param!r}; valid: {', '.join(cls.parameter_info)}"
             )
         return UNIT_KINDS[cls.parameter_info[param][0]][i]
+
+
+class ElementLaw(FrictionModel):
+    """The switching law of one network element (a freewheel, a dog clutch, a synchroniser,
+    a mass between stops): a :class:`FrictionModel` the element's plant code calls like any
+    other, but not a registry model, so it cannot be put on another element with
+    ``--model``.  It has no literature phenomena, parameter set or steady sliding checks;
+    it reads the stick force; its ``code`` is negative and given by its element."""
+
+    phenomena: ClassVar[dict[str, Expectation]] = {}
+    default_parameter_set: ClassVar[str] = ""
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = ()
+    uses_stick_force: ClassVar[bool] = True

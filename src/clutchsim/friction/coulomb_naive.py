@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import RESET_NONE, Expectation, FrictionKernels, FrictionModel, Scales
+from .base import RESET_NONE, FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = [
     "CoulombNaive",
@@ -59,18 +59,12 @@ class CoulombNaive(FrictionModel):
         "simulation, Avtomobil i elektronika. Suchasni tekhnolohii, no. 18, 2020, eqs. (1)-(3); "
         "The MathWorks, Building a Clutch Lock-Up Model (sldemo_clutch)."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_c": ("force", "Coulomb (dynamic) friction level"),
-        "F_s": ("force", "static friction level (largest stick force)"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("yes", "yes (in theory; chatters numerically at lock-up)"),
-        "stribeck": Expectation("no", "no"),
-        "presliding": Expectation("no", "no"),
-        "lag": Expectation("no", "no"),
-        "varying_breakaway": Expectation("no", "no"),
-        "no_drift": Expectation("yes", "yes (stuck means frozen) if the solver could stick"),
-    }
+    parameter_info, parameter_rules = parameters(
+        F_c=("force", "Coulomb (dynamic) friction level", ">= 0"),
+        F_s=("force", "static friction level (largest stick force)", ">= F_c"))
+    phenomena = expect(stiction="yes (in theory; chatters numerically at lock-up)", stribeck="no",
+                       presliding="no", lag="no", varying_breakaway="no",
+                       no_drift="yes (stuck means frozen) if the solver could stick")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -1.0),
@@ -88,10 +82,6 @@ class CoulombNaive(FrictionModel):
     def typical_scales(self) -> Scales:
         #: (a chosen 1 mm/s: the model has no velocity parameter)
         return Scales(self.F_c, 1e-3, ())
-
-    def _check(self) -> None:
-        self._require(self.F_c >= 0.0, "F_c", ">= 0")
-        self._require(self.F_s >= self.F_c, "F_s", f">= F_c = {self.F_c:g} N")
 
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s]

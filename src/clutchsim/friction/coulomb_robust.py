@@ -14,10 +14,11 @@ from .base import (
     RESET_NONE,
     RESET_RELEASED,
     RESET_STUCK,
-    Expectation,
     FrictionKernels,
     FrictionModel,
     Scales,
+    expect,
+    parameters,
 )
 
 __all__ = [
@@ -97,21 +98,12 @@ class CoulombRobust(FrictionModel):
         "and friction compensation, European Journal of Control 4(3):176-195, 1998; Modelica "
         "Standard Library, Modelica.Mechanics.Rotational.Interfaces.PartialFriction."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_c": ("force", "Coulomb friction level"),
-        "F_s": ("force", "static (break-away) friction level"),
-        "v_s": ("velocity", "Stribeck velocity (0 disables the Stribeck term)"),
-        "delta": ("1", "Stribeck exponent"),
-        "sigma2": ("force/velocity", "viscous friction coefficient"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("yes", "yes"),
-        "stribeck": Expectation("depends", "optional (static)"),
-        "presliding": Expectation("no", "no"),
-        "lag": Expectation("no", "no"),
-        "varying_breakaway": Expectation("no", "no"),
-        "no_drift": Expectation("yes", "yes (stuck means frozen)"),
-    }
+    parameter_info, parameter_rules = parameters(
+        F_c=">= 0", F_s=("force", "static (break-away) friction level", ">= F_c"),
+        v_s=("velocity", "Stribeck velocity (0 disables the Stribeck term)", ">= 0"), delta="> 0",
+        sigma2=">= 0")
+    phenomena = expect(stiction="yes", stribeck="depends: optional (static)", presliding="no",
+                       lag="no", varying_breakaway="no", no_drift="yes (stuck means frozen)")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -1.0),
@@ -128,13 +120,6 @@ class CoulombRobust(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.F_c, self.v_s if self.v_s > 0.0 else 1e-3, (1.0,))
-
-    def _check(self) -> None:
-        self._require(self.F_c >= 0.0, "F_c", ">= 0")
-        self._require(self.F_s >= self.F_c, "F_s", f">= F_c = {self.F_c:g} N")
-        self._require(self.v_s >= 0.0, "v_s", ">= 0")
-        self._require(self.delta > 0.0, "delta", "> 0")
-        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
 
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s, self.v_s, self.delta, self.sigma2]

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn, sgn_right
-from .base import Expectation, FrictionKernels, FrictionModel, Scales
+from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["Dahl", "dahl_force", "dahl_jacobian"]
 
@@ -50,19 +50,11 @@ class Dahl(FrictionModel):
         "Dahl P.R., A solid friction model, The Aerospace Corporation, El Segundo, CA, "
         "Technical Report TOR-0158(3107-18)-1, 1968."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_c": ("force", "Coulomb friction level"),
-        "sigma0": ("force/displacement", "rest stiffness"),
-        "alpha": ("1", "shape exponent of the Dahl curve"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("no", "no"),
-        "stribeck": Expectation("no", "no"),
-        "presliding": Expectation("yes", "yes"),
-        "lag": Expectation("no", "no"),
-        "varying_breakaway": Expectation("no", "no"),
-        "no_drift": Expectation("no", "no (16.7 µm/cycle in drift test D1)"),
-    }
+    parameter_info, parameter_rules = parameters(
+        F_c="> 0", sigma0=("force/displacement", "rest stiffness", "> 0"),
+        alpha=("1", "shape exponent of the Dahl curve", "> 0"))
+    phenomena = expect(stiction="no", stribeck="no", presliding="yes", lag="no",
+                       varying_breakaway="no", no_drift="no (16.7 µm/cycle in drift test D1)")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -1.0),
@@ -78,11 +70,6 @@ class Dahl(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.F_c, 1e-3, (self.F_c / self.sigma0,))
-
-    def _check(self) -> None:
-        self._require(self.F_c > 0.0, "F_c", "> 0")
-        self._require(self.sigma0 > 0.0, "sigma0", "> 0")
-        self._require(self.alpha > 0.0, "alpha", "> 0")
 
     def _pack(self) -> list[float]:
         return [self.F_c, self.sigma0, self.alpha]

@@ -10,7 +10,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn, sgn_right, stribeck_level, stribeck_partials
-from .base import Expectation, FrictionKernels, FrictionModel, Scales
+from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["ElastoPlastic", "elastoplastic_force", "elastoplastic_jacobian"]
 
@@ -62,24 +62,14 @@ class ElastoPlastic(FrictionModel):
         "models, IEEE Transactions on Automatic Control 47(5):787-792, 2002, "
         "doi:10.1109/TAC.2002.1000274."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_c": ("force", "Coulomb friction level"),
-        "F_s": ("force", "static friction level"),
-        "v_s": ("velocity", "Stribeck velocity"),
-        "sigma0": ("force/displacement", "bristle stiffness"),
-        "sigma1": ("force/velocity", "bristle damping"),
-        "sigma2": ("force/velocity", "viscous friction coefficient"),
-        "z_ba": ("displacement", "break-away displacement (end of the elastic zone)"),
-        "delta": ("1", "Stribeck exponent"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("yes", "yes"),
-        "stribeck": Expectation("yes", "yes"),
-        "presliding": Expectation("yes", "yes (true elastic zone)"),
-        "lag": Expectation("yes", "yes"),
-        "varying_breakaway": Expectation("yes", "yes"),
-        "no_drift": Expectation("yes", "yes while |F| < sigma0·z_ba (0 in drift test D1 with z_ba = 0.95 F_c/sigma0)"),
-    }
+    parameter_info, parameter_rules = parameters(
+        F_c="> 0", F_s=">= F_c", v_s="> 0", sigma0="> 0", sigma1=">= 0", sigma2=">= 0",
+        z_ba=("displacement", "break-away displacement (end of the elastic zone)", "> 0"),
+        delta="> 0")
+    phenomena = expect(stiction="yes", stribeck="yes", presliding="yes (true elastic zone)",
+                       lag="yes", varying_breakaway="yes",
+                       no_drift="yes while |F| < sigma0·z_ba (0 in drift test D1 with "
+                                "z_ba = 0.95 F_c/sigma0)")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -1.008),
@@ -97,14 +87,6 @@ class ElastoPlastic(FrictionModel):
         return Scales(self.F_c, self.v_s, (self.F_c / self.sigma0,))
 
     def _check(self) -> None:
-        self._require(self.F_c > 0.0, "F_c", "> 0")
-        self._require(self.F_s >= self.F_c, "F_s", f">= F_c = {self.F_c:g} N")
-        self._require(self.v_s > 0.0, "v_s", "> 0")
-        self._require(self.sigma0 > 0.0, "sigma0", "> 0")
-        self._require(self.sigma1 >= 0.0, "sigma1", ">= 0")
-        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
-        self._require(self.delta > 0.0, "delta", "> 0")
-        self._require(self.z_ba > 0.0, "z_ba", "> 0")
         limit = self.F_c / self.sigma0
         self._require(self.z_ba < limit, "z_ba", f"< F_c/sigma0 = {limit:g} m")
 

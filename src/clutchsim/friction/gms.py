@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn, stribeck_level, stribeck_partials
-from .base import Expectation, FrictionKernels, FrictionModel, Scales
+from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["GMS", "gms_force", "gms_jacobian"]
 
@@ -93,26 +93,19 @@ class GMS(FrictionModel):
         "model for friction simulation and compensation, IEEE Transactions on Automatic "
         "Control 50(11):1883-1887, 2005."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "k": ("force/displacement", "element stiffnesses k_i (one per element)"),
-        "alpha": ("1", "element weights alpha_i (sum to 1)"),
-        "C": ("force/time", "attraction rate of slipping elements"),
-        "F_c": ("force", "Coulomb friction level of s(v)"),
-        "F_s": ("force", "static friction level of s(v)"),
-        "v_s": ("velocity", "Stribeck velocity of s(v)"),
-        "sigma1": ("force/velocity", "per-element damping"),
-        "sigma2": ("force/velocity", "viscous friction coefficient"),
-        "delta": ("1", "Stribeck exponent"),
-        "stick_band": ("1", "relative width of the stick-to-slip blend (numerical)"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("yes", "yes"),
-        "stribeck": Expectation("yes", "yes"),
-        "presliding": Expectation("yes", "yes (with non-local memory)"),
-        "lag": Expectation("yes", "yes"),
-        "varying_breakaway": Expectation("yes", "yes"),
-        "no_drift": Expectation("yes", "yes in pre-sliding (literature, unverified)"),
-    }
+    parameter_info, parameter_rules = parameters(
+        k=("force/displacement", "element stiffnesses k_i > 0 (one per element, at least one)",
+           ""),
+        alpha=("1", "element weights alpha_i > 0, one per element, summing to 1", ""),
+        C=("force/time", "attraction rate of slipping elements", "> 0"),
+        F_c=("force", "Coulomb friction level of s(v)", "> 0"),
+        F_s=("force", "static friction level of s(v)", ">= F_c"),
+        v_s=("velocity", "Stribeck velocity of s(v)", "> 0"),
+        sigma1=("force/velocity", "per-element damping", ">= 0"), sigma2=">= 0", delta="> 0",
+        stick_band=("1", "relative width of the stick-to-slip blend (numerical)", "in (0, 1)"))
+    phenomena = expect(stiction="yes", stribeck="yes", presliding="yes (with non-local memory)",
+                       lag="yes", varying_breakaway="yes",
+                       no_drift="yes in pre-sliding (literature, unverified)")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -1.008),
@@ -138,14 +131,6 @@ class GMS(FrictionModel):
         self._require(all(x > 0.0 for x in self.alpha), "alpha", "> 0 (every element)")
         total = sum(self.alpha)
         self._require(abs(total - 1.0) <= 1e-9, "alpha", f"summing to 1 (sum is {total:.12g})")
-        self._require(self.C > 0.0, "C", "> 0")
-        self._require(self.F_c > 0.0, "F_c", "> 0")
-        self._require(self.F_s >= self.F_c, "F_s", f">= F_c = {self.F_c:g} N")
-        self._require(self.v_s > 0.0, "v_s", "> 0")
-        self._require(self.sigma1 >= 0.0, "sigma1", ">= 0")
-        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
-        self._require(self.delta > 0.0, "delta", "> 0")
-        self._require(0.0 < self.stick_band < 1.0, "stick_band", "in (0, 1)")
 
     def _pack(self) -> list[float]:
         head = [float(len(self.k)), self.C, self.F_c, self.F_s, self.v_s, self.delta]

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import Expectation, FrictionKernels, FrictionModel, Scales
+from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["Karnopp", "karnopp_force", "karnopp_jacobian"]
 
@@ -55,20 +55,13 @@ class Karnopp(FrictionModel):
         "Karnopp D., Computer simulation of stick-slip friction in mechanical dynamic systems, "
         "ASME Journal of Dynamic Systems, Measurement, and Control 107(1):100-103, 1985."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_c": ("force", "Coulomb friction level"),
-        "F_s": ("force", "static friction level"),
-        "DV": ("velocity", "half-width of the velocity window treated as zero"),
-        "sigma2": ("force/velocity", "viscous friction coefficient"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("yes", "yes"),
-        "stribeck": Expectation("no", "no"),
-        "presliding": Expectation("no", "no"),
-        "lag": Expectation("no", "no"),
-        "varying_breakaway": Expectation("no", "no"),
-        "no_drift": Expectation("yes", "yes (within the window the body is held)"),
-    }
+    parameter_info, parameter_rules = parameters(
+        F_c=">= 0", F_s=">= F_c",
+        DV=("velocity", "half-width of the velocity window treated as zero", "> 0"),
+        sigma2=">= 0")
+    phenomena = expect(stiction="yes", stribeck="no", presliding="no", lag="no",
+                       varying_breakaway="no",
+                       no_drift="yes (within the window the body is held)")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -1.008),
@@ -84,12 +77,6 @@ class Karnopp(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.F_c, self.DV, ())
-
-    def _check(self) -> None:
-        self._require(self.F_c >= 0.0, "F_c", ">= 0")
-        self._require(self.F_s >= self.F_c, "F_s", f">= F_c = {self.F_c:g} N")
-        self._require(self.DV > 0.0, "DV", "> 0")
-        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
 
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s, self.DV, self.sigma2]

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn_right, stribeck_level, stribeck_partials
-from .base import Expectation, FrictionKernels, FrictionModel, Scales
+from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["LuGre", "lugre_force", "lugre_jacobian"]
 
@@ -64,23 +64,11 @@ class LuGre(FrictionModel):
         "systems with friction, IEEE Transactions on Automatic Control 40(3):419-425, 1995, "
         "doi:10.1109/9.376053."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_c": ("force", "Coulomb friction level"),
-        "F_s": ("force", "static friction level"),
-        "v_s": ("velocity", "Stribeck velocity"),
-        "sigma0": ("force/displacement", "bristle stiffness"),
-        "sigma1": ("force/velocity", "bristle damping"),
-        "sigma2": ("force/velocity", "viscous friction coefficient"),
-        "delta": ("1", "Stribeck exponent"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("yes", "yes"),
-        "stribeck": Expectation("yes", "yes"),
-        "presliding": Expectation("yes", "yes"),
-        "lag": Expectation("yes", "yes"),
-        "varying_breakaway": Expectation("yes", "yes"),
-        "no_drift": Expectation("no", "no (6.64 µm/cycle in drift test D1)"),
-    }
+    parameter_info, parameter_rules = parameters(
+        F_c="> 0", F_s=">= F_c", v_s="> 0", sigma0="> 0", sigma1=">= 0", sigma2=">= 0",
+        delta="> 0")
+    phenomena = expect(stiction="yes", stribeck="yes", presliding="yes", lag="yes",
+                       varying_breakaway="yes", no_drift="no (6.64 µm/cycle in drift test D1)")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -1.008),
@@ -96,15 +84,6 @@ class LuGre(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.F_c, self.v_s, (self.F_c / self.sigma0,))
-
-    def _check(self) -> None:
-        self._require(self.F_c > 0.0, "F_c", "> 0")
-        self._require(self.F_s >= self.F_c, "F_s", f">= F_c = {self.F_c:g} N")
-        self._require(self.v_s > 0.0, "v_s", "> 0")
-        self._require(self.sigma0 > 0.0, "sigma0", "> 0")
-        self._require(self.sigma1 >= 0.0, "sigma1", ">= 0")
-        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
-        self._require(self.delta > 0.0, "delta", "> 0")
 
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s, self.v_s, self.sigma0, self.sigma1, self.sigma2, self.delta]

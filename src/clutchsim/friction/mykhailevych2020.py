@@ -14,11 +14,12 @@ from ._common import sgn
 from .base import (
     RESET_CHANGED,
     RESET_NONE,
-    Expectation,
     FrictionKernels,
     FrictionModel,
     Scales,
     SelfExcitedWarning,
+    expect,
+    parameters,
 )
 
 __all__ = [
@@ -162,27 +163,22 @@ class Mykhailevych2020(FrictionModel):
         "Electronics. Modern Technologies), no. 18, 2020, system (6); Kharkiv National "
         "Automobile and Highway University."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "T_stat": ("force", "static capacity at scale 1 (F_n·mu·R_f·i for a clutch)"),
-        "k_din": ("1", "ratio of dynamic to static capacity T_din/T_stat"),
-        "phi0": ("displacement", "slip within which the contact deforms elastically"),
-        "omega0": ("velocity", "slip velocity separating static and dynamic regimes"),
-        "k_v": ("force/velocity", "internal (viscous) friction coefficient"),
-        "p": ("1", "exponent of the Stribeck term (1 or 2)"),
-        "reset": ("1", "reset policy of phi at v = 0: " + ", ".join(RESET_POLICIES)
-                  + " (stop: the clamp as the stop operator, continuous: no event)"),
-        "reset_c": ("1", "clamp factor c of the clamp and stop policies (|phi| <= c·phi0)"),
-        "c_ps": ("force/velocity",
-                 "pre-sliding damping c_ps·v·sech²(phi/phi0), 0 in sliding (0 = off)"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("yes", "yes (capacity T_stat)"),
-        "stribeck": Expectation("yes", "yes"),
-        "presliding": Expectation("yes", "yes (tanh spring)"),
-        "lag": Expectation("depends", "via k_v only"),
-        "varying_breakaway": Expectation("no", "no"),
-        "no_drift": Expectation("depends", "only with a clamp-type reset"),
-    }
+    parameter_info, parameter_rules = parameters(
+        T_stat=("force", "static capacity at scale 1 (F_n·mu·R_f·i for a clutch)", "> 0"),
+        k_din=("1", "ratio of dynamic to static capacity T_din/T_stat (T_din <= T_stat)",
+               "in [0, 1]"),
+        phi0=("displacement", "slip within which the contact deforms elastically", "> 0"),
+        omega0=("velocity", "slip velocity separating static and dynamic regimes", "> 0"),
+        k_v=("force/velocity", "internal (viscous) friction coefficient", ">= 0"),
+        p=("1", "exponent of the Stribeck term", "1 or 2"),
+        reset=("1", "reset policy of phi at v = 0: " + ", ".join(RESET_POLICIES)
+               + " (stop: the clamp as the stop operator, continuous: no event)", ""),
+        reset_c=("1", "clamp factor c of the clamp and stop policies (|phi| <= c·phi0)", "> 0"),
+        c_ps=("force/velocity",
+              "pre-sliding damping c_ps·v·sech²(phi/phi0), 0 in sliding (0 = off)", ">= 0"))
+    phenomena = expect(stiction="yes (capacity T_stat)", stribeck="yes",
+                       presliding="yes (tanh spring)", lag="depends: via k_v only",
+                       varying_breakaway="no", no_drift="depends: only with a clamp-type reset")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -7.329157819444367),
@@ -214,15 +210,7 @@ class Mykhailevych2020(FrictionModel):
         return Scales(self.T_stat, self.omega0, (self.phi0,))
 
     def _check(self) -> None:
-        self._require(self.T_stat > 0.0, "T_stat", "> 0")
-        self._require(0.0 <= self.k_din <= 1.0, "k_din", "in [0, 1] (T_din <= T_stat)")
-        self._require(self.phi0 > 0.0, "phi0", "> 0")
-        self._require(self.omega0 > 0.0, "omega0", "> 0")
-        self._require(self.k_v >= 0.0, "k_v", ">= 0")
-        self._require(self.p in (1.0, 2.0), "p", "1 or 2")
         self._require(self.reset in RESET_POLICIES, "reset", "one of " + ", ".join(RESET_POLICIES))
-        self._require(self.reset_c > 0.0, "reset_c", "> 0")
-        self._require(self.c_ps >= 0.0, "c_ps", ">= 0")
         if self.c_eff < 0.0:
             warnings.warn(
                 f"Mykhailevych2020: small-slip damping c_eff = {self.c_eff:g} N·s/m < 0 "

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import difflib
 from dataclasses import dataclass
+from dataclasses import fields as dataclass_fields
 from typing import Any
 
 from .atan import AtanFriction
@@ -47,6 +48,11 @@ def _check_declarations(cls: type[FrictionModel]) -> None:
                  "kernels", "steady_checks"):
         if attr not in vars(cls):
             raise TypeError(f"{who}: declares no {attr} (see docs/models/README.md)")
+    fields = [f.name for f in dataclass_fields(cls)]
+    if list(cls.parameter_info) != fields or set(cls.parameter_rules) - set(fields):
+        raise TypeError(f"{who}: parameter_info names {list(cls.parameter_info)} and "
+                        f"parameter_rules {list(cls.parameter_rules)}; the fields are {fields}, "
+                        "in that order (declare them with base.parameters)")
     if cls.__abstractmethods__:
         raise TypeError(f"{who}: implements no {', '.join(sorted(cls.__abstractmethods__))}")
     if not isinstance(cls.kernels, FrictionKernels):

@@ -9,7 +9,7 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import Expectation, FrictionKernels, FrictionModel, Scales
+from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["RotationalFriction", "rotational_friction_force", "rotational_friction_jacobian"]
 
@@ -62,20 +62,13 @@ class RotationalFriction(FrictionModel):
         "The MathWorks, Simscape Rotational Friction block (documentation); "
         "SciML ModelingToolkitStandardLibrary.jl, Mechanical.Rotational.RotationalFriction."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_brk": ("force", "break-away friction (tau_brk)"),
-        "F_c": ("force", "Coulomb friction (tau_c)"),
-        "v_brk": ("velocity", "break-away velocity (w_brk)"),
-        "f": ("force/velocity", "viscous friction coefficient"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("no", "no (creep)"),
-        "stribeck": Expectation("yes", "yes"),
-        "presliding": Expectation("no", "no"),
-        "lag": Expectation("no", "no"),
-        "varying_breakaway": Expectation("no", "no"),
-        "no_drift": Expectation("no", "no"),
-    }
+    parameter_info, parameter_rules = parameters(
+        F_brk=("force", "break-away friction (tau_brk)", ">= F_c"),
+        F_c=("force", "Coulomb friction (tau_c)", ">= 0"),
+        v_brk=("velocity", "break-away velocity (w_brk)", "> 0"),
+        f=("force/velocity", "viscous friction coefficient", ">= 0"))
+    phenomena = expect(stiction="no (creep)", stribeck="yes", presliding="no", lag="no",
+                       varying_breakaway="no", no_drift="no")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -22.533136258569197),
@@ -91,12 +84,6 @@ class RotationalFriction(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.F_brk, self.v_brk / 10.0, ())
-
-    def _check(self) -> None:
-        self._require(self.F_c >= 0.0, "F_c", ">= 0")
-        self._require(self.F_brk >= self.F_c, "F_brk", f">= F_c = {self.F_c:g} N")
-        self._require(self.v_brk > 0.0, "v_brk", "> 0")
-        self._require(self.f >= 0.0, "f", ">= 0")
 
     def _pack(self) -> list[float]:
         return [self.F_brk, self.F_c, self.v_brk * math.sqrt(2.0), self.v_brk / 10.0, self.f]

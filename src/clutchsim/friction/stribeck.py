@@ -10,7 +10,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import stribeck_level, stribeck_partials
-from .base import Expectation, FrictionKernels, FrictionModel, Scales
+from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["StribeckFriction", "stribeck_force", "stribeck_jacobian"]
 
@@ -61,22 +61,12 @@ class StribeckFriction(FrictionModel):
         "tools and compensation methods for the control of machines with friction, "
         "Automatica 30(7):1083-1138, 1994; Mykhailevych M.G., 2020, eq. (5)."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_c": ("force", "Coulomb friction level"),
-        "F_s": ("force", "static (Stribeck peak) friction level"),
-        "v_s": ("velocity", "Stribeck velocity"),
-        "delta": ("1", "Stribeck exponent (1 or 2)"),
-        "v_t": ("velocity", "tanh regularisation velocity"),
-        "sigma2": ("force/velocity", "viscous friction coefficient"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("no", "no (creep; needs a switch)"),
-        "stribeck": Expectation("yes", "yes"),
-        "presliding": Expectation("no", "no"),
-        "lag": Expectation("no", "no"),
-        "varying_breakaway": Expectation("no", "no"),
-        "no_drift": Expectation("no", "no"),
-    }
+    parameter_info, parameter_rules = parameters(
+        F_c=">= 0", F_s=("force", "static (Stribeck peak) friction level", ">= F_c"), v_s="> 0",
+        delta="1 or 2",
+        v_t=("velocity", "tanh regularisation velocity", "> 0"), sigma2=">= 0")
+    phenomena = expect(stiction="no (creep; needs a switch)", stribeck="yes", presliding="no",
+                       lag="no", varying_breakaway="no", no_drift="no")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -1.008),
@@ -92,14 +82,6 @@ class StribeckFriction(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.F_c, min(self.v_t, self.v_s), ())
-
-    def _check(self) -> None:
-        self._require(self.F_c >= 0.0, "F_c", ">= 0")
-        self._require(self.F_s >= self.F_c, "F_s", f">= F_c = {self.F_c:g} N")
-        self._require(self.v_s > 0.0, "v_s", "> 0")
-        self._require(self.delta in (1.0, 2.0), "delta", "1 or 2")
-        self._require(self.v_t > 0.0, "v_t", "> 0")
-        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
 
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s, self.v_s, self.delta, self.v_t, self.sigma2]

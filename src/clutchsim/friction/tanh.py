@@ -9,7 +9,7 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import Expectation, FrictionKernels, FrictionModel, Scales
+from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["TanhFriction", "tanh_force", "tanh_jacobian"]
 
@@ -46,19 +46,10 @@ class TanhFriction(FrictionModel):
         "Mykhailevych M.G., Model of friction for dry friction clutch working process "
         "simulation, Avtomobil i elektronika. Suchasni tekhnolohii, no. 18, 2020, eq. (4)."
     )
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_c": ("force", "Coulomb friction level"),
-        "v_t": ("velocity", "tanh regularisation velocity"),
-        "sigma2": ("force/velocity", "viscous friction coefficient"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {
-        "stiction": Expectation("no", "no (creep)"),
-        "stribeck": Expectation("no", "no"),
-        "presliding": Expectation("no", "no"),
-        "lag": Expectation("no", "no"),
-        "varying_breakaway": Expectation("no", "no"),
-        "no_drift": Expectation("no", "no"),
-    }
+    parameter_info, parameter_rules = parameters(
+        F_c=">= 0", v_t=("velocity", "tanh regularisation velocity", "> 0"), sigma2=">= 0")
+    phenomena = expect(stiction="no (creep)", stribeck="no", presliding="no", lag="no",
+                       varying_breakaway="no", no_drift="no")
     #: F_ss(v) written out from the formula with the default parameter set
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
         (-0.02, -1.008),
@@ -74,11 +65,6 @@ class TanhFriction(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.F_c, self.v_t, ())
-
-    def _check(self) -> None:
-        self._require(self.F_c >= 0.0, "F_c", ">= 0")
-        self._require(self.v_t > 0.0, "v_t", "> 0")
-        self._require(self.sigma2 >= 0.0, "sigma2", ">= 0")
 
     def _pack(self) -> list[float]:
         return [self.F_c, self.v_t, self.sigma2]

@@ -54,10 +54,10 @@ from ...friction.base import (
     RESET_NONE,
     RESET_RELEASED,
     RESET_STUCK,
-    Expectation,
+    ElementLaw,
     FrictionKernels,
-    FrictionModel,
     Scales,
+    parameters,
 )
 from ..component import Component
 from ..spec import Param
@@ -66,7 +66,7 @@ from .friction import Clutch
 
 
 @dataclass(frozen=True)
-class DogLaw(FrictionModel):
+class DogLaw(ElementLaw):
     """The switching law of :class:`DogClutch` (states: mode 1 open / 0 engaged, the clash
     count, the relative angle).  Not a registry model: the element's own law."""
 
@@ -77,20 +77,16 @@ class DogLaw(FrictionModel):
 
     name: ClassVar[str] = "dog-clutch"
     code: ClassVar[int] = -4
-    uses_stick_force: ClassVar[bool] = True
     citation: ClassVar[str] = ("Naunheimer et al., Automotive Transmissions, 2nd ed., "
                                "Springer 2011, §8.3.")
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "w_max": ("velocity", "largest slip at which the teeth engage"),
-        "teeth": ("1", "number of dogs on each ring"),
-        "window": ("displacement", "angular window in which the teeth enter the gaps"),
-        "elastic": ("1", "1: engaged teeth with backlash and contact stiffness, 0 rigid"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {}
-    default_parameter_set: ClassVar[str] = ""
+    parameter_info, parameter_rules = parameters(
+        w_max=("velocity", "largest slip at which the teeth engage", "> 0"),
+        teeth=("1", "number of dogs on each ring", ">= 1"),
+        window=("displacement", "angular window in which the teeth enter the gaps (<= 2π/teeth)",
+                ""),
+        elastic=("1", "1: engaged teeth with backlash and contact stiffness, 0 rigid", ""))
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (
         ("engage", -1), ("release", -1), ("clash", -1))
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = ()
 
     def static_capacity(self) -> float:
         """Engaged teeth hold any torque; 0 is what an open dog transmits."""
@@ -100,8 +96,6 @@ class DogLaw(FrictionModel):
         return Scales(1.0, self.w_max, (1.0, 1.0, 2.0 * math.pi / self.teeth))
 
     def _check(self) -> None:
-        self._require(self.w_max > 0.0, "w_max", "> 0")
-        self._require(self.teeth >= 1.0, "teeth", ">= 1")
         self._require(0.0 < self.window <= 2.0 * math.pi / self.teeth, "window",
                       f"in (0, 2π/teeth = {2.0 * math.pi / self.teeth:g} rad]")
 

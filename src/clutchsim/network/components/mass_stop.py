@@ -39,10 +39,10 @@ from ...friction.base import (
     RESET_NONE,
     RESET_RELEASED,
     RESET_STUCK,
-    Expectation,
+    ElementLaw,
     FrictionKernels,
-    FrictionModel,
     Scales,
+    parameters,
 )
 from ..component import Component
 from ..spec import Param
@@ -50,7 +50,7 @@ from .friction import Brake
 
 
 @dataclass(frozen=True)
-class StopLaw(FrictionModel):
+class StopLaw(ElementLaw):
     """The switching law of :class:`MassWithStopAndFriction` (translational units).
 
     ``s_low``/``s_high`` are the centre positions at the stops (``smin + L/2``,
@@ -66,23 +66,18 @@ class StopLaw(FrictionModel):
 
     name: ClassVar[str] = "mass-with-stop"
     code: ClassVar[int] = -3
-    uses_stick_force: ClassVar[bool] = True
     citation: ClassVar[str] = ("Modelica Standard Library 4.x, Modelica.Mechanics."
                                "Translational.Components.MassWithStopAndFriction.")
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "F_prop": ("force/velocity", "velocity-proportional friction"),
-        "F_Coulomb": ("force", "Coulomb friction"),
-        "F_Stribeck": ("force", "Stribeck friction at v = 0"),
-        "fexp": ("1", "exponential decay of the Stribeck term [s/m]"),
-        "s_low": ("displacement", "centre position at the lower stop"),
-        "s_high": ("displacement", "centre position at the upper stop"),
-        "peak": ("1", "break-away over sliding force at v = 0"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {}
-    default_parameter_set: ClassVar[str] = ""
+    parameter_info, parameter_rules = parameters(
+        F_prop=("force/velocity", "velocity-proportional friction", ">= 0"),
+        F_Coulomb=("force", "Coulomb friction", ">= 0"),
+        F_Stribeck=("force", "Stribeck friction at v = 0", ">= 0"),
+        fexp=("1", "exponential decay of the Stribeck term [s/m]", ">= 0"),
+        s_low=("displacement", "centre position at the lower stop", ""),
+        s_high=("displacement", "centre position at the upper stop", "> s_low"),
+        peak=("1", "break-away over sliding force at v = 0", ">= 1"))
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (
         ("stop", -1), ("breakaway", -1), ("upper stop", -1), ("lower stop", -1))
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = ()
 
     def static_capacity(self) -> float:
         """The largest force the stuck mass holds away from its stops (``peak·(F_Coulomb
@@ -91,12 +86,6 @@ class StopLaw(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.F_Coulomb + self.F_Stribeck, 1e-3, (1.0, 1.0, self.s_high - self.s_low))
-
-    def _check(self) -> None:
-        for k in ("F_prop", "F_Coulomb", "F_Stribeck", "fexp"):
-            self._require(getattr(self, k) >= 0.0, k, ">= 0")
-        self._require(self.s_high > self.s_low, "s_high", f"> s_low = {self.s_low:g} m")
-        self._require(self.peak >= 1.0, "peak", ">= 1")
 
     def _pack(self) -> list[float]:
         return [self.F_prop, self.F_Coulomb, self.F_Stribeck, self.fexp, self.s_low,

@@ -29,10 +29,10 @@ from ...friction.base import (
     RESET_NONE,
     RESET_RELEASED,
     RESET_STUCK,
-    Expectation,
+    ElementLaw,
     FrictionKernels,
-    FrictionModel,
     Scales,
+    parameters,
 )
 from ..spec import Param, check_value
 from .friction import Clutch
@@ -42,7 +42,7 @@ ONE_WAY_EPS0 = 1.0e-4
 
 
 @dataclass(frozen=True)
-class OneWayLaw(FrictionModel):
+class OneWayLaw(ElementLaw):
     """The switching law of :class:`OneWayClutch` (one state ``mode``: 1 sliding, 0 locked).
 
     Not a friction model of the registry: it is the element's own law and cannot be put on
@@ -54,18 +54,13 @@ class OneWayLaw(FrictionModel):
 
     name: ClassVar[str] = "one-way-clutch"
     code: ClassVar[int] = -2
-    uses_stick_force: ClassVar[bool] = True
     forward_only: ClassVar[bool] = True
     citation: ClassVar[str] = ("Modelica Standard Library 4.x, "
                                "Modelica.Mechanics.Rotational.Components.OneWayClutch.")
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "T_slide": ("force", "sliding torque of the clutch at full command"),
-        "peak": ("1", "static over sliding torque"),
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {}
-    default_parameter_set: ClassVar[str] = ""
+    parameter_info, parameter_rules = parameters(
+        T_slide=("force", "sliding torque of the clutch at full command", ">= 0"),
+        peak=("1", "static over sliding torque", ">= 1"))
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (("stop", -1), ("breakaway", -1))
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = ()
 
     def static_capacity(self) -> float:
         """The largest forward torque the locked freewheel's clutch holds at full command
@@ -74,10 +69,6 @@ class OneWayLaw(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.T_slide, 1e-3, (1.0,))
-
-    def _check(self) -> None:
-        self._require(self.T_slide >= 0.0, "T_slide", ">= 0")
-        self._require(self.peak >= 1.0, "peak", ">= 1")
 
     def _pack(self) -> list[float]:
         t = self.T_slide

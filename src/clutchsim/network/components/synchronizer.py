@@ -68,10 +68,10 @@ from ...friction.base import (
     RESET_NONE,
     RESET_RELEASED,
     RESET_STUCK,
-    Expectation,
+    ElementLaw,
     FrictionKernels,
-    FrictionModel,
     Scales,
+    parameters,
 )
 from ...friction.coulomb_robust import (
     coulomb_robust_events,
@@ -92,7 +92,7 @@ ALIGNED = -1.0
 
 
 @dataclass(frozen=True)
-class SyncLaw(FrictionModel):
+class SyncLaw(ElementLaw):
     """The switching law of :class:`Synchronizer` (states: the cone's mode -1/0/+1 and
     ``engaged`` 0/1).  Packs the cone's coulomb-robust levels (read as ``μ``), then the
     blocker window and the scales at which the sleeve passes the blocker and is withdrawn
@@ -108,20 +108,17 @@ class SyncLaw(FrictionModel):
 
     name: ClassVar[str] = "synchronizer"
     code: ClassVar[int] = -6
-    uses_stick_force: ClassVar[bool] = True
     passive: ClassVar[bool] = True
     citation: ClassVar[str] = ("Naunheimer et al., Automotive Transmissions, 2nd ed., "
                                "Springer 2011, §8.3.2.")
-    parameter_info: ClassVar[dict[str, tuple[str, str]]] = {
-        "w_sync": ("velocity", "blocker window: largest slip at which the sleeve passes"),
-        "block_scale": ("force", "scale at which the sleeve passes the blocker"),
-        **CoulombRobust.parameter_info,
-    }
-    phenomena: ClassVar[dict[str, Expectation]] = {}
-    default_parameter_set: ClassVar[str] = ""
+    # the cone's parameters as coulomb-robust declares them
+    parameter_info, parameter_rules = parameters(
+        w_sync=("velocity", "blocker window: largest slip at which the sleeve passes", "> 0"),
+        block_scale=("force", "scale at which the sleeve passes the blocker", "> 0"),
+        **{p: (*CoulombRobust.parameter_info[p], rule)
+           for p, rule in CoulombRobust.parameter_rules.items()})
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (
         ("stop", -1), ("release", -1), ("engage", -1))
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = ()
 
     @property
     def cone(self) -> CoulombRobust:
@@ -135,10 +132,6 @@ class SyncLaw(FrictionModel):
 
     def typical_scales(self) -> Scales:
         return Scales(self.F_c, self.w_sync, (1.0, 1.0))
-
-    def _check(self) -> None:
-        self._require(self.w_sync > 0.0, "w_sync", "> 0")
-        self._require(self.block_scale > 0.0, "block_scale", "> 0")
 
     def _pack(self) -> list[float]:
         return [*self.cone.pack(), self.w_sync, self.block_scale,
