@@ -29,7 +29,7 @@ $(STAMP_ALL): $(BIN)/python pyproject.toml
 # the bytecode the demo's install skipped is compiled beside the demo, on the core that
 # waits while the other compiles the integrator (numba, ~34 s from an empty cache)
 demo: $(STAMP_RUN)
-	$(BIN)/python -m compileall -q $(VENV)/lib > /dev/null 2>&1 & \
+	nice -n 19 $(BIN)/python -m compileall -q $(VENV)/lib > /dev/null 2>&1 & \
 	$(BIN)/clutchsim demo --out clutchsim-out/demo; rc=$$?; wait; exit $$rc
 
 test: $(STAMP_ALL)
