@@ -270,7 +270,8 @@ def _odd_extension(sos, x):
     for i in range(edge):
         ext[i] = 2 * x[0] - x[edge - i]
         ext[edge + n + i] = 2 * x[n - 1] - x[n - 2 - i]
-    ext[edge:edge + n] = x
+    for i in range(n):     # (a slice assignment compiles numba's shape-mismatch message)
+        ext[edge + i] = x[i]
     return ext, edge
 
 
