@@ -3,8 +3,8 @@ for a hang.
 
 The first simulation of a plant type in a process either loads the compiled integrator
 from numba's on-disk cache (under a second) or, after installing or changing clutchsim,
-compiles it (on a 2-core machine: ~30 s for the integrators shared by most plants, plus
-seconds for a small plant's own functions or ~40 s for the driveline's).
+compiles it (on a 2-core machine ~25 s for the default method; the integrator is shared by
+all plants, whose own functions are C compiled in under a second).
 Nothing can be printed from inside numba's compiler, so a timer thread logs one line if the
 guarded block is still running after :data:`NOTICE_AFTER_S` seconds.  numba gives no
 progress hook for this, hence the timer.  The caller guards only the loading or compiling
@@ -55,8 +55,8 @@ def compile_notice(key: Hashable, what: str, after: float | None = None) -> Iter
         yield False
         return
     where = f" in {cache_dir}" if cache_dir else ""
-    message = (f"{what}: compiling the integrator for this plant (the first run after "
-               f"installing or changing clutchsim; up to about 2 min, then cached on "
+    message = (f"{what}: compiling the integrator (the first run after installing or "
+               f"changing clutchsim; about half a minute on two cores, then cached on "
                f"disk{where})...")
     timer = threading.Timer(NOTICE_AFTER_S if after is None else after, log.info,
                             args=(message,))
