@@ -8,11 +8,8 @@ an HTML report.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import logging
-import multiprocessing
-import os
 import time
 from pathlib import Path
 
@@ -46,8 +43,9 @@ def _run_demo(out: Path, claimed, plots: bool) -> dict:
     from .benchmarks import run_benchmark, write_outputs
     from .scenario import load_scenario
     from .scenario.outputs import write_runs
+    from .scenario.warmup import metrics_compiled_beside
     t0 = time.perf_counter()
-    with claimed.build() as part, _metrics_compiled_beside(DEMO_MODELS[0]):
+    with claimed.build() as part, metrics_compiled_beside():
         scenario = load_scenario(None)
         launch = write_runs(scenario, DEMO_MODELS, part / "launch", plots=plots)
         log.info("drift test on all applicable models ...")
@@ -72,44 +70,6 @@ def _run_demo(out: Path, claimed, plots: bool) -> dict:
     summary["out"] = str(out)
     summary["report"] = str(out / "report.html")
     return summary
-
-
-def _compile_metrics(model: str) -> None:
-    """(In a child process.) Run the default launch once on scipy's LSODA, which needs no
-    compiled integrator, so that its launch metrics are compiled into the cache; nothing is
-    kept.  A failure or an interrupt changes nothing but the time the parent takes."""
-    logging.getLogger("clutchsim").setLevel(logging.CRITICAL)
-    with contextlib.suppress(BaseException):    # the parent then compiles them itself
-        from .scenario import load_scenario
-        from .scenario.run import run_scenario
-        run_scenario(load_scenario(None), model, solver="scipy-lsoda")
-
-
-@contextlib.contextmanager
-def _metrics_compiled_beside(model: str):
-    """Compile the launch metrics in a second process while this one compiles the
-    integrator.
-
-    From an empty cache (a fresh install) the first launch compiles the integrator
-    (~34 s on the 2-core machine) and then the launch-metrics kernel (~14 s), one after
-    the other: numba compiles in one thread, under one lock.  The metrics need no
-    integrator: a launch on scipy's reference backend compiles them too, into the same
-    on-disk cache, from which this process then loads them (the same signature, measured:
-    no second compilation).  With a warm cache the child only repeats a 2-s launch on the
-    other core.  It is stopped when the demo ends; a cache file is written atomically by
-    numba, so stopping it mid-way loses nothing."""
-    if (os.cpu_count() or 1) < 2:
-        yield
-        return
-    child = multiprocessing.get_context("spawn").Process(
-        target=_compile_metrics, args=(model,), name="clutchsim-demo-metrics", daemon=True)
-    child.start()
-    try:
-        yield
-    finally:
-        if child.is_alive():
-            child.terminate()
-        child.join()
 
 
 def _fmt(value, spec: str, none: str = "–") -> str:

@@ -1,0 +1,62 @@
+"""Compile the launch metrics in a second process while this one compiles the integrator.
+
+From an empty numba cache (a fresh install, or clutchsim changed) the first launch
+compiles the integrator (~25 s on the 2-core machine) and then the launch-metrics kernel
+(~12 s), one after the other: numba compiles in one thread, under one lock.  The metrics
+need no integrator: the default launch on scipy's reference backend (LSODA) compiles them
+too, into the same on-disk cache, from which this process then loads them (the metrics
+kernel has one signature for every launch: measured, no second compilation).  With the
+metrics already in the cache no second process is started.  The child is stopped when the
+guarded block ends; numba writes a cache file atomically, so stopping it loses nothing.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import multiprocessing
+import os
+from collections.abc import Iterator
+from pathlib import Path
+
+from .._jit import cache_dir
+
+__all__ = ["metrics_compiled_beside"]
+
+#: the model of the child's launch (any model compiles the same metrics kernel)
+_MODEL = "mykhailevych2020"
+
+
+def _metrics_cached() -> bool:
+    """Does numba's cache of this clutchsim version hold the launch-metrics kernel?  (Its
+    index file, ``<module>.launch_kernel-<line>.py<ver>.nbi``: numba has no public query.
+    A wrong answer costs time only: a needless child, or a compilation in series.)"""
+    return bool(cache_dir) and any(Path(cache_dir).glob("*/*.launch_kernel-*.nbi"))
+
+
+def _compile_metrics() -> None:
+    """(In the child.) Run the default launch once on LSODA; nothing is kept.  A failure or
+    an interrupt changes nothing but the time the parent takes."""
+    logging.getLogger("clutchsim").setLevel(logging.CRITICAL)
+    with contextlib.suppress(BaseException):    # the parent then compiles them itself
+        from .loader import load_scenario
+        from .run import run_scenario
+        run_scenario(load_scenario(None), _MODEL, solver="scipy-lsoda")
+
+
+@contextlib.contextmanager
+def metrics_compiled_beside() -> Iterator[None]:
+    """Guard a block that runs launches: if the metrics are not compiled yet and a second
+    core exists, a child process compiles them meanwhile (see the module docstring)."""
+    if (os.cpu_count() or 1) < 2 or _metrics_cached():
+        yield
+        return
+    child = multiprocessing.get_context("spawn").Process(
+        target=_compile_metrics, name="clutchsim-metrics-compile", daemon=True)
+    child.start()
+    try:
+        yield
+    finally:
+        if child.is_alive():
+            child.terminate()
+        child.join()

@@ -1,0 +1,93 @@
+"""The launch metrics compile in a second process only when numba's cache lacks them."""
+
+from __future__ import annotations
+
+import pytest
+
+from clutchsim.scenario import warmup
+
+
+class _FakeProcess:
+    made: list[_FakeProcess] = []  # noqa: RUF012 (the record of one test)
+
+    def __init__(self, target, name, daemon):
+        self.target, self.name, self.daemon = target, name, daemon
+        self.events: list[str] = []
+        _FakeProcess.made.append(self)
+
+    def start(self):
+        self.events.append("start")
+
+    def is_alive(self):
+        return "start" in self.events
+
+    def terminate(self):
+        self.events.append("terminate")
+
+    def join(self):
+        self.events.append("join")
+
+
+class _FakeContext:
+    Process = _FakeProcess
+
+
+@pytest.fixture
+def fake_spawn(monkeypatch):
+    _FakeProcess.made = []
+    monkeypatch.setattr(warmup.multiprocessing, "get_context", lambda kind: _FakeContext)
+    monkeypatch.setattr(warmup.os, "cpu_count", lambda: 2)
+    return _FakeProcess.made
+
+
+def test_the_cache_holds_the_metrics_when_their_index_file_is_there(tmp_path, monkeypatch):
+    monkeypatch.setattr(warmup, "cache_dir", str(tmp_path))
+    assert not warmup._metrics_cached()
+    (tmp_path / "analysis_0a1b").mkdir()
+    (tmp_path / "analysis_0a1b" / "_kernels.other-12.py311.nbi").touch()
+    assert not warmup._metrics_cached()
+    (tmp_path / "analysis_0a1b" / "_kernels.launch_kernel-640.py311.nbi").touch()
+    assert warmup._metrics_cached()
+    monkeypatch.setattr(warmup, "cache_dir", "")      # no cache directory: never cached
+    assert not warmup._metrics_cached()
+
+
+def test_a_cold_cache_starts_the_child_and_stops_it_with_the_block(fake_spawn, monkeypatch):
+    monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
+    with warmup.metrics_compiled_beside():
+        assert [p.events for p in fake_spawn] == [["start"]]
+    assert fake_spawn[0].events == ["start", "terminate", "join"]
+    assert fake_spawn[0].daemon and fake_spawn[0].target is warmup._compile_metrics
+
+
+def test_the_child_is_stopped_when_the_block_raises(fake_spawn, monkeypatch):
+    monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
+    with pytest.raises(KeyboardInterrupt), warmup.metrics_compiled_beside():
+        raise KeyboardInterrupt
+    assert fake_spawn[0].events == ["start", "terminate", "join"]
+
+
+@pytest.mark.parametrize(("cached", "cpus"), [(True, 2), (False, 1)])
+def test_no_child_with_the_metrics_cached_or_one_core(fake_spawn, monkeypatch, cached, cpus):
+    monkeypatch.setattr(warmup, "_metrics_cached", lambda: cached)
+    monkeypatch.setattr(warmup.os, "cpu_count", lambda: cpus)
+    with warmup.metrics_compiled_beside():
+        pass
+    assert fake_spawn == []
+
+
+def test_the_child_swallows_a_failure(monkeypatch):
+    """What the child runs never raises: a failure only costs the parent the compile."""
+    import importlib
+    import logging
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("boom")
+    monkeypatch.setattr(importlib.import_module("clutchsim.scenario.run"), "run_scenario",
+                        broken)
+    logger = logging.getLogger("clutchsim")
+    level = logger.level
+    try:
+        warmup._compile_metrics()
+    finally:
+        logger.setLevel(level)      # the child silences the logger: not this process's
