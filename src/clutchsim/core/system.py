@@ -35,7 +35,7 @@ The plant's functions reach the integrators as first-class numba function values
 signatures (:data:`KERNEL_SIG`, :data:`RESET_SIG`, :data:`JAC_SIG`, :data:`FACTOR_SIG`,
 :data:`SOLVE_SIG`; :func:`kernels`), so the
 integrators are compiled, and cached on disk, once for all plants: a new plant only
-compiles its own functions (seconds) instead of the integrators (~30 s on the 2-core
+compiles its own functions (seconds) instead of the integrators (~25 s on the 2-core
 machine).  Each call is indirect (not inlined): 1.3 % of the default launch.  A plant
 family with variants (the rig, one per friction model) registers one tag per variant with
 functions that fold the variant in (closures over a constant compiled under their own
@@ -125,7 +125,7 @@ class _Kernel(WrapperAddressProtocol):
 
     numba types an object of this class as a first-class ``FunctionType`` of its
     signature, not as the particular function: the integrator is then compiled (and cached
-    on disk) once for every plant, instead of once per plant type (~30 s each).  The
+    on disk) once for every plant, instead of once per plant type (~25 s each).  The
     price: each call goes through numba's C wrapper and cannot be inlined (1.3 % of the
     default launch), and unboxing the function values is part of the 40–56 µs an
     integrator call costs beyond its own loop (numba looks each address up through
