@@ -120,8 +120,12 @@ def _run_batch(fns, tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs
         ke = _column(ys, us, outs, n, c[b + 1 + n_losses, 0], c[b + 1 + n_losses, 1], empty)
         pe = _column(ys, us, outs, n, c[b + 2 + n_losses, 0], c[b + 2 + n_losses, 1], empty)
         _d_ke, _d_pe, resid, scale = _k.energy_balance(w_in, losses, ke, pe)
-        K[r, :] = k
-        I[r, :drv.N_STATS] = st
+        # element loops: a slice assignment compiles numba's message for mismatched
+        # shapes (~1.8 s of the batch's first compilation, measured)
+        for j in range(k.shape[0]):
+            K[r, j] = k[j]
+        for j in range(drv.N_STATS):
+            I[r, j] = st[j]
         I[r, I_CODE] = code
         I[r, I_K] = kk
         I[r, I_I] = ii
