@@ -60,6 +60,13 @@ def test_a_cold_cache_starts_the_child_and_stops_it_with_the_block(fake_spawn, m
     assert fake_spawn[0].daemon and fake_spawn[0].target is warmup._compile_metrics
 
 
+def test_a_sweep_s_child_compiles_the_batch_signature(fake_spawn, monkeypatch):
+    monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
+    with warmup.metrics_compiled_beside(batch=True):
+        pass
+    assert fake_spawn[0].target is warmup._compile_batch_metrics
+
+
 def test_the_child_is_stopped_when_the_block_raises(fake_spawn, monkeypatch):
     monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
     with pytest.raises(KeyboardInterrupt), warmup.metrics_compiled_beside():

@@ -42,7 +42,7 @@ from . import launch_quality as lq
 from .judder_band import JUDDER_BAND_HZ, JUDDER_SLIP_RAD_S
 from .launch_metrics import ENERGY_STATES, LOCK_HOLD, LOCK_SLIP, RunSummary, metrics_of, warnings_of
 
-__all__ = ["batch_supported", "launch_batch"]
+__all__ = ["batch_supported", "kernel_signature_example", "launch_batch"]
 
 #: the signals the batch reads, in the order of its column table: the launch kernel's
 #: (see :class:`clutchsim.analysis.launch_metrics._Run`), then the energy accounts
@@ -179,6 +179,27 @@ def _columns(system: System, clutch: str) -> np.ndarray | None:
     return np.array(rows, dtype=np.int64)
 
 
+def kernel_signature_example() -> tuple:
+    """Values of the types :func:`_run_batch` calls the launch kernel with (the
+    integrator's output rows and their columns, the filters, the constants): compiling
+    the kernel for them in a second process puts the batch's specialisation in numba's
+    cache (:mod:`clutchsim.scenario.warmup`).  ``tests/sweep`` checks that a batch uses
+    this very signature."""
+    column = np.zeros((2, 2))[:, 0]      # a column of the rows: a strided view
+    return (np.zeros(2), *([column] * 9), np.zeros(0), *_kernel_constants(math.nan))
+
+
+def _kernel_constants(area: float) -> tuple:
+    """The launch kernel's arguments after the run's own (filters, thresholds, the lining
+    area), as the batch passes them on."""
+    wd_sos, wd_zi = lq._wd_sos(lq.FILTER_DT_S)
+    lp_sos, lp_zi = lq._lowpass_sos(lq.JERK_CUTOFF_HZ, lq.FILTER_DT_S)
+    lo, hi = JUDDER_BAND_HZ
+    return (wd_sos, wd_zi, lp_sos, lp_zi, lq.FILTER_DT_S, lq.FILTER_MAX_SAMPLES, LOCK_SLIP,
+            LOCK_HOLD, lq.SHOCK_WINDOW_S, lq.ENGAGE_THRESHOLD_REL, area, lo, hi,
+            JUDDER_SLIP_RAD_S)
+
+
 def batch_supported(system: System, t_span, clutch: str) -> str:
     """Why runs of ``system`` over ``t_span`` cannot be batched ("" when they can): the
     energy accounts the batch reads, and one filter step for every span a run may end
@@ -239,10 +260,7 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
     a = prep.args
     mine = np.array([s == clutch for s in system.event_sources], dtype=np.bool_)
     t0, t1 = a[4], a[5]
-    wd_sos, wd_zi = lq._wd_sos(lq.FILTER_DT_S)
-    lp_sos, lp_zi = lq._lowpass_sos(lq.JERK_CUTOFF_HZ, lq.FILTER_DT_S)
     area = lq.lining_area_mm2(*lining) if lining is not None else math.nan
-    lo, hi = JUDDER_BAND_HZ
     K = np.empty((n, _k.N_K))
     iv = np.empty((n, N_I), dtype=np.int64)
     fv = np.empty((n, N_F))
@@ -254,10 +272,8 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
             np.zeros((0, 7), dtype=np.int64), np.zeros(0, dtype=np.int64), -1, False, N_CHECKS)
     V = np.empty((n, inv_rows, N_R))
     args = (a[0], a[1], a[2], a[3], t0, t1, Y0, P, a[8], a[9], a[10], a[11], a[12], a[13],
-            cols, mine, np.empty((0, 1)), wd_sos, wd_zi, lp_sos, lp_zi,
-            lq.FILTER_DT_S, lq.FILTER_MAX_SAMPLES, LOCK_SLIP, LOCK_HOLD, lq.SHOCK_WINDOW_S,
-            lq.ENGAGE_THRESHOLD_REL, area, lo, hi, JUDDER_SLIP_RAD_S, inv_el, inv_speeds, inv_wf,
-            inv_passive, float(opts.rtol), float(opts.atol), K, iv, fv, V)
+            cols, mine, np.empty((0, 1)), *_kernel_constants(float(area)), inv_el, inv_speeds,
+            inv_wf, inv_passive, float(opts.rtol), float(opts.atol), K, iv, fv, V)
     _entry(prep.fixed_key, args)(*args)
     kinds = system.metadata.get("kinds", {})
     has_slip = f"w_slip_{clutch}" in (*system.state_names, *system.input_names,

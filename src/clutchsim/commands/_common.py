@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from contextlib import nullcontext
 from dataclasses import replace
 from pathlib import Path
 
@@ -131,8 +132,12 @@ def run_study(args, kind: str, body) -> int:
     """Run the study command ``kind`` (sweep, uq) into ``--out``, which it may add to in
     place (an earlier study of the same kind resumes): ``body(args, directory)``."""
     from .._util import claim_output_dir
+    from ..scenario.warmup import metrics_compiled_beside
     check_sweep_flags(args)
-    with claim_output_dir(args.out, kind, in_place=True) as out:
+    # runs on this machine share its numba cache (a remote scheduler's workers do not)
+    local = args.address in (None, "", "local")
+    with claim_output_dir(args.out, kind, in_place=True) as out, \
+            metrics_compiled_beside(batch=True) if local else nullcontext():
         return body(args, out.path)
 
 

@@ -5,8 +5,10 @@ compiles the integrator (~25 s on the 2-core machine) and then the launch-metric
 (~12 s), one after the other: numba compiles in one thread, under one lock.  The metrics
 need no integrator: the default launch on scipy's reference backend (LSODA) compiles them
 too, into the same on-disk cache, from which this process then loads them (the metrics
-kernel has one signature for every launch: measured, no second compilation).  With the
-metrics already in the cache no second process is started.  The child is stopped when the
+kernel has one signature for every launch: measured, no second compilation).  A sweep's
+batch calls the kernel with the columns of its rows (strided views, another signature):
+for it the child compiles that signature directly.  With the metrics already in the
+cache no second process is started.  The child is stopped when the
 guarded block ends; numba writes a cache file atomically, so stopping it loses nothing.
 """
 
@@ -44,15 +46,30 @@ def _compile_metrics() -> None:
         run_scenario(load_scenario(None), _MODEL, solver="scipy-lsoda")
 
 
+def _compile_batch_metrics() -> None:
+    """(In the child.) Compile the launch kernel for the types a sweep's batch calls it
+    with (nothing runs); as :func:`_compile_metrics`, a failure costs only time."""
+    logging.getLogger("clutchsim").setLevel(logging.CRITICAL)
+    with contextlib.suppress(BaseException):
+        import numba
+
+        from ..analysis import _kernels
+        from ..analysis.launch_batch import kernel_signature_example
+        _kernels.launch_kernel.compile(
+            tuple(numba.typeof(x) for x in kernel_signature_example()))
+
+
 @contextlib.contextmanager
-def metrics_compiled_beside() -> Iterator[None]:
-    """Guard a block that runs launches: if the metrics are not compiled yet and a second
-    core exists, a child process compiles them meanwhile (see the module docstring)."""
+def metrics_compiled_beside(batch: bool = False) -> Iterator[None]:
+    """Guard a block that runs launches (``batch``: a sweep's batches of launches, whose
+    kernel takes the rows' columns): if the metrics are not compiled yet and a second core
+    exists, a child process compiles them meanwhile (see the module docstring)."""
     if (os.cpu_count() or 1) < 2 or _metrics_cached():
         yield
         return
     child = multiprocessing.get_context("spawn").Process(
-        target=_compile_metrics, name="clutchsim-metrics-compile", daemon=True)
+        target=_compile_batch_metrics if batch else _compile_metrics,
+        name="clutchsim-metrics-compile", daemon=True)
     child.start()
     try:
         yield
