@@ -48,7 +48,7 @@ def parameter_table(cls) -> list[str]:
     lines = ["| parameter | translational | rotational | rule | description |",
              "|---|---|---|---|---|"]
     for p, (_kind, text) in cls.parameter_info.items():
-        rule, text = (cls.parameter_rules.get(p, "") or "–",  # noqa: PLW2901
+        rule, text = (cls.parameter_rules.get(p, "") or "–",
                       text.replace("|", r"\|"))
         lines.append(f"| `{p}` | {cls.unit_of(p)} | {cls.unit_of(p, 'rotational')} | {rule} | "
                      f"{text} |")

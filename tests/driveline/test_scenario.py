@@ -251,11 +251,11 @@ def test_chain_errors_name_the_chain_key_and_its_line(tmp_path):
     text = (EXAMPLES / "launch.toml").read_text(encoding="utf-8")
     # a load (a torque component the reader adds) reading no input: the inertia's `load`
     disc = next(s for s in text.splitlines() if s.startswith('name = "disc"'))
-    err, p, text2 = _bad(tmp_path, disc + "\n", disc + '\nload = "nosuch"\n')
+    err, _p, text2 = _bad(tmp_path, disc + "\n", disc + '\nload = "nosuch"\n')
     assert "inertia[1].load" in str(err) and "'nosuch'" in str(err)
     assert err.line == next(i for i, s in enumerate(text2.splitlines(), 1)
                             if s == 'load = "nosuch"')
     # the engine's node names no inertia
     old = next(s for s in text.splitlines() if s.startswith("node = "))
-    err, p, _ = _bad(tmp_path, old + "\n", 'node = "engin"\n')
+    err, _p, _ = _bad(tmp_path, old + "\n", 'node = "engin"\n')
     assert "engine.node" in str(err) and "did you mean 'engine'" in str(err)

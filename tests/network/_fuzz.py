@@ -66,8 +66,8 @@ from clutchsim.network.components import (
 
 T_END = 0.6
 #: the loose run and the tight rerun
-LOOSE = dict(rtol=1e-7, atol=1e-9)
-TIGHT = dict(rtol=1e-9, atol=1e-11)
+LOOSE = {"rtol": 1e-7, "atol": 1e-9}
+TIGHT = {"rtol": 1e-9, "atol": 1e-11}
 #: the tighter rerun of a network whose loose and tight runs disagree (check_run)
 TIGHTER = {"rtol": 1e-11, "atol": 1e-13}
 #: the loose run again at a tolerance this many times its own, in a network that amplifies
@@ -78,7 +78,7 @@ AMPLIFIES = 100.0
 #: the network to count as sensitive (check_run)
 SENSITIVE = 0.1
 #: budgets that keep a fuzzed run bounded (a run that exhausts one is a legal outcome)
-BUDGET = dict(max_steps=200_000, wall_time=20.0, chatter_events=200)
+BUDGET = {"max_steps": 200_000, "wall_time": 20.0, "chatter_events": 200}
 #: outcomes a run may end with (a failed run is a result, not an error)
 LEGAL = {Outcome.COMPLETED, Outcome.STOPPED, Outcome.CHATTER, Outcome.BUDGET,
          Outcome.WALL_TIME, Outcome.STEP_COLLAPSE}
@@ -127,9 +127,9 @@ def _model(draw, T):
     peak = draw(st.sampled_from([1.0, 1.1, 1.3]))
     base = make_model(name)
     k = T / base.static_capacity()
-    over = {"coulomb-naive": dict(F_c=T, F_s=peak * T),
-            "coulomb-robust": dict(F_c=T, F_s=peak * T),
-            "karnopp": dict(F_c=T, F_s=peak * T)}.get(name)
+    over = {"coulomb-naive": {"F_c": T, "F_s": peak * T},
+            "coulomb-robust": {"F_c": T, "F_s": peak * T},
+            "karnopp": {"F_c": T, "F_s": peak * T}}.get(name)
     if over is None:
         # scale every force parameter of the model's own set by k
         forces = [p for p, (kind, _doc) in base.parameter_info.items()

@@ -14,6 +14,7 @@
   CLI.
 """
 
+import itertools
 import math
 from pathlib import Path
 
@@ -105,7 +106,7 @@ def test_a_load_on_the_flank_rings_at_the_damped_contact_frequency():
     # the extremes of the spring's torque c·(s + b/2) = T_teeth − d·w about the static one
     spring = res["T_teeth_dog"] - d * w
     dev = np.array([np.max(np.abs(spring[(t > a) & (t < b)] - tau_s))
-                    for a, b in zip(zs[:-1], zs[1:])])
+                    for a, b in itertools.pairwise(zs)])
     assert np.allclose(dev[1:] / dev[:-1], math.exp(-zeta * math.pi / math.sqrt(1 - zeta**2)),
                        rtol=1e-4)
     # inside the decaying envelope about the static torque
