@@ -21,13 +21,14 @@ $(STAMP_RUN): $(BIN)/python pyproject.toml
 	if [ ! -f $(STAMP_ALL) ]; then $(BIN)/python -m pip install --quiet --no-compile -e ".[plot]"; fi
 	rm -f $(VENV)/.installed-run-* && touch $(STAMP_RUN)
 
+# (as with pip, a file no Python reads, a package's template, is not an error)
 $(STAMP_ALL): $(BIN)/python pyproject.toml
 	$(BIN)/python -m pip install --quiet --no-compile -e ".[dev]"
-	$(BIN)/python -m compileall -q -j 0 $(VENV)/lib > /dev/null || true  # as pip: a file no Python reads (a template) is not an error
+	$(BIN)/python -m compileall -q -j 0 $(VENV)/lib > /dev/null || true
 	rm -f $(VENV)/.installed-* && touch $(STAMP_ALL) $(STAMP_RUN)
 
 # the bytecode the demo's install skipped is compiled beside the demo, on the core that
-# waits while the other compiles the integrator (numba, ~34 s from an empty cache)
+# waits while the other compiles the integrator (numba, ~25 s from an empty cache)
 demo: $(STAMP_RUN)
 	nice -n 19 $(BIN)/python -m compileall -q $(VENV)/lib > /dev/null 2>&1 & \
 	$(BIN)/clutchsim demo --out clutchsim-out/demo; rc=$$?; wait; exit $$rc

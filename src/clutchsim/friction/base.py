@@ -265,12 +265,13 @@ class FrictionModel(abc.ABC):
     Concrete models are final frozen dataclasses whose fields are the physical
     parameters (translational SI units). They declare, as class variables,
     ``name`` (registry name), ``citation``, ``parameter_info`` (``{parameter: (unit kind,
-    description)}``), ``phenomena`` (``{phenomenon: Expectation}`` over every key of
-    :data:`PHENOMENA`), ``default_parameter_set``, ``kernels``
+    description)}``) and ``parameter_rules`` (``{parameter: rule}``), both from one call of
+    :func:`parameters`, ``phenomena`` (``{phenomenon: Expectation}`` over every key of
+    :data:`PHENOMENA`, from :func:`expect`), ``default_parameter_set``, ``kernels``
     (:class:`FrictionKernels`), ``steady_checks`` and ``event_spec`` (``((name,
     direction), ...)``; a property where the events follow an option, as model (6)'s
     reset policy ``stop`` has none), plus the capability flags below. They implement
-    small hooks: ``_check`` (model specific validation), ``_pack`` (private parameter
+    small hooks: ``_check`` (optional: what the rules cannot say), ``_pack`` (private parameter
     layout read by the kernels), ``_state_spec`` (state names and unit kinds),
     ``_steady`` (steady sliding force at ``scale = 1``), ``_sliding_state`` (states in
     steady sliding), :meth:`static_capacity` and :meth:`typical_scales`.
