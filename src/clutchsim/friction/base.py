@@ -78,6 +78,7 @@ from __future__ import annotations
 import abc
 import dataclasses
 import enum
+import functools
 import math
 import re
 from typing import Any, ClassVar, NamedTuple
@@ -183,6 +184,18 @@ _INTERVAL = re.compile(r"^in ([\[(])(\S+), (\S+)([\])])$")
 _CHOICE = re.compile(r"^(\S+) or (\S+)$")
 
 
+@functools.cache
+def _parsed_rule(rule: str) -> tuple:
+    """A rule's form and parts, parsed once per rule text: ``("bound", op, rhs)`` (``rhs``
+    a number's text or another parameter's name), ``("choice", a, b)``, ``("interval",
+    opening, low, high, closing)``, or None for a text of no form."""
+    for kind, form in (("bound", _BOUND), ("choice", _CHOICE), ("interval", _INTERVAL)):
+        m = form.match(rule)
+        if m:
+            return (kind, *m.groups())
+    return None
+
+
 def parameters(**declared: str | tuple[str, str, str]
                ) -> tuple[dict[str, tuple[str, str]], dict[str, str]]:
     """A model's parameter declaration, in field order: ``name=rule`` for a name of
@@ -208,8 +221,7 @@ def parameters(**declared: str | tuple[str, str, str]
         if info[name][0] not in UNIT_KINDS:
             raise TypeError(f"parameters(): {name} has unit kind {info[name][0]!r}, not one "
                             f"of {', '.join(UNIT_KINDS)}")
-        if rules[name] and not any(form.match(rules[name])
-                                   for form in (_BOUND, _INTERVAL, _CHOICE)):
+        if rules[name] and _parsed_rule(rules[name]) is None:
             raise TypeError(f"parameters(): {name}'s rule {rules[name]!r} is not of the "
                             "forms '> 0', '>= F_c', 'in (0, 1]', '1 or 2'")
     return info, rules
@@ -375,17 +387,17 @@ class FrictionModel(abc.ABC):
             else:
                 object.__setattr__(self, f.name, self._as_float(f.name, value))
         # the bounds by numbers first: a relation (``F_s >= F_c``) then reads checked values
-        rules = sorted(((p, r) for p, r in self.parameter_rules.items() if r),
-                       key=lambda pr: pr[1].split(" ")[-1] in self.parameter_info)
+        rules = [(p, r) for p, r in self.parameter_rules.items() if r]
+        rules.sort(key=lambda pr: _parsed_rule(pr[1])[-1] in self.parameter_info)
         for param, rule in rules:
             self._check_rule(param, rule)
         self._check()
 
     def _check_rule(self, param: str, rule: str) -> None:
         value = getattr(self, param)
-        bound = _BOUND.match(rule)
-        if bound:
-            op, rhs = bound.groups()
+        kind, *parts = _parsed_rule(rule)
+        if kind == "bound":
+            op, rhs = parts
             if rhs in self.parameter_info:
                 limit = getattr(self, rhs)
                 unit = UNIT_KINDS[self.parameter_info[rhs][0]][0]
@@ -394,10 +406,10 @@ class FrictionModel(abc.ABC):
                 limit = float(rhs)
             ok = {">": value > limit, ">=": value >= limit, "<": value < limit,
                   "<=": value <= limit}[op]
-        elif choice := _CHOICE.match(rule):
-            ok = value in (float(choice[1]), float(choice[2]))
+        elif kind == "choice":
+            ok = value in (float(parts[0]), float(parts[1]))
         else:
-            opening, low, high, closing = _INTERVAL.match(rule).groups()  # type: ignore[union-attr]
+            opening, low, high, closing = parts
             ok = ((value > float(low) if opening == "(" else value >= float(low))
                   and (value < float(high) if closing == ")" else value <= float(high)))
         self._require(ok, param, rule)
