@@ -148,17 +148,24 @@ def test_the_fmu_keeps_its_discrete_states_between_events(tmp_path):
     fmu.freeInstance()
 
 
-def test_fmu_of_the_double_sided_synchroniser_shifts_as_clutchsim(tmp_path):
-    """examples/amt_upshift_sleeve.toml (one sleeve force, sides +1 and -1): the printed C
-    equals the compiled plant, FMPy validates the FMU, and its run releases first gear and
-    engages second where clutchsim does."""
-    sc = load_scenario(EXAMPLES / "amt_upshift_sleeve.toml")
-    path = tmp_path / "amt_upshift_sleeve.fmu"
+def _exported_as_its_plant(tmp_path, example: str):
+    """``(scenario, FMU path, system)`` of an example exported to an FMU that FMPy
+    validates and whose printed C equals the compiled plant (1e-12, a lock checked)."""
+    sc = load_scenario(EXAMPLES / f"{example}.toml")
+    path = tmp_path / f"{example}.fmu"
     export_fmu(sc, path, None)
     assert validate_fmu(str(path)) == []
     plan, _, system, _ = _plant_of(sc, None)
     worst, _, checked_lock = c_plant_difference(plan, system, k=30)
     assert worst <= 1e-12 and checked_lock
+    return sc, path, system
+
+
+def test_fmu_of_the_double_sided_synchroniser_shifts_as_clutchsim(tmp_path):
+    """examples/amt_upshift_sleeve.toml (one sleeve force, sides +1 and -1): the printed C
+    equals the compiled plant, FMPy validates the FMU, and its run releases first gear and
+    engages second where clutchsim does."""
+    sc, path, _ = _exported_as_its_plant(tmp_path, "amt_upshift_sleeve")
     res = run_scenario(sc, None).result
     f = simulate(path, sc, ["omega_output", "sync1.locked", "sync2.locked", "sync1.mode",
                             "sync2.mode", "sync2.engaged"], 1e-8, 1e-4, record_events=True)
@@ -170,3 +177,12 @@ def test_fmu_of_the_double_sided_synchroniser_shifts_as_clutchsim(tmp_path):
         assert np.min(np.abs(theirs - ours)) <= SWITCH_TOL, (side, theirs, ours)
     assert f["sync2.engaged"][-1] == 1.0
     assert tube_tv(f, res, "omega_output", 1e-3) <= TUBE
+
+
+def test_fmu_of_a_gearbox_with_synchronizers_is_its_expanded_plant(tmp_path):
+    """examples/amt_upshift_gearbox.toml (a `gearbox` with a `synchronizer` table, expanded
+    into pinions, idlers and synchronisers, its sleeve forces generated): FMPy validates the
+    FMU, the printed C equals the compiled plant, and the generated sleeve forces are the
+    FMU's inputs."""
+    _, _, system = _exported_as_its_plant(tmp_path, "amt_upshift_gearbox")
+    assert {"gearbox_sleeve1", "gearbox_sleeve2"} <= set(system.input_names)

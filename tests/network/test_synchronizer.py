@@ -89,6 +89,33 @@ def test_synchronizer_synchronises_then_engages_in_the_closed_form_time(w_sync):
         assert res["W_sync"][-1] == pytest.approx(0.5 * J_eq * w_sync**2, rel=1e-6)
 
 
+@pytest.mark.parametrize("tau", [-20.0, 20.0])
+def test_a_free_cone_at_zero_slip_grips_in_the_direction_of_its_slip_when_pushed(tau):
+    """An idle gear's synchroniser: at zero slip with no sleeve force it starts free (not
+    stuck: a free cone holds nothing), its slip leaves zero either way while it carries
+    nothing, and its mode follows nothing; when the sleeve pushes it (0.1 s), it grips in
+    the direction of its slip, whichever mode it had (the cone's torque opposes the slip,
+    no physics warning), and the dog engages once after J_eq·(|Δω| − w_sync)/T_cone."""
+    J1, J2, w0, F = 0.02, 0.05, 100.0, 600.0
+    T = MU * F * WEDGE
+    J_eq = J1 * J2 / (J1 + J2)
+    net = Network([Inertia("gear", J=J1, omega0=w0), _sync(0.5, 300.0),
+                   Inertia("shaft", J=J2, omega0=w0), TorqueSource("src", input="tau")],
+                  [["gear.b", "sync.a"], ["sync.b", "shaft.a"], ["src.flange", "gear.a"]])
+    inputs = {"f": Step(0.1, F), "tau": Step(0.05, -tau, tau)}
+    res = simulate(net.build({"f": 0.0, "tau": tau}), (0.0, 0.3), inputs, options=TIGHT)
+    _clean(res)
+    assert res["sync.locked"][0] == 0.0 and res["sync.engaged"][0] == 0.0
+    dw = tau * 0.05 / J1                       # ω_gear − ω_shaft at the push
+    assert res["w_slip_sync"][np.searchsorted(res.t, 0.1) - 1] == pytest.approx(-dw)
+    pressed = (res.t > 0.1) & (res["sync.engaged"] == 0.0)
+    assert np.all(res["T_sync"][pressed] * res["w_slip_sync"][pressed] > 0.0)
+    assert _events(res, "engage") == [pytest.approx(0.1 + J_eq * (abs(dw) - 0.5) / T,
+                                                    rel=1e-6)]
+    L = J1 * res["omega_gear"] + J2 * res["omega_shaft"]
+    assert L[-1] == pytest.approx((J1 + J2) * w0 + tau * 0.05, rel=1e-12)
+
+
 def test_the_blocker_holds_the_sleeve_below_its_force_then_the_dog_holds_any_torque():
     """600 N against a 800 N blocker: the cone synchronises and sticks (stop at
     J_eq·Δω/T) but the dog stays out; at 0.12 s the force steps to 900 N: the dog engages
@@ -134,7 +161,12 @@ def test_synchronizer_engagement_at_zero_slip_conserves_momentum():
     res = simulate(net.build({"f": 0.0, "tau": 0.0}), (0.0, 0.2),
                    {"f": Step(0.02, 400.0), "tau": Step(0.05, T)}, options=TIGHT)
     _clean(res)
-    assert _events(res, "engage") == [pytest.approx(0.02, abs=1e-12)]
+    # the dog goes in at the push: the blocker's event, or the free cone's stop there
+    # (its grip, at zero slip inside the window: it engages the dog)
+    [t_in] = [e.t for e in res.events if e.name in ("sync: engage", "sync: stop")]
+    assert t_in == pytest.approx(0.02, abs=1e-12)
+    assert res["sync.engaged"][np.searchsorted(res.t, t_in, "right") - 1] == 1.0
+    assert res["W_sync"][-1] == pytest.approx(0.0, abs=1e-12)
     assert_one_body(res, J_a, J_b, w0, T, 0.05)
 
 

@@ -8,7 +8,7 @@ import warnings
 
 from ..friction import domain_problem, get_model_class, make_model
 from ..friction.base import SelfExcitedWarning
-from . import chain_format
+from . import chain_format, composites
 from .schema import FRICTION_TYPES, LINING_KEYS, suggest
 
 __all__ = ["build_network", "effective_model", "friction_model"]
@@ -189,6 +189,28 @@ def _check_signals(scenario, fail, comps, needs, where) -> None:
                       f"{'; signals: ' + ', '.join(known) if known else ''}", key)
 
 
+def network_document(data: dict, fail):
+    """The network tables of a scenario document: a chain file read as a network
+    (:mod:`.chain_format`), composite tables expanded (:mod:`.composites`); with the
+    ``fail(problem, key)`` that names the key the user wrote for a key of those tables, and
+    the input signals the composites generate (name -> formula text)."""
+    if chain_format.is_chain(data):
+        chain = chain_format.rewrite(data)
+        data = chain.data
+        user_fail = fail
+
+        def fail(problem, key=""):
+            user_fail(problem, chain.chain_key(key))
+    expansion = composites.expand(data, fail)
+    if expansion.data is data:
+        return data, fail, {}
+    network_fail = fail
+
+    def expanded_fail(problem, key=""):
+        network_fail(problem, expansion.source_key(key))
+    return expansion.data, expanded_fail, expansion.inputs
+
+
 def build_network(scenario, model: str | None = None):
     """Build the :class:`~clutchsim.network.Network` of a scenario with ``model`` on its
     clutch element: its ``[[component]]`` tables and ``[network] connect``, or the tables
@@ -196,14 +218,7 @@ def build_network(scenario, model: str | None = None):
     the table the user wrote (the chain's, through the rewrite's key map), its key and
     line."""
     from ..network import COMPONENTS, Network, NetworkError
-    data = scenario.data
-    fail = scenario.fail
-    if chain_format.is_chain(data):
-        chain = chain_format.rewrite(data)
-        data = chain.data
-
-        def fail(problem, key=""):
-            scenario.fail(problem, chain.chain_key(key))
+    data, fail, _inputs = network_document(scenario.data, scenario.fail)
     if model is not None:
         for t in data.get("component", []):
             if t.get("name") == scenario.clutch and t.get("type") in ("one_way_clutch",

@@ -445,6 +445,9 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
         fail("must be a table of name = signal", "inputs")
     for key, spec in raw_inputs.items():
         inputs[key] = _signal(spec, f"inputs.{key}", base_dir, fail)
+    from .build import network_document
+    for key, formula in network_document(data, fail)[2].items():   # a composite's signals
+        inputs[key] = _signal(formula, f"inputs.{key}", base_dir, fail)
     solver_tab = dict(data.get("solver", {}))
     from ..core.options import DEFAULT_METHOD, SOLVERS
     method = solver_tab.pop("method", DEFAULT_METHOD)

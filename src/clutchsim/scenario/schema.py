@@ -210,7 +210,13 @@ def _component_keys(cls) -> tuple:
             Key("ratios", "numbers", "Gear ratios, gear 1 first.", required=True),
             Key("shifts", "tables", "`[{time = 3.0, gear = 2}]`: ratio changes (an ideal "
                 "synchroniser that conserves the angular momentum of what it joins; the "
-                "energy it removes is `W_sync`).")),
+                "energy it removes is `W_sync`).  With `synchronizer`, each shift goes "
+                "through the new gear's synchroniser instead."),
+            Key("synchronizer", "table", "A synchroniser per gear instead of the ideal one "
+                "(clutchsim.scenario.composites; docs/components.md, \"Gearbox with "
+                "synchronizers\"): `{force = N, neutral = s, J_idler = kg·m², R_m = m, "
+                "alpha = °, w_sync = rad/s, F_block = N, friction = {...}}` and the other "
+                "keys of a `synchronizer` component.")),
         "one_way_clutch": (
             Key("command", "str", "Normalised clamp force input (0 open .. 1 full).",
                 required=True), *FRICTION_ELEMENT[3:4], *FRICTION_ELEMENT[5:6]),

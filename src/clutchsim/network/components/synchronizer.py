@@ -65,6 +65,7 @@ from ...core._borrow import local_empty
 from ...friction import CoulombRobust
 from ...friction._common import NO_EVENT, sgn
 from ...friction.base import (
+    RESET_CHANGED,
     RESET_NONE,
     RESET_RELEASED,
     RESET_STUCK,
@@ -89,6 +90,8 @@ RELEASE_FRACTION = 1e-9
 LOCATE_TOL = 1e-6
 #: the dog's angular window term: always aligned (the blocker ring indexes the teeth)
 ALIGNED = -1.0
+#: the scale the plant hands an element's event functions when it has none (no force)
+FREE_SCALE = 1e-300
 
 
 @dataclass(frozen=True)
@@ -184,11 +187,18 @@ def synchronizer_events(p, z, v, F_e, scale, g):
         g[1] = scale - p[7]
         return
     coulomb_robust_events(p, z[0:1], v, F_e, scale, g[0:2])
+    if z[0] != 0.0 and scale <= FREE_SCALE:
+        # no sleeve force: the cone turns free and its mode follows nothing (its slip may
+        # pass zero any number of times: a stop each time would be chatter, a lock a
+        # wrong one); when the sleeve pushes it, a mode against the slip is a crossing
+        # here, and the reset turns the mode to the slip (the grip)
+        g[0] = NO_EVENT
     # the blocker: the dog's window with w_sync as its speed window, pushed from F_block;
     # while the cone slides in direction mode, mode·w falls through w_sync (|w| has a
     # kink at zero: a step that carries the slip through zero sees |w| − w_sync positive
-    # at both its ends and would pass the window over)
-    if z[0] != 0.0:
+    # at both its ends and would pass the window over); a mode against the slip (a free
+    # cone's, until the grip) reads the window through |w|
+    if z[0] != 0.0 and z[0] * v >= 0.0:
         g[2] = max(p[6] - scale, z[0] * v - p[5])
     else:
         g[2] = dog_window(p[6] - scale, v, p[5], ALIGNED)
@@ -210,6 +220,12 @@ def synchronizer_reset(p, z, v, F_e, scale, k):
             z[1] = 1.0
             return RESET_STUCK
         return RESET_NONE
+    if k == 0 and z[0] * v < 0.0 and abs(v) > p[5]:
+        # the grip: the sleeve pushed a free cone whose mode is not its slip's (a stop is
+        # located at zero slip, far inside the blocker's window): the cone takes the
+        # direction of its slip
+        z[0] = sgn(v)
+        return RESET_CHANGED
     if k == 0 and dog_may_engage(p[6] - scale, v, p[5], ALIGNED) > 0.5:
         z[0] = 0.0          # the cone stops inside the window, the force past the blocker
         z[1] = 1.0
@@ -284,11 +300,21 @@ class Synchronizer(ConeClutch):
         return [("z0", f"{self.name}.mode", "-"), ("z1", f"{self.name}.engaged", "-"),
                 ("locked", f"{self.name}.locked", "-")]
 
+    def _free0(self, ctx) -> bool:
+        """No sleeve force on this side at the start (an idle gear's synchroniser)."""
+        u = ctx.input0.get(self.command)
+        return u is not None and self.side * u <= 0.0
+
     def _locked0(self, ctx) -> bool:
-        return self.engaged0 == 1.0 or self._slip0(ctx) == 0.0
+        return self.engaged0 == 1.0 or (self._slip0(ctx) == 0.0 and not self._free0(ctx))
 
     def initial_state(self, ctx):
         if self.engaged0 == 1.0:
             return [0.0, 1.0, 1.0]
         w = self._slip0(ctx)
+        if w == 0.0 and self._free0(ctx):
+            # free at zero slip: not stuck (a free cone holds nothing; several stuck in
+            # parallel at rest would share a stick torque of round-off when the car moves)
+            # and its mode the grip sets when the sleeve pushes it
+            return [1.0, 0.0, 0.0]
         return [float(np.sign(w)), 0.0, 1.0 if w == 0.0 else 0.0]
