@@ -98,6 +98,35 @@ def test_a_shift_synchronises_in_the_closed_form_time_and_engages_inside_the_blo
     assert _balance(res) <= 1e-8
 
 
+def test_an_upshift_and_back_down_grips_each_cone_in_the_direction_of_its_slip(tmp_path):
+    """amt_upshift_gearbox.toml with a second shift back to first gear at 0.62 s (the
+    clutch still open): first gear's cone, free since 0.35 s (its slip passed zero with no
+    force), is pushed at 0.67 s against the other sign of slip than its mode had; it grips
+    in its slip's direction at once (its stop at the push), accelerates the input side and
+    engages once, inside the blocker; second gear releases at 0.62 s; every pressed cone
+    slides with its slip, no warning, the energy balance closes."""
+    text = (EXAMPLES / "amt_upshift_gearbox.toml").read_text(encoding="utf-8")
+    one = "shifts = [{ time = 0.35, gear = 2 }]"
+    assert one in text
+    path = tmp_path / "down.toml"
+    path.write_text(text.replace(one, one[:-1] + ", { time = 0.62, gear = 1 }]"),
+                    encoding="utf-8")
+    res = run_scenario(load_scenario(path), None).result
+    assert res.status == "completed", res.message
+    assert not res.warnings
+    ev = [(e.name, e.t) for e in res.events]
+    assert ("gearbox_sync2: release", pytest.approx(0.62, abs=1e-9)) in ev
+    assert ("gearbox_sync1: stop", pytest.approx(0.67, abs=1e-9)) in ev      # the grip
+    assert [n for n, _ in ev].count("gearbox_sync1: engage") == 1
+    assert [n for n, _ in ev].count("gearbox_sync2: engage") == 1
+    for name in ("gearbox_sync1", "gearbox_sync2"):
+        _blocker_held(res, name, 0.5)
+        pressed = (res[f"{name}.locked"] == 0.0) & (res[f"capacity_{name}"] > 0.0)
+        assert np.all(res[f"T_{name}"][pressed] * res[f"w_slip_{name}"][pressed] >= 0.0)
+    assert res["gearbox_sync1.engaged"][-1] == 1.0 and res["gearbox_sync2.engaged"][-1] == 0.0
+    assert _balance(res) <= 1e-8
+
+
 def test_an_upshift_of_a_chain_file_through_its_synchronizers():
     """examples/shift_1_2_synchronized.toml (a chain file, five gears, mesh efficiency
     0.95 in the final drive): both friction models of the file complete without a warning;
