@@ -64,14 +64,15 @@ def test_the_gearbox_builds_the_synchronizers_written_by_hand():
 
 
 @settings(max_examples=8, deadline=None)
-@given(force=st.floats(400.0, 2000.0), neutral=st.floats(0.005, 0.08),
+@given(force=st.floats(600.0, 2000.0), neutral=st.floats(0.005, 0.08),
        J_idler=st.floats(0.0, 0.02), shift=st.floats(0.31, 0.36))
 def test_a_shift_synchronises_in_the_closed_form_time_and_engages_inside_the_blocker(
         force, neutral, J_idler, shift):
     """Any sleeve force above the blocker's, time in neutral, idler inertia and shift time
     (the clutch open): first gear's sleeve comes out at the shift, second gear's engages
     once, inside the blocker's window, after J_eq·(|Δω| − w_sync)/T_cone from the push
-    (1 %: the road load is left out of the closed form), J_eq the input side (input
+    (1 %: the road load is left out of the closed form; it slows the car by 1 % of the
+    slip over a synchronisation of 0.3 s, 400 N: from 600 N), J_eq the input side (input
     shaft, both idlers) reflected to the idler in series with the car at the output shaft;
     the mode of every synchroniser agrees with its slip (the run's invariants) and the
     energy balance closes."""
@@ -212,7 +213,7 @@ BAD = [
     ("amt_upshift_gearbox", SYNC, SYNC.replace("force = 800.0", "force = 250.0"),
      ["component[4].synchronizer.force", "= 250 N must be > F_block = 300 N"]),
     ("amt_upshift_gearbox", SYNC, SYNC.replace("force = 800.0, ", ""),
-     ["component[4].synchronizer", "missing required key 'force' [N]"]),
+     ["component[4].synchronizer", "missing required key 'force'", "> F_block"]),
     ("amt_upshift_gearbox", SYNC, SYNC.replace("R_m = 0.04", "R_n = 0.04"),
      ["component[4].synchronizer.R_n", "unknown key"]),
     ("amt_upshift_gearbox", SYNC, SYNC.replace("alpha = 6.5", "alpha = 95.0"),
@@ -220,9 +221,9 @@ BAD = [
     ("amt_upshift_gearbox", SYNC, SYNC.replace("J_idler = 0.01", "J_idler = -0.01"),
      ["component[4].synchronizer.J_idler", "must be >= 0"]),
     ("amt_upshift_gearbox", SYNC, SYNC.replace("neutral = 0.05", "neutral = -1.0"),
-     ["component[4].synchronizer.neutral", "= -1 s must be > 0: the sleeve passes"]),
+     ["component[4].synchronizer.neutral", "= -1.0 s is out of range: must be > 0 s"]),
     ("amt_upshift_gearbox", SYNC, SYNC.replace("neutral = 0.05", "neutral = 0.0"),
-     ["component[4].synchronizer.neutral", "= 0 s must be > 0"]),
+     ["component[4].synchronizer.neutral", "= 0.0 s is out of range: must be > 0 s"]),
     ("amt_upshift_gearbox", "shifts = [{ time = 0.35, gear = 2 }]",
      "shifts = [{ time = 0.35, gear = 2 }, { time = 0.38, gear = 1 }]",
      ["component[4].shifts[1].time", "must be later than the previous shift's"]),
@@ -237,7 +238,12 @@ BAD = [
     ("amt_upshift_gearbox", 'name = "output"', 'name = "gearbox_gear1"',
      ["component[5].name", "= 'gearbox_gear1' is a name that gearbox 'gearbox' gives"]),
     ("shift_1_2_synchronized", CHAIN_SYNC, CHAIN_SYNC.replace("force = 1000.0", "force = 0.0"),
-     ["coupling[2].synchronizer.force", "= 0 N must be > F_block = 300 N"]),
+     ["coupling[2].synchronizer.force", "= 0.0 N is out of range: must be > 0 N"]),
+    ("shift_1_2_synchronized", CHAIN_SYNC, CHAIN_SYNC.replace("force = 1000.0", "force = 300.0"),
+     ["coupling[2].synchronizer.force", "= 300 N must be > F_block = 300 N"]),
+    ("shift_1_2_synchronized", CHAIN_SYNC, CHAIN_SYNC.replace("force = 1000.0", "forse = 1000.0"),
+     ["coupling[2].synchronizer.forse", "unknown key 'forse'", "force", "neutral", "J_idler",
+      "R_m", "F_block"]),
     ("shift_1_2_synchronized", CHAIN_SYNC, CHAIN_SYNC.replace("R_m = 0.04", "R_m = 0.0"),
      ["coupling[2].synchronizer.R_m", "R_m"]),
     ("shift_1_2_synchronized", "efficiency = 0.95",

@@ -30,23 +30,35 @@ import math
 import re
 from dataclasses import dataclass, field
 
-__all__ = ["SYNCHRONIZER_KEYS", "Expansion", "expand"]
+__all__ = ["SYNCHRONIZER_KEYS", "Expansion", "expand", "synchronizer_keys"]
 
 #: the keys of a gearbox's ``synchronizer`` table that are the gearbox's own (the others
 #: are those of the ``synchronizer`` component, given to each gear's synchroniser):
-#: key -> (unit, doc, default or None for required)
+#: key -> (unit, doc, lowest value, lowest excluded, default or None for required)
 SYNCHRONIZER_KEYS = {
-    "force": ("N", ("sleeve force that holds the engaged gear in and presses the cone of "
+    "force": ("N", ("Sleeve force that holds the engaged gear in and presses the cone of "
                     "the gear shifted to; > F_block (else the sleeve never passes the "
-                    "blocker)"), None),
-    "neutral": ("s", ("time in neutral between the sleeve out of the old gear and the "
-                      "sleeve force on the new gear's cone, > 0"), 0.05),
-    "J_idler": ("kg·m²", ("inertia of each idler gear (0: massless; > 0 needs the "
+                    "blocker)."), 0.0, True, None),
+    "neutral": ("s", ("Time in neutral between the sleeve out of the old gear and the "
+                      "sleeve force on the new gear's cone (the sleeve passes through "
+                      "neutral: not both at one instant)."), 0.0, True, 0.05),
+    "J_idler": ("kg·m²", ("Inertia of each idler gear (0: massless; > 0 needs the "
                           "gearbox's flange a at an inertia, whose initial speed sets the "
-                          "idlers')"), 0.0),
+                          "idlers')."), 0.0, False, 0.0),
 }
 #: keys of the ``synchronizer`` component a gearbox sets itself for each gear
 _SET_BY_GEARBOX = ("name", "type", "command", "side", "engaged0")
+
+
+def synchronizer_keys() -> tuple:
+    """The keys of a gearbox's ``synchronizer`` table (:class:`~.schema.Key`): its own,
+    then the ``synchronizer`` component's (generated from its declaration)."""
+    from .schema import Key, component_types
+    own = tuple(Key(k, "number", doc, unit, required=default is None, low=low,
+                    strict=strict, high=1e6)
+                for k, (unit, doc, low, strict, default) in SYNCHRONIZER_KEYS.items())
+    return own + tuple(k for k in component_types()["synchronizer"]
+                       if k.name not in _SET_BY_GEARBOX)
 
 
 @dataclass(frozen=True)
@@ -140,32 +152,15 @@ class _Gearbox:
         if not isinstance(sync, dict):
             fail(f"must be a table {{force = N, R_m = m, alpha = °, w_sync = rad/s, F_block = "
                  f"N, friction = {{...}}}}, got {sync!r}", at)
-        from .schema import check_table, component_types
-        own = {k: v for k, v in sync.items() if k in SYNCHRONIZER_KEYS}
-        for k, (unit, doc, default) in SYNCHRONIZER_KEYS.items():
-            if k not in own and default is None:
-                fail(f"missing required key {k!r} [{unit}]: {doc}", at)
-            v = own.get(k, default)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                fail(f"= {v!r} must be a number [{unit}]", f"{at}.{k}")
-            own[k] = float(v)
-        keys = tuple(k for k in component_types()["synchronizer"]
-                     if k.name not in _SET_BY_GEARBOX)
-        check_table({k: v for k, v in sync.items() if k not in SYNCHRONIZER_KEYS},
-                    keys, at, fail)
+        from .schema import check_table
+        check_table(sync, synchronizer_keys(), at, fail)
+        own = {k: float(sync.get(k, v[-1])) for k, v in SYNCHRONIZER_KEYS.items()}
         self.sync = {k: v for k, v in sync.items() if k not in SYNCHRONIZER_KEYS}
         self.force, self.neutral, self.J_idler = own["force"], own["neutral"], own["J_idler"]
         block = sync.get("F_block")
         if isinstance(block, (int, float)) and not self.force > block:
             fail(f"= {self.force:g} N must be > F_block = {block:g} N: the sleeve passes the "
                  "blocker only with a force above F_block", f"{at}.force")
-        if not self.neutral > 0.0:
-            fail(f"= {self.neutral:g} s must be > 0: the sleeve passes through neutral (the "
-                 "old gear's sleeve out, then the new one's force; not both at one instant)",
-                 f"{at}.neutral")
-        if not self.J_idler >= 0.0:
-            fail(f"= {self.J_idler:g} kg·m² must be >= 0 (0: a massless idler)",
-                 f"{at}.J_idler")
         ratios = t.get("ratios")
         if not isinstance(ratios, list) or not ratios:
             fail("must list the gear ratios, gear 1 first", f"{key}.ratios")
