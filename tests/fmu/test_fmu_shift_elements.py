@@ -148,24 +148,17 @@ def test_the_fmu_keeps_its_discrete_states_between_events(tmp_path):
     fmu.freeInstance()
 
 
-def _exported_as_its_plant(tmp_path, example: str):
-    """``(scenario, FMU path, system)`` of an example exported to an FMU that FMPy
-    validates and whose printed C equals the compiled plant (1e-12, a lock checked)."""
-    sc = load_scenario(EXAMPLES / f"{example}.toml")
-    path = tmp_path / f"{example}.fmu"
+def test_fmu_of_the_double_sided_synchroniser_shifts_as_clutchsim(tmp_path):
+    """examples/amt_upshift_sleeve.toml (one sleeve force, sides +1 and -1): the printed C
+    equals the compiled plant, FMPy validates the FMU, and its run releases first gear and
+    engages second where clutchsim does."""
+    sc = load_scenario(EXAMPLES / "amt_upshift_sleeve.toml")
+    path = tmp_path / "amt_upshift_sleeve.fmu"
     export_fmu(sc, path, None)
     assert validate_fmu(str(path)) == []
     plan, _, system, _ = _plant_of(sc, None)
     worst, _, checked_lock = c_plant_difference(plan, system, k=30)
     assert worst <= 1e-12 and checked_lock
-    return sc, path, system
-
-
-def test_fmu_of_the_double_sided_synchroniser_shifts_as_clutchsim(tmp_path):
-    """examples/amt_upshift_sleeve.toml (one sleeve force, sides +1 and -1): the printed C
-    equals the compiled plant, FMPy validates the FMU, and its run releases first gear and
-    engages second where clutchsim does."""
-    sc, path, _ = _exported_as_its_plant(tmp_path, "amt_upshift_sleeve")
     res = run_scenario(sc, None).result
     f = simulate(path, sc, ["omega_output", "sync1.locked", "sync2.locked", "sync1.mode",
                             "sync2.mode", "sync2.engaged"], 1e-8, 1e-4, record_events=True)
@@ -182,7 +175,13 @@ def test_fmu_of_the_double_sided_synchroniser_shifts_as_clutchsim(tmp_path):
 def test_fmu_of_a_gearbox_with_synchronizers_is_its_expanded_plant(tmp_path):
     """examples/amt_upshift_gearbox.toml (a `gearbox` with a `synchronizer` table, expanded
     into pinions, idlers and synchronisers, its sleeve forces generated): FMPy validates the
-    FMU, the printed C equals the compiled plant, and the generated sleeve forces are the
-    FMU's inputs."""
-    _, _, system = _exported_as_its_plant(tmp_path, "amt_upshift_gearbox")
-    assert {"gearbox_sleeve1", "gearbox_sleeve2"} <= set(system.input_names)
+    FMU, the generated sleeve forces are its inputs and each synchroniser's events its event
+    indicators.  (The printed C of synchronisers against the compiled plant is checked on
+    amt_upshift_sleeve.toml above: the expansion writes the same components.)"""
+    sc = load_scenario(EXAMPLES / "amt_upshift_gearbox.toml")
+    path = tmp_path / "amt_upshift_gearbox.fmu"
+    info = export_fmu(sc, path, None)
+    assert validate_fmu(str(path)) == []
+    assert {"gearbox_sleeve1", "gearbox_sleeve2"} <= set(info.inputs)
+    assert {f"gearbox_sync{k}: {e}" for k in (1, 2) for e in ("stop", "release", "engage")} \
+        <= set(info.event_indicators)
