@@ -7,6 +7,7 @@ import math
 from .._jit import jit
 
 __all__ = [
+    "FREE_SCALE",
     "NO_EVENT",
     "clip",
     "clip_partials",
@@ -18,6 +19,10 @@ __all__ = [
 
 #: Value of an event function that does not apply in the current mode.
 NO_EVENT = 1.0
+
+#: The scale a network plant hands an element's event functions when the element has none
+#: (no command, no force): positive, so that a function of it keeps its sign at zero.
+FREE_SCALE = 1e-300
 
 
 @jit

@@ -14,6 +14,7 @@ import re
 import numpy as np
 
 from ..core.status import Action
+from ..friction._common import FREE_SCALE
 from ..friction.base import RESET_CHANGED, RESET_NONE, RESET_RELEASED, RESET_STUCK
 from .codegen import ENERGY
 from .elimination import elimination_source
@@ -520,7 +521,7 @@ class _PlantRenderer:
                  f"    {gname}[{off}] = y[{iz}] * aux[{AUX_W * e}] + 1e-300",
                  f"    {gname}[{off + 1}] = {NO_EVENT!r}"]
         else:
-            sc = f"(aux[{AUX_W * e + 1}] if aux[{AUX_W * e + 1}] > 0.0 else 1e-300)"
+            sc = f"(aux[{AUX_W * e + 1}] if aux[{AUX_W * e + 1}] > 0.0 else {FREE_SCALE!r})"
             L = [(f"{self.kernel(c, 'events')}(p[{o}:{o + npar}], y[{iz}:{iz + nz}], "
                   f"aux[{AUX_W * e}], aux[{AUX_W * e + 2}], {sc}, {gname}[{off}:{off + ne}])")]
         if _lockable(c):

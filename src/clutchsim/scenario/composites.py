@@ -30,7 +30,7 @@ import math
 import re
 from dataclasses import dataclass, field
 
-__all__ = ["SYNCHRONIZER_KEYS", "Expansion", "expand", "synchronizer_keys"]
+__all__ = ["SYNCHRONIZER_KEYS", "Expansion", "expand", "has_composites", "synchronizer_keys"]
 
 #: the keys of a gearbox's ``synchronizer`` table that are the gearbox's own (the others
 #: are those of the ``synchronizer`` component, given to each gear's synchroniser):
@@ -99,14 +99,21 @@ class Expansion:
         return key
 
 
+def has_composites(data: dict) -> bool:
+    """Does the document (network or chain tables) hold a table :func:`expand` replaces?"""
+    return any(t.get("type") == "gearbox" and "synchronizer" in t
+               for table in ("component", "coupling") for t in data.get(table, [])
+               if isinstance(t, dict))
+
+
 def expand(data: dict, fail) -> Expansion:
     """The document ``data`` (network tables: ``component``, ``network``) with each
     ``gearbox`` that has a ``synchronizer`` table replaced by its gears, idlers,
     synchronisers and final drive (see the module docstring).  ``fail(problem, key)``
     raises for a table that cannot be expanded, with the key of ``data``."""
-    comps = list(data.get("component", []))
-    if not any(t.get("type") == "gearbox" and "synchronizer" in t for t in comps):
+    if not has_composites(data):
         return Expansion(data)
+    comps = list(data.get("component", []))
     conns = [list(c) for c in data.get("network", {}).get("connect", [])]
     names = {t.get("name") for t in comps}
     inputs, tables, whole = {}, {}, {}

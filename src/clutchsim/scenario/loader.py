@@ -15,7 +15,7 @@ import numpy as np
 
 from .._util import quote, toml_line
 from ..core import Constant, Ramp, Signal, Sine, SolverOptions, Step, Table
-from . import chain_format
+from . import chain_format, composites
 from .errors import ScenarioError
 from .schema import (
     FRICTION,
@@ -445,9 +445,10 @@ def parse_scenario(data: dict, *, text: str = "", file: str = "<scenario>",
         fail("must be a table of name = signal", "inputs")
     for key, spec in raw_inputs.items():
         inputs[key] = _signal(spec, f"inputs.{key}", base_dir, fail)
-    from .build import network_document
-    for key, formula in network_document(data, fail)[2].items():   # a composite's signals
-        inputs[key] = _signal(formula, f"inputs.{key}", base_dir, fail)
+    if composites.has_composites(data):      # the signals a composite generates
+        from .build import network_document
+        for key, formula in network_document(data, fail)[2].items():
+            inputs[key] = _signal(formula, f"inputs.{key}", base_dir, fail)
     solver_tab = dict(data.get("solver", {}))
     from ..core.options import DEFAULT_METHOD, SOLVERS
     method = solver_tab.pop("method", DEFAULT_METHOD)

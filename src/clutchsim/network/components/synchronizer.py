@@ -63,7 +63,7 @@ import numpy as np
 from ..._jit import jit
 from ...core._borrow import local_empty
 from ...friction import CoulombRobust
-from ...friction._common import NO_EVENT, sgn
+from ...friction._common import FREE_SCALE, NO_EVENT, sgn
 from ...friction.base import (
     RESET_CHANGED,
     RESET_NONE,
@@ -90,8 +90,6 @@ RELEASE_FRACTION = 1e-9
 LOCATE_TOL = 1e-6
 #: the dog's angular window term: always aligned (the blocker ring indexes the teeth)
 ALIGNED = -1.0
-#: the scale the plant hands an element's event functions when it has none (no force)
-FREE_SCALE = 1e-300
 
 
 @dataclass(frozen=True)
