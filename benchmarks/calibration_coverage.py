@@ -5,9 +5,12 @@ mixed rates 25/17/50 Hz, quantisation, noise, late stamps; seed = trial number),
 ``examples/calibration/channels.toml``, and calibrates it with
 ``examples/calibration/launch_calibration.toml`` (6 parameters).  Reported per parameter:
 the median and largest relative error, the share of trials whose interval holds the truth
-(coverage, target ≥ 90 % of the 95 % intervals), and the median interval half-width; and the
-median and largest wall time per calibration.  ``--model-error MU_RISE`` makes the truth with
-a friction coefficient that rises with slip (the fitted model is Coulomb).
+(coverage, target ≥ 90 % of the 95 % intervals), and the median interval half-width, and
+the same for the sliding capacity (the clutch's torque at full clamp load at 20 rad/s of
+slip); and the median and largest wall time per calibration.  The truth is the default
+launch scenario with the spec's friction model on its clutch, or another one
+(``--truth-model coulomb-robust``: the model error of a calibration); the stiffness and
+damping the spec fits are the scenario's (12,000 N·m/rad, 60 N·m·s/rad).
 
     PYTHONPATH=src .venv/bin/python benchmarks/calibration_coverage.py --trials 50
 
@@ -28,40 +31,56 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
 from clutchsim.data.channels import load_channel_map, map_log
-from clutchsim.identify.calibrate import calibrate, load_calibration
+from clutchsim.identify.calibrate import SLIDE_SPEED, calibrate, load_calibration
 from clutchsim.identify.synthetic import synthetic_log
+from clutchsim.scenario.loader import load_scenario
+from clutchsim.scenario.variants import value_at
 
 #: the issue's recovery targets: relative for capacity and stiffness, absolute [m] for the
 #: touch point
 TARGETS = {"capacity": ("rel", 0.05), "touch_point": ("abs", 0.0003),
-           "stiffness": ("rel", 0.10)}
+           "stiffness": ("rel", 0.10), "sliding_capacity": ("rel", 0.05)}
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--trials", type=int, default=50)
     ap.add_argument("--launches", type=int, default=3)
-    ap.add_argument("--model-error", type=float, default=0.0, metavar="MU_RISE")
+    ap.add_argument("--truth-model", default=None, metavar="MODEL",
+                    help="friction model of the truth (default: the spec's)")
     ap.add_argument("--first-seed", type=int, default=0)
     args = ap.parse_args()
     cmap = load_channel_map(ROOT / "examples/calibration/channels.toml")
     spec = load_calibration(ROOT / "examples/calibration/launch_calibration.toml")
+    truth_model = args.truth_model or spec.plant.model
+    base = spec.plant.layout
+    sc = load_scenario(ROOT / "examples" / "launch.toml")
+    clutch = sc.network(truth_model).component(base.clutch).model
+    slide = float(clutch.steady_state_force(SLIDE_SPEED)) / float(clutch.static_capacity())
     rows = []
     for seed in range(args.first_seed, args.first_seed + args.trials):
-        log, truth = synthetic_log(launches=args.launches, seed=seed,
-                                   truth={"mu_rise": args.model_error})
+        log, truth = synthetic_log(sc, launches=args.launches, seed=seed, model=truth_model)
         t0 = time.perf_counter()
         res = calibrate(spec, [map_log(log, cmap)])
         wall = time.perf_counter() - t0
-        rows.append((res, truth["parameters"], wall))
+        true = dict(truth["parameters"])
+        for name, key in spec.keys.items():
+            true[name] = true.get(key, value_at(sc.data, key))
+        true["sliding_capacity"] = slide * true["capacity"]
+        rows.append((res, true, wall))
         print(f"seed {seed}: {wall:.2f} s " + " ".join(
             f"{n}={res.parameters[n]:.5g}" for n in res.names), file=sys.stderr)
-    out = {"trials": args.trials, "launches": args.launches, "model_error": args.model_error,
-           "parameters": {}}
-    for n in rows[0][0].names:
-        est = np.array([r.parameters[n] for r, _, _ in rows])
+    out = {"trials": args.trials, "launches": args.launches, "fitted_model": spec.plant.model,
+           "truth_model": truth_model, "parameters": {}}
+
+    def estimate(r, n):
+        if n == "sliding_capacity":
+            return r.sliding_capacity["value"], r.sliding_capacity["interval"]
+        return r.parameters[n], r.intervals[n]
+    for n in (*rows[0][0].names, "sliding_capacity"):
+        est = np.array([estimate(r, n)[0] for r, _, _ in rows])
         true = np.array([t[n] for _, t, _ in rows])
-        ivs = [r.intervals[n] for r, _, _ in rows]
+        ivs = [estimate(r, n)[1] for r, _, _ in rows]
         inside = [iv is not None and iv[0] <= tv <= iv[1] for iv, tv in zip(ivs, true)]
         err = est - true
         rel = np.abs(err / true)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """Write the example logs of docs/calibration.md (examples/calibration/): synthetic launches
-of the launch model with a known truth (clutchsim.identify.synthetic, seeds fixed), degraded
-as a logger records them.
+of the default launch scenario with a known truth (clutchsim.identify.synthetic, seeds
+fixed), degraded as a logger records them.
 
     PYTHONPATH=src .venv/bin/python scripts/calibration_example_logs.py
 

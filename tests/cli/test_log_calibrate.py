@@ -18,6 +18,14 @@ MAP = str(EXAMPLES / "channels.toml")
 LOG = str(EXAMPLES / "launch_log.csv")
 
 
+def spec_text() -> str:
+    """The example spec with absolute paths to its scenario and channel map (for a copy in
+    tmp_path)."""
+    return (EXAMPLES / "launch_calibration.toml").read_text().replace(
+        'scenario = "../launch.toml"', f'scenario = "{ROOT / "examples" / "launch.toml"}"'
+    ).replace('channels = "channels.toml"', f'channels = "{MAP}"')
+
+
 def test_log_info_lists_channels_rates_and_mapped_signals(capsys):
     assert main(["log", "info", LOG, "--channels", MAP, "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
@@ -93,8 +101,7 @@ def test_log_without_a_launch_exits_2(tmp_path, capsys):
     code, err = _run_err(["log", "launches", str(path), "--channels", MAP], capsys)
     assert code == 2 and "idle.csv: no launch found" in err
     spec = tmp_path / "spec.toml"
-    spec.write_text((EXAMPLES / "launch_calibration.toml").read_text().replace(
-        'channels = "channels.toml"', f'channels = "{MAP}"'))
+    spec.write_text(spec_text())
     code, err = _run_err(["calibrate", str(spec), "--log", str(path), "--out",
                           str(tmp_path / "c")], capsys)
     assert code == 2 and "no launch found" in err and "idle.csv" in err
@@ -123,19 +130,17 @@ def test_dbc_that_does_not_decode_exits_2(tmp_path, capsys):
 
 def test_calibrate_bad_spec_exits_2_with_line(tmp_path, capsys):
     spec = tmp_path / "spec.toml"
-    spec.write_text((EXAMPLES / "launch_calibration.toml").read_text().replace(
-        'channels = "channels.toml"', f'channels = "{MAP}"').replace("stiffness = {",
-                                                                     "stifness = {"))
+    spec.write_text(spec_text().replace("capacity = {", "capasity = {"))
     code, err = _run_err(["calibrate", str(spec), "--out", str(tmp_path / "c")], capsys)
     assert code == 2
-    assert "spec.toml:" in err and "'stifness' is not a launch-model parameter" in err
+    assert "spec.toml:" in err and "'capasity' is neither a parameter of the measured" in err
     assert not (tmp_path / "c").exists()
 
 
 def test_window_without_clutch_event_exits_2(tmp_path, capsys):
     spec = tmp_path / "spec.toml"
-    spec.write_text((EXAMPLES / "launch_calibration.toml").read_text().replace(
-        'channels = "channels.toml"', f'channels = "{MAP}"\nwindows = [[3.0, 6.0]]'))
+    spec.write_text(spec_text().replace(f'channels = "{MAP}"',
+                                        f'channels = "{MAP}"\nwindows = [[3.0, 6.0]]'))
     code, err = _run_err(["calibrate", str(spec), "--log", LOG, "--out",
                           str(tmp_path / "c")], capsys)
     assert code == 2 and "launch window [3, 6] s" in err

@@ -169,7 +169,8 @@ def test_launch_finder_finds_each_launch_and_its_lock_up(synthetic, cmap):
     t, we, wi = truth["t"], truth["engine_speed"], truth["input_speed"]
     for la in launches:
         inside = (t > la.t_clutch) & (t < la.t_end)
-        locked = t[inside][np.abs(we[inside] - wi[inside]) < 1e-9]
+        # (model (6), the truth's clutch, sticks with a pre-sliding slip below 1e-3 rad/s)
+        locked = t[inside][np.abs(we[inside] - wi[inside]) < 1e-2]
         # the finder's lock-up lies within two engine-speed samples of the true one
         assert abs(la.t_lockup - locked[0]) < 0.08
         assert la.t_start < la.t_clutch < la.t_move < la.t_lockup < la.t_end

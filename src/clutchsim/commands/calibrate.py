@@ -1,4 +1,4 @@
-"""``clutchsim calibrate``: fit the launch model to vehicle logs (no torque sensor)."""
+"""``clutchsim calibrate``: fit a launch scenario to vehicle logs (no torque sensor)."""
 
 from __future__ import annotations
 
@@ -20,16 +20,20 @@ examples:
   clutchsim calibrate examples/calibration/launch_calibration.toml --out calib/
   clutchsim calibrate examples/calibration/launch_calibration.toml --log examples/calibration/launch_log.csv --validate examples/calibration/validate_log.csv --out calib/ --json
 
-SPEC is a calibration spec (docs/calibration.md): the channel map, the vehicle data, the
-parameters to fit with start values, bounds and optional priors, the ones held fixed.
+SPEC is a calibration spec (docs/calibration.md): the launch scenario whose network is fitted
+(its engine driven by the measured torque, its clutch by the clamp map of the measured
+travel), the channel map, the parameters to fit (the clamp map's, the engine torque's, and
+any of the scenario's keys) with start values, bounds and optional priors, the ones held
+fixed.
 --log replaces the spec's logs, --validate its validation logs (each repeatable; CSV, MDF4,
 or BLF/ASC decoded with the map's DBC).  The launches in each log are found (clutchsim log
 launches) and fitted together; the launches of the validation logs are predicted.
 Writes DIR/calibration.json, DIR/parameters.toml (values and intervals), DIR/traces.csv
 (measured and simulated per launch and signal, at the measured stamps), DIR/report.md and
-DIR/calibration.png (and report.html, one page of them).  --json prints one document: {"parameters", "stderr", "intervals",
-"confidence", "units", "correlation", "at_bound", "unidentified", "warnings", "launches",
-"validation", "sigma", "notes", "evaluations", "wall_time_s"}.
+DIR/calibration.png (and report.html, one page of them).  --json prints one document:
+{"parameters", "stderr", "intervals", "confidence", "units", "keys", "correlation",
+"at_bound", "unidentified", "warnings", "launches", "validation", "sliding_capacity",
+"sigma", "notes", "evaluations", "wall_time_s"}.
 """
 
 
@@ -82,7 +86,13 @@ def _run(args, spec, out) -> int:
         shown = "no interval" if iv is None else f"{pct} [{iv[0]:.5g}, {iv[1]:.5g}]{u}"
         flag = " (at its bound)" if n in result.at_bound else ""
         flag += " (cannot be identified)" if n in result.unidentified else ""
-        print(f"{n:>16} = {result.parameters[n]:.6g}{u}  {shown}{flag}")
+        key = f" ({result.keys[n]})" if n in result.keys else ""
+        print(f"{n:>16} = {result.parameters[n]:.6g}{u}  {shown}{flag}{key}")
+    sc = result.sliding_capacity
+    if sc is not None:
+        iv = sc["interval"]
+        print(f"{'sliding capacity':>16} = {sc['value']:.6g} N·m at {sc['speed']:g} rad/s of "
+              "slip" + ("" if iv is None else f"  {pct} [{iv[0]:.5g}, {iv[1]:.5g}] N·m"))
     for tr in list(result.launches) + list(result.validation):
         m = tr.metrics
         slip = m.get("slip_end_error_ms")

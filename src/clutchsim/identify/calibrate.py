@@ -1,17 +1,20 @@
-"""Calibrate the launch model from vehicle logs: clutch capacity, touch point, clamp map,
+"""Calibrate a launch scenario from vehicle logs: clutch capacity, touch point, clamp map,
 driveline stiffness and damping, engine-torque scale and offset, without a torque sensor.
 
-The measured clutch travel and engine torque (the engine controller's estimate) drive the
-model of :mod:`.launch_model`; the measured speeds (engine, gearbox input, wheel or vehicle)
-are its outputs, each compared at its own stamps (the simulated trace, on a 1 ms grid, is
-interpolated at the stamps; the measurements are never resampled).  The residual of each
+The model is the scenario's own network (:mod:`.launch_plant`): its engine driven by the
+measured engine torque (the engine controller's estimate), its clutch by the clamp map of
+the measured engagement travel; the fitted parameters are those of the inputs' maps and any
+of the scenario's keys (``coupling[3].c``).  The measured speeds (engine, gearbox input,
+wheel or vehicle) are its outputs, each compared at its own stamps (the simulated trace, on
+a 1 ms grid from the solver's dense output, is interpolated at the stamps; the measurements
+are never resampled).  The residual of each
 signal is divided by that signal's noise level, estimated from the residuals themselves: a
 first fit with nominal levels, then a second one, started where the first ended, with each
 signal's RMS residual (so that 1 rpm of engine speed and 0.1 km/h of vehicle speed weigh
 what their scatter says).  ``scipy.optimize.least_squares`` (trust-region reflective, bounds)
 minimises it in the scaled coordinates of :class:`~.parameters.ParameterSpace`, with the
-search options of :class:`~.fit.FitOptions`; the finite-difference Jacobian is one
-vectorised simulation of every launch and column.
+search options of :class:`~.fit.FitOptions`; the finite-difference Jacobian runs each
+launch once per parameter column on the compiled network.
 
 Unknown initial state: each launch starts at rest with the engine speed measured over its
 first 0.12 s (or fitted per launch: ``per_launch = ["engine_speed0"]``); ``torque_offset`` may
@@ -47,33 +50,33 @@ from ..data.channels import ChannelMap, MappedLog, load_channel_map
 from ..data.launches import Launch, LaunchOptions, cut_launch, find_launches, slip_end
 from ..data.logs import read_toml
 from .fit import FitOptions, _at_bound
-from .launch_model import LAUNCH_PARAMETERS, LaunchInputs, LaunchVehicle, simulate_launches
+from .launch_plant import INPUT_DEFAULTS, INPUT_PARAMETERS, SIGNALS, LaunchInput, LaunchPlant
 from .parameters import ParameterSpace
 
 __all__ = ["CALIBRATION_SEARCH", "CalibrationResult", "CalibrationSpec", "LaunchTrace",
            "calibrate", "load_calibration"]
 
 #: search options of a calibration where the spec does not set them (FitOptions fields):
-#: a coarser difference step than a friction fit's, because the model steps at 1 ms
+#: a coarser difference step than a friction fit's (the runs' own tolerance is 3e-6)
 CALIBRATION_SEARCH = MappingProxyType({"diff_step": 1e-3, "max_nfev": 40, "tol": 1e-6})
-#: values of the model parameters that are neither fitted nor fixed in a spec
-MODEL_DEFAULTS = MappingProxyType({"engage_travel": 0.0025, "clamp_exponent": 1.5,
-                                   "mu_rise": 0.0, "slip_ref": 20.0, "damping": 60.0,
-                                   "torque_scale": 1.0, "torque_offset": 0.0})
-#: the measured outputs, their model state (0 engine, 1 gearbox input, 2 wheel) and the noise
-#: level the first pass assumes (SI)
-OUTPUTS = MappingProxyType({"engine_speed": (0, 0.5), "input_speed": (1, 0.5),
-                            "wheel_speed": (2, 0.05), "vehicle_speed": (2, 0.03)})
+#: the measured outputs, their row in a simulated launch (:data:`.launch_plant.SIGNALS`)
+#: and the noise level the first pass assumes (SI)
+OUTPUTS = MappingProxyType({name: (SIGNALS.index(name), sigma) for name, sigma in (
+    ("engine_speed", 0.5), ("input_speed", 0.5), ("wheel_speed", 0.05),
+    ("vehicle_speed", 0.03))})
 PER_LAUNCH = ("engine_speed0", "torque_offset")
+#: slip speed at which the result states the clutch's sliding capacity [rad/s] (a launch's
+#: slip passes it on its way to lock-up)
+SLIDE_SPEED = 20.0
 #: draws of the input perturbation (per launch) of the interval's input-error term
 INPUT_DRAWS = 40
 #: engine speed at a launch's start: the mean over this first part [s]
 START_AVERAGE = 0.12
-_TABLES = ("calibration", "vehicle", "parameters", "fixed", "fit", "launch_finder")
-_CAL_KEYS = ("channels", "logs", "validate", "step", "per_launch", "launches", "outputs",
-             "windows")
+_TABLES = ("calibration", "parameters", "fixed", "fit", "launch_finder")
+_CAL_KEYS = ("scenario", "model", "signals", "channels", "logs", "validate", "step",
+             "per_launch", "launches", "outputs", "windows")
 _FIT_KEYS = ("starts", "seed", "max_nfev", "tol", "diff_step", "confidence")
-_PARAM_KEYS = ("start", "bounds", "prior")
+_PARAM_KEYS = ("key", "start", "bounds", "prior")
 RPM = 30.0 / math.pi
 
 
@@ -86,15 +89,19 @@ class CalibrationError(ValueError):
 class CalibrationSpec:
     """A calibration specification (TOML; see docs/calibration.md), paths resolved.
 
-    ``fitted``: name -> ``{"start", "bounds", "prior"}``; ``fixed``: name -> value (the
-    defaults :data:`MODEL_DEFAULTS` for the rest); ``search``: the FitOptions fields.
+    ``plant``: the scenario prepared for calibration; ``fitted``: name -> ``{"start",
+    "bounds", "prior"}``; ``fixed``: name -> value (the input parameters' defaults
+    :data:`~.launch_plant.INPUT_DEFAULTS` and the scenario's values for the rest);
+    ``keys``: a scenario parameter's name -> its scenario key (``stiffness`` ->
+    ``coupling[3].c``); ``search``: the FitOptions fields.
     """
 
     path: Path | None
     channel_map: ChannelMap | None
-    vehicle: LaunchVehicle
+    plant: LaunchPlant
     fitted: Mapping[str, Mapping]
     fixed: Mapping[str, float]
+    keys: Mapping[str, str] = field(default_factory=dict)
     logs: tuple[Path, ...] = ()
     validate: tuple[Path, ...] = ()
     step: float = 0.001
@@ -114,6 +121,14 @@ class CalibrationSpec:
 
     def fit_options(self) -> FitOptions:
         return FitOptions(**{**CALIBRATION_SEARCH, **self.search})
+
+    def unit(self, name: str) -> str:
+        """The unit of a parameter (``name`` or ``name@k``)."""
+        base = name.partition("@")[0]
+        if base in INPUT_PARAMETERS:
+            return INPUT_PARAMETERS[base][0]
+        from ..studies.sweeps.design import key_unit
+        return key_unit(self.plant.scenario.data, self.keys[base]) or "-"
 
     def read(self, path) -> MappedLog:
         if self.channel_map is None:
@@ -148,20 +163,15 @@ def load_calibration(path: str | Path) -> CalibrationSpec:
         except FileNotFoundError:
             raise CalibrationError(f"{at('calibration', 'channels')}: no such channel map "
                                    f"{path.parent / cal['channels']}") from None
-    vehicle_raw = doc.get("vehicle", {})
-    _keys(vehicle_raw, LaunchVehicle.names(), "vehicle", at)
-    try:
-        vehicle = LaunchVehicle(**{k: _number(at("vehicle", k), v, positive=True)
-                                   for k, v in vehicle_raw.items()})
-    except ValueError as exc:
-        raise CalibrationError(f"{at('vehicle')}: {exc}") from None
-    fitted = {}
+    plant = _plant(path, cal, at)
+    fitted: dict = {}
+    keys: dict = {}
     for name, entry in doc.get("parameters", {}).items():
         where = at("parameters", name)
-        _param_name(name, where)
         if not isinstance(entry, dict) or "start" not in entry:
             raise CalibrationError(f"{where}: give a table {{ start = ..., bounds = [lo, hi] }}")
         _keys(entry, _PARAM_KEYS, "parameters", at, name)
+        _param_name(name, entry.get("key"), where, plant, keys)
         item = {"start": _number(f"{where} start", entry["start"])}
         for key in ("bounds", "prior"):
             if key in entry:
@@ -184,11 +194,11 @@ def load_calibration(path: str | Path) -> CalibrationSpec:
                                "{ start = 200.0, bounds = [50.0, 600.0] }")
     fixed = {}
     for name, value in doc.get("fixed", {}).items():
-        _param_name(name, at("fixed", name))
+        _param_name(name, None, at("fixed", name), plant, keys)
         if name in fitted:
             raise CalibrationError(f"{at('fixed', name)}: {name} is both fitted and fixed")
         fixed[name] = _number(at("fixed", name), value)
-    for name in ("capacity", "touch_point", "stiffness"):
+    for name in ("capacity", "touch_point"):
         if name not in fitted and name not in fixed:
             raise CalibrationError(f"{at('parameters')}: {name} is neither fitted nor fixed "
                                    "(it has no default: give it in [parameters] or [fixed])")
@@ -206,7 +216,7 @@ def load_calibration(path: str | Path) -> CalibrationSpec:
     finder_raw = doc.get("launch_finder", {})
     _keys(finder_raw, tuple(LaunchOptions.__dataclass_fields__), "launch_finder", at)
     try:
-        finder = LaunchOptions(**{"ratio": vehicle.ratio, "tyre_radius": vehicle.tyre_radius,
+        finder = LaunchOptions(**{"ratio": plant.ratio, "tyre_radius": plant.tyre_radius,
                                   **finder_raw})
     except (TypeError, ValueError) as exc:
         raise CalibrationError(f"{at('launch_finder')}: {exc}") from None
@@ -240,7 +250,8 @@ def load_calibration(path: str | Path) -> CalibrationSpec:
         raise CalibrationError(f"{at('calibration', 'launches')} = {launches!r}: give the "
                                "numbers (1, 2, ...) of the launches found to fit")
     return CalibrationSpec(
-        path, cmap, vehicle, MappingProxyType(fitted), MappingProxyType(fixed),
+        path, cmap, plant, MappingProxyType(fitted), MappingProxyType(fixed),
+        MappingProxyType(keys),
         tuple(path.parent / f for f in cal.get("logs", [])),
         tuple(path.parent / f for f in cal.get("validate", [])), step, tuple(per),
         tuple(launches) if launches is not None else None, tuple(windows),
@@ -257,55 +268,98 @@ def _keys(table, allowed, name, at, sub=None):
                                    f"{closest(key, allowed)}; keys: {', '.join(allowed)}")
 
 
-def _param_name(name, where):
-    if name not in LAUNCH_PARAMETERS or name == "engine_speed0":
-        valid = [n for n in LAUNCH_PARAMETERS if n != "engine_speed0"]
-        raise CalibrationError(f"{where}: {name!r} is not a launch-model parameter"
-                               f"{closest(name, valid)}; parameters: {', '.join(valid)}")
+def _plant(path: Path, cal: dict, at) -> LaunchPlant:
+    """The spec's scenario prepared for calibration (:class:`~.launch_plant.LaunchPlant`)."""
+    from ..scenario.errors import ScenarioError
+    from ..scenario.loader import load_scenario
+    if "scenario" not in cal:
+        raise CalibrationError(f"{at('calibration')}: give the launch scenario to calibrate: "
+                               '[calibration] scenario = "launch.toml" (a path from the spec)')
+    file = path.parent / str(cal["scenario"])
+    if not file.is_file():
+        raise CalibrationError(f"{at('calibration', 'scenario')}: no such scenario {file}")
+    signals = cal.get("signals", {})
+    _keys(signals, SIGNALS, "calibration", at, "signals")
+    try:
+        scenario = load_scenario(file)
+        model = cal.get("model")
+        if model is not None and model not in scenario.models:
+            from ..friction import MODELS
+            if model not in MODELS:
+                raise CalibrationError(f"{at('calibration', 'model')}: {model!r} is not a "
+                                       f"friction model{closest(str(model), MODELS)}")
+        return LaunchPlant(scenario, model, signals=signals)
+    except ScenarioError as exc:
+        raise CalibrationError(f"{at('calibration', 'scenario')}: {exc}") from None
+    except ValueError as exc:
+        if isinstance(exc, CalibrationError):
+            raise
+        raise CalibrationError(f"{at('calibration', 'scenario')}: {exc}") from None
 
 
-def _check_step(spec: CalibrationSpec) -> None:
-    """Refuse bounds at which the fixed step cannot follow the driveline (semi-implicit Euler
-    needs ``h·ω < 2`` for the shaft's frequency ``ω`` and ``h·d/J < 1`` for its damping, at
-    the input shaft, where the inertia is smallest): with a margin of two."""
-    v, h = spec.vehicle, spec.step
-    j_in = v.J_input * v.ratio ** 2
-
-    def largest(name):
-        if name in spec.fitted:
-            return spec.fitted[name].get("bounds", (0.0, spec.fitted[name]["start"] * 100))[1]
-        return spec.fixed.get(name, MODEL_DEFAULTS.get(name, 0.0))
-    for name, value, limit in (("stiffness", largest("stiffness"), (1.0 / h) ** 2 * j_in),
-                               ("damping", largest("damping"), 0.5 * j_in / h)):
-        if value > limit:
-            raise CalibrationError(
-                f"{spec.where('parameters', name)}: [parameters] {name}: up to {value:g} is beyond what a "
-                f"step of {h:g} s follows (at most {limit:.4g} with J_input = {v.J_input:g} "
-                f"kg·m² and ratio {v.ratio:g}); lower the bound or the [calibration] step")
+def _param_name(name: str, key, where: str, plant: LaunchPlant, keys: dict) -> None:
+    """Check a parameter's name: an input parameter, or a scenario key (its own name, or
+    ``key = "..."``) that the scenario has as a number; records the key in ``keys``."""
+    if name in INPUT_PARAMETERS and name != "engine_speed0":
+        if key is not None:
+            raise CalibrationError(f"{where}: {name} is a parameter of the measured inputs, "
+                                   "not of the scenario: drop its key")
+        return
+    if name == "engine_speed0":
+        raise CalibrationError(f"{where}: engine_speed0 is measured per launch; fit it with "
+                               '[calibration] per_launch = ["engine_speed0"]')
+    from ..scenario.variants import value_at
+    valid = [n for n in INPUT_PARAMETERS if n != "engine_speed0"]
+    given = key is not None
+    key = name if key is None else key
+    if not isinstance(key, str):
+        raise CalibrationError(f"{where}: key = {key!r} must be a scenario key path")
+    base = value_at(plant.scenario.data, key)
+    if isinstance(base, bool) or not isinstance(base, (int, float)):
+        parent, _, leaf = key.rpartition(".")
+        table = value_at(plant.scenario.data, parent) if parent else None
+        numbers = [k for k, v in table.items() if isinstance(v, (int, float))
+                   and not isinstance(v, bool)] if isinstance(table, dict) else []
+        where_to = (f"a key path as --set takes, written in {plant.scenario.file}: "
+                    'coupling[3].c, or a name with key = "coupling[3].c"')
+        if given:
+            raise CalibrationError(f"{where}: key = {key!r}: the scenario has no number there"
+                                   f"{closest(leaf, numbers)} ({where_to})")
+        raise CalibrationError(
+            f"{where}: {name!r} is neither a parameter of the measured inputs"
+            f"{closest(name, valid)} ({', '.join(valid)}) nor a number of the scenario "
+            f"({where_to})")
+    keys[name] = key
 
 
 # --------------------------------------------------------------------------- launch data
 @dataclass(frozen=True, eq=False)
 class _Output:
     signal: str
-    state: int
-    factor: float
+    row: int
     t: np.ndarray
     y: np.ndarray
     idx: np.ndarray
     w: np.ndarray
+
+    def of(self, Y: np.ndarray) -> np.ndarray:
+        """The simulated signal at its stamps, from the launch's grid ``Y``."""
+        return Y[self.row, self.idx] * (1 - self.w) + Y[self.row, self.idx + 1] * self.w
 
 
 @dataclass(frozen=True, eq=False)
 class _LaunchData:
     launch: Launch
     n: int
-    travel: np.ndarray
-    torque: np.ndarray
-    y0: np.ndarray
+    inputs: LaunchInput
+    engine_speed0: float
     outputs: tuple[_Output, ...]
     #: the measured inputs near the launch: name -> (stamps, values, error level)
     raw: Mapping[str, tuple[np.ndarray, np.ndarray, float]] = field(default_factory=dict)
+
+    def grid(self, h: float) -> np.ndarray:
+        """The simulated grid on the launch's own clock [s]."""
+        return h * np.arange(self.n + 1)
 
 
 def _prepare(launch: Launch, spec: CalibrationSpec) -> _LaunchData:
@@ -318,39 +372,41 @@ def _prepare(launch: Launch, spec: CalibrationSpec) -> _LaunchData:
     h = spec.step
     t0 = launch.t_start
     n = max(2, math.ceil((launch.t_end - t0) / h))
-    grid = t0 + h * np.arange(n + 1)
-    travel = np.interp(grid, sig["clutch_position"].t, sig["clutch_position"].values)
-    torque = np.interp(grid, sig["engine_torque"].t, sig["engine_torque"].values)
     e = sig["engine_speed"]
     first = e.values[e.t <= t0 + START_AVERAGE]
     we0 = float(np.mean(first)) if first.size else float(e.values[0])
     wanted = spec.outputs or tuple(OUTPUTS)
     outputs = []
-    r = spec.vehicle.tyre_radius
     for name in wanted:
         if name not in sig:
             if spec.outputs is not None:
                 raise ValueError(f"{launch.name}: output {name} is not mapped")
             continue
         ch = sig[name]
-        keep = (ch.t >= t0) & (ch.t <= grid[-1])
+        keep = (ch.t >= t0) & (ch.t <= t0 + n * h)
         t = ch.t[keep]
         if t.size < 2:
             continue
         pos = (t - t0) / h
         idx = np.clip(np.floor(pos).astype(np.intp), 0, n - 1)
-        state, _ = OUTPUTS[name]
-        outputs.append(_Output(name, state, r if name == "vehicle_speed" else 1.0, t,
-                               ch.values[keep], idx, pos - idx))
+        outputs.append(_Output(name, OUTPUTS[name][0], t, ch.values[keep], idx, pos - idx))
     if not any(o.signal == "engine_speed" for o in outputs):
         raise ValueError(f"{launch.name}: the engine speed has no samples in the window")
-    # from standstill: input shaft and wheels at rest, the driveshaft untwisted
-    y0 = np.array([we0, 0.0, 0.0, 0.0])
     raw = {}
     for name in ("clutch_position", "engine_torque"):
         ch = sig[name]
         raw[name] = (ch.t, ch.values, _input_sigma(ch.values))
-    return _LaunchData(launch, n, travel, torque, y0, tuple(outputs), MappingProxyType(raw))
+    return _LaunchData(launch, n, _launch_input(launch, raw, n * h), we0, tuple(outputs),
+                       MappingProxyType(raw))
+
+
+def _launch_input(launch: Launch, raw, duration: float, travel=None,
+                  torque=None) -> LaunchInput:
+    """The measured inputs of ``launch`` on its own clock (``travel``, ``torque``: other
+    values at the same stamps)."""
+    (tt, vt, _), (tq, vq, _) = raw["clutch_position"], raw["engine_torque"]
+    return LaunchInput(tt - launch.t_start, vt if travel is None else travel,
+                       tq - launch.t_start, vq if torque is None else torque, duration)
 
 
 def _input_sigma(v: np.ndarray) -> float:
@@ -363,34 +419,22 @@ def _input_sigma(v: np.ndarray) -> float:
     return float(math.sqrt(q * q / 12.0 + 0.16 * float(np.mean(loo ** 2)))) if loo.size else q
 
 
-def _inputs(data: Sequence[_LaunchData], h: float) -> LaunchInputs:
-    n = max(d.n for d in data)
-
-    def pad(a):
-        return np.concatenate([a, np.full(n + 1 - a.size, a[-1])])
-    travel = np.array([pad(d.travel) for d in data])
-    torque = np.array([pad(d.torque) for d in data])
-    return LaunchInputs(travel, torque, np.zeros_like(travel),
-                        np.array([d.launch.t_start for d in data]), h)
-
-
 # --------------------------------------------------------------------------- the problem
 class _Problem:
-    """Residuals of all launches, vectorised over rows (launch, parameter vector)."""
+    """Residuals of all launches; a row is a launch simulated with one parameter vector."""
 
     def __init__(self, spec: CalibrationSpec, data: list[_LaunchData], names, space):
         self.spec, self.data, self.names, self.space = spec, data, list(names), space
-        self.inputs = _inputs(data, spec.step)
-        self.fixed = {**MODEL_DEFAULTS, **spec.fixed}
+        self.fixed = {**INPUT_DEFAULTS, **spec.fixed}
         self.sigma = {name: OUTPUTS[name][1] for name in OUTPUTS}
         self.evaluations = 0
         self.prior = [(j, *spec.fitted[n]["prior"]) for j, n in enumerate(names)
                       if n in spec.fitted and "prior" in spec.fitted[n]]
 
-    def values_for(self, values: np.ndarray, k: int) -> tuple[dict, float | None]:
-        """Model parameters of launch ``k`` and its fitted start speed (None: measured)."""
+    def values_for(self, values: np.ndarray, k: int) -> tuple[dict, tuple]:
+        """The input parameters of launch ``k`` (``k < 0``: a launch not fitted, with the
+        mean of the per-launch values) and its scenario changes ``((key, value), ...)``."""
         out = dict(self.fixed)
-        we0 = None
         per: dict[str, list] = {}
         for n, v in zip(self.names, values):
             base, at, idx = n.partition("@")
@@ -398,40 +442,34 @@ class _Problem:
                 per.setdefault(base, []).append(v)
                 if int(idx) != k + 1:
                     continue
-                if base == "engine_speed0":
-                    we0 = float(v)
-                    continue
             out[base] = float(v)
-        if k < 0:                     # a launch not fitted: the mean of the per-launch values
+        if k < 0:
             out.update({b: float(np.mean(v)) for b, v in per.items() if b != "engine_speed0"})
-        return out, we0
+        keys = self.spec.keys
+        changes = tuple((keys[n], v) for n, v in out.items() if n in keys)
+        return {n: v for n, v in out.items() if n not in keys}, changes
 
-    def simulate(self, rows_values: list[tuple[int, np.ndarray]], data=None, inputs=None,
-                 input_rows=None):
+    def simulate(self, rows_values: list[tuple[int, np.ndarray]], data=None,
+                 inputs: Sequence[LaunchInput] | None = None) -> list[np.ndarray]:
+        """Each row ``(launch k, parameter values)`` simulated: ``(len(SIGNALS), n + 1)``
+        on the launch's grid (``inputs``: other measured inputs, one per row)."""
         data = data or self.data
-        inputs = inputs or self.inputs
-        rows = np.array([k for k, _ in rows_values]) if input_rows is None else input_rows
-        params: dict[str, list] = {n: [] for n in LAUNCH_PARAMETERS if n != "engine_speed0"}
-        y0 = []
-        for k, values in rows_values:
-            vals, we0 = self.values_for(values, k if data is self.data else -1)
-            for n, column in params.items():
-                column.append(vals[n])
-            start = data[k].y0.copy()
-            if we0 is not None:
-                start[0] = we0
-            y0.append(start)
+        h = self.spec.step
+        out = []
+        for i, (k, values) in enumerate(rows_values):
+            vals, changes = self.values_for(values, k if data is self.data else -1)
+            vals.setdefault("engine_speed0", data[k].engine_speed0)
+            d = data[k]
+            out.append(self.spec.plant.run(d.inputs if inputs is None else inputs[i], vals,
+                                           changes, d.grid(h)))
         self.evaluations += len(rows_values)
-        return simulate_launches(self.spec.vehicle, inputs, rows,
-                                 {n: np.array(v) for n, v in params.items()}, np.array(y0))
+        return out
 
     def residual_of(self, Y: np.ndarray, d: _LaunchData) -> np.ndarray:
-        """The launch's residual: per signal, simulated minus measured over its noise level."""
-        parts = []
-        for o in d.outputs:
-            y = (Y[o.state, o.idx] * (1 - o.w) + Y[o.state, o.idx + 1] * o.w) * o.factor
-            parts.append((y - o.y) / self.sigma[o.signal])
-        return np.concatenate(parts)
+        """The launch's residual: per signal, simulated minus measured over its noise level
+        (a run that ended early counts as far off: its NaNs become 1e6 noise levels)."""
+        parts = [(o.of(Y) - o.y) / self.sigma[o.signal] for o in d.outputs]
+        return np.nan_to_num(np.concatenate(parts), nan=1e6)
 
     def noise_model(self, x: np.ndarray) -> None:
         """Each signal's noise level: its RMS residual (over all launches) at ``x``."""
@@ -454,6 +492,11 @@ class _Problem:
         _, at, idx = self.names[j].partition("@")
         return [int(idx) - 1] if at else list(range(len(self.data)))
 
+    def offsets(self) -> np.ndarray:
+        """Where each launch's residual starts (and the priors': the last entry)."""
+        sizes = [sum(o.t.size for o in d.outputs) for d in self.data]
+        return np.concatenate([[0], np.cumsum(sizes)])
+
     def jacobian(self, x: np.ndarray, r0: np.ndarray, diff_step: float) -> np.ndarray:
         _, hi = self.space.scaled_bounds
         steps = diff_step * np.maximum(1.0, np.abs(x))
@@ -467,8 +510,7 @@ class _Problem:
                 rows.append((k, vj))
                 where.append((j, k))
         Y = self.simulate(rows)
-        sizes = [sum(o.t.size for o in d.outputs) for d in self.data]
-        offsets = np.concatenate([[0], np.cumsum(sizes)])
+        offsets = self.offsets()
         J = np.zeros((r0.size, len(x)))
         for (j, k), Yr in zip(where, Y):
             a, b = offsets[k], offsets[k + 1]
@@ -561,24 +603,18 @@ def _input_covariance(problem: _Problem, x: np.ndarray, J: np.ndarray, Hinv: np.
     by the Gauss–Newton step ``−H⁻¹Jᵀδr``; the second moment over the draws, summed over
     the launches."""
     values = problem.space.to_physical(x)
-    h = problem.spec.step
     data = problem.data
-    n = max(d.n for d in data)
-    travel, torque, owner = [], [], []
+    pert, owner = [], []
     for k, d in enumerate(data):
-        grid = d.launch.t_start + h * np.arange(n + 1)
-        (tt, vt, st), (tq, vq, sq) = d.raw["clutch_position"], d.raw["engine_torque"]
+        (_, vt, st), (_, vq, sq) = d.raw["clutch_position"], d.raw["engine_torque"]
         for _ in range(draws):
-            travel.append(np.interp(grid, tt, vt + st * rng.standard_normal(vt.size)))
-            torque.append(np.interp(grid, tq, vq + sq * rng.standard_normal(vq.size)))
+            pert.append(_launch_input(d.launch, d.raw, d.inputs.duration,
+                                      vt + st * rng.standard_normal(vt.size),
+                                      vq + sq * rng.standard_normal(vq.size)))
             owner.append(k)
-    pert = LaunchInputs(np.array(travel), np.array(torque), np.zeros((len(owner), n + 1)),
-                        np.zeros(len(owner)), h)
-    Y = problem.simulate([(k, values) for k in owner], inputs=pert,
-                         input_rows=np.arange(len(owner)))
+    Y = problem.simulate([(k, values) for k in owner], inputs=pert)
     r0 = problem.residual(x)
-    sizes = [sum(o.t.size for o in d.outputs) for d in data]
-    offsets = np.concatenate([[0], np.cumsum(sizes)])
+    offsets = problem.offsets()
     cov = np.zeros((x.size, x.size))
     for i, k in enumerate(owner):
         a, b = offsets[k], offsets[k + 1]
@@ -592,8 +628,9 @@ def _input_covariance(problem: _Problem, x: np.ndarray, J: np.ndarray, Hinv: np.
 @dataclass(frozen=True, eq=False)
 class LaunchTrace:
     """One launch measured and simulated: per signal ``(t, measured, simulated)`` at the
-    measured stamps (SI), the simulated grid ``t_grid`` with the engine, input and wheel
-    speeds ``states``, and its error measures ``metrics``."""
+    measured stamps (SI), the simulated grid ``t_grid`` [s, log clock] with the engine,
+    input and wheel speeds [rad/s] and the vehicle speed [m/s] (rows of
+    :data:`~.launch_plant.SIGNALS`) ``states``, and its error measures ``metrics``."""
 
     name: str
     role: str
@@ -615,7 +652,11 @@ class CalibrationResult:
     ``parameters``, ``stderr``, ``intervals`` (at ``confidence``): the fitted values (SI,
     per-launch ones as ``name@k``); ``correlation`` the correlation matrix of the estimates
     in ``names`` order; ``at_bound``, ``unidentified`` and ``warnings`` as for
-    :class:`~.fit.FitResult`; ``fixed`` the values held; ``sigma`` each signal's noise
+    :class:`~.fit.FitResult`; ``units`` each parameter's unit; ``keys`` the scenario key of
+    each scenario parameter; ``sliding_capacity`` the clutch's sliding torque at full clamp
+    load at :data:`SLIDE_SPEED` of slip (``value``, ``interval`` [N·m], ``speed`` [rad/s]:
+    what a launch measures of the capacity, comparable across friction models; None
+    where capacity is not fitted); ``fixed`` the values held; ``sigma`` each signal's noise
     level used (RMS residual); ``launches``, ``validation`` the traces; ``evaluations``
     simulated launches; ``wall_time`` [s].
     """
@@ -638,19 +679,25 @@ class CalibrationResult:
     wall_time: float
     message: str
     notes: tuple[str, ...] = ()
+    units: Mapping[str, str] = field(default_factory=dict)
+    keys: Mapping[str, str] = field(default_factory=dict)
+    sliding_capacity: Mapping[str, object] | None = None
 
     def summary(self) -> dict:
         """The document ``clutchsim calibrate --json`` prints."""
         return {"parameters": dict(self.parameters), "stderr": dict(self.stderr),
                 "intervals": {k: list(v) if v else None for k, v in self.intervals.items()},
                 "confidence": self.confidence,
-                "units": {n: LAUNCH_PARAMETERS[n.partition("@")[0]][0] for n in self.names},
+                "units": dict(self.units), "keys": dict(self.keys),
                 "correlation": {"names": list(self.names),
                                 "matrix": np.round(self.correlation, 4).tolist()},
                 "at_bound": list(self.at_bound), "unidentified": list(self.unidentified),
                 "warnings": list(self.warnings),
                 "launches": [t.as_dict() for t in self.launches],
                 "validation": [t.as_dict() for t in self.validation],
+                "sliding_capacity": None if self.sliding_capacity is None else {
+                    k: list(v) if isinstance(v, tuple) else v
+                    for k, v in self.sliding_capacity.items()},
                 "sigma": dict(self.sigma), "notes": list(self.notes),
                 "evaluations": self.evaluations, "wall_time_s": self.wall_time}
 
@@ -662,15 +709,18 @@ class CalibrationResult:
     def parameters_toml(self) -> str:
         """The fitted and fixed values as a TOML parameter file, intervals beside them."""
         pct = f"{100 * self.confidence:g} %"
-        lines = ["# Launch-model parameters calibrated by clutchsim calibrate (SI units).",
+        lines = ["# Launch parameters calibrated by clutchsim calibrate (SI units); a",
+                 "# scenario parameter's key path follows its unit.",
                  f"# Each fitted value with its {pct} interval; see calibration.json.", "",
                  "[parameters]"]
         for n in self.names:
             iv = self.intervals[n]
-            unit = LAUNCH_PARAMETERS[n.partition("@")[0]][0]
+            unit = self.units.get(n, "")
+            key = self.keys.get(n.partition("@")[0])
             note = "not identified" if n in self.unidentified else (
                 f"{pct}: [{iv[0]:.6g}, {iv[1]:.6g}]" if iv else "no interval")
-            lines.append(f'"{n}" = {self.parameters[n]!r}   # {unit}; {note}')
+            lines.append(f'"{n}" = {self.parameters[n]!r}   # {unit}'
+                         + (f" ({key})" if key else "") + f"; {note}")
         lines += ["", "[intervals]"]
         lines += [f'"{n}" = [{iv[0]!r}, {iv[1]!r}]' for n, iv in self.intervals.items() if iv]
         lines += ["", "[fixed]"]
@@ -682,32 +732,33 @@ def _metrics(problem: _Problem, d: _LaunchData, Y: np.ndarray) -> dict:
     """Engine-speed RMS [rpm], slip-end time error [ms], peak jerk (measured, simulated,
     error [m/s³]) of one launch simulated as ``Y``."""
     spec = problem.spec
-    h = spec.step
-    grid = d.launch.t_start + h * np.arange(Y.shape[1])
+    plant = spec.plant
+    grid = d.launch.t_start + d.grid(spec.step)
     out: dict[str, float | None] = {}
     by = {o.signal: o for o in d.outputs}
     e = by["engine_speed"]
-    sim_e = Y[0, e.idx] * (1 - e.w) + Y[0, e.idx + 1] * e.w
-    out["engine_rms_rpm"] = float(np.sqrt(np.mean((sim_e - e.y) ** 2)) * RPM)
+    out["engine_rms_rpm"] = float(np.sqrt(np.mean((e.of(Y) - e.y) ** 2)) * RPM)
     f = spec.finder
     sig = d.launch.signals
+    v = by.get("vehicle_speed") or by.get("wheel_speed")
+    # (a vehicle speed in m/s, a wheel speed in rad/s: to the wheels' rad/s)
+    to_wheel = 1.0 / plant.tyre_radius if v is not None and v.signal == "vehicle_speed" else 1.0
     if "input_speed" in sig:
         w_in_t, w_in = sig["input_speed"].t, sig["input_speed"].values
     else:
-        v = by.get("vehicle_speed") or by.get("wheel_speed")
         w_in_t = v.t if v else None
-        w_in = (v.y / v.factor * spec.vehicle.ratio) if v else None
+        w_in = (v.y * to_wheel * plant.ratio) if v and plant.ratio else None
     meas = slip_end(e.t, e.y, w_in_t, w_in, d.launch.t_clutch, f.lockup_slip,
                     f.lockup_time) if w_in is not None else None
-    sim = slip_end(grid, Y[0], grid, Y[1], d.launch.t_clutch, f.lockup_slip, f.lockup_time)
+    row_in = SIGNALS.index("input_speed")
+    sim = slip_end(grid, Y[0], grid, Y[row_in], d.launch.t_clutch, f.lockup_slip,
+                   f.lockup_time)
     out["slip_end_measured_s"] = meas
     out["slip_end_simulated_s"] = sim
     out["slip_end_error_ms"] = None if meas is None or sim is None else 1e3 * (sim - meas)
-    v = by.get("vehicle_speed") or by.get("wheel_speed")
     if v is not None and v.t.size > 12:
-        r = 1.0 if v.signal == "vehicle_speed" else spec.vehicle.tyre_radius
-        sim_v = (Y[2, v.idx] * (1 - v.w) + Y[2, v.idx + 1] * v.w) * v.factor * r
-        jm, js = _peak_jerk(v.t, v.y * r), _peak_jerk(v.t, sim_v)
+        r = to_wheel * plant.tyre_radius          # m/s per unit of v
+        jm, js = _peak_jerk(v.t, v.y * r), _peak_jerk(v.t, v.of(Y) * r)
         out["peak_jerk_measured"] = jm
         out["peak_jerk_simulated"] = js
         out["peak_jerk_error"] = js - jm
@@ -727,11 +778,8 @@ def _peak_jerk(t: np.ndarray, v: np.ndarray) -> float:
 
 
 def _trace(problem: _Problem, d: _LaunchData, Y: np.ndarray, role: str) -> LaunchTrace:
-    signals = {}
-    for o in d.outputs:
-        y = (Y[o.state, o.idx] * (1 - o.w) + Y[o.state, o.idx + 1] * o.w) * o.factor
-        signals[o.signal] = (o.t, o.y, y)
-    grid = d.launch.t_start + problem.spec.step * np.arange(Y.shape[1])
+    signals = {o.signal: (o.t, o.y, o.of(Y)) for o in d.outputs}
+    grid = d.launch.t_start + d.grid(problem.spec.step)
     return LaunchTrace(d.launch.name, role, MappingProxyType(signals), grid, Y,
                        MappingProxyType(_metrics(problem, d, Y)), d.launch)
 
@@ -768,7 +816,7 @@ def launches_of(spec: CalibrationSpec, logs, *, role: str = "fit") -> list[Launc
 
 def calibrate(spec: CalibrationSpec | str | Path, logs=None, validate=None, *,
               options: FitOptions | None = None, progress=None) -> CalibrationResult:
-    """Fit the launch model to the launches of vehicle logs (see the module notes).
+    """Fit the spec's launch scenario to the launches of vehicle logs (see the module notes).
 
     Parameters
     ----------
@@ -789,7 +837,6 @@ def calibrate(spec: CalibrationSpec | str | Path, logs=None, validate=None, *,
     wall0 = time.perf_counter()
     spec = spec if isinstance(spec, CalibrationSpec) else load_calibration(spec)
     options = options or spec.fit_options()
-    _check_step(spec)
     fit_launches = launches_of(spec, list(logs) if logs is not None else list(spec.logs))
     if not fit_launches:
         raise ValueError("calibrate: no logs to fit (give --log or [calibration] logs)")
@@ -804,10 +851,10 @@ def calibrate(spec: CalibrationSpec | str | Path, logs=None, validate=None, *,
             n = f"{base}@{k + 1}"
             names.append(n)
             if base == "engine_speed0":
-                start[n] = float(d.y0[0])
-                bounds[n] = (d.y0[0] - 10.0, d.y0[0] + 10.0)
+                start[n] = d.engine_speed0
+                bounds[n] = (d.engine_speed0 - 10.0, d.engine_speed0 + 10.0)
             else:
-                start[n] = spec.fixed.get(base, MODEL_DEFAULTS[base])
+                start[n] = spec.fixed.get(base, INPUT_DEFAULTS[base])
                 bounds[n] = (-100.0, 100.0)
     space = ParameterSpace.build(names, start, bounds, {})
     problem = _Problem(spec, data, names, space)
@@ -882,17 +929,29 @@ def calibrate(spec: CalibrationSpec | str | Path, logs=None, validate=None, *,
     val = []
     if val_launches:
         vdata = [_prepare(la, spec) for la in val_launches]
-        vin = _inputs(vdata, spec.step)
-        Yv = problem.simulate([(k, values) for k in range(len(vdata))], vdata, vin)
+        Yv = problem.simulate([(k, values) for k in range(len(vdata))], vdata)
         val = [_trace(problem, dk, Yv[k], "validate") for k, dk in enumerate(vdata)]
-    notes = [f"{len(data)} launch(es) fitted: " + ", ".join(
+    plant = spec.plant
+    sliding = None
+    if "capacity" in params:
+        model = plant.plan.net.component(plant.layout.clutch).model
+        k = float(model.steady_state_force(SLIDE_SPEED)) / plant.capacity0
+        iv = intervals["capacity"]
+        sliding = MappingProxyType({"value": k * params["capacity"], "speed": SLIDE_SPEED,
+                                    "interval": None if iv is None else (k * iv[0], k * iv[1])})
+    notes = [(f"model: the network of {plant.scenario.file or plant.scenario.name} with "
+              f"{plant.model} on its clutch (static capacity {plant.capacity0:.6g} N·m at "
+              "COM 1), its engine driven by the measured torque"),
+             f"{len(data)} launch(es) fitted: " + ", ".join(
         f"{d.launch.name} ({d.launch.t_start:.2f} ... {d.launch.t_end:.2f} s)" for d in data)]
-    fixed = {**MODEL_DEFAULTS, **spec.fixed}
+    fixed = {**INPUT_DEFAULTS, **spec.fixed}
     fixed = {k: v for k, v in fixed.items() if k not in spec.fitted
              and not any(n.startswith(k + "@") for n in names)}
     return CalibrationResult(
         MappingProxyType(params), MappingProxyType(stderr), MappingProxyType(intervals),
         spec.confidence, tuple(names), corr, MappingProxyType(phys_bounds), tuple(at_bound),
         tuple(unidentified), tuple(warnings), MappingProxyType(fixed),
-        MappingProxyType({s: problem.sigma[s] for s in {b[0] for b in blocks}}), traces, tuple(val), problem.evaluations,
-        time.perf_counter() - wall0, str(best.message), tuple(notes))
+        MappingProxyType({s: problem.sigma[s] for s in {b[0] for b in blocks}}), traces,
+        tuple(val), problem.evaluations, time.perf_counter() - wall0, str(best.message),
+        tuple(notes), MappingProxyType({n: spec.unit(n) for n in names}),
+        MappingProxyType(dict(spec.keys)), sliding)

@@ -9,8 +9,6 @@ import json
 import math
 from pathlib import Path
 
-from .launch_model import LAUNCH_PARAMETERS
-
 __all__ = ["calibration_report", "write_calibration_outputs"]
 
 RPM = 30.0 / math.pi
@@ -57,7 +55,7 @@ def _fmt(v, spec=".4g"):
 def calibration_report(result) -> str:
     """A Markdown report: parameters with intervals, correlations, the launches' errors."""
     pct = f"{100 * result.confidence:g} %"
-    lines = ["# Launch-model calibration from vehicle logs", "",
+    lines = ["# Launch calibration from vehicle logs", "",
              f"| parameter | value | unit | std. error | {pct} interval | bounds | flag |",
              "|---|---|---|---|---|---|---|"]
     for n in result.names:
@@ -67,8 +65,19 @@ def calibration_report(result) -> str:
                                           ("not identified", n in result.unidentified)) if on)
         shown = "–" if iv is None else f"[{iv[0]:.6g}, {iv[1]:.6g}]"
         lines.append(f"| {n} | {result.parameters[n]:.6g} | "
-                     f"{LAUNCH_PARAMETERS[n.partition('@')[0]][0]} | {_fmt(result.stderr[n], '.3g')} "
+                     f"{result.units.get(n, '')} | {_fmt(result.stderr[n], '.3g')} "
                      f"| {shown} | {lo:g} … {hi:g} | {flag} |")
+    sc = result.sliding_capacity
+    if sc is not None:
+        iv = sc["interval"]
+        lines += ["", (f"Sliding capacity (the clutch's torque at full clamp load at "
+                       f"{sc['speed']:g} rad/s of slip, what a launch measures of its "
+                       f"capacity): {sc['value']:.6g} N·m"
+                       + ("" if iv is None else f", {pct} [{iv[0]:.6g}, {iv[1]:.6g}] N·m")
+                       + ".")]
+    if result.keys:
+        lines += ["", "Scenario keys: " + ", ".join(f"{n} = `{k}`"
+                                                    for n, k in result.keys.items()) + "."]
     lines += ["", "Correlation of the estimates:", "",
               "| | " + " | ".join(result.names) + " |",
               "|---|" + "---|" * len(result.names)]

@@ -1,38 +1,48 @@
-"""Synthetic vehicle logs with a known truth: launches simulated with the launch model, then
-degraded as a data logger records them.
+"""Synthetic vehicle logs with a known truth: launches of a launch scenario simulated by
+clutchsim itself, then degraded as a data logger records them.
 
-:func:`synthetic_log` drives the model of :mod:`.launch_model` through ``launches`` cycles:
-idle with the clutch open, the actuator closing the clutch while the driver adds torque (an
-idle governor holds the engine up), driving on in first gear, then the clutch opens and the
-brake stops the car.  The engine torque the model produced is what the engine controller
-reports (``(T − torque_offset)/torque_scale``).  The channels are named and scaled as the
-J1939 messages of ``examples/calibration/j1939_launch.dbc`` carry them, each group at its own
-rate, and degraded (:class:`Degradation`): white noise, quantisation (1 rpm, 0.1 km/h,
-1 % torque, 0.01 mm), and stamps that lag the sampling instant by a random delay (the
-logger stamps a frame when it arrives).
+:func:`synthetic_log` runs the scenario's network (its own engine with its full-load map,
+drag and idle governor; its clutch model, or another one: the model error of a calibration)
+through ``launches`` cycles: idle with the clutch open, the actuator closing the clutch
+(travel through the truth's clamp map to the clutch's command) while the driver opens the
+throttle, driving on in first gear.  Each launch is one run from rest.  Between launches
+the car is braked to rest and the engine returns to idle: that part of the log (after each
+run's end, outside every launch window the finder cuts) is a ramp of the signals to rest,
+not simulated.  The engine torque the run produced (``T_engine``) is what the engine
+controller reports (``(T − torque_offset)/torque_scale``).  The channels are named and
+scaled as the J1939 messages of ``examples/calibration/j1939_launch.dbc`` carry them, each
+group at its own rate, and degraded (:class:`Degradation`): white noise, quantisation
+(1 rpm, 0.1 km/h, 1 % torque, 0.01 mm), and stamps that lag the sampling instant by a random
+delay (the logger stamps a frame when it arrives).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..core import simulate
+from ..core.signals import Table
 from ..data.logs import Channel, VehicleLog
-from .launch_model import LaunchInputs, LaunchVehicle, simulate_launches
+from .launch_plant import INPUT_DEFAULTS, check_signals, layout
 
 __all__ = ["DEFAULT_TRUTH", "Degradation", "synthetic_log"]
 
-#: the parameters the synthetic logs are made with by default (SI)
+#: the input parameters the synthetic logs are made with by default (SI); the scenario's
+#: own values are its truth for the rest (the default launch: driveshaft c = 12,000
+#: N·m/rad, d = 60 N·m·s/rad)
 DEFAULT_TRUTH: Mapping[str, float] = {
-    "capacity": 240.0, "touch_point": 0.0055, "engage_travel": 0.0025, "clamp_exponent": 1.5,
-    "stiffness": 12000.0, "damping": 60.0, "torque_scale": 0.95, "torque_offset": -12.0,
-    "mu_rise": 0.0, "slip_ref": 20.0,
-}
+    **INPUT_DEFAULTS, "capacity": 240.0, "touch_point": 0.0055, "torque_scale": 0.95,
+    "torque_offset": -12.0}
 #: the engine's reference torque: 100 % of the J1939 percent torque [N·m]
 REFERENCE_TORQUE = 250.0
 RPM = np.pi / 30.0
+#: length of the simulated part of a cycle (a launch from rest and driving on) [s]
+DRIVE = 5.5
+#: time the car takes to brake to rest after a run [s]
+STOP = 2.0
 
 
 @dataclass(frozen=True)
@@ -54,25 +64,16 @@ class Degradation:
     stamp_delay: float = 0.003             # s
 
 
-def _profiles(n_launches: int, cycle: float, h: float, rng: np.random.Generator):
-    """Clutch travel [m], torque demand [N·m] and brake capacity [N·m] on one grid."""
-    n = round(n_launches * cycle / h)
-    t = np.arange(n + 1) * h
-    travel, demand, brake = np.zeros_like(t), np.zeros_like(t), np.zeros_like(t)
-    for k in range(n_launches):
-        s = k * cycle
-        tau = t - s
-        ramp = 0.8 + 0.6 * rng.random()                # s: the slow part of the engagement
-        lift = 45.0 + 25.0 * rng.random()              # N·m: the driver's extra torque
-        inside = (tau >= 0) & (tau < cycle)
-        x = np.interp(tau, [0.0, 1.0, 1.2, 1.2 + ramp, 1.4 + ramp, 5.5, 5.6, cycle],
-                      [0.0, 0.0, 0.004, 0.008, 0.009, 0.009, 0.0, 0.0])
-        q = np.interp(tau, [0.0, 1.1, 1.5, 1.5 + ramp, 2.5 + ramp, 5.5, 5.6, cycle],
-                      [0.0, 0.0, lift, lift, 25.0, 25.0, 0.0, 0.0])
-        b = np.interp(tau, [0.0, 0.3, 0.4, 5.6, 5.8, cycle - 1.5, cycle - 1.4, cycle],
-                      [2000.0, 2000.0, 0.0, 0.0, 1500.0, 1500.0, 2000.0, 2000.0])
-        travel[inside], demand[inside], brake[inside] = x[inside], q[inside], b[inside]
-    return t, travel, demand, brake
+def _profile(rng: np.random.Generator, tau: np.ndarray):
+    """Clutch travel [m] and throttle [-] of one launch at its times ``tau`` [s]."""
+    ramp = 0.8 + 0.6 * rng.random()                # s: the slow part of the engagement
+    lift = 0.25 + 0.1 * rng.random()               # the driver's throttle
+    bite = 0.0066 + 0.0006 * rng.random()          # m: where the slow part ends
+    x = np.interp(tau, [0.0, 1.0, 1.2, 1.2 + ramp, 1.8 + ramp],
+                  [0.0, 0.0, 0.005, bite, 0.009])
+    q = np.interp(tau, [0.0, 1.0, 1.3, 1.5 + ramp, 2.5 + ramp],
+                  [0.0, 0.0, lift, lift, 0.15])
+    return x, q
 
 
 def _sample(t, y, rate: float, t_end: float, delay: float, rng) -> tuple:
@@ -87,37 +88,89 @@ def _quantise(x, step):
     return np.round(np.asarray(x) / step) * step
 
 
-def synthetic_log(*, launches: int = 3, seed: int = 0, truth: Mapping[str, float] | None = None,
-                  vehicle: LaunchVehicle | None = None, cycle: float = 9.0, h: float = 0.001,
-                  degradation: Degradation | None = None, source: str = "synthetic"
-                  ) -> tuple[VehicleLog, dict]:
-    """A log of ``launches`` launches and the truth it was made with (see the module notes).
+def _truth_scenario(scenario, keys: Mapping[str, float]):
+    if not keys:
+        return scenario
+    from ..scenario.loader import apply_overrides, parse_scenario, toml_value
+    data = apply_overrides(scenario.data, [f"{k}={toml_value(v)}" for k, v in keys.items()],
+                           scenario.file)
+    return parse_scenario(data, text=scenario.text, file=scenario.file)
 
-    Returns ``(log, truth)``: ``truth`` holds the model parameters and the true traces
-    (``t``, ``engine_speed``, ``input_speed``, ``wheel_speed`` [rad/s]).
+
+def synthetic_log(scenario=None, *, model: str | None = None, launches: int = 3,
+                  seed: int = 0, truth: Mapping[str, float] | None = None,
+                  signals: Mapping[str, str] | None = None, cycle: float = 9.0,
+                  h: float = 0.001, degradation: Degradation | None = None,
+                  source: str = "synthetic") -> tuple[VehicleLog, dict]:
+    """A log of ``launches`` launches of ``scenario`` (default: the packaged launch) and
+    the truth it was made with (see the module notes).
+
+    ``truth``: input parameters (:data:`DEFAULT_TRUTH` for those not given) and scenario
+    keys (``{"coupling[3].c": 10000.0}``) with their true values; ``model``: the clutch's
+    friction model (default: the scenario's first); ``signals``: as for
+    :class:`~.launch_plant.LaunchPlant`.  Returns ``(log, truth)``: ``truth`` holds the
+    ``parameters`` and the true traces (``t``, ``engine_speed``, ``input_speed``,
+    ``wheel_speed`` [rad/s], ``vehicle_speed`` [m/s], ``travel`` [m]).
     """
+    from ..scenario.loader import load_scenario
+    if cycle < DRIVE + STOP + 1.0:
+        raise ValueError(f"cycle = {cycle:g} s: at least {DRIVE + STOP + 1.0:g} s (a launch, "
+                         "the stop and a second at rest)")
     rng = np.random.default_rng(seed)
-    vehicle = vehicle or LaunchVehicle()
     deg = degradation or Degradation()
-    params = dict(DEFAULT_TRUTH)
-    params.update(truth or {})
-    t, travel, demand, brake = _profiles(launches, cycle, h, rng)
-    # the engine produces k·demand + offset + governor; the controller reports it back
-    inputs = LaunchInputs(travel[None], demand[None], brake[None], np.zeros(1), h)
-    y0 = np.array([[83.78, 0.0, 0.0, 0.0]])
-    out = simulate_launches(vehicle, inputs, np.zeros(1, dtype=int),
-                            {k: np.array([v]) for k, v in params.items()}, y0,
-                            governor=(83.78, 3.0, 100.0))[0]
-    w_e, w_i, w_w, torque = out
-    reported = (torque - params["torque_offset"]) / params["torque_scale"]
+    params = {**DEFAULT_TRUTH, **dict(truth or {})}
+    base = load_scenario(None) if scenario is None else scenario
+    keys = {k: v for k, v in params.items() if k not in DEFAULT_TRUTH}
+    sc = _truth_scenario(base, keys)
+    lay = layout(sc, model, signals)
+    system = sc.network(lay.model).build(sc.inputs0())
+    check_signals(system, lay.signals)
+    options = replace(sc.options, dt_out=h)
+    n = round(launches * cycle / h)
+    t = np.arange(n + 1) * h
+    names = ("engine_speed", "input_speed", "wheel_speed", "vehicle_speed")
+    traces = {k: np.zeros_like(t) for k in (*names, "travel", "torque")}
+    idle = float(system.y0[system.state_names.index(lay.signals["engine_speed"])]) \
+        if lay.signals["engine_speed"] in system.state_names else 83.78
+    for k in range(launches):
+        tau = np.arange(0.0, DRIVE + 0.5 * h, h)
+        x, q = _profile(rng, tau)
+        com = params["capacity"] / lay.capacity0 * np.clip(
+            (x - params["touch_point"]) / params["engage_travel"], 0.0, 1.0) \
+            ** params["clamp_exponent"]
+        inputs = {**{k: v for k, v in sc.inputs.items() if k in system.input_names},
+                  lay.command: Table(tau, com, hit_knots=False),
+                  lay.throttle: Table(tau, q, hit_knots=False)}
+        res = simulate(system, (0.0, DRIVE), inputs, solver=sc.solver, options=options)
+        if res.status != "completed":
+            raise RuntimeError(f"synthetic launch {k + 1}: the run ended {res.outcome}: "
+                               f"{res.message}")
+        s = k * cycle
+        inside = (t >= s) & (t <= s + DRIVE)
+        for name in names:
+            traces[name][inside] = np.interp(t[inside] - s, res.t, res[lay.signals[name]])
+        traces["torque"][inside] = np.interp(t[inside] - s, res.t, res["T_engine"])
+        traces["travel"][inside] = np.interp(t[inside] - s, tau, x)
+        # braked to rest, the clutch open, the engine back to idle (not simulated)
+        after = (t > s + DRIVE) & ((t < s + cycle) | (k == launches - 1))
+        frac = np.clip((t[after] - s - DRIVE) / STOP, 0.0, 1.0)
+        last = {name: traces[name][inside][-1] for name in (*names, "torque")}
+        for name in names[1:]:
+            traces[name][after] = last[name] * (1.0 - frac)
+        traces["engine_speed"][after] = last["engine_speed"] + (idle - last["engine_speed"]) * frac
+        traces["torque"][after] = last["torque"] * (1.0 - frac)
+        traces["travel"][after] = 0.0
+    # runs start at rest at idle: the part before the first run too
+    w_e, w_i, v = traces["engine_speed"], traces["input_speed"], traces["vehicle_speed"]
+    travel = traces["travel"]
+    reported = (traces["torque"] - params["torque_offset"]) / params["torque_scale"]
     t_end = float(t[-1])
-    r = vehicle.tyre_radius
     channels = {}
 
     def add(group, names_units, values):
         _, stamps, vals = _sample(t, values, deg.rates[group], t_end, deg.stamp_delay, rng)
-        for (name, unit, make), v in zip(names_units, vals):
-            channels[name] = Channel(name, stamps, make(v), unit, group)
+        for (name, unit, make), val in zip(names_units, vals):
+            channels[name] = Channel(name, stamps, make(val), unit, group)
 
     add("EEC1", [("EngineSpeed", "rpm", lambda v: _quantise(
         v / RPM + deg.engine_speed_noise * rng.standard_normal(v.size), deg.rpm_step)),
@@ -130,10 +183,12 @@ def synthetic_log(*, launches: int = 3, seed: int = 0, truth: Mapping[str, float
     add("CCVS", [("WheelBasedVehicleSpeed", "km/h", lambda v: np.maximum(_quantise(
         3.6 * v + deg.vehicle_speed_noise * rng.standard_normal(v.size), deg.speed_step), 0.0)),
                  ("ClutchSwitch", "", lambda v: (v < params["touch_point"] - 0.001).astype(float))],
-        [w_w * r, travel])
+        [v, travel])
     add("CLUTCH", [("ClutchActuatorPosition", "mm", lambda v: _quantise(
         1e3 * v + deg.position_noise * rng.standard_normal(v.size), deg.position_step))],
         [travel])
     log = VehicleLog(source, channels, ())
-    return log, {"parameters": params, "t": t, "engine_speed": w_e, "input_speed": w_i,
-                 "wheel_speed": w_w, "travel": travel, "reference_torque": REFERENCE_TORQUE}
+    truth_params = {**params, **{k: float(v) for k, v in keys.items()}}
+    return log, {"parameters": truth_params, "model": lay.model, "t": t,
+                 **{name: traces[name] for name in names}, "travel": travel,
+                 "reference_torque": REFERENCE_TORQUE}
