@@ -9,13 +9,13 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import FrictionKernels, Scales, StatelessModel, expect, parameters
 
 __all__ = ["AtanFriction", "atan_force", "atan_jacobian"]
 
 
 @dataclass(frozen=True)
-class AtanFriction(FrictionModel):
+class AtanFriction(StatelessModel):
     """Coulomb friction smoothed by the arctangent::
 
         F = scale·(F_c·(2/π)·atan(v/v_t) + sigma2·v)
@@ -76,14 +76,8 @@ class AtanFriction(FrictionModel):
     def _pack(self) -> list[float]:
         return [self.F_c, self.v_t, self.sigma2]
 
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         return self.F_c * (2.0 / np.pi) * np.arctan(v / self.v_t) + self.sigma2 * v
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

@@ -87,7 +87,7 @@ import numpy as np
 
 __all__ = ["DOMAINS", "PHENOMENA", "SHARED_PARAMETERS", "UNIT_KINDS", "ElementLaw",
            "Expectation", "FrictionKernels", "FrictionModel", "FrictionReset", "Scales",
-           "SelfExcitedWarning", "expect", "parameters"]
+           "SelfExcitedWarning", "StatelessModel", "expect", "parameters"]
 
 
 class FrictionReset(enum.IntEnum):
@@ -549,6 +549,17 @@ class FrictionModel(abc.ABC):
                 f"{cls.__name__} has no parameter {param!r}; valid: {', '.join(cls.parameter_info)}"
             )
         return UNIT_KINDS[cls.parameter_info[param][0]][i]
+
+
+class StatelessModel(FrictionModel):
+    """A model without states: its force is a function of the slip (and ``F_e``,
+    ``scale``) alone."""
+
+    def _state_spec(self) -> tuple[tuple[str, str], ...]:
+        return ()
+
+    def _sliding_state(self, v: float) -> list[float]:
+        return []
 
 
 class ElementLaw(FrictionModel):

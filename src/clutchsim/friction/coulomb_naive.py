@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import RESET_NONE, FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import RESET_NONE, FrictionKernels, Scales, StatelessModel, expect, parameters
 
 __all__ = [
     "CoulombNaive",
@@ -21,7 +21,7 @@ __all__ = [
 
 
 @dataclass(frozen=True)
-class CoulombNaive(FrictionModel):
+class CoulombNaive(StatelessModel):
     """Two-phase Coulomb friction evaluated as a block diagram would.
 
     ``F = scale·F_c·sign(v)`` if ``v != 0``, else ``F = F_e`` clipped to
@@ -86,14 +86,8 @@ class CoulombNaive(FrictionModel):
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s]
 
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         return self.F_c * np.sign(v)
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

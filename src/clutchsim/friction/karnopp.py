@@ -9,13 +9,13 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import FrictionKernels, Scales, StatelessModel, expect, parameters
 
 __all__ = ["Karnopp", "karnopp_force", "karnopp_jacobian"]
 
 
 @dataclass(frozen=True)
-class Karnopp(FrictionModel):
+class Karnopp(StatelessModel):
     """Karnopp stick/slip friction without events.
 
     Inside the window ``|v| < DV`` the velocity is treated as zero and the
@@ -81,14 +81,8 @@ class Karnopp(FrictionModel):
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s, self.DV, self.sigma2]
 
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         return self.F_c * np.sign(v) + self.sigma2 * v
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

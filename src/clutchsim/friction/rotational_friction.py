@@ -9,7 +9,7 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import FrictionKernels, Scales, StatelessModel, expect, parameters
 
 __all__ = ["RotationalFriction", "rotational_friction_force", "rotational_friction_jacobian"]
 
@@ -17,7 +17,7 @@ _SQRT_2E = math.sqrt(2.0 * math.e)
 
 
 @dataclass(frozen=True)
-class RotationalFriction(FrictionModel):
+class RotationalFriction(StatelessModel):
     """Smooth Stribeck + Coulomb + viscous curve of Simscape/MTK::
 
         F = scale·( sqrt(2e)·(F_brk - F_c)·exp(-(v/v_St)^2)·v/v_St
@@ -88,9 +88,6 @@ class RotationalFriction(FrictionModel):
     def _pack(self) -> list[float]:
         return [self.F_brk, self.F_c, self.v_brk * math.sqrt(2.0), self.v_brk / 10.0, self.f]
 
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         v_st = self.v_brk * math.sqrt(2.0)
         v_coul = self.v_brk / 10.0
@@ -100,9 +97,6 @@ class RotationalFriction(FrictionModel):
             + self.F_c * np.tanh(v / v_coul)
             + self.f * v
         )
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

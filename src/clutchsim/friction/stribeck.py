@@ -10,13 +10,13 @@ import numpy as np
 
 from .._jit import jit
 from ._common import stribeck_level, stribeck_partials
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import FrictionKernels, Scales, StatelessModel, expect, parameters
 
 __all__ = ["StribeckFriction", "stribeck_force", "stribeck_jacobian"]
 
 
 @dataclass(frozen=True)
-class StribeckFriction(FrictionModel):
+class StribeckFriction(StatelessModel):
     """Static Stribeck friction, smoothed through zero velocity by tanh::
 
         F = scale·([F_c + (F_s - F_c)·exp(-|v/v_s|^delta)]·tanh(v/v_t) + sigma2·v)
@@ -86,15 +86,9 @@ class StribeckFriction(FrictionModel):
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s, self.v_s, self.delta, self.v_t, self.sigma2]
 
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         level = self.F_c + (self.F_s - self.F_c) * np.exp(-(np.abs(v / self.v_s) ** self.delta))
         return level * np.tanh(v / self.v_t) + self.sigma2 * v
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

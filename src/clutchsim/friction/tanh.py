@@ -9,13 +9,13 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import FrictionKernels, Scales, StatelessModel, expect, parameters
 
 __all__ = ["TanhFriction", "tanh_force", "tanh_jacobian"]
 
 
 @dataclass(frozen=True)
-class TanhFriction(FrictionModel):
+class TanhFriction(StatelessModel):
     """Coulomb friction smoothed by tanh::
 
         F = scale·(F_c·tanh(v/v_t) + sigma2·v)
@@ -69,14 +69,8 @@ class TanhFriction(FrictionModel):
     def _pack(self) -> list[float]:
         return [self.F_c, self.v_t, self.sigma2]
 
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         return self.F_c * np.tanh(v / self.v_t) + self.sigma2 * v
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit
