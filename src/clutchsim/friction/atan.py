@@ -9,13 +9,14 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import FrictionKernels, Scales, StatelessModel, expect, parameters
+from .base import FrictionKernels, expect, parameters
+from .tanh import RegularisedCoulomb
 
 __all__ = ["AtanFriction", "atan_force", "atan_jacobian"]
 
 
 @dataclass(frozen=True)
-class AtanFriction(StatelessModel):
+class AtanFriction(RegularisedCoulomb):
     """Coulomb friction smoothed by the arctangent::
 
         F = scale·(F_c·(2/π)·atan(v/v_t) + sigma2·v)
@@ -41,10 +42,6 @@ class AtanFriction(StatelessModel):
     Coulomb's law).
     """
 
-    F_c: float
-    v_t: float
-    sigma2: float = 0.0
-
     name: ClassVar[str] = "atan"
     passive: ClassVar[bool] = True
     citation: ClassVar[str] = (
@@ -65,16 +62,6 @@ class AtanFriction(StatelessModel):
         (-1e-4 * math.sqrt(3.0), -2.0 / 3.0 - 0.4e-4 * math.sqrt(3.0)),
     )
     default_parameter_set: ClassVar[str] = "atan"
-
-    def static_capacity(self) -> float:
-        """The Coulomb level ``F_c`` [N or N·m] (the force never exceeds it at rest)."""
-        return self.F_c
-
-    def typical_scales(self) -> Scales:
-        return Scales(self.F_c, self.v_t, ())
-
-    def _pack(self) -> list[float]:
-        return [self.F_c, self.v_t, self.sigma2]
 
     def _steady(self, v: np.ndarray) -> np.ndarray:
         return self.F_c * (2.0 / np.pi) * np.arctan(v / self.v_t) + self.sigma2 * v

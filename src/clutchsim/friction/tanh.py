@@ -15,7 +15,27 @@ __all__ = ["TanhFriction", "tanh_force", "tanh_jacobian"]
 
 
 @dataclass(frozen=True)
-class TanhFriction(StatelessModel):
+class RegularisedCoulomb(StatelessModel):
+    """What the regularised Coulomb laws (tanh, arctan) share: the Coulomb level ``F_c``,
+    the regularisation velocity ``v_t`` and the viscous coefficient ``sigma2``."""
+
+    F_c: float
+    v_t: float
+    sigma2: float = 0.0
+
+    def static_capacity(self) -> float:
+        """The Coulomb level ``F_c`` [N or N·m] (the force never exceeds it at rest)."""
+        return self.F_c
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, self.v_t, ())
+
+    def _pack(self) -> list[float]:
+        return [self.F_c, self.v_t, self.sigma2]
+
+
+@dataclass(frozen=True)
+class TanhFriction(RegularisedCoulomb):
     """Coulomb friction smoothed by tanh::
 
         F = scale·(F_c·tanh(v/v_t) + sigma2·v)
@@ -36,10 +56,6 @@ class TanhFriction(StatelessModel):
     Mykhailevych M.G. (2020), eq. (4); MathWorks Powertrain Blockset, Disc Clutch.
     """
 
-    F_c: float
-    v_t: float
-    sigma2: float = 0.0
-
     name: ClassVar[str] = "tanh"
     passive: ClassVar[bool] = True
     citation: ClassVar[str] = (
@@ -58,16 +74,6 @@ class TanhFriction(StatelessModel):
         (0.3, 1.12),
     )
     default_parameter_set: ClassVar[str] = "tanh"
-
-    def static_capacity(self) -> float:
-        """The Coulomb level ``F_c`` [N or N·m]."""
-        return self.F_c
-
-    def typical_scales(self) -> Scales:
-        return Scales(self.F_c, self.v_t, ())
-
-    def _pack(self) -> list[float]:
-        return [self.F_c, self.v_t, self.sigma2]
 
     def _steady(self, v: np.ndarray) -> np.ndarray:
         return self.F_c * np.tanh(v / self.v_t) + self.sigma2 * v
