@@ -85,7 +85,7 @@ from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
-__all__ = ["DOMAINS", "PHENOMENA", "SHARED_PARAMETERS", "UNIT_KINDS", "ElementLaw",
+__all__ = ["DOMAINS", "PHENOMENA", "SHARED_PARAMETERS", "STRIBECK_STEADY_CHECKS", "UNIT_KINDS", "ElementLaw",
            "Expectation", "FrictionKernels", "FrictionModel", "FrictionReset", "Scales",
            "SelfExcitedWarning", "StatelessModel", "expect", "parameters"]
 
@@ -178,6 +178,18 @@ SHARED_PARAMETERS: dict[str, tuple[str, str]] = {
     "sigma1": ("force/velocity", "bristle damping"),
     "sigma2": ("force/velocity", "viscous friction coefficient"),
 }
+
+#: steady sliding forces ``((v, F), ...)`` of the Stribeck curve ``sign(v)·(F_c + (F_s -
+#: F_c)·exp(-(v/v_s)^2)) + sigma2·v`` with ``F_c = 1``, ``F_s = 1.5``, ``v_s = 1e-3``,
+#: ``sigma2 = 0.4``, written out from the formula: the ``steady_checks`` of the models whose
+#: default parameter set has that curve (lugre, elastoplastic, gms; stribeck, whose
+#: ``tanh(v/v_t)`` is ±1 at these speeds)
+STRIBECK_STEADY_CHECKS: tuple[tuple[float, float], ...] = (
+    (-0.02, -1.008),
+    (0.0005, 1.3896003915357025),
+    (0.002, 1.009957819444367),
+    (0.3, 1.12),
+)
 
 _BOUND = re.compile(r"^(>=|>|<=|<) (\S+)$")
 _INTERVAL = re.compile(r"^in ([\[(])(\S+), (\S+)([\])])$")

@@ -8,7 +8,7 @@ from typing import ClassVar
 
 from .._jit import jit
 from ._common import sgn, sgn_right, stribeck_level, stribeck_partials
-from .base import FrictionKernels, expect, parameters
+from .base import STRIBECK_STEADY_CHECKS, FrictionKernels, expect, parameters
 from .lugre import BristleModel
 
 __all__ = ["ElastoPlastic", "elastoplastic_force", "elastoplastic_jacobian"]
@@ -63,13 +63,7 @@ class ElastoPlastic(BristleModel):
                        lag="yes", varying_breakaway="yes",
                        no_drift="yes while |F| < sigma0·z_ba (0 in drift test D1 with "
                                 "z_ba = 0.95 F_c/sigma0)")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.3896003915357025),
-        (0.002, 1.009957819444367),
-        (0.3, 1.12),
-    )
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = STRIBECK_STEADY_CHECKS
     default_parameter_set: ClassVar[str] = "elastoplastic_dupont2002"
 
     def _check(self) -> None:

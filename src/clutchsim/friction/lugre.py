@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn_right, stribeck_level, stribeck_partials
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import STRIBECK_STEADY_CHECKS, FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["LuGre", "lugre_force", "lugre_jacobian"]
 
@@ -96,13 +96,7 @@ class LuGre(BristleModel):
         delta="> 0")
     phenomena = expect(stiction="yes", stribeck="yes", presliding="yes", lag="yes",
                        varying_breakaway="yes", no_drift="no (6.64 µm/cycle in drift test D1)")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.3896003915357025),
-        (0.002, 1.009957819444367),
-        (0.3, 1.12),
-    )
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = STRIBECK_STEADY_CHECKS
     default_parameter_set: ClassVar[str] = "lugre_canudas1995"
 
     def _pack(self) -> list[float]:

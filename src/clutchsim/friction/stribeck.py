@@ -10,7 +10,14 @@ import numpy as np
 
 from .._jit import jit
 from ._common import stribeck_level, stribeck_partials
-from .base import FrictionKernels, Scales, StatelessModel, expect, parameters
+from .base import (
+    STRIBECK_STEADY_CHECKS,
+    FrictionKernels,
+    Scales,
+    StatelessModel,
+    expect,
+    parameters,
+)
 
 __all__ = ["StribeckFriction", "stribeck_force", "stribeck_jacobian"]
 
@@ -67,13 +74,7 @@ class StribeckFriction(StatelessModel):
         v_t=("velocity", "tanh regularisation velocity", "> 0"), sigma2=">= 0")
     phenomena = expect(stiction="no (creep; needs a switch)", stribeck="yes", presliding="no",
                        lag="no", varying_breakaway="no", no_drift="no")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.3896003915357025),
-        (0.002, 1.009957819444367),
-        (0.3, 1.12),
-    )
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = STRIBECK_STEADY_CHECKS
     default_parameter_set: ClassVar[str] = "stribeck"
 
     def static_capacity(self) -> float:
