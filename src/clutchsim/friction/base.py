@@ -85,9 +85,10 @@ from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
-__all__ = ["DOMAINS", "PHENOMENA", "SHARED_PARAMETERS", "STRIBECK_STEADY_CHECKS", "UNIT_KINDS", "ElementLaw",
-           "Expectation", "FrictionKernels", "FrictionModel", "FrictionReset", "Scales",
-           "SelfExcitedWarning", "StatelessModel", "expect", "parameters"]
+__all__ = ["COULOMB_STEADY_CHECKS", "DOMAINS", "PHENOMENA", "SHARED_PARAMETERS",
+           "STRIBECK_STEADY_CHECKS", "UNIT_KINDS", "ElementLaw", "Expectation",
+           "FrictionKernels", "FrictionModel", "FrictionReset", "Scales", "SelfExcitedWarning",
+           "StatelessModel", "expect", "parameters"]
 
 
 class FrictionReset(enum.IntEnum):
@@ -189,6 +190,15 @@ STRIBECK_STEADY_CHECKS: tuple[tuple[float, float], ...] = (
     (0.0005, 1.3896003915357025),
     (0.002, 1.009957819444367),
     (0.3, 1.12),
+)
+
+#: steady sliding forces ``((v, F), ...)`` of a Coulomb level ``F_c = 1`` alone
+#: (``F_ss = F_c·sign(v)``): the ``steady_checks`` of coulomb-naive and dahl
+COULOMB_STEADY_CHECKS: tuple[tuple[float, float], ...] = (
+    (-0.02, -1.0),
+    (0.0005, 1.0),
+    (0.002, 1.0),
+    (0.3, 1.0),
 )
 
 _BOUND = re.compile(r"^(>=|>|<=|<) (\S+)$")

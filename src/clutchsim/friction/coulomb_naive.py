@@ -9,7 +9,15 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import RESET_NONE, FrictionKernels, Scales, StatelessModel, expect, parameters
+from .base import (
+    COULOMB_STEADY_CHECKS,
+    RESET_NONE,
+    FrictionKernels,
+    Scales,
+    StatelessModel,
+    expect,
+    parameters,
+)
 
 __all__ = [
     "CoulombNaive",
@@ -65,13 +73,7 @@ class CoulombNaive(StatelessModel):
     phenomena = expect(stiction="yes (in theory; chatters numerically at lock-up)", stribeck="no",
                        presliding="no", lag="no", varying_breakaway="no",
                        no_drift="yes (stuck means frozen) if the solver could stick")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.0),
-        (0.0005, 1.0),
-        (0.002, 1.0),
-        (0.3, 1.0),
-    )
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = COULOMB_STEADY_CHECKS
     default_parameter_set: ClassVar[str] = "coulomb"
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (("velocity_zero_crossing", 0),)
 
