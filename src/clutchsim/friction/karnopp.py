@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import FrictionKernels, Scales, StatelessModel, expect, parameters
+from .base import FrictionKernels, Scales, StatelessModel, expect, parameters, steady_checks_at
 
 __all__ = ["Karnopp", "karnopp_force", "karnopp_jacobian"]
 
@@ -62,13 +62,9 @@ class Karnopp(StatelessModel):
     phenomena = expect(stiction="yes", stribeck="no", presliding="no", lag="no",
                        varying_breakaway="no",
                        no_drift="yes (within the window the body is held)")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.0002),
-        (0.002, 1.0008),
-        (0.3, 1.12),
-    )
+    #: F_ss(v) at STEADY_CHECK_SPEEDS written out from the formula with the default set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = steady_checks_at(
+        -1.008, 1.0002, 1.0008, 1.12)
     default_parameter_set: ClassVar[str] = "karnopp"
 
     def static_capacity(self) -> float:

@@ -9,7 +9,7 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import FrictionKernels, Scales, StatelessModel, expect, parameters
+from .base import FrictionKernels, Scales, StatelessModel, expect, parameters, steady_checks_at
 
 __all__ = ["TanhFriction", "tanh_force", "tanh_jacobian"]
 
@@ -66,13 +66,9 @@ class TanhFriction(RegularisedCoulomb):
         F_c=">= 0", v_t=("velocity", "tanh regularisation velocity", "> 0"), sigma2=">= 0")
     phenomena = expect(stiction="no (creep)", stribeck="no", presliding="no", lag="no",
                        varying_breakaway="no", no_drift="no")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.0001092042625952),
-        (0.002, 1.0008),
-        (0.3, 1.12),
-    )
+    #: F_ss(v) at STEADY_CHECK_SPEEDS written out from the formula with the default set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = steady_checks_at(
+        -1.008, 1.0001092042625952, 1.0008, 1.12)
     default_parameter_set: ClassVar[str] = "tanh"
 
     def _steady(self, v: np.ndarray) -> np.ndarray:
