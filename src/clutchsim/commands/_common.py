@@ -91,12 +91,17 @@ def check_sweep_flags(args) -> None:
                         "number of seconds > 0")
 
 
-def command_parser(sub, common, name: str, *, help: str, description: str, epilog: str):
+def command_parser(sub, common, name: str, *, help: str, description: str, epilog: str,
+                   scenario: bool = False):
     """The subcommand ``name`` with the common flags (``common``): ``help`` its line in the
     command list, ``description`` the head of its --help, ``epilog`` the examples and exit
-    statuses below it, laid out as written."""
-    return sub.add_parser(name, parents=[common], help=help, description=description,
-                          epilog=epilog, formatter_class=argparse.RawDescriptionHelpFormatter)
+    statuses below it, laid out as written; ``scenario``: its first argument is an optional
+    scenario TOML."""
+    p = sub.add_parser(name, parents=[common], help=help, description=description,
+                       epilog=epilog, formatter_class=argparse.RawDescriptionHelpFormatter)
+    if scenario:
+        p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+    return p
 
 
 def add_output_flags(p, *, force: bool = True, figures: str = "the figures",

@@ -40,8 +40,7 @@ def register(sub, common):
     p = command_parser(sub, common, "explore", help="tune a launch live in the browser",
                        description="Start the launch explorer: a local web page with sliders "
                        "for the launch parameters, re-simulating on every change.",
-                       epilog=HELP)
-    p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+                       epilog=HELP, scenario=True)
     p.add_argument("--model", default=None,
                    help="friction model of the clutch element (default: the scenario's first)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",

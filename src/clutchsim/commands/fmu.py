@@ -38,8 +38,7 @@ def register(sub, common):
     p = command_parser(sub, common, "fmu", help="export a scenario as an FMU",
                        description="Export a scenario's plant as a Functional Mock-up Unit "
                        "(FMI 2.0 or 3.0, Model Exchange or co-simulation) that any FMI tool "
-                       "can run.", epilog=HELP)
-    p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+                       "can run.", epilog=HELP, scenario=True)
     p.add_argument("--model", default=None,
                    help="friction model of the clutch element (default: the scenario's first)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",

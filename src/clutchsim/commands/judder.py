@@ -67,8 +67,7 @@ def register(sub, common):
                        help="modes and friction slopes of a driveline at an operating time",
                        description="Linearise a driveline scenario at an operating time and "
                        "report its modes (judder analysis), or with --frf the frequency "
-                       "response from an input to an output.", epilog=HELP)
-    p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+                       "response from an input to an output.", epilog=HELP, scenario=True)
     p.add_argument("--model", default=None, help="friction model of the clutch element")
     p.add_argument("--at", type=float, default=0.0, metavar="T",
                    help="operating time [s], 0 <= T <= t_end (default 0)")

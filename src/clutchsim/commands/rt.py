@@ -36,8 +36,7 @@ def register(sub, common):
     p = command_parser(sub, common, "rt", help="export a fixed-step real-time C library",
                        description="Write a scenario's driveline as a fixed-step C99 library "
                        "for hardware-in-the-loop rigs, checked against the variable-step run.",
-                       epilog=HELP)
-    p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+                       epilog=HELP, scenario=True)
     p.add_argument("--model", default=None,
                    help="friction model of the clutch element (default: the scenario's; "
                    "model (6) when it lists it)")

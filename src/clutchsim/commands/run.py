@@ -56,8 +56,7 @@ says which: "failed", and each model's "outcome"), 2 bad input.
 def register(sub, common):
     p = command_parser(sub, common, "run", help="simulate a driveline scenario",
                        description="Simulate a driveline scenario (TOML) and write time "
-                       "series, metrics and figures.", epilog=HELP)
-    p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+                       "series, metrics and figures.", epilog=HELP, scenario=True)
     p.add_argument("--model", action="append", default=None,
                    help="friction model of the clutch element (repeatable)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",

@@ -58,8 +58,8 @@ exit status: 0 (also when some runs failed: they are rows with their status and 
 def register(sub, common):
     p = command_parser(sub, common, "sweep", help="run a scenario over many parameter "
                        "values", description="Run a scenario over a grid or seeded random "
-                       "samples of its parameters; one row of metrics per run.", epilog=HELP)
-    p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+                       "samples of its parameters; one row of metrics per run.", epilog=HELP,
+                       scenario=True)
     p.add_argument("--vary", action="append", default=[], metavar="KEY=SPEC", required=True,
                    help="a key to vary (repeatable)")
     p.add_argument("--samples", type=int, metavar="N", help="random samples")

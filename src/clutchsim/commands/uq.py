@@ -64,8 +64,7 @@ def register(sub, common):
                        description="Sample scenario keys from distributions, run them as one "
                        "sweep and estimate the probability of each outcome, the quantiles "
                        "of every metric and (sobol, morris) the sensitivity to each input.",
-                       epilog=HELP)
-    p.add_argument("scenario", nargs="?", help="scenario TOML (default: the packaged launch)")
+                       epilog=HELP, scenario=True)
     p.add_argument("--vary", action="append", default=[], metavar="KEY=DIST", required=True,
                    help="an uncertain input (repeatable)")
     p.add_argument("--corr", action="append", default=[], metavar="KEY_A,KEY_B=RHO",

@@ -9,13 +9,14 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import FrictionKernels, expect, parameters
+from .tanh import RegularisedCoulomb
 
 __all__ = ["AtanFriction", "atan_force", "atan_jacobian"]
 
 
 @dataclass(frozen=True)
-class AtanFriction(FrictionModel):
+class AtanFriction(RegularisedCoulomb):
     """Coulomb friction smoothed by the arctangent::
 
         F = scale·(F_c·(2/π)·atan(v/v_t) + sigma2·v)
@@ -41,10 +42,6 @@ class AtanFriction(FrictionModel):
     Coulomb's law).
     """
 
-    F_c: float
-    v_t: float
-    sigma2: float = 0.0
-
     name: ClassVar[str] = "atan"
     passive: ClassVar[bool] = True
     citation: ClassVar[str] = (
@@ -66,24 +63,8 @@ class AtanFriction(FrictionModel):
     )
     default_parameter_set: ClassVar[str] = "atan"
 
-    def static_capacity(self) -> float:
-        """The Coulomb level ``F_c`` [N or N·m] (the force never exceeds it at rest)."""
-        return self.F_c
-
-    def typical_scales(self) -> Scales:
-        return Scales(self.F_c, self.v_t, ())
-
-    def _pack(self) -> list[float]:
-        return [self.F_c, self.v_t, self.sigma2]
-
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         return self.F_c * (2.0 / np.pi) * np.arctan(v / self.v_t) + self.sigma2 * v
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

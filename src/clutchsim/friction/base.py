@@ -85,9 +85,10 @@ from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
-__all__ = ["DOMAINS", "PHENOMENA", "SHARED_PARAMETERS", "UNIT_KINDS", "ElementLaw",
+__all__ = ["COULOMB_STEADY_CHECKS", "DOMAINS", "PHENOMENA", "SHARED_PARAMETERS",
+           "STEADY_CHECK_SPEEDS", "STRIBECK_STEADY_CHECKS", "UNIT_KINDS", "ElementLaw",
            "Expectation", "FrictionKernels", "FrictionModel", "FrictionReset", "Scales",
-           "SelfExcitedWarning", "expect", "parameters"]
+           "SelfExcitedWarning", "StatelessModel", "expect", "parameters", "steady_checks_at"]
 
 
 class FrictionReset(enum.IntEnum):
@@ -178,6 +179,33 @@ SHARED_PARAMETERS: dict[str, tuple[str, str]] = {
     "sigma1": ("force/velocity", "bristle damping"),
     "sigma2": ("force/velocity", "viscous friction coefficient"),
 }
+
+#: the slip velocities [m/s or rad/s] at which the models write out their steady sliding
+#: forces (``steady_checks``, :func:`steady_checks_at`): both directions, inside and beyond
+#: the Stribeck and regularisation ranges of the default parameter sets
+STEADY_CHECK_SPEEDS = (-0.02, 0.0005, 0.002, 0.3)
+
+
+def steady_checks_at(*forces: float) -> tuple[tuple[float, float], ...]:
+    """A model's ``steady_checks``: the steady sliding forces ``forces`` [N or N·m], written
+    out from its formula with its default parameter set, at :data:`STEADY_CHECK_SPEEDS` in
+    that order."""
+    if len(forces) != len(STEADY_CHECK_SPEEDS):
+        raise TypeError(f"steady_checks_at() takes {len(STEADY_CHECK_SPEEDS)} forces, one per "
+                        f"speed of STEADY_CHECK_SPEEDS; got {len(forces)}")
+    return tuple(zip(STEADY_CHECK_SPEEDS, forces))
+
+
+#: the steady sliding forces of the Stribeck curve ``sign(v)·(F_c + (F_s -
+#: F_c)·exp(-(v/v_s)^2)) + sigma2·v`` with ``F_c = 1``, ``F_s = 1.5``, ``v_s = 1e-3``,
+#: ``sigma2 = 0.4``: the ``steady_checks`` of the models whose default parameter set has
+#: that curve (lugre, elastoplastic, gms; stribeck, whose ``tanh(v/v_t)`` is ±1 at these
+#: speeds)
+STRIBECK_STEADY_CHECKS = steady_checks_at(-1.008, 1.3896003915357025, 1.009957819444367, 1.12)
+
+#: the steady sliding forces of a Coulomb level ``F_c = 1`` alone (``F_ss = F_c·sign(v)``):
+#: the ``steady_checks`` of coulomb-naive and dahl
+COULOMB_STEADY_CHECKS = steady_checks_at(-1.0, 1.0, 1.0, 1.0)
 
 _BOUND = re.compile(r"^(>=|>|<=|<) (\S+)$")
 _INTERVAL = re.compile(r"^in ([\[(])(\S+), (\S+)([\])])$")
@@ -549,6 +577,17 @@ class FrictionModel(abc.ABC):
                 f"{cls.__name__} has no parameter {param!r}; valid: {', '.join(cls.parameter_info)}"
             )
         return UNIT_KINDS[cls.parameter_info[param][0]][i]
+
+
+class StatelessModel(FrictionModel):
+    """A model without states: its force is a function of the slip (and ``F_e``,
+    ``scale``) alone."""
+
+    def _state_spec(self) -> tuple[tuple[str, str], ...]:
+        return ()
+
+    def _sliding_state(self, v: float) -> list[float]:
+        return []
 
 
 class ElementLaw(FrictionModel):

@@ -9,7 +9,15 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import RESET_NONE, FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import (
+    COULOMB_STEADY_CHECKS,
+    RESET_NONE,
+    FrictionKernels,
+    Scales,
+    StatelessModel,
+    expect,
+    parameters,
+)
 
 __all__ = [
     "CoulombNaive",
@@ -21,7 +29,7 @@ __all__ = [
 
 
 @dataclass(frozen=True)
-class CoulombNaive(FrictionModel):
+class CoulombNaive(StatelessModel):
     """Two-phase Coulomb friction evaluated as a block diagram would.
 
     ``F = scale·F_c·sign(v)`` if ``v != 0``, else ``F = F_e`` clipped to
@@ -65,13 +73,7 @@ class CoulombNaive(FrictionModel):
     phenomena = expect(stiction="yes (in theory; chatters numerically at lock-up)", stribeck="no",
                        presliding="no", lag="no", varying_breakaway="no",
                        no_drift="yes (stuck means frozen) if the solver could stick")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.0),
-        (0.0005, 1.0),
-        (0.002, 1.0),
-        (0.3, 1.0),
-    )
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = COULOMB_STEADY_CHECKS
     default_parameter_set: ClassVar[str] = "coulomb"
     event_spec: ClassVar[tuple[tuple[str, int], ...]] = (("velocity_zero_crossing", 0),)
 
@@ -86,14 +88,8 @@ class CoulombNaive(FrictionModel):
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s]
 
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         return self.F_c * np.sign(v)
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn, sgn_right
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import COULOMB_STEADY_CHECKS, FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["Dahl", "dahl_force", "dahl_jacobian"]
 
@@ -55,13 +55,7 @@ class Dahl(FrictionModel):
         alpha=("1", "shape exponent of the Dahl curve", "> 0"))
     phenomena = expect(stiction="no", stribeck="no", presliding="yes", lag="no",
                        varying_breakaway="no", no_drift="no (16.7 µm/cycle in drift test D1)")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.0),
-        (0.0005, 1.0),
-        (0.002, 1.0),
-        (0.3, 1.0),
-    )
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = COULOMB_STEADY_CHECKS
     default_parameter_set: ClassVar[str] = "dahl_d1"
 
     def static_capacity(self) -> float:

@@ -6,17 +6,16 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
-import numpy as np
-
 from .._jit import jit
 from ._common import sgn, sgn_right, stribeck_level, stribeck_partials
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import STRIBECK_STEADY_CHECKS, FrictionKernels, expect, parameters
+from .lugre import BristleModel
 
 __all__ = ["ElastoPlastic", "elastoplastic_force", "elastoplastic_jacobian"]
 
 
 @dataclass(frozen=True)
-class ElastoPlastic(FrictionModel):
+class ElastoPlastic(BristleModel):
     """Single-state elasto-plastic model (LuGre with a true elastic zone)::
 
         g(v)   = F_c + (F_s - F_c)·exp(-|v/v_s|^delta),   z_max(v) = g(v)/sigma0
@@ -47,12 +46,6 @@ class ElastoPlastic(FrictionModel):
     47(5):787-792, 2002, doi:10.1109/TAC.2002.1000274.
     """
 
-    F_c: float
-    F_s: float
-    v_s: float
-    sigma0: float
-    sigma1: float
-    sigma2: float
     z_ba: float
     delta: float = 2.0
 
@@ -70,21 +63,8 @@ class ElastoPlastic(FrictionModel):
                        lag="yes", varying_breakaway="yes",
                        no_drift="yes while |F| < sigma0·z_ba (0 in drift test D1 with "
                                 "z_ba = 0.95 F_c/sigma0)")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.3896003915357025),
-        (0.002, 1.009957819444367),
-        (0.3, 1.12),
-    )
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = STRIBECK_STEADY_CHECKS
     default_parameter_set: ClassVar[str] = "elastoplastic_dupont2002"
-
-    def static_capacity(self) -> float:
-        """The static level ``F_s`` [N or N·m]."""
-        return self.F_s
-
-    def typical_scales(self) -> Scales:
-        return Scales(self.F_c, self.v_s, (self.F_c / self.sigma0,))
 
     def _check(self) -> None:
         limit = self.F_c / self.sigma0
@@ -95,17 +75,6 @@ class ElastoPlastic(FrictionModel):
             self.F_c, self.F_s, self.v_s, self.sigma0, self.sigma1, self.sigma2, self.delta,
             self.z_ba,
         ]  # fmt: skip
-
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return (("z", "displacement"),)
-
-    def _steady(self, v: np.ndarray) -> np.ndarray:
-        g = self.F_c + (self.F_s - self.F_c) * np.exp(-(np.abs(v / self.v_s) ** self.delta))
-        return np.sign(v) * g + self.sigma2 * v
-
-    def _sliding_state(self, v: float) -> list[float]:
-        g = self.F_c + (self.F_s - self.F_c) * np.exp(-(abs(v / self.v_s) ** self.delta))
-        return [float(np.sign(v) * g / self.sigma0)]
 
 
 @jit

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn, stribeck_level, stribeck_partials
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import STRIBECK_STEADY_CHECKS, FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["GMS", "gms_force", "gms_jacobian"]
 
@@ -106,13 +106,7 @@ class GMS(FrictionModel):
     phenomena = expect(stiction="yes", stribeck="yes", presliding="yes (with non-local memory)",
                        lag="yes", varying_breakaway="yes",
                        no_drift="yes in pre-sliding (literature, unverified)")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.3896003915357025),
-        (0.002, 1.009957819444367),
-        (0.3, 1.12),
-    )
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = STRIBECK_STEADY_CHECKS
     default_parameter_set: ClassVar[str] = "gms_illustrative"
 
     def static_capacity(self) -> float:

@@ -9,13 +9,13 @@ import numpy as np
 
 from .._jit import jit
 from ._common import clip, clip_partials, sgn
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import FrictionKernels, Scales, StatelessModel, expect, parameters, steady_checks_at
 
 __all__ = ["Karnopp", "karnopp_force", "karnopp_jacobian"]
 
 
 @dataclass(frozen=True)
-class Karnopp(FrictionModel):
+class Karnopp(StatelessModel):
     """Karnopp stick/slip friction without events.
 
     Inside the window ``|v| < DV`` the velocity is treated as zero and the
@@ -62,13 +62,9 @@ class Karnopp(FrictionModel):
     phenomena = expect(stiction="yes", stribeck="no", presliding="no", lag="no",
                        varying_breakaway="no",
                        no_drift="yes (within the window the body is held)")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.0002),
-        (0.002, 1.0008),
-        (0.3, 1.12),
-    )
+    #: F_ss(v) at STEADY_CHECK_SPEEDS written out from the formula with the default set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = steady_checks_at(
+        -1.008, 1.0002, 1.0008, 1.12)
     default_parameter_set: ClassVar[str] = "karnopp"
 
     def static_capacity(self) -> float:
@@ -81,14 +77,8 @@ class Karnopp(FrictionModel):
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s, self.DV, self.sigma2]
 
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         return self.F_c * np.sign(v) + self.sigma2 * v
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

@@ -9,13 +9,46 @@ import numpy as np
 
 from .._jit import jit
 from ._common import sgn_right, stribeck_level, stribeck_partials
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import STRIBECK_STEADY_CHECKS, FrictionKernels, FrictionModel, Scales, expect, parameters
 
 __all__ = ["LuGre", "lugre_force", "lugre_jacobian"]
 
 
 @dataclass(frozen=True)
-class LuGre(FrictionModel):
+class BristleModel(FrictionModel):
+    """What LuGre and the elasto-plastic model share: the parameters ``F_c``, ``F_s``,
+    ``v_s`` (the Stribeck level ``g(v)``, with the subclass's exponent ``delta``),
+    ``sigma0``, ``sigma1``, ``sigma2``, the one state ``z`` (mean bristle deflection) and
+    steady sliding ``z = sign(v)·g(v)/sigma0``, ``F = sign(v)·g(v) + sigma2·v``."""
+
+    F_c: float
+    F_s: float
+    v_s: float
+    sigma0: float
+    sigma1: float
+    sigma2: float
+
+    def static_capacity(self) -> float:
+        """The static level ``F_s`` [N or N·m]."""
+        return self.F_s
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, self.v_s, (self.F_c / self.sigma0,))
+
+    def _state_spec(self) -> tuple[tuple[str, str], ...]:
+        return (("z", "displacement"),)
+
+    def _steady(self, v: np.ndarray) -> np.ndarray:
+        g = self.F_c + (self.F_s - self.F_c) * np.exp(-(np.abs(v / self.v_s) ** self.delta))
+        return np.sign(v) * g + self.sigma2 * v
+
+    def _sliding_state(self, v: float) -> list[float]:
+        g = self.F_c + (self.F_s - self.F_c) * np.exp(-(abs(v / self.v_s) ** self.delta))
+        return [float(np.sign(v) * g / self.sigma0)]
+
+
+@dataclass(frozen=True)
+class LuGre(BristleModel):
     """LuGre bristle model (state ``z``, mean bristle deflection)::
 
         g(v)  = F_c + (F_s - F_c)·exp(-|v/v_s|^delta)
@@ -50,12 +83,6 @@ class LuGre(FrictionModel):
     40(3):419-425, 1995, doi:10.1109/9.376053.
     """
 
-    F_c: float
-    F_s: float
-    v_s: float
-    sigma0: float
-    sigma1: float
-    sigma2: float
     delta: float = 2.0
 
     name: ClassVar[str] = "lugre"
@@ -69,35 +96,11 @@ class LuGre(FrictionModel):
         delta="> 0")
     phenomena = expect(stiction="yes", stribeck="yes", presliding="yes", lag="yes",
                        varying_breakaway="yes", no_drift="no (6.64 µm/cycle in drift test D1)")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.3896003915357025),
-        (0.002, 1.009957819444367),
-        (0.3, 1.12),
-    )
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = STRIBECK_STEADY_CHECKS
     default_parameter_set: ClassVar[str] = "lugre_canudas1995"
-
-    def static_capacity(self) -> float:
-        """The static level ``F_s`` [N or N·m]."""
-        return self.F_s
-
-    def typical_scales(self) -> Scales:
-        return Scales(self.F_c, self.v_s, (self.F_c / self.sigma0,))
 
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s, self.v_s, self.sigma0, self.sigma1, self.sigma2, self.delta]
-
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return (("z", "displacement"),)
-
-    def _steady(self, v: np.ndarray) -> np.ndarray:
-        g = self.F_c + (self.F_s - self.F_c) * np.exp(-(np.abs(v / self.v_s) ** self.delta))
-        return np.sign(v) * g + self.sigma2 * v
-
-    def _sliding_state(self, v: float) -> list[float]:
-        g = self.F_c + (self.F_s - self.F_c) * np.exp(-(abs(v / self.v_s) ** self.delta))
-        return [float(np.sign(v) * g / self.sigma0)]
 
 
 @jit

@@ -20,6 +20,7 @@ from .base import (
     SelfExcitedWarning,
     expect,
     parameters,
+    steady_checks_at,
 )
 
 __all__ = [
@@ -179,13 +180,9 @@ class Mykhailevych2020(FrictionModel):
     phenomena = expect(stiction="yes (capacity T_stat)", stribeck="yes",
                        presliding="yes (tanh spring)", lag="depends: via k_v only",
                        varying_breakaway="no", no_drift="depends: only with a clamp-type reset")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -7.329157819444367),
-        (0.0005, 1.65675156119873),
-        (0.002, 2.1123947195761614),
-        (0.3, 95.8),
-    )
+    #: F_ss(v) at STEADY_CHECK_SPEEDS written out from the formula with the default set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = steady_checks_at(
+        -7.329157819444367, 1.65675156119873, 2.1123947195761614, 95.8)
     default_parameter_set: ClassVar[str] = "mykhailevych2020_translational"
     #: at v = 0 the sliding term sign(v)·(1 − exp(−|v/ω0|^p)) is zero from both sides
     smooth_at_events: ClassVar[bool] = True

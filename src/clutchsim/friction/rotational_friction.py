@@ -9,7 +9,14 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import (
+    FrictionKernels,
+    Scales,
+    StatelessModel,
+    expect,
+    parameters,
+    steady_checks_at,
+)
 
 __all__ = ["RotationalFriction", "rotational_friction_force", "rotational_friction_jacobian"]
 
@@ -17,7 +24,7 @@ _SQRT_2E = math.sqrt(2.0 * math.e)
 
 
 @dataclass(frozen=True)
-class RotationalFriction(FrictionModel):
+class RotationalFriction(StatelessModel):
     """Smooth Stribeck + Coulomb + viscous curve of Simscape/MTK::
 
         F = scale·( sqrt(2e)·(F_brk - F_c)·exp(-(v/v_St)^2)·v/v_St
@@ -69,13 +76,9 @@ class RotationalFriction(FrictionModel):
         f=("force/velocity", "viscous friction coefficient", ">= 0"))
     phenomena = expect(stiction="no (creep)", stribeck="yes", presliding="no", lag="no",
                        varying_breakaway="no", no_drift="no")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -22.533136258569197),
-        (0.0005, 1.7215163886576725),
-        (0.002, 6.668611802551407),
-        (0.3, 20.000476467573876),
-    )
+    #: F_ss(v) at STEADY_CHECK_SPEEDS written out from the formula with the default set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = steady_checks_at(
+        -22.533136258569197, 1.7215163886576725, 6.668611802551407, 20.000476467573876)
     default_parameter_set: ClassVar[str] = "rotational_friction"
 
     def static_capacity(self) -> float:
@@ -88,9 +91,6 @@ class RotationalFriction(FrictionModel):
     def _pack(self) -> list[float]:
         return [self.F_brk, self.F_c, self.v_brk * math.sqrt(2.0), self.v_brk / 10.0, self.f]
 
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         v_st = self.v_brk * math.sqrt(2.0)
         v_coul = self.v_brk / 10.0
@@ -100,9 +100,6 @@ class RotationalFriction(FrictionModel):
             + self.F_c * np.tanh(v / v_coul)
             + self.f * v
         )
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

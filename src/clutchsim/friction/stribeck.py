@@ -10,13 +10,20 @@ import numpy as np
 
 from .._jit import jit
 from ._common import stribeck_level, stribeck_partials
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import (
+    STRIBECK_STEADY_CHECKS,
+    FrictionKernels,
+    Scales,
+    StatelessModel,
+    expect,
+    parameters,
+)
 
 __all__ = ["StribeckFriction", "stribeck_force", "stribeck_jacobian"]
 
 
 @dataclass(frozen=True)
-class StribeckFriction(FrictionModel):
+class StribeckFriction(StatelessModel):
     """Static Stribeck friction, smoothed through zero velocity by tanh::
 
         F = scale·([F_c + (F_s - F_c)·exp(-|v/v_s|^delta)]·tanh(v/v_t) + sigma2·v)
@@ -67,13 +74,7 @@ class StribeckFriction(FrictionModel):
         v_t=("velocity", "tanh regularisation velocity", "> 0"), sigma2=">= 0")
     phenomena = expect(stiction="no (creep; needs a switch)", stribeck="yes", presliding="no",
                        lag="no", varying_breakaway="no", no_drift="no")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.3896003915357025),
-        (0.002, 1.009957819444367),
-        (0.3, 1.12),
-    )
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = STRIBECK_STEADY_CHECKS
     default_parameter_set: ClassVar[str] = "stribeck"
 
     def static_capacity(self) -> float:
@@ -86,15 +87,9 @@ class StribeckFriction(FrictionModel):
     def _pack(self) -> list[float]:
         return [self.F_c, self.F_s, self.v_s, self.delta, self.v_t, self.sigma2]
 
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
-
     def _steady(self, v: np.ndarray) -> np.ndarray:
         level = self.F_c + (self.F_s - self.F_c) * np.exp(-(np.abs(v / self.v_s) ** self.delta))
         return level * np.tanh(v / self.v_t) + self.sigma2 * v
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

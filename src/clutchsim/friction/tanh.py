@@ -9,13 +9,33 @@ from typing import ClassVar
 import numpy as np
 
 from .._jit import jit
-from .base import FrictionKernels, FrictionModel, Scales, expect, parameters
+from .base import FrictionKernels, Scales, StatelessModel, expect, parameters, steady_checks_at
 
 __all__ = ["TanhFriction", "tanh_force", "tanh_jacobian"]
 
 
 @dataclass(frozen=True)
-class TanhFriction(FrictionModel):
+class RegularisedCoulomb(StatelessModel):
+    """What the regularised Coulomb laws (tanh, arctan) share: the Coulomb level ``F_c``,
+    the regularisation velocity ``v_t`` and the viscous coefficient ``sigma2``."""
+
+    F_c: float
+    v_t: float
+    sigma2: float = 0.0
+
+    def static_capacity(self) -> float:
+        """The Coulomb level ``F_c`` [N or N·m] (the force never exceeds it at rest)."""
+        return self.F_c
+
+    def typical_scales(self) -> Scales:
+        return Scales(self.F_c, self.v_t, ())
+
+    def _pack(self) -> list[float]:
+        return [self.F_c, self.v_t, self.sigma2]
+
+
+@dataclass(frozen=True)
+class TanhFriction(RegularisedCoulomb):
     """Coulomb friction smoothed by tanh::
 
         F = scale·(F_c·tanh(v/v_t) + sigma2·v)
@@ -36,10 +56,6 @@ class TanhFriction(FrictionModel):
     Mykhailevych M.G. (2020), eq. (4); MathWorks Powertrain Blockset, Disc Clutch.
     """
 
-    F_c: float
-    v_t: float
-    sigma2: float = 0.0
-
     name: ClassVar[str] = "tanh"
     passive: ClassVar[bool] = True
     citation: ClassVar[str] = (
@@ -50,33 +66,13 @@ class TanhFriction(FrictionModel):
         F_c=">= 0", v_t=("velocity", "tanh regularisation velocity", "> 0"), sigma2=">= 0")
     phenomena = expect(stiction="no (creep)", stribeck="no", presliding="no", lag="no",
                        varying_breakaway="no", no_drift="no")
-    #: F_ss(v) written out from the formula with the default parameter set
-    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = (
-        (-0.02, -1.008),
-        (0.0005, 1.0001092042625952),
-        (0.002, 1.0008),
-        (0.3, 1.12),
-    )
+    #: F_ss(v) at STEADY_CHECK_SPEEDS written out from the formula with the default set
+    steady_checks: ClassVar[tuple[tuple[float, float], ...]] = steady_checks_at(
+        -1.008, 1.0001092042625952, 1.0008, 1.12)
     default_parameter_set: ClassVar[str] = "tanh"
-
-    def static_capacity(self) -> float:
-        """The Coulomb level ``F_c`` [N or N·m]."""
-        return self.F_c
-
-    def typical_scales(self) -> Scales:
-        return Scales(self.F_c, self.v_t, ())
-
-    def _pack(self) -> list[float]:
-        return [self.F_c, self.v_t, self.sigma2]
-
-    def _state_spec(self) -> tuple[tuple[str, str], ...]:
-        return ()
 
     def _steady(self, v: np.ndarray) -> np.ndarray:
         return self.F_c * np.tanh(v / self.v_t) + self.sigma2 * v
-
-    def _sliding_state(self, v: float) -> list[float]:
-        return []
 
 
 @jit

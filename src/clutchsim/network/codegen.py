@@ -182,6 +182,16 @@ class Emitter:
         self.g.dtorques.append((self.g.asm.node_of[(self.c.name, flange)], key,
                                 check_expr(expr)))
 
+    def torque_pair(self, a: str, b: str, tau: str, partials) -> None:
+        """Torque ``tau`` on the node of ``a`` and ``−tau`` on that of ``b`` (an element
+        between two flanges) with the partial derivatives of ``tau``: ``partials``
+        ``((key, expr, negated), ...)``, ``∂tau/∂key = expr`` (``−expr`` where ``negated``)."""
+        self.torque(a, tau)
+        self.torque(b, f"-{tau}")
+        for fl, minus in ((a, False), (b, True)):
+            for key, expr, negated in partials:
+                self.dtorque(fl, key, f"-{expr}" if minus != negated else expr)
+
     def deriv(self, state: str, expr: str) -> None:
         self.g.derivs.append((self.g.state_index[(self.c.name, state)], check_expr(expr)))
 

@@ -21,9 +21,24 @@ def _ok(result, label, run):
     return res if res is not None and res.status != "failed" else None
 
 
+def _runs(result, run):
+    """``(label, description, Result)`` of each model whose run ``run`` did not fail."""
+    for label, desc in result.models.items():
+        res = _ok(result, label, run)
+        if res is not None:
+            yield label, desc, res
+
+
 def _legend(ax, **kw):
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize="small", **kw)
+
+
+def _finish(axes, **kw):
+    """A grid on each of ``axes`` and its legend (``kw``: the legend's options)."""
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        _legend(ax, **kw)
 
 
 def plot_curves(result, fig_axes=None):
@@ -47,9 +62,7 @@ def plot_curves(result, fig_axes=None):
     c.set_ylim(0.0, 2.0)
     c.set(title="(c) steady-state (static) curves F_ss(v)", xlabel="slip velocity v [m/s]",
           ylabel="steady sliding force F_ss [N]")
-    for ax in (a, b, c):
-        ax.grid(alpha=0.3)
-        _legend(ax)
+    _finish((a, b, c))
     if not a.lines:
         a.text(0.5, 0.5, "no mykhailevych2020 model selected", ha="center",
                transform=a.transAxes)
@@ -61,18 +74,14 @@ def plot_drift(result, fig_axes=None):
     for ax, run, title in ((axes[0][0], "D1", "D1: u = 0.5 + 0.4·sin(2πt) N"),
                            (axes[0][1], "D2", ("D2: 1.6 N for 0.5 s, biased sine to 20 s, "
                                                "then 0 N"))):
-        for label, desc in result.models.items():
-            res = _ok(result, label, run)
-            if res is None:
-                continue
+        for label, desc, res in _runs(result, run):
             m = result.metrics[label][run]
             ax.plot(res.t, res["x"] * 1e6,
                     label=f"{desc}: {m['drift_per_cycle_m'] * 1e6:.3g} µm/cycle")
         ax.set_yscale("symlog", linthresh=1.0)
         ax.set(title=title, xlabel="time t [s]",
                ylabel="displacement x [µm] (linear below 1 µm, log above)")
-        ax.grid(alpha=0.3)
-        _legend(ax, loc="upper left" if run == "D1" else "center right")
+        _finish((ax,), loc="upper left" if run == "D1" else "center right")
     return fig, axes
 
 
@@ -83,10 +92,7 @@ def plot_hysteresis(result, fig_axes=None):
         amp = result.extra["amplitudes"][regime]
         xs, xu = (1e6, "µm") if amp < 1e-4 else (1e3, "mm")
         ax_x, ax_v = axes[i]
-        for label, desc in result.models.items():
-            res = _ok(result, label, regime)
-            if res is None:
-                continue
+        for label, desc, res in _runs(result, regime):
             e = result.metrics[label][regime]["loop_energy_J"]
             last = res.t >= res.t[-1] - result.extra["period"] - 1e-12   # last cycle only
             ax_x.plot(res["x"][last] * xs, res["F"][last], label=f"{desc}: {e:.3g} J/cycle")
@@ -95,28 +101,21 @@ def plot_hysteresis(result, fig_axes=None):
                  xlabel=f"displacement x [{xu}]", ylabel="friction force F [N]")
         ax_v.set(title=f"{regime}: force vs velocity", xlabel="velocity v [mm/s]",
                  ylabel="friction force F [N]")
-        for ax in (ax_x, ax_v):
-            ax.grid(alpha=0.3)
-            _legend(ax)
+        _finish((ax_x, ax_v))
     return fig, axes
 
 
 def plot_presliding(result, fig_axes=None):
     fig, axes = fig_axes or new_figure(1, 2, figsize=(13.0, 5.0))
     a, b = axes[0]
-    for label, desc in result.models.items():
-        res = _ok(result, label, "presliding")
-        if res is None:
-            continue
+    for _, desc, res in _runs(result, "presliding"):
         a.plot(res["x"] * 1e6, res["F_ext"], label=desc)
         b.plot(res.t, res["x"] * 1e6, label=desc)
     a.set(title="applied force vs pre-sliding displacement", xlabel="displacement x [µm]",
           ylabel="applied force u [N]")
     b.set(title="displacement during the force cycle", xlabel="time t [s]",
           ylabel="displacement x [µm]")
-    for ax in (a, b):
-        ax.grid(alpha=0.3)
-        _legend(ax)
+    _finish((a, b))
     return fig, axes
 
 
@@ -126,10 +125,7 @@ def plot_lag(result, fig_axes=None):
                                        sharey=True)
     for ax, omega in zip(axes[0], omegas):
         period = 2 * math.pi / omega
-        for label, desc in result.models.items():
-            res = _ok(result, label, f"omega={omega:g}")
-            if res is None:
-                continue
+        for _, desc, res in _runs(result, f"omega={omega:g}"):
             last = res.t >= res.t[-1] - period - 1e-12
             ax.plot(res["v"][last] * 1e3, res["F"][last], label=desc)
         ax.set(title=f"ω = {omega:g} rad/s", xlabel="velocity v [mm/s]")
@@ -157,46 +153,35 @@ def plot_breakaway(result, fig_axes=None):
           xlabel="force rate r [N/s]", ylabel="break-away force [N]")
     b.set(title="friction force during the ramp", xlabel="applied force u = r·t [N]",
           ylabel="friction force F [N]")
-    for ax in (a, b):
-        ax.grid(alpha=0.3)
-        _legend(ax)
+    _finish((a, b))
     return fig, axes
 
 
 def plot_stick_slip(result, fig_axes=None):
     fig, axes = fig_axes or new_figure(2, 1, figsize=(12.0, 7.5), sharex=True)
     a, b = axes[0][0], axes[1][0]
-    for label, desc in result.models.items():
-        res = _ok(result, label, "stick-slip")
-        if res is None:
-            continue
+    for _, desc, res in _runs(result, "stick-slip"):
         a.plot(res.t, res["F_spring"], label=desc)
         b.plot(res.t, res["v"], label=desc)
     a.set(title="spring force (stick: rising, slip: falling)", ylabel="spring force [N]")
     b.set(title="velocity of the mass", xlabel="time t [s]", ylabel="velocity v [m/s]")
-    for ax in (a, b):
-        ax.grid(alpha=0.3)
-        _legend(ax, loc="upper left")
+    _finish((a, b), loc="upper left")
     return fig, axes
 
 
 def plot_coulomb_analytic(result, fig_axes=None):
     fig, axes = fig_axes or new_figure(1, 2, figsize=(13.0, 5.0))
     a, b = axes[0]
-    for label, desc in result.models.items():
-        res = _ok(result, label, "two-mass")
-        if res is None:
-            continue
+    for _, desc, res in _runs(result, "two-mass"):
         a.plot(res.t, res["x1"], label=f"x1 (mass with friction), {desc}")
         a.plot(res.t, res["x2"], "--", label=f"x2 (pushed mass), {desc}")
         b.plot(res.t, res["F"], label=f"friction force, {desc}")
         b.plot(res.t, res["F_spring"], "--", label=f"spring force, {desc}")
     t1 = result.metrics[next(iter(result.models))].get("stick_time_analytic_s")
-    for ax in (a, b):
-        if t1 is not None:
+    if t1 is not None:
+        for ax in (a, b):
             ax.axvline(t1, color="k", lw=0.8, ls=":", label=f"analytic t1 = {t1:.6f} s")
-        ax.grid(alpha=0.3)
-        _legend(ax)
+    _finish((a, b))
     a.set(title="positions", xlabel="time t [s]", ylabel="position [m]")
     b.set(title="forces on mass 1", xlabel="time t [s]", ylabel="force [N]")
     return fig, axes

@@ -22,11 +22,7 @@ class Damper(Component):
         d = e.par("d")
         wr = e.let("wr", f"{e.w('b')} - {e.w('a')}")
         tau = e.let("tau", f"{d} * {wr}")
-        e.torque("a", tau)
-        e.torque("b", f"-{tau}")
-        for fl, sg in (("a", ""), ("b", "-")):
-            e.dtorque(fl, e.kw("b"), f"{sg}{d}")
-            e.dtorque(fl, e.kw("a"), f"{'-' if not sg else ''}{d}")
+        e.torque_pair("a", "b", tau, ((e.kw("b"), d, False), (e.kw("a"), d, True)))
         e.power("damp", f"{d} * {wr} * {wr}")
         e.dpower("damp", e.kw("b"), f"2.0 * {d} * {wr}")
         e.dpower("damp", e.kw("a"), f"-2.0 * {d} * {wr}")

@@ -305,12 +305,8 @@ class DogClutch(Clutch):
             e, s, w, e.par("backlash"), e.par("c_contact"), e.par("d_contact"))
         tg, tcg, kcg, kpg, kwg = (e.let(n, f"{x} if {eng} else 0.0") for n, x in (
             ("tg", tau), ("tcg", tc), ("kcg", kc), ("kpg", kp), ("kwg", kw)))
-        e.torque("a", tg)
-        e.torque("b", f"-{tg}")
-        for fl, sgn in (("a", ""), ("b", "-")):
-            e.dtorque(fl, e.kx("z2"), f"{sgn}{kpg}")
-            e.dtorque(fl, e.kw("b"), f"{sgn}{kwg}")
-            e.dtorque(fl, e.kw("a"), f"{'-' if not sgn else ''}{kwg}")
+        e.torque_pair("a", "b", tg, ((e.kx("z2"), kpg, False), (e.kw("b"), kwg, False),
+                                     (e.kw("a"), kwg, True)))
         # damping power (τ − τ_c)·w: everything the contact spring does not store
         e.power("damp", f"({tg} - {tcg}) * {w}")
         e.dpower("damp", e.kx("z2"), f"({kpg} - {kcg}) * {w}")

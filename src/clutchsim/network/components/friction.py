@@ -46,6 +46,11 @@ def _table(owner, key, tab):
 FAULT_LOCKED = 1e3
 
 
+#: the faults a friction clutch or brake can have (``docs/components.md``, faults)
+FRICTION_FAULT_KEYS = ("fault_time", "fault_capacity_factor", "fault_drag", "fault_temperature",
+                       "fault_input")
+
+
 class _FrictionElement(FaultPhase, Component):
     friction = True
     #: the keys of the faults it can have (``docs/components.md``, faults)
@@ -471,8 +476,7 @@ class Clutch(_FrictionElement):
     kind = "clutch"
     title = "friction clutch (any friction model)"
     flanges = ("a", "b")
-    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag", "fault_temperature",
-                  "fault_input")
+    fault_keys = FRICTION_FAULT_KEYS
 
 
 class Brake(_FrictionElement):
@@ -481,8 +485,7 @@ class Brake(_FrictionElement):
     kind = "brake"
     title = "friction brake (any friction model)"
     flanges = ("flange", "support")
-    fault_keys = ("fault_time", "fault_capacity_factor", "fault_drag", "fault_temperature",
-                  "fault_input")
+    fault_keys = FRICTION_FAULT_KEYS
     grounded = ("support",)
     side_a = "support"
     side_b = "flange"

@@ -34,6 +34,7 @@ import numpy as np
 
 from ..component import Component
 from ..spec import Param, table_entry
+from .ideal_gear import IdealGear
 
 #: columns of a loss table
 LOSS_COLUMNS = ("speed", "eta_mf1", "eta_mf2", "tau_bf1", "tau_bf2")
@@ -123,8 +124,7 @@ class LossyGear(Component):
     title = "gear with mesh efficiency and bearing friction that can stick"
     flanges = ("a", "b", "support")
     grounded = ("support",)
-    params = (Param("ratio", "-", "speed ratio ω_a/ω_b relative to the support",
-                    low=-1e3, high=1e3, nonzero=True),)
+    params = IdealGear.params   # the ratio, as the ideal gear declares it
     lockable = True
     lossy = True
     side_a = "support"

@@ -34,11 +34,8 @@ class _SpeedLaw(Component):
         wr = e.let("wr", f"{e.w('flange')} - {e.w('support')}")
         tau, dt = self.law(e, wr)
         tau, dt = e.let("tau", tau), e.let("dt", dt)
-        e.torque("flange", tau)
-        e.torque("support", f"-{tau}")
-        for fl, s in (("flange", ""), ("support", "-")):
-            e.dtorque(fl, e.kw("flange"), f"{s}{dt}")
-            e.dtorque(fl, e.kw("support"), f"{'-' if not s else ''}{dt}")
+        e.torque_pair("flange", "support", tau,
+                      ((e.kw("flange"), dt, False), (e.kw("support"), dt, True)))
         e.power("in", f"{tau} * {wr}")
         e.dpower("in", e.kw("flange"), f"{dt} * {wr} + {tau}")
         e.dpower("in", e.kw("support"), f"-({dt} * {wr} + {tau})")

@@ -31,13 +31,9 @@ class TwistCoupling(Component):
         """The torques ``±tau`` on a and b, the twist equation ``dφ/dt = wr`` and their
         partial derivatives (``k_phi = ∂τ/∂φ``, ``k_w = ∂τ/∂wr``)."""
         a, b = self.twist_flanges
-        e.torque(a, tau)
-        e.torque(b, f"-{tau}")
+        e.torque_pair(a, b, tau, ((e.kx("phi"), k_phi, False), (e.kw(b), k_w, False),
+                                  (e.kw(a), k_w, True)))
         e.deriv("phi", wr)
-        for fl, sg in ((a, ""), (b, "-")):
-            e.dtorque(fl, e.kx("phi"), f"{sg}{k_phi}")
-            e.dtorque(fl, e.kw(b), f"{sg}{k_w}")
-            e.dtorque(fl, e.kw(a), f"{'-' if not sg else ''}{k_w}")
         e.dderiv("phi", e.kw(b), "1.0")
         e.dderiv("phi", e.kw(a), "-1.0")
 
