@@ -185,6 +185,29 @@ def test_a_scenario_without_an_engine_is_refused(tmp_path):
         load_calibration(_write_spec(tmp_path, text))
 
 
+def test_signals_and_a_fixed_scenario_key(tmp_path, cmap):
+    """``[calibration] signals`` names the run's signal a measured speed is; a scenario key
+    in ``[fixed]`` holds that value in every run; a signal the run does not have is refused
+    at its line."""
+    text = spec_text().replace(
+        "step = 0.001", 'step = 0.001\nsignals = { input_speed = "omega_gearbox_input" }'
+    ).replace('damping = { key = "coupling[3].d", start = 40.0, bounds = [1.0, 500.0] }',
+              "").replace("[fixed]\n", '[fixed]\n"coupling[3].d" = 60.0\n')
+    spec = load_calibration(_write_spec(tmp_path, text))
+    assert spec.plant.layout.signals["input_speed"] == "omega_gearbox_input"
+    assert spec.keys == {"stiffness": "coupling[3].c", "coupling[3].d": "coupling[3].d"}
+    log, _ = synthetic_log(launches=1, seed=3, signals={"input_speed":
+                                                        "omega_gearbox_input"})
+    res = calibrate(spec, [map_log(log, cmap)])
+    assert res.fixed["coupling[3].d"] == 60.0 and "damping" not in res.parameters
+    assert abs(res.parameters["stiffness"] / 12000.0 - 1) < 0.10
+    bad = _write_spec(tmp_path, text.replace("omega_gearbox_input", "omega_gearbox"))
+    with pytest.raises(CalibrationError, match=r"spec.toml:\d+: \[calibration\] signals: "
+                       r"input_speed = 'omega_gearbox' is not a signal of the run \(did you "
+                       r"mean 'omega_gearbox_input'\?\); its speeds: .*omega_engine"):
+        load_calibration(bad)
+
+
 def test_explicit_start_points_are_checked(spec, cmap):
     from clutchsim.identify import FitOptions
     log, _ = synthetic_log(launches=1, seed=2)

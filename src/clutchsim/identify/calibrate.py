@@ -294,7 +294,11 @@ def _plant(path: Path, cal: dict, at) -> LaunchPlant:
     except ValueError as exc:
         if isinstance(exc, CalibrationError):
             raise
-        raise CalibrationError(f"{at('calibration', 'scenario')}: {exc}") from None
+        msg = str(exc)
+        if msg.startswith("signals: "):
+            raise CalibrationError(f"{at('calibration', 'signals')}: "
+                                   f"{msg.removeprefix('signals: ')}") from None
+        raise CalibrationError(f"{at('calibration', 'scenario')}: {msg}") from None
 
 
 def _param_name(name: str, key, where: str, plant: LaunchPlant, keys: dict) -> None:

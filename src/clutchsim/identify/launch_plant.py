@@ -147,12 +147,13 @@ def layout(scenario, model: str | None = None,
 
 def check_signals(system, signals: Mapping[str, str]) -> None:
     """ValueError when a measured speed's signal is not one of ``system``'s."""
+    from ..core.system import closest
     names = tuple(system.output_names) + tuple(system.state_names)
-    missing = [s for s in signals.values() if s not in names]
-    if missing:
-        raise ValueError(f"signals: {', '.join(missing)} not among the run's signals; its "
-                         "speeds: " + ", ".join(n for n in names if n.startswith(("omega_",
-                                                                                   "v_"))))
+    speeds = [n for n in names if n.startswith(("omega_", "v_"))]
+    for measured, name in signals.items():
+        if name not in names:
+            raise ValueError(f"signals: {measured} = {name!r} is not a signal of the run"
+                             f"{closest(name, speeds)}; its speeds: {', '.join(speeds)}")
 
 
 class LaunchPlant:
