@@ -10,7 +10,9 @@ the same for the sliding capacity (the clutch's torque at full clamp load at 20 
 slip); and the median and largest wall time per calibration.  The truth is the default
 launch scenario with the spec's friction model on its clutch, or another one
 (``--truth-model coulomb-robust``: the model error of a calibration); the stiffness and
-damping the spec fits are the scenario's (12,000 N·m/rad, 60 N·m·s/rad).
+damping the spec fits are the scenario's (12,000 N·m/rad, 60 N·m·s/rad).  ``--engine
+throttle`` drives the scenario's own engine with the logged accelerator pedal instead of the
+logged torque (4 parameters).
 
     PYTHONPATH=src .venv/bin/python benchmarks/calibration_coverage.py --trials 50
 
@@ -22,6 +24,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -42,6 +45,22 @@ TARGETS = {"capacity": ("rel", 0.05), "touch_point": ("abs", 0.0003),
            "stiffness": ("rel", 0.10), "sliding_capacity": ("rel", 0.05)}
 
 
+def _spec(engine: str):
+    """The example spec, or its copy with ``engine = "throttle"`` (no torque terms)."""
+    path = ROOT / "examples/calibration/launch_calibration.toml"
+    if engine == "torque":
+        return load_calibration(path)
+    here = path.parent
+    text = path.read_text().replace('scenario = "../launch.toml"',
+                                    f'scenario = "{here.parent / "launch.toml"}"')
+    text = text.replace('channels = "channels.toml"', f'channels = "{here / "channels.toml"}"')
+    text = text.replace("step = 0.001", 'step = 0.001\nengine = "throttle"')
+    text = "\n".join(line for line in text.splitlines() if not line.startswith("torque_"))
+    with tempfile.TemporaryDirectory() as tmp:
+        (Path(tmp) / "spec.toml").write_text(text)
+        return load_calibration(Path(tmp) / "spec.toml")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--trials", type=int, default=50)
@@ -49,9 +68,12 @@ def main() -> int:
     ap.add_argument("--truth-model", default=None, metavar="MODEL",
                     help="friction model of the truth (default: the spec's)")
     ap.add_argument("--first-seed", type=int, default=0)
+    ap.add_argument("--engine", choices=("torque", "throttle"), default="torque",
+                    help="what drives the engine: the logged torque (the example spec) or "
+                         "the logged accelerator pedal (the spec without the torque terms)")
     args = ap.parse_args()
     cmap = load_channel_map(ROOT / "examples/calibration/channels.toml")
-    spec = load_calibration(ROOT / "examples/calibration/launch_calibration.toml")
+    spec = _spec(args.engine)
     truth_model = args.truth_model or spec.plant.model
     base = spec.plant.layout
     sc = load_scenario(ROOT / "examples" / "launch.toml")
@@ -70,7 +92,8 @@ def main() -> int:
         rows.append((res, true, wall))
         print(f"seed {seed}: {wall:.2f} s " + " ".join(
             f"{n}={res.parameters[n]:.5g}" for n in res.names), file=sys.stderr)
-    out = {"trials": args.trials, "launches": args.launches, "fitted_model": spec.plant.model,
+    out = {"trials": args.trials, "launches": args.launches, "engine": args.engine,
+           "fitted_model": spec.plant.model,
            "truth_model": truth_model, "parameters": {}}
 
     def estimate(r, n):

@@ -8,6 +8,7 @@ for the suite); here one seed per case.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -205,6 +206,33 @@ def test_signals_and_a_fixed_scenario_key(tmp_path, cmap):
     with pytest.raises(CalibrationError, match=r"spec.toml:\d+: \[calibration\] signals: "
                        r"input_speed = 'omega_gearbox' is not a signal of the run \(did you "
                        r"mean 'omega_gearbox_input'\?\); its speeds: .*omega_engine"):
+        load_calibration(bad)
+
+
+def test_engine_driven_by_the_measured_throttle(tmp_path, cmap):
+    """``engine = "throttle"``: the scenario's own engine (full-load map, drag, idle
+    governor) runs on the logged accelerator pedal (EEC2, 20 Hz, 0.4 % steps); no engine
+    torque is needed, and the targets hold."""
+    text = spec_text().replace("step = 0.001", 'step = 0.001\nengine = "throttle"')
+    text = "\n".join(line for line in text.splitlines() if not line.startswith("torque_"))
+    log, truth = synthetic_log(launches=2, seed=9)
+    mapped = map_log(log, cmap)
+    mapped = replace(mapped, signals={k: v for k, v in mapped.signals.items()
+                                      if k != "engine_torque"})
+    res = calibrate(load_calibration(_write_spec(tmp_path, text)), [mapped])
+    p, iv = res.parameters, res.intervals
+    assert abs(p["capacity"] / 240.0 - 1) < 0.05
+    assert abs(p["touch_point"] - truth["parameters"]["touch_point"]) < 0.0003
+    assert abs(p["stiffness"] / 12000.0 - 1) < 0.10
+    assert iv["capacity"][0] <= 240.0 <= iv["capacity"][1]
+    assert "torque_scale" not in res.fixed and "measured throttle" in res.notes[0]
+    bad = _write_spec(tmp_path, text.replace("[fixed]\n", "[fixed]\ntorque_scale = 1.0\n"))
+    with pytest.raises(CalibrationError, match=r"spec.toml:\d+: \[fixed\] torque_scale: "
+                       r"torque_scale scales the measured engine torque; with engine = "
+                       r"'throttle'"):
+        load_calibration(bad)
+    bad = _write_spec(tmp_path, text.replace('engine = "throttle"', 'engine = "pedal"'))
+    with pytest.raises(CalibrationError, match=r"\[calibration\] engine: engine = 'pedal'"):
         load_calibration(bad)
 
 

@@ -50,7 +50,15 @@ from ..data.channels import ChannelMap, MappedLog, load_channel_map
 from ..data.launches import Launch, LaunchOptions, cut_launch, find_launches, slip_end
 from ..data.logs import read_toml
 from .fit import FitOptions, _at_bound
-from .launch_plant import INPUT_DEFAULTS, INPUT_PARAMETERS, SIGNALS, LaunchInput, LaunchPlant
+from .launch_plant import (
+    ENGINE_INPUTS,
+    INPUT_DEFAULTS,
+    INPUT_PARAMETERS,
+    SIGNALS,
+    TORQUE_PARAMETERS,
+    LaunchInput,
+    LaunchPlant,
+)
 from .parameters import ParameterSpace
 
 __all__ = ["CALIBRATION_SEARCH", "CalibrationResult", "CalibrationSpec", "LaunchTrace",
@@ -73,7 +81,7 @@ INPUT_DRAWS = 40
 #: engine speed at a launch's start: the mean over this first part [s]
 START_AVERAGE = 0.12
 _TABLES = ("calibration", "parameters", "fixed", "fit", "launch_finder")
-_CAL_KEYS = ("scenario", "model", "signals", "channels", "logs", "validate", "step",
+_CAL_KEYS = ("scenario", "model", "engine", "signals", "channels", "logs", "validate", "step",
              "per_launch", "launches", "outputs", "windows")
 _FIT_KEYS = ("starts", "seed", "max_nfev", "tol", "diff_step", "confidence")
 _PARAM_KEYS = ("key", "start", "bounds", "prior")
@@ -198,6 +206,15 @@ def load_calibration(path: str | Path) -> CalibrationSpec:
         if name in fitted:
             raise CalibrationError(f"{at('fixed', name)}: {name} is both fitted and fixed")
         fixed[name] = _number(at("fixed", name), value)
+    if plant.engine != "torque":
+        for name in TORQUE_PARAMETERS:
+            if name in fitted or name in fixed or name in cal.get("per_launch", []):
+                table = "parameters" if name in fitted else (
+                    "fixed" if name in fixed else "calibration")
+                raise CalibrationError(
+                    f"{at(table, name if table != 'calibration' else 'per_launch')}: "
+                    f"{name} scales the measured engine torque; with engine = "
+                    f"{plant.engine!r} the scenario's engine makes the torque: drop it")
     for name in ("capacity", "touch_point"):
         if name not in fitted and name not in fixed:
             raise CalibrationError(f"{at('parameters')}: {name} is neither fitted nor fixed "
@@ -280,6 +297,12 @@ def _plant(path: Path, cal: dict, at) -> LaunchPlant:
         raise CalibrationError(f"{at('calibration', 'scenario')}: no such scenario {file}")
     signals = cal.get("signals", {})
     _keys(signals, SIGNALS, "calibration", at, "signals")
+    engine = cal.get("engine", "torque")
+    if engine not in ENGINE_INPUTS:
+        raise CalibrationError(f"{at('calibration', 'engine')}: engine = {engine!r}: the "
+                               "engine is driven by the measured \"torque\" (the engine "
+                               "controller's estimate) or \"throttle\" (the accelerator "
+                               "pedal, into the scenario's engine)")
     try:
         scenario = load_scenario(file)
         model = cal.get("model")
@@ -288,7 +311,7 @@ def _plant(path: Path, cal: dict, at) -> LaunchPlant:
             if model not in MODELS:
                 raise CalibrationError(f"{at('calibration', 'model')}: {model!r} is not a "
                                        f"friction model{closest(str(model), MODELS)}")
-        return LaunchPlant(scenario, model, signals=signals)
+        return LaunchPlant(scenario, model, signals=signals, engine=engine)
     except ScenarioError as exc:
         raise CalibrationError(f"{at('calibration', 'scenario')}: {exc}") from None
     except ValueError as exc:
@@ -368,7 +391,8 @@ class _LaunchData:
 
 def _prepare(launch: Launch, spec: CalibrationSpec) -> _LaunchData:
     sig = launch.signals
-    for need in ("clutch_position", "engine_torque", "engine_speed"):
+    engine = ENGINE_INPUTS[spec.plant.engine]
+    for need in ("clutch_position", engine, "engine_speed"):
         if need not in sig or sig[need].t.size < 2:
             raise ValueError(f"{launch.name}: the calibration needs {need} (mapped and "
                              f"sampled in the launch window {launch.t_start:.3f} ... "
@@ -397,7 +421,7 @@ def _prepare(launch: Launch, spec: CalibrationSpec) -> _LaunchData:
     if not any(o.signal == "engine_speed" for o in outputs):
         raise ValueError(f"{launch.name}: the engine speed has no samples in the window")
     raw = {}
-    for name in ("clutch_position", "engine_torque"):
+    for name in ("clutch_position", engine):
         ch = sig[name]
         raw[name] = (ch.t, ch.values, _input_sigma(ch.values))
     return _LaunchData(launch, n, _launch_input(launch, raw, n * h), we0, tuple(outputs),
@@ -405,12 +429,12 @@ def _prepare(launch: Launch, spec: CalibrationSpec) -> _LaunchData:
 
 
 def _launch_input(launch: Launch, raw, duration: float, travel=None,
-                  torque=None) -> LaunchInput:
-    """The measured inputs of ``launch`` on its own clock (``travel``, ``torque``: other
-    values at the same stamps)."""
-    (tt, vt, _), (tq, vq, _) = raw["clutch_position"], raw["engine_torque"]
+                  engine=None) -> LaunchInput:
+    """The measured inputs of ``launch`` on its own clock (``raw``: the travel, then the
+    engine's input; ``travel``, ``engine``: other values at the same stamps)."""
+    (tt, vt, _), (te, ve, _) = raw.values()
     return LaunchInput(tt - launch.t_start, vt if travel is None else travel,
-                       tq - launch.t_start, vq if torque is None else torque, duration)
+                       te - launch.t_start, ve if engine is None else engine, duration)
 
 
 def _input_sigma(v: np.ndarray) -> float:
@@ -602,15 +626,15 @@ def _covariance(J: np.ndarray, r: np.ndarray, blocks, n_prior: int):
 def _input_covariance(problem: _Problem, x: np.ndarray, J: np.ndarray, Hinv: np.ndarray,
                       rng: np.random.Generator, draws: int = INPUT_DRAWS) -> np.ndarray:
     """The estimates' covariance (scaled coordinates) from the errors of the measured inputs:
-    each launch simulated with its clutch travel and engine torque samples perturbed by their
-    error level (:func:`_input_sigma`), the change of its residual mapped to the parameters
+    each launch simulated with its clutch travel and engine input (torque or throttle)
+    samples perturbed by their error level (:func:`_input_sigma`), the change of its residual mapped to the parameters
     by the Gauss–Newton step ``−H⁻¹Jᵀδr``; the second moment over the draws, summed over
     the launches."""
     values = problem.space.to_physical(x)
     data = problem.data
     pert, owner = [], []
     for k, d in enumerate(data):
-        (_, vt, st), (_, vq, sq) = d.raw["clutch_position"], d.raw["engine_torque"]
+        (_, vt, st), (_, vq, sq) = d.raw.values()
         for _ in range(draws):
             pert.append(_launch_input(d.launch, d.raw, d.inputs.duration,
                                       vt + st * rng.standard_normal(vt.size),
@@ -945,10 +969,12 @@ def calibrate(spec: CalibrationSpec | str | Path, logs=None, validate=None, *,
                                     "interval": None if iv is None else (k * iv[0], k * iv[1])})
     notes = [(f"model: the network of {plant.scenario.file or plant.scenario.name} with "
               f"{plant.model} on its clutch (static capacity {plant.capacity0:.6g} N·m at "
-              "COM 1), its engine driven by the measured torque"),
+              f"COM 1), its engine driven by the measured {plant.engine}"),
              f"{len(data)} launch(es) fitted: " + ", ".join(
         f"{d.launch.name} ({d.launch.t_start:.2f} ... {d.launch.t_end:.2f} s)" for d in data)]
     fixed = {**INPUT_DEFAULTS, **spec.fixed}
+    if plant.engine != "torque":
+        fixed = {k: v for k, v in fixed.items() if k not in TORQUE_PARAMETERS}
     fixed = {k: v for k, v in fixed.items() if k not in spec.fitted
              and not any(n.startswith(k + "@") for n in names)}
     return CalibrationResult(

@@ -3,10 +3,12 @@ once, run with each launch's measured inputs.
 
 What the calibration changes in the scenario (:class:`LaunchPlant`):
 
-- its engine becomes a torque source on the same inertia, driven by the measured engine
-  torque (the engine controller's estimate): ``T = torque_scale · T_measured +
-  torque_offset`` (so the full-load map, drag and idle governor of the scenario's engine
-  are not used: the measured torque already holds them);
+- its engine is driven by what the log measured of it (``engine``): the engine torque
+  (the engine controller's estimate, ``"torque"``), when the engine becomes a torque source
+  on the same inertia, ``T = torque_scale · T_measured + torque_offset`` (the full-load map,
+  drag and idle governor of the scenario's engine are not used: the measured torque already
+  holds them); or the throttle (the accelerator pedal, ``"throttle"``), the input of the
+  scenario's own engine (its full-load map, drag and idle governor act as the scenario says);
 - its clutch's command (COM, 0 open ... 1 engaged) is the clamp map of the measured
   engagement travel ``x``: ``COM = capacity / C₀ · clip((x − touch_point) /
   engage_travel, 0, 1) ** clamp_exponent``, with ``C₀`` the static capacity of the clutch's
@@ -36,11 +38,26 @@ import numpy as np
 from ..core import simulate
 from ..core.signals import Table
 
-__all__ = ["ENGINE_INPUT", "INPUT_DEFAULTS", "INPUT_PARAMETERS", "SIGNALS", "LaunchInput",
-           "LaunchPlant", "Layout", "check_signals", "layout"]
+__all__ = [
+    "ENGINE_INPUT",
+    "ENGINE_INPUTS",
+    "INPUT_DEFAULTS",
+    "INPUT_PARAMETERS",
+    "SIGNALS",
+    "TORQUE_PARAMETERS",
+    "LaunchInput",
+    "LaunchPlant",
+    "Layout",
+    "check_signals",
+    "layout",
+]
 
 #: the input signal that replaces the scenario's engine: the engine torque [N·m]
 ENGINE_INPUT = "engine_torque_log"
+#: what of the engine a log measured, and the log signal that is (docs/calibration.md)
+ENGINE_INPUTS = {"torque": "engine_torque", "throttle": "throttle"}
+#: the input parameters that act on the measured engine torque only
+TORQUE_PARAMETERS = ("torque_scale", "torque_offset")
 #: the parameters that act on the measured inputs (not on the network): unit and meaning
 INPUT_PARAMETERS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "capacity": ("N·m", "clutch torque capacity at full clamp load (μ·F·r_m·faces)"),
@@ -63,12 +80,13 @@ SIGNALS = ("engine_speed", "input_speed", "wheel_speed", "vehicle_speed")
 @dataclass(frozen=True, eq=False)
 class LaunchInput:
     """The measured inputs of one launch, on its own clock (0 at the launch's start):
-    engagement travel and engine torque at their stamps [s], and the launch's length [s]."""
+    engagement travel [m] and the engine's input (torque [N·m] or throttle [-]: the plant's
+    ``engine``) at their stamps [s], and the launch's length [s]."""
 
     t_travel: np.ndarray
     travel: np.ndarray
-    t_torque: np.ndarray
-    torque: np.ndarray
+    t_engine: np.ndarray
+    engine: np.ndarray
     duration: float
 
 
@@ -168,22 +186,34 @@ class LaunchPlant:
     signals : mapping, optional
         Measured speed -> the run's signal that it is (``input_speed =
         "omega_gearbox_input"``; defaults: :func:`layout`).
+    engine : {"torque", "throttle"}
+        What drives the engine: the measured engine torque (the engine is replaced by a
+        torque source), or the measured throttle (the scenario's engine, its throttle
+        input).
 
-    Attributes: ``layout`` (:class:`Layout`), ``scenario`` (the scenario with its engine
-    replaced), ``plan`` (its compiled :class:`~clutchsim.scenario.variants.VariantPlan`),
+    Attributes: ``layout`` (:class:`Layout`), ``engine``, ``scenario`` (the scenario with
+    its engine replaced where ``engine`` is "torque"), ``plan`` (its compiled :class:`~clutchsim.scenario.variants.VariantPlan`),
     ``engine_key`` (the key of the engine inertia's start speed).  Raises ValueError (a
     scenario the calibration cannot drive, a signal it does not have).
     """
 
     def __init__(self, scenario, model: str | None = None, *,
-                 signals: Mapping[str, str] | None = None):
+                 signals: Mapping[str, str] | None = None, engine: str = "torque"):
         from ..scenario.loader import parse_scenario
         from ..scenario.variants import VariantPlan
+        if engine not in ENGINE_INPUTS:
+            raise ValueError(f"engine = {engine!r}: the engine is driven by the measured "
+                             f"{' or '.join(map(repr, ENGINE_INPUTS))}")
+        self.engine = engine
         self.layout = lay = layout(scenario, model, signals)
         self.model = lay.model
-        data = _with_measured_engine(scenario.data, lay.engine, lay.engine_inertia,
-                                     scenario.file or scenario.name)
-        self.scenario = parse_scenario(data, text=scenario.text, file=scenario.file)
+        data = scenario.data
+        if engine == "torque":
+            data = _with_measured_engine(data, lay.engine, lay.engine_inertia,
+                                         scenario.file or scenario.name)
+            self.scenario = parse_scenario(data, text=scenario.text, file=scenario.file)
+        else:
+            self.scenario = scenario
         self.plan = VariantPlan(self.scenario, self.model)
         self.engine_key = _omega0_key(data, lay.engine_inertia)
         self.options = self.scenario.options
@@ -219,10 +249,15 @@ class LaunchPlant:
         that does not complete gives NaN after its end."""
         changes = (*changes, (self.engine_key, float(values["engine_speed0"])))
         system = self.system(changes)
-        inputs = {**self.inputs, self.layout.command: Table(launch.t_travel, self.command_map(values, launch.travel),
-                                      hit_knots=False),
-                  ENGINE_INPUT: Table(launch.t_torque, values["torque_scale"] * launch.torque
-                                      + values["torque_offset"], hit_knots=False)}
+        com = self.command_map(values, launch.travel)
+        if self.engine == "torque":
+            name = ENGINE_INPUT
+            engine = values["torque_scale"] * launch.engine + values["torque_offset"]
+        else:
+            name, engine = self.layout.throttle, launch.engine
+        inputs = {**self.inputs,
+                  self.layout.command: Table(launch.t_travel, com, hit_knots=False),
+                  name: Table(launch.t_engine, engine, hit_knots=False)}
         options = replace(self.options, dt_out=float(grid[1] - grid[0]))
         res = simulate(system, (0.0, float(grid[-1])), inputs, solver=self.scenario.solver,
                        options=options)

@@ -9,10 +9,11 @@ throttle, driving on in first gear.  Each launch is one run from rest.  Between 
 the car is braked to rest and the engine returns to idle: that part of the log (after each
 run's end, outside every launch window the finder cuts) is a ramp of the signals to rest,
 not simulated.  The engine torque the run produced (``T_engine``) is what the engine
-controller reports (``(T − torque_offset)/torque_scale``).  The channels are named and
+controller reports (``(T − torque_offset)/torque_scale``); the driver's throttle is the
+accelerator pedal position it reports (EEC2, 20 Hz).  The channels are named and
 scaled as the J1939 messages of ``examples/calibration/j1939_launch.dbc`` carry them, each
 group at its own rate, and degraded (:class:`Degradation`): white noise, quantisation
-(1 rpm, 0.1 km/h, 1 % torque, 0.01 mm), and stamps that lag the sampling instant by a random
+(1 rpm, 0.1 km/h, 1 % torque, 0.4 % pedal, 0.01 mm), and stamps that lag the sampling instant by a random
 delay (the logger stamps a frame when it arrives).
 """
 
@@ -52,7 +53,7 @@ class Degradation:
     [s] (uniform between 0 and it)."""
 
     rates: Mapping[str, float] = field(default_factory=lambda: {
-        "EEC1": 25.0, "CCVS": 17.0, "ETC1": 50.0, "CLUTCH": 50.0})
+        "EEC1": 25.0, "CCVS": 17.0, "ETC1": 50.0, "CLUTCH": 50.0, "EEC2": 20.0})
     engine_speed_noise: float = 2.0        # rpm
     input_speed_noise: float = 2.0         # rpm
     vehicle_speed_noise: float = 0.05      # km/h
@@ -61,6 +62,7 @@ class Degradation:
     speed_step: float = 0.1                # km/h
     torque_step: float = 1.0               # % of the reference torque
     position_step: float = 0.01            # mm
+    pedal_step: float = 0.4                # % (EEC2 accelerator pedal position)
     stamp_delay: float = 0.003             # s
 
 
@@ -129,7 +131,7 @@ def synthetic_log(scenario=None, *, model: str | None = None, launches: int = 3,
     n = round(launches * cycle / h)
     t = np.arange(n + 1) * h
     names = ("engine_speed", "input_speed", "wheel_speed", "vehicle_speed")
-    traces = {k: np.zeros_like(t) for k in (*names, "travel", "torque")}
+    traces = {k: np.zeros_like(t) for k in (*names, "travel", "torque", "throttle")}
     idle = float(system.y0[system.state_names.index(lay.signals["engine_speed"])]) \
         if lay.signals["engine_speed"] in system.state_names else 83.78
     for k in range(launches):
@@ -151,6 +153,7 @@ def synthetic_log(scenario=None, *, model: str | None = None, launches: int = 3,
             traces[name][inside] = np.interp(t[inside] - s, res.t, res[lay.signals[name]])
         traces["torque"][inside] = np.interp(t[inside] - s, res.t, res["T_engine"])
         traces["travel"][inside] = np.interp(t[inside] - s, tau, x)
+        traces["throttle"][inside] = np.interp(t[inside] - s, tau, q)
         # braked to rest, the clutch open, the engine back to idle (not simulated)
         after = (t > s + DRIVE) & ((t < s + cycle) | (k == launches - 1))
         frac = np.clip((t[after] - s - DRIVE) / STOP, 0.0, 1.0)
@@ -187,8 +190,12 @@ def synthetic_log(scenario=None, *, model: str | None = None, launches: int = 3,
     add("CLUTCH", [("ClutchActuatorPosition", "mm", lambda v: _quantise(
         1e3 * v + deg.position_noise * rng.standard_normal(v.size), deg.position_step))],
         [travel])
+    # (last: the draws of the other channels do not depend on it)
+    add("EEC2", [("AcceleratorPedalPosition1", "%", lambda v: _quantise(
+        100.0 * v, deg.pedal_step))], [traces["throttle"]])
     log = VehicleLog(source, channels, ())
     truth_params = {**params, **{k: float(v) for k, v in keys.items()}}
     return log, {"parameters": truth_params, "model": lay.model, "t": t,
                  **{name: traces[name] for name in names}, "travel": travel,
+                 "throttle": traces["throttle"],
                  "reference_torque": REFERENCE_TORQUE}
