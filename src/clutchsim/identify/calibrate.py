@@ -76,6 +76,13 @@ PER_LAUNCH = ("engine_speed0", "torque_offset")
 #: slip speed at which the result states the clutch's sliding capacity [rad/s] (a launch's
 #: slip passes it on its way to lock-up)
 SLIDE_SPEED = 20.0
+#: the warning of a calibration whose engine runs on the logged pedal (measured:
+#: docs/calibration.md, "What was measured")
+THROTTLE_INTERVALS = (
+    "the intervals of a calibration driven by the logged throttle are too narrow: in 20 "
+    "synthetic trials the 95 % intervals of capacity and touch point held the truth in "
+    "25-30 % (the estimates were within 3.2 % and 0.022 mm); read them as lower bounds "
+    "(docs/calibration.md)")
 #: draws of the input perturbation (per launch) of the interval's input-error term
 INPUT_DRAWS = 40
 #: engine speed at a launch's start: the mean over this first part [s]
@@ -936,6 +943,8 @@ def calibrate(spec: CalibrationSpec | str | Path, logs=None, validate=None, *,
     d = np.sqrt(np.maximum(np.diag(cov), 1e-300))
     corr = np.clip(cov / d[:, None] / d[None, :], -1.0, 1.0)
     at_bound, unidentified, warnings = [], [], []
+    if spec.plant.engine == "throttle":
+        warnings.append(THROTTLE_INTERVALS)
     for j, n in enumerate(names):
         side = _at_bound(params[n], *phys_bounds[n])
         if side:
