@@ -431,17 +431,16 @@ def _prepare(launch: Launch, spec: CalibrationSpec) -> _LaunchData:
     for name in ("clutch_position", engine):
         ch = sig[name]
         raw[name] = (ch.t, ch.values, _input_sigma(ch.values))
-    return _LaunchData(launch, n, _launch_input(launch, raw, n * h), we0, tuple(outputs),
+    return _LaunchData(launch, n, _launch_input(launch, raw), we0, tuple(outputs),
                        MappingProxyType(raw))
 
 
-def _launch_input(launch: Launch, raw, duration: float, travel=None,
-                  engine=None) -> LaunchInput:
+def _launch_input(launch: Launch, raw, travel=None, engine=None) -> LaunchInput:
     """The measured inputs of ``launch`` on its own clock (``raw``: the travel, then the
     engine's input; ``travel``, ``engine``: other values at the same stamps)."""
     (tt, vt, _), (te, ve, _) = raw.values()
     return LaunchInput(tt - launch.t_start, vt if travel is None else travel,
-                       te - launch.t_start, ve if engine is None else engine, duration)
+                       te - launch.t_start, ve if engine is None else engine)
 
 
 def _input_sigma(v: np.ndarray) -> float:
@@ -643,7 +642,7 @@ def _input_covariance(problem: _Problem, x: np.ndarray, J: np.ndarray, Hinv: np.
     for k, d in enumerate(data):
         (_, vt, st), (_, vq, sq) = d.raw.values()
         for _ in range(draws):
-            pert.append(_launch_input(d.launch, d.raw, d.inputs.duration,
+            pert.append(_launch_input(d.launch, d.raw,
                                       vt + st * rng.standard_normal(vt.size),
                                       vq + sq * rng.standard_normal(vq.size)))
             owner.append(k)

@@ -81,13 +81,12 @@ SIGNALS = ("engine_speed", "input_speed", "wheel_speed", "vehicle_speed")
 class LaunchInput:
     """The measured inputs of one launch, on its own clock (0 at the launch's start):
     engagement travel [m] and the engine's input (torque [N·m] or throttle [-]: the plant's
-    ``engine``) at their stamps [s], and the launch's length [s]."""
+    ``engine``) at their stamps [s]."""
 
     t_travel: np.ndarray
     travel: np.ndarray
     t_engine: np.ndarray
     engine: np.ndarray
-    duration: float
 
 
 def _find(tables, name):
@@ -127,7 +126,7 @@ def layout(scenario, model: str | None = None,
     net = scenario.network(model)
     kinds = {c.kind: c for c in net.components}
     label = scenario.file or scenario.name
-    for kind, why in (("engine", "its engine is driven by the measured torque"),
+    for kind, why in (("engine", "the logged torque or pedal drives its engine"),
                       ("vehicle", "the logs measure the vehicle's speed")):
         if kind not in kinds:
             raise ValueError(f"{label}: the scenario has no {kind} component; a calibration "
@@ -192,8 +191,8 @@ class LaunchPlant:
         input).
 
     Attributes: ``layout`` (:class:`Layout`), ``engine``, ``scenario`` (the scenario with
-    its engine replaced where ``engine`` is "torque"), ``plan`` (its compiled :class:`~clutchsim.scenario.variants.VariantPlan`),
-    ``engine_key`` (the key of the engine inertia's start speed).  Raises ValueError (a
+    its engine replaced where ``engine`` is "torque"), ``plan`` (its compiled
+    :class:`~clutchsim.scenario.variants.VariantPlan`), ``engine_key`` (the key of the engine inertia's start speed).  Raises ValueError (a
     scenario the calibration cannot drive, a signal it does not have).
     """
 
@@ -251,13 +250,13 @@ class LaunchPlant:
         system = self.system(changes)
         com = self.command_map(values, launch.travel)
         if self.engine == "torque":
-            name = ENGINE_INPUT
+            engine_input = ENGINE_INPUT
             engine = values["torque_scale"] * launch.engine + values["torque_offset"]
         else:
-            name, engine = self.layout.throttle, launch.engine
+            engine_input, engine = self.layout.throttle, launch.engine
         inputs = {**self.inputs,
                   self.layout.command: Table(launch.t_travel, com, hit_knots=False),
-                  name: Table(launch.t_engine, engine, hit_knots=False)}
+                  engine_input: Table(launch.t_engine, engine, hit_knots=False)}
         options = replace(self.options, dt_out=float(grid[1] - grid[0]))
         res = simulate(system, (0.0, float(grid[-1])), inputs, solver=self.scenario.solver,
                        options=options)

@@ -132,8 +132,6 @@ def synthetic_log(scenario=None, *, model: str | None = None, launches: int = 3,
     t = np.arange(n + 1) * h
     names = ("engine_speed", "input_speed", "wheel_speed", "vehicle_speed")
     traces = {k: np.zeros_like(t) for k in (*names, "travel", "torque", "throttle")}
-    idle = float(system.y0[system.state_names.index(lay.signals["engine_speed"])]) \
-        if lay.signals["engine_speed"] in system.state_names else 83.78
     for k in range(launches):
         tau = np.arange(0.0, DRIVE + 0.5 * h, h)
         x, q = _profile(rng, tau)
@@ -158,6 +156,7 @@ def synthetic_log(scenario=None, *, model: str | None = None, launches: int = 3,
         after = (t > s + DRIVE) & ((t < s + cycle) | (k == launches - 1))
         frac = np.clip((t[after] - s - DRIVE) / STOP, 0.0, 1.0)
         last = {name: traces[name][inside][-1] for name in (*names, "torque")}
+        idle = float(res[lay.signals["engine_speed"]][0])      # where each run starts
         for name in names[1:]:
             traces[name][after] = last[name] * (1.0 - frac)
         traces["engine_speed"][after] = last["engine_speed"] + (idle - last["engine_speed"]) * frac
