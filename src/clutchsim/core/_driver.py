@@ -78,6 +78,10 @@ N_STATS = 8
 # event functions are sampled at this many points of a step that needs it (the last one
 # is the step end)
 N_SAMPLES = 4
+#: a step in which a function placed on zero at once leaves it in its own direction is
+#: taken again at this fraction of its size, at most MAX_PROBES times (see ``probes``)
+PROBE = 0.1
+MAX_PROBES = 4
 #: golden-section probes of a valley of a sampled event function (0.618^40 of the step)
 VALLEY_PROBES = 40
 #: a valley counts as a crossing when it reaches past zero by more than this fraction of
@@ -624,6 +628,13 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
     # step's start (a chatter's events: the chatter guard ends those).
     may_retry = True
     t_event_stop = np.inf
+    # A function a reset placed on zero whose first sample lies past it in its own
+    # direction is due at once (below), unless the step hid a first move the other way:
+    # a freewheel broken away at its limit beside a stiff neighbour slides forward for a
+    # microsecond before the neighbour turns its slip back.  Due at once, the stop locks
+    # it at the same instant, at the limit, and the two alternate there.  The step is
+    # first taken again at a tenth of its size, up to MAX_PROBES times.
+    probes = 0
     passes = np.zeros(max(n_ev, 1), dtype=np.bool_)
     # A directional event whose function starts on its post-crossing side fires once at t0
     # (e.g. a stuck friction element loaded beyond its capacity from the start).
@@ -970,6 +981,10 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                 if k_first < 0:
                     break
                 te = t_first
+                if (te == t and t_seg == t and placed[k_first] != 0.0 and probes < MAX_PROBES
+                        and PROBE * h > 1e3 * h_floor):
+                    retry = True                # a shorter probe of the same step
+                    break
                 if may_retry and not passes[k_first] and t_seg == t and te < t_new and \
                         te - t > max(1e-3 * h, 1e3 * h_floor):
                     retry = True                # the step is taken again (may_retry)
@@ -1020,13 +1035,18 @@ def integrate(tag, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir, n_outputs,
                     break
                 t_seg = te
             if retry:
-                # take the step again, to the located time
+                # take the step again, to the located time (or, for a probe, a tenth of it)
                 stats[S_STEPS] -= 1
                 stats[S_REJECTED] += 1
+                if te == t:
+                    probes += 1
+                    h = PROBE * h
+                    continue
                 may_retry = False
                 t_event_stop = te
                 h = te - t
                 continue
+            probes = 0
             if k_first >= 0:
                 may_retry = True
                 t_event_stop = np.inf
