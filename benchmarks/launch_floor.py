@@ -10,9 +10,11 @@ one cost, and what is left at looser tolerances.  Rows (all in this process, med
   in ``launch_speed.py``'s ladder), with the largest engine, disc and wheel speed error
   against a tight run (rtol 1e-10) on the output times both share, steps, right-hand
   sides, Jacobians, events and the integrator's own time;
-* the scenario as it is (its rtol and atol), then the same with outputs every 20 ms and
-  with one output row at the end instead of every 2 ms (what recording the output
-  signals costs), with the I controller instead of the predictive one, and with RODAS4;
+* the scenario as it is (its rtol and atol); ``simulate`` alone (no launch metrics) on the
+  scenario's output grid, every 20 ms, and with one output row at the end (what recording
+  the output signals costs; a grid coarser than 10 ms is refused for a run with launch
+  metrics, so these rows time the integration alone); the I controller instead of the
+  predictive one, and RODAS4;
 * the scenario with the clutch's contact mode damped (``k_v`` 0.05 → 10 N·m·s/rad): how
   many of the steps the lightly damped pre-sliding spring of model (6) takes
   (T_stat/φ0 = 2.4e5 N·m/rad on the disc, ~670 Hz) and how many the rest of the driveline
@@ -61,24 +63,39 @@ def _speed_error_rpm(res, ref) -> float:
         * 30.0 / np.pi
 
 
-def _row(name, overrides, ref, repeats, same_model=True):
+def _row(name, overrides, ref, repeats, same_model=True, dt_out=None):
+    """One row: ``run_scenario`` (the run and its launch metrics), or with ``dt_out`` [s]
+    ``simulate`` alone on that output grid (a grid coarser than the metrics allow,
+    :data:`clutchsim.analysis.launch_metrics.DT_OUT_MAX_S`: what recording rows costs)."""
+    from dataclasses import replace
+
+    from clutchsim.core import simulate
     from clutchsim.scenario import run_scenario
     sc = _load(overrides)
-    r = run_scenario(sc, MODEL)
+    system = sc.network(MODEL).build(sc.inputs0())
+    if dt_out is None:
+        def run():
+            return run_scenario(sc, MODEL).result
+    else:
+        inputs = {n: sc.inputs[n] for n in system.input_names}
+        opts = replace(sc.options, dt_out=dt_out)
+
+        def run():
+            return simulate(system, (0.0, sc.t_end), inputs, solver=sc.solver, options=opts)
+    res = run()
     total, integ = [], []
     for _ in range(repeats):
         t0 = time.perf_counter()
-        r = run_scenario(sc, MODEL)
+        res = run()
         total.append((time.perf_counter() - t0) * 1e3)
-        integ.append(r.result.stats.wall_s * 1e3)
-    s = r.result.stats
-    system = sc.network(MODEL).build(sc.inputs0())
+        integ.append(res.stats.wall_s * 1e3)
+    s = res.stats
     kind = "exact" if has_jacobian(system.tag) else "finite differences"
-    return {"case": name, "status": r.result.status, "ms": statistics.median(total),
+    return {"case": name, "status": res.status, "ms": statistics.median(total),
             "integrator_ms": statistics.median(integ), "steps": s.steps,
             "rejected": s.rejected, "rhs_evals": s.rhs_evals, "jacobians": s.jacobians,
-            "events": s.events, "output_rows": int(r.result.t.size),
-            "speed_error_rpm": _speed_error_rpm(r.result, ref) if same_model else None,
+            "events": s.events, "output_rows": int(res.t.size),
+            "speed_error_rpm": _speed_error_rpm(res, ref) if same_model else None,
             "accounts": accounts(s, get_method(sc.solver).stages, system, kind)}
 
 
@@ -146,8 +163,10 @@ def main(argv=None) -> dict:
             for rt in LADDER]
     rows += [
         _row(f"the scenario: {own}", [], ref, a.repeats),
-        _row("  outputs every 20 ms", ["solver.dt_out=0.02"], ref, a.repeats),
-        _row("  one output row at the end", [f"solver.dt_out={sc.t_end!r}"], ref, a.repeats),
+        _row("  simulate alone, as the scenario", [], ref, a.repeats, dt_out=sc.options.dt_out),
+        _row("  simulate alone, outputs every 20 ms", [], ref, a.repeats, dt_out=0.02),
+        _row("  simulate alone, one output row at the end", [], ref, a.repeats,
+             dt_out=sc.t_end),
         _row("  controller I", ["solver.controller='I'"], ref, a.repeats),
         _row("  rodas4", ["solver.method='rodas4'"], ref, a.repeats),
         _row("  contact mode damped (k_v = 10)",

@@ -77,7 +77,7 @@ def main():
     from clutchsim.analysis import judder_amplitude
     from clutchsim.analysis import launch_quality as lq
     sim_mod = importlib.import_module("clutchsim.core.simulate")
-    from clutchsim.analysis import launch_metrics as dm
+    dm = importlib.import_module("clutchsim.analysis.launch_metrics")
     from clutchsim.scenario import resolve_scenario
     from clutchsim.scenario import run as run_mod
 
@@ -97,7 +97,8 @@ def main():
     system = sc.network(model).build(sc.inputs0())
     inputs = {n: sc.inputs[n] for n in system.input_names}
     clutch, lining = sc.clutch, run_mod.lining_geometry(sc)
-    expect, friction = run_mod.expects_lockup(sc), run_mod._is_friction_clutch(sc)
+    expect, friction = (run_mod.expects_lockup(sc, system.metadata["kinds"]),
+                        run_mod._is_friction_clutch(sc))
 
     def simulate():
         return sim_mod.simulate(system, (0.0, sc.t_end), inputs, solver=sc.solver,
