@@ -6,8 +6,12 @@ event "release" (k = 1) sets the mode to 1, from which on ``y' = -1`` and the ev
 function is placed on 0 by the release and goes down at once: the stop fires at 0.5 and
 holds the point (mode 2).  Without the rule the function starts from its next sign,
 negative, never crosses, and ``y`` runs to -0.5.  A function that crossed and landed on
-zero (the probe of test_events_and_guards) still fires once."""
+zero (the probe of test_events_and_guards) still fires once.
 
+Before it fires at once, the step is taken again shorter (``PROBE``, ``MAX_PROBES``): its
+first sample can hide a first move the right way (:class:`_Probe`)."""
+
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -58,3 +62,48 @@ def test_a_function_placed_on_zero_that_leaves_it_its_own_way_fires_at_once(solv
                    options=SolverOptions(rtol=1e-9, atol=1e-12))
     assert [(e.name, round(e.t, 12)) for e in res.events] == [("release", 0.5), ("stop", 0.5)]
     assert res.final("mode") == 2.0 and res.final("y") == placed
+
+
+class _Probe(NamedTuple):
+    k: int = 0
+
+
+@jit
+def _probe_rhs(t, y, u, p, dy):
+    # released at 0.5, the point moves forward for about tau·ln 2, then back
+    dy[0] = (2.0 * math.exp(-(t - 0.5) / p[0]) - 1.0) if y[1] == 1.0 else 0.0
+    dy[1] = 0.0
+    dy[2] = math.sin(t) - y[2]          # a slow neighbour that sets the step size
+
+
+@jit
+def _probe_reset(t, y, u, p, k):
+    if k == 1:
+        y[0] = 0.0
+        y[1] = 1.0
+    else:
+        y[1] = 2.0
+    return 1
+
+
+register_system(_Probe, rhs=_probe_rhs, events=_events, reset=_probe_reset)
+
+
+@pytest.mark.parametrize("tau", [1e-5, 1e-6])
+@pytest.mark.parametrize("solver", ["rodas4", "rodas5p", "dopri5"])
+def test_a_first_move_the_right_way_hidden_in_a_step_is_probed(solver, tau):
+    """Released on zero, the point first moves forward (``y > 0``) for ~0.7·tau, then
+    back: the stop is where ``y`` returns to zero, at ``0.5 + 1.5936·tau`` (the root of
+    ``2·(1 − e^(−x)) = x``).  The first step after the release was longer than the
+    excursion for rodas5p and dopri5 (a slow neighbour sets it): its first sample was
+    past zero and the stop fired at 0.5, on the release (a freewheel freed at its limit
+    beside a stiff Stribeck clutch, fuzz seed 7)."""
+    system = System(_Probe(), np.array([tau]), np.array([0.0, 0.0, 1.0]), ("y", "mode", "z"),
+                    ("-", "-", "-"), event_names=("stop", "release"),
+                    event_directions=(-1, 1), name="probe")
+    res = simulate(system, (0.0, 1.0), solver=solver,
+                   options=SolverOptions(rtol=1e-6, atol=1e-6))
+    (rel, t_rel), (stop, t_stop) = [(e.name, e.t) for e in res.events]
+    assert (rel, t_rel, stop) == ("release", 0.5, "stop")
+    assert 1.0 * tau < t_stop - 0.5 < 1.5936 * tau * 1.5
+    assert res.final("mode") == 2.0
