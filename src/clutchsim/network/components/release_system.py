@@ -136,10 +136,7 @@ class ReleaseSystem(Component):
         return [ctx.input0.get(self.travel, 0.0)] if self.has_play else []
 
     def _force(self, e, x):
-        o, n = e.table("characteristic")
-        f, df = e.tmp("f"), e.tmp("df")
-        e.line(f"{f}, {df} = table(p, {o}, {n}, {x} - {e.par('touch_point')})")
-        return f, df
+        return e.lookup("characteristic", f"{x} - {e.par('touch_point')}", "f")
 
     def emit_signals(self, e):
         if self.has_play:
