@@ -32,14 +32,7 @@ import numpy as np
 
 from .._util import toml_line
 from ..core.system import closest
-from .logs import (
-    DUPLICATE_POLICIES,
-    TIME_ORDER_POLICIES,
-    Channel,
-    VehicleLog,
-    read_log,
-    read_toml,
-)
+from .logs import POLICIES, Channel, VehicleLog, check_policy, read_log, read_toml
 
 __all__ = ["SIGNALS", "UNITS", "ChannelMap", "ChannelSpec", "MappedLog", "load_channel_map",
            "map_log"]
@@ -141,10 +134,9 @@ def load_channel_map(path: str | Path) -> ChannelMap:
         if key not in _LOG_KEYS:
             raise ValueError(f"{where('log', key)}: [log] {key}: unknown key"
                              f"{closest(key, _LOG_KEYS)}; keys: {', '.join(_LOG_KEYS)}")
-    for key, allowed in (("time_order", TIME_ORDER_POLICIES), ("duplicates", DUPLICATE_POLICIES)):
-        if key in log and log[key] not in allowed:
-            raise ValueError(f"{where('log', key)}: [log] {key} = {log[key]!r}: must be one of "
-                             f"{', '.join(allowed)}")
+    for key in POLICIES:
+        if key in log:
+            check_policy(key, log[key], f"{where('log', key)}: [log] ")
     ref = log.get("reference_torque")
     if ref is not None and not (isinstance(ref, (int, float)) and math.isfinite(ref) and ref > 0):
         raise ValueError(f"{where('log', 'reference_torque')}: [log] reference_torque = "
