@@ -1,7 +1,7 @@
 """Laws the actuation and control components share (each written once): the PI law with
-back-calculation anti-windup (launch controller, driver model), the rate-limited first
-order lag (hydraulic and electromechanical actuators) and the check of a key that names a
-signal.
+back-calculation anti-windup and the PI controller component around it (launch
+controller, driver model), the rate-limited first order lag (hydraulic and
+electromechanical actuators) and the check of a key that names a signal.
 
 PI law.
 ``raw = ff + kp·e + ki·I``, ``u = clip(raw, u_min, u_max)`` and ``dI/dt = e + (u − raw)/
@@ -13,6 +13,7 @@ limit as soon as the error changes sign (no wind-up).
 
 from __future__ import annotations
 
+from ..component import Component
 from ..spec import Param
 
 #: the parameters of the law (the components add their own)
@@ -46,6 +47,29 @@ def emit_pi(e, err: str, err_parts, ff: str, ff_parts, lo: str, hi: str,
     e.dderiv(state, e.kx(state), f"({g} - 1.0) / {P('t_track')}")
     parts.append((e.kx(state), f"{g} * {P('ki')}"))
     return u, parts
+
+
+class PIController(Component):
+    """A PI controller (:func:`emit_pi`) of the speed of the sensor flange ``a`` relative
+    to ``b`` (no torque, no inertia; ``b`` grounded when unconnected): the ``target``
+    signal and an optional ``feedforward`` signal in, one signal out
+    (:meth:`emit_output`).  Subclasses set ``target`` and ``feedforward``."""
+
+    flanges = ("a", "b")
+    grounded = ("b",)
+    signal_keys = ("target", "feedforward")
+
+    def inputs(self):
+        return (self.target,) + ((self.feedforward,) if self.feedforward else ())
+
+    def emit_output(self, e, signal: str, err: str, err_parts, ff: str, ff_parts, lo: str,
+                    hi: str) -> None:
+        """The law (:func:`emit_pi`, arguments as there) as the output ``signal`` with its
+        partials."""
+        u, parts = emit_pi(e, err, err_parts, ff, ff_parts, lo, hi)
+        e.signal(signal, u)
+        for key, d in parts:
+            e.dsignal(signal, key, d)
 
 
 def emit_rate_limited_lag(e, state: str, rate: str, limit: str | None, gain: str,
