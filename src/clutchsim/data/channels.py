@@ -125,15 +125,18 @@ def load_channel_map(path: str | Path) -> ChannelMap:
     def where(table, key=None):
         return locate(table, key).partition(": [")[0]
 
+    def known_keys(table, entries, keys):
+        for key in entries:
+            if key not in keys:
+                raise ValueError(f"{where(table, key)}: [{table}] {key}: unknown key"
+                                 f"{closest(key, keys)}; keys: {', '.join(keys)}")
+
     for top in doc:
         if top not in ("log", "channels"):
             raise ValueError(f"{where(top)}: unknown table [{top}]{closest(top, ('log', 'channels'))}"
                              "; the map has [log] and [channels.SIGNAL]")
     log = doc.get("log", {})
-    for key in log:
-        if key not in _LOG_KEYS:
-            raise ValueError(f"{where('log', key)}: [log] {key}: unknown key"
-                             f"{closest(key, _LOG_KEYS)}; keys: {', '.join(_LOG_KEYS)}")
+    known_keys("log", log, _LOG_KEYS)
     for key in POLICIES:
         if key in log:
             check_policy(key, log[key], f"{where('log', key)}: [log] ")
@@ -153,10 +156,7 @@ def load_channel_map(path: str | Path) -> ChannelMap:
                              f"; signals: {', '.join(SIGNALS)}")
         if not isinstance(entry, dict):
             raise TypeError(f"{where(table)}: [{table}] must be a table with name and unit")
-        for key in entry:
-            if key not in _CHANNEL_KEYS:
-                raise ValueError(f"{where(table, key)}: [{table}] {key}: unknown key"
-                                 f"{closest(key, _CHANNEL_KEYS)}; keys: {', '.join(_CHANNEL_KEYS)}")
+        known_keys(table, entry, _CHANNEL_KEYS)
         for key in ("name", "unit"):
             if not isinstance(entry.get(key), str):
                 raise TypeError(f"{where(table, key)}: [{table}] {key}: give the log channel's "
