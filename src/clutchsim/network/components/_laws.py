@@ -1,7 +1,7 @@
 """Laws the actuation and control components share (each written once): the PI law with
 back-calculation anti-windup and the PI controller component around it (launch
-controller, driver model), the rate-limited first order lag (hydraulic and
-electromechanical actuators) and the check of a key that names a signal.
+controller, driver model), the rate-limited first order lag and the actuator component
+(hydraulic and electromechanical actuators) and the check of a key that names a signal.
 
 PI law.
 ``raw = ff + kp·e + ki·I``, ``u = clip(raw, u_min, u_max)`` and ``dI/dt = e + (u − raw)/
@@ -86,6 +86,22 @@ def emit_rate_limited_lag(e, state: str, rate: str, limit: str | None, gain: str
     e.dderiv(state, e.kx(state), f"-{g} * {gain}")
     for key, d in inputs:
         e.dderiv(state, key, f"{g} * {gain} * ({d})")
+
+
+class Actuator(Component):
+    """An actuator: no flanges, the ``command`` signal in (``what`` it is: the message of
+    :func:`signal_arg`), its signals out from its own states (no feed-through)."""
+
+    flanges = ()
+    feedthrough = False
+    signal_keys = ("command",)
+
+    def __init__(self, name, command: str, what: str, **values):
+        super().__init__(name, **values)
+        self.command = signal_arg(self.label, "command", command, what)
+
+    def inputs(self):
+        return (self.command,)
 
 
 def signal_arg(owner: str, key: str, value, what: str, *, optional: bool = False):
