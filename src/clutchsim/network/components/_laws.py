@@ -104,11 +104,14 @@ class Actuator(Component):
         return (self.command,)
 
 
-def signal_arg(owner: str, key: str, value, what: str, *, optional: bool = False):
+def signal_arg(owner: str, key: str, value, what: str | None = None, *,
+               optional: bool = False):
     """``value`` if it names a signal (or is None where ``optional``), else a ValueError
-    naming ``owner``, ``key``, the value and what the signal is."""
+    naming ``owner``, ``key``, the value and what the signal is (without ``what``: an
+    input signal)."""
     if value is None and optional:
         return None
     if not isinstance(value, str) or not value:
-        raise ValueError(f"{owner}: {key} = {value!r} must name a signal ({what})")
+        raise ValueError(f"{owner}: {key} = {value!r} must name "
+                         + (f"a signal ({what})" if what else "an input signal"))
     return value

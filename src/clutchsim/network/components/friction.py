@@ -25,6 +25,7 @@ from ..component import Component
 from ..spec import Param, check_table, table_entry
 from ..wear import WearLaw
 from ._faults import FaultPhase
+from ._laws import signal_arg
 
 #: the tables of a friction element and the least value each may hold: a clamp force
 #: and a friction coefficient's factor are never negative (the one place these rules live:
@@ -92,9 +93,7 @@ class _FrictionElement(FaultPhase, Component):
                  fault_input=None, **values):
         super().__init__(name, **values)
         o = self.label
-        if fault_input is not None and (not isinstance(fault_input, str) or not fault_input):
-            raise ValueError(f"{o}: fault_input = {fault_input!r} must name an input signal")
-        self.fault_input = fault_input
+        self.fault_input = signal_arg(o, "fault_input", fault_input, optional=True)
         self.runout = None
         if runout is not None:
             amp, order = (float(v) for v in runout)

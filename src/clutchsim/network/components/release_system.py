@@ -30,6 +30,7 @@ import numpy as np
 
 from ..component import Component
 from ..spec import Param, table_entry
+from ._laws import signal_arg
 
 
 def monotone_spring(owner: str, key: str, xs, fs, xname: str) -> tuple[np.ndarray, np.ndarray]:
@@ -83,10 +84,7 @@ class ReleaseSystem(Component):
 
     def __init__(self, name, travel: str, cushion, spring=None, **values):
         super().__init__(name, **values)
-        if not isinstance(travel, str) or not travel:
-            raise ValueError(f"{self.label}: travel = {travel!r} must name a signal (the "
-                             "engagement travel [m])")
-        self.travel = travel
+        self.travel = signal_arg(self.label, "travel", travel, "the engagement travel [m]")
         self.cushion = monotone_spring(self.label, "cushion", *cushion, "compression")
         self.spring = (None if spring is None else
                        monotone_spring(self.label, "spring", *spring, "deflection"))
