@@ -696,6 +696,11 @@ def classify(metrics: ModelMetrics, thresholds: Thresholds = THRESHOLDS
 
 # --------------------------------------------------------------------------- literature
 
+#: why the break-away benchmarks cannot measure rotational-friction (its default set)
+_ROTATIONAL_LEVELS = (NA, (
+    "The default parameter set is rotational, with levels of 20 to 25 N·m; the break-away "
+    "ramp ends at 3 N, far below them."))
+
 #: Explanations of measured verdicts that differ from (or qualify) the literature
 #: expectation: ``(model, phenomenon) -> (measured verdict, text)``.  A note is shown only
 #: while the measured verdict equals the one it was written for, so it cannot outlive
@@ -724,12 +729,8 @@ NOTES: Mapping[tuple[str, str], tuple[str, str]] = MappingProxyType({
         "illustrative parameter set.")),
     ("coulomb-robust", "stribeck"): (NO, (
         "The Stribeck term is optional; the default set has none (v_s = 0).")),
-    ("rotational-friction", "stiction"): (NA, (
-        "The default parameter set is rotational, with levels of 20 to 25 N·m; the "
-        "break-away ramp ends at 3 N, far below them.")),
-    ("rotational-friction", "varying_breakaway"): (NA, (
-        "The default parameter set is rotational, with levels of 20 to 25 N·m; the "
-        "break-away ramp ends at 3 N, far below them.")),
+    ("rotational-friction", "stiction"): _ROTATIONAL_LEVELS,
+    ("rotational-friction", "varying_breakaway"): _ROTATIONAL_LEVELS,
     ("coulomb-naive", "no_drift"): (NA, (
         "Chatter detection stops the naive switching model as soon as it should stick, "
         "which is what this model is kept in the library to show.")),

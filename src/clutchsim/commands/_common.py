@@ -121,11 +121,18 @@ def add_study_flags(p) -> None:
     :func:`solver_option_items`)."""
     p.add_argument("--metrics", metavar="M1,M2", help="metric columns (default: all but "
                    "wall_s)")
-    p.add_argument("--model", help="friction model of the clutch (default: the scenario's "
-                   "first)")
-    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
-                   help="override a key of the base scenario")
+    add_scenario_flags(p, model_help="friction model of the clutch (default: the scenario's "
+                       "first)", set_help="override a key of the base scenario")
     add_option_flag(p, what="every run")
+
+
+def add_scenario_flags(p, *, model_help: str = "friction model of the clutch element "
+                       "(default: the scenario's first)",
+                       set_help: str = "override a scenario key, e.g. vehicle.grade=12") -> None:
+    """``--model`` (the clutch's friction model) and ``--set PATH=VALUE`` (repeatable) of a
+    command on one scenario."""
+    p.add_argument("--model", default=None, help=model_help)
+    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE", help=set_help)
 
 
 def metric_names(text: str | None) -> list[str] | None:

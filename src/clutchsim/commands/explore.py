@@ -9,7 +9,7 @@ import socket
 import sys
 from pathlib import Path
 
-from ._common import UserError, command_parser, emit_json
+from ._common import UserError, add_scenario_flags, command_parser, emit_json
 
 log = logging.getLogger("clutchsim")
 
@@ -41,10 +41,8 @@ def register(sub, common):
                        description="Start the launch explorer: a local web page with sliders "
                        "for the launch parameters, re-simulating on every change.",
                        epilog=HELP, scenario=True)
-    p.add_argument("--model", default=None,
-                   help="friction model of the clutch element (default: the scenario's first)")
-    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
-                   help="override a scenario key before exploring, e.g. vehicle.grade=12")
+    add_scenario_flags(p, set_help="override a scenario key before exploring, e.g. "
+                       "vehicle.grade=12")
     p.add_argument("--port", type=int, default=0, metavar="N",
                    help="TCP port on 127.0.0.1 (default: a free one)")
     p.add_argument("--no-browser", action="store_true", help="print the URL, open no browser")

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import logging
 
-from ._common import UserError, command_parser, emit_json
+from ._common import UserError, add_scenario_flags, command_parser, emit_json
 
 log = logging.getLogger("clutchsim")
 
@@ -39,10 +39,7 @@ def register(sub, common):
                        description="Export a scenario's plant as a Functional Mock-up Unit "
                        "(FMI 2.0 or 3.0, Model Exchange or co-simulation) that any FMI tool "
                        "can run.", epilog=HELP, scenario=True)
-    p.add_argument("--model", default=None,
-                   help="friction model of the clutch element (default: the scenario's first)")
-    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
-                   help="override a scenario key, e.g. vehicle.grade=12")
+    add_scenario_flags(p)
     p.add_argument("--fmi", default="2", help="FMI version: 2 (default) or 3")
     p.add_argument("--kind", default="me",
                    help="interface: me (Model Exchange, default), cs (co-simulation), both")

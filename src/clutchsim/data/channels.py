@@ -32,14 +32,7 @@ import numpy as np
 
 from .._util import toml_line
 from ..core.system import closest
-from .logs import (
-    DUPLICATE_POLICIES,
-    TIME_ORDER_POLICIES,
-    Channel,
-    VehicleLog,
-    read_log,
-    read_toml,
-)
+from .logs import POLICIES, Channel, VehicleLog, check_policy, read_log, read_toml
 
 __all__ = ["SIGNALS", "UNITS", "ChannelMap", "ChannelSpec", "MappedLog", "load_channel_map",
            "map_log"]
@@ -132,19 +125,21 @@ def load_channel_map(path: str | Path) -> ChannelMap:
     def where(table, key=None):
         return locate(table, key).partition(": [")[0]
 
+    def known_keys(table, entries, keys):
+        for key in entries:
+            if key not in keys:
+                raise ValueError(f"{where(table, key)}: [{table}] {key}: unknown key"
+                                 f"{closest(key, keys)}; keys: {', '.join(keys)}")
+
     for top in doc:
         if top not in ("log", "channels"):
             raise ValueError(f"{where(top)}: unknown table [{top}]{closest(top, ('log', 'channels'))}"
                              "; the map has [log] and [channels.SIGNAL]")
     log = doc.get("log", {})
-    for key in log:
-        if key not in _LOG_KEYS:
-            raise ValueError(f"{where('log', key)}: [log] {key}: unknown key"
-                             f"{closest(key, _LOG_KEYS)}; keys: {', '.join(_LOG_KEYS)}")
-    for key, allowed in (("time_order", TIME_ORDER_POLICIES), ("duplicates", DUPLICATE_POLICIES)):
-        if key in log and log[key] not in allowed:
-            raise ValueError(f"{where('log', key)}: [log] {key} = {log[key]!r}: must be one of "
-                             f"{', '.join(allowed)}")
+    known_keys("log", log, _LOG_KEYS)
+    for key in POLICIES:
+        if key in log:
+            check_policy(key, log[key], f"{where('log', key)}: [log] ")
     ref = log.get("reference_torque")
     if ref is not None and not (isinstance(ref, (int, float)) and math.isfinite(ref) and ref > 0):
         raise ValueError(f"{where('log', 'reference_torque')}: [log] reference_torque = "
@@ -161,10 +156,7 @@ def load_channel_map(path: str | Path) -> ChannelMap:
                              f"; signals: {', '.join(SIGNALS)}")
         if not isinstance(entry, dict):
             raise TypeError(f"{where(table)}: [{table}] must be a table with name and unit")
-        for key in entry:
-            if key not in _CHANNEL_KEYS:
-                raise ValueError(f"{where(table, key)}: [{table}] {key}: unknown key"
-                                 f"{closest(key, _CHANNEL_KEYS)}; keys: {', '.join(_CHANNEL_KEYS)}")
+        known_keys(table, entry, _CHANNEL_KEYS)
         for key in ("name", "unit"):
             if not isinstance(entry.get(key), str):
                 raise TypeError(f"{where(table, key)}: [{table}] {key}: give the log channel's "

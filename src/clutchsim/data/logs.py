@@ -49,6 +49,8 @@ MDF_SUFFIXES = (".mf4", ".mdf", ".dat")
 CAN_SUFFIXES = (".blf", ".asc")
 TIME_ORDER_POLICIES = ("error", "sort")
 DUPLICATE_POLICIES = ("error", "first", "mean")
+#: the policies of :func:`clean_stamps` (and of a channel map's [log]): key -> the values
+POLICIES = {"time_order": TIME_ORDER_POLICIES, "duplicates": DUPLICATE_POLICIES}
 
 _TIME_COLUMN = re.compile(r"^(t|time)(_.*)?$", re.IGNORECASE)
 _HEADER_UNIT = re.compile(r"^\s*(.*?)\s*\[(.*)\]\s*$")
@@ -119,16 +121,19 @@ class VehicleLog:
 
 
 # --------------------------------------------------------------------------- time stamps
+def check_policy(key: str, value, where: str = "") -> None:
+    """A ValueError (its message opening with ``where``) unless ``value`` is one of the
+    :data:`POLICIES` of ``key``."""
+    if value not in POLICIES[key]:
+        raise ValueError(f"{where}{key} = {value!r}: must be one of {', '.join(POLICIES[key])}")
+
+
 def clean_stamps(t, values, *, source: str, name: str, time_order: str = "error",
                  duplicates: str = "error", notes: list | None = None):
     """``(t, values)`` with finite, strictly increasing stamps, by the policies (see the
     module notes); NaN values are dropped (a missing sample)."""
-    if time_order not in TIME_ORDER_POLICIES:
-        raise ValueError(f"time_order = {time_order!r}: must be one of "
-                         f"{', '.join(TIME_ORDER_POLICIES)}")
-    if duplicates not in DUPLICATE_POLICIES:
-        raise ValueError(f"duplicates = {duplicates!r}: must be one of "
-                         f"{', '.join(DUPLICATE_POLICIES)}")
+    check_policy("time_order", time_order)
+    check_policy("duplicates", duplicates)
     t = np.asarray(t, dtype=float)
     values = np.asarray(values, dtype=float)
     notes = [] if notes is None else notes

@@ -34,6 +34,7 @@ import numpy as np
 
 from ..scenario import Scenario, ScenarioError, resolve_scenario
 from ..scenario.variants import value_at
+from ..studies.sweeps.runner import METRICS as RUN_METRICS
 
 __all__ = ["ENGAGEMENT", "METRICS", "TORQUE_FACTOR", "ExplorerRun", "Parameter", "Session",
            "launch_parameters"]
@@ -42,18 +43,19 @@ __all__ = ["ENGAGEMENT", "METRICS", "TORQUE_FACTOR", "ExplorerRun", "Parameter",
 ENGAGEMENT = "engagement_time"
 #: derived parameter: a factor [-] on the engine's full-load torque table
 TORQUE_FACTOR = "engine_torque_factor"
-#: the launch metrics the explorer shows: key -> (label, unit)
-METRICS = {
-    "lockup_time_s": ("lock-up time", "s"),
-    "slip_energy_J": ("slip energy", "J"),
-    "peak_heat_node_temp_C": ("peak temperature", "°C"),
-    "engine_speed_min_rpm": ("minimum engine speed", "rpm"),
-    "engine_dip_rpm": ("engine dip", "rpm"),
-    "judder_amplitude_Nm": ("judder amplitude", "N·m"),
-    "jerk_peak_mps3": ("peak jerk", "m/s³"),
-    "lockup_shock_mps2": ("lock-up shock", "m/s²"),
-    "energy_balance_rel": ("energy balance error", "-"),
-}
+#: the launch metrics the explorer shows: key -> (label, unit), the units those of a sweep's
+#: columns
+METRICS = {key: (label, RUN_METRICS[key][0]) for key, label in {
+    "lockup_time_s": "lock-up time",
+    "slip_energy_J": "slip energy",
+    "peak_heat_node_temp_C": "peak temperature",
+    "engine_speed_min_rpm": "minimum engine speed",
+    "engine_dip_rpm": "engine dip",
+    "judder_amplitude_Nm": "judder amplitude",
+    "jerk_peak_mps3": "peak jerk",
+    "lockup_shock_mps2": "lock-up shock",
+    "energy_balance_rel": "energy balance error",
+}.items()}
 _RAMP = re.compile(r"ramp\(\s*([^,()]+?)\s*,\s*([^,()]+?)\s*,\s*([^,()]+?)\s*\)")
 
 

@@ -293,10 +293,15 @@ class SelfExcitedWarning(UserWarning):
     """The locked (stuck) state of a model is self-excited (negative damping)."""
 
 
-def _domain_index(domain: str) -> int:
+def check_domain(domain) -> str:
+    """``domain`` if it is one of :data:`DOMAINS`, else a ValueError saying so."""
     if domain not in DOMAINS:
         raise ValueError(f"domain = {domain!r} must be one of {', '.join(DOMAINS)}")
-    return DOMAINS.index(domain)
+    return domain
+
+
+def _domain_index(domain: str) -> int:
+    return DOMAINS.index(check_domain(domain))
 
 
 class FrictionModel(abc.ABC):

@@ -9,7 +9,7 @@ from typing import ClassVar
 from .._jit import jit
 from ._common import sgn, sgn_right, stribeck_level, stribeck_partials
 from .base import STRIBECK_STEADY_CHECKS, FrictionKernels, expect, parameters
-from .lugre import BristleModel
+from .lugre import BRISTLE_RULES, BristleModel
 
 __all__ = ["ElastoPlastic", "elastoplastic_force", "elastoplastic_jacobian"]
 
@@ -56,7 +56,7 @@ class ElastoPlastic(BristleModel):
         "doi:10.1109/TAC.2002.1000274."
     )
     parameter_info, parameter_rules = parameters(
-        F_c="> 0", F_s=">= F_c", v_s="> 0", sigma0="> 0", sigma1=">= 0", sigma2=">= 0",
+        **BRISTLE_RULES,
         z_ba=("displacement", "break-away displacement (end of the elastic zone)", "> 0"),
         delta="> 0")
     phenomena = expect(stiction="yes", stribeck="yes", presliding="yes (true elastic zone)",

@@ -83,11 +83,13 @@ def _no_reset(code, p, z, v, F_e, scale, k):
     return RESET_NONE
 
 
-def _force_link(model_code, kernel, rest):
-    def link(code, p, z, v, F_e, scale, dz):
+def _link(model_code, kernel, rest):
+    """The link of a kernel ``(p, z, v, F_e, scale, last)`` that returns its answer: the
+    force (``last`` is ``dz``) and the reset (``last`` is the event ``k``)."""
+    def link(code, p, z, v, F_e, scale, last):
         if code == model_code:
-            return kernel(p, z, v, F_e, scale, dz)
-        return rest(code, p, z, v, F_e, scale, dz)
+            return kernel(p, z, v, F_e, scale, last)
+        return rest(code, p, z, v, F_e, scale, last)
     return link
 
 
@@ -105,14 +107,6 @@ def _events_link(model_code, kernel, rest):
             kernel(p, z, v, F_e, scale, g)
         else:
             rest(code, p, z, v, F_e, scale, g)
-    return link
-
-
-def _reset_link(model_code, kernel, rest):
-    def link(code, p, z, v, F_e, scale, k):
-        if code == model_code:
-            return kernel(p, z, v, F_e, scale, k)
-        return rest(code, p, z, v, F_e, scale, k)
     return link
 
 
@@ -148,7 +142,7 @@ _EVENTS_DOC = "Event-function values of model ``code`` into ``g`` (no-op without
 _RESET_DOC = """Apply the reset of event ``k`` of model ``code``; returns a
 :class:`~clutchsim.friction.base.FrictionReset` code."""
 
-friction_force = _chain("force", _force_link, _no_force, _FORCE_DOC)
+friction_force = _chain("force", _link, _no_force, _FORCE_DOC)
 friction_jacobian = _chain("jacobian", _jacobian_link, _no_jacobian, _JACOBIAN_DOC)
 friction_events = _chain("events", _events_link, _no_events, _EVENTS_DOC)
-friction_reset = _chain("reset", _reset_link, _no_reset, _RESET_DOC)
+friction_reset = _chain("reset", _link, _no_reset, _RESET_DOC)

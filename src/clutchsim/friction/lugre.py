@@ -13,6 +13,11 @@ from .base import STRIBECK_STEADY_CHECKS, FrictionKernels, FrictionModel, Scales
 
 __all__ = ["LuGre", "lugre_force", "lugre_jacobian"]
 
+#: the rules of :class:`BristleModel`'s parameters (each model's :func:`parameters` adds its
+#: own)
+BRISTLE_RULES = {"F_c": "> 0", "F_s": ">= F_c", "v_s": "> 0", "sigma0": "> 0",
+                 "sigma1": ">= 0", "sigma2": ">= 0"}
+
 
 @dataclass(frozen=True)
 class BristleModel(FrictionModel):
@@ -91,9 +96,7 @@ class LuGre(BristleModel):
         "systems with friction, IEEE Transactions on Automatic Control 40(3):419-425, 1995, "
         "doi:10.1109/9.376053."
     )
-    parameter_info, parameter_rules = parameters(
-        F_c="> 0", F_s=">= F_c", v_s="> 0", sigma0="> 0", sigma1=">= 0", sigma2=">= 0",
-        delta="> 0")
+    parameter_info, parameter_rules = parameters(**BRISTLE_RULES, delta="> 0")
     phenomena = expect(stiction="yes", stribeck="yes", presliding="yes", lag="yes",
                        varying_breakaway="yes", no_drift="no (6.64 µm/cycle in drift test D1)")
     steady_checks: ClassVar[tuple[tuple[float, float], ...]] = STRIBECK_STEADY_CHECKS

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from importlib import resources
 from typing import Any
 
-from .base import DOMAINS, UNIT_KINDS
+from .base import DOMAINS, UNIT_KINDS, check_domain
 
 __all__ = ["DOMAIN_UNITS", "ParameterSet", "list_parameter_sets", "load_parameter_set"]
 
@@ -116,8 +116,8 @@ def load_parameter_set(name: str) -> ParameterSet:
 def list_parameter_sets(model: str | None = None, domain: str | None = None) -> list[str]:
     """Names of the available parameter sets, optionally only those for ``model`` and
     only those of ``domain`` ("translational" or "rotational")."""
-    if domain is not None and domain not in DOMAINS:
-        raise ValueError(f"domain = {domain!r} must be one of {', '.join(DOMAINS)}")
+    if domain is not None:
+        check_domain(domain)
     out = []
     for n in _all_names():
         if model is None and domain is None:

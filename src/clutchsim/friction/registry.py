@@ -23,6 +23,7 @@ from .base import (
     Expectation,
     FrictionKernels,
     FrictionModel,
+    check_domain,
 )
 from .coulomb_naive import CoulombNaive
 from .coulomb_robust import CoulombRobust
@@ -192,8 +193,7 @@ def domain_problem(model: FrictionModel, domain: str, element: str, *,
     sets of ``domain`` that exist, and the two remedies (``choose_set``: how to pick a set
     there; ``give_params``: how to give the parameters).
     """
-    if domain not in DOMAINS:
-        raise ValueError(f"domain = {domain!r} must be one of {', '.join(DOMAINS)}")
+    check_domain(domain)
     src = parameter_source(model)
     if src is None or src.domain == domain or not src.taken:
         return None

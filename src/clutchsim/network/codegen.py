@@ -94,9 +94,13 @@ class Emitter:
         """A scalar value of the component's :meth:`pack`."""
         return f"p[{self.g.slot[(self.c.name, name)]}]"
 
-    def table(self, name: str) -> tuple[int, int]:
-        """(offset, length) of a table of :meth:`pack` (breakpoints then values)."""
-        return self.g.tables[(self.c.name, name)]
+    def lookup(self, table: str, x: str, local: str) -> tuple[str, str]:
+        """The table ``table`` of :meth:`pack` (breakpoints then values) interpolated at
+        ``x``: the private locals ``local`` and ``d<local>``, its value and its slope."""
+        o, n = self.g.tables[(self.c.name, table)]
+        v, dv = self.tmp(local), self.tmp(f"d{local}")
+        self.line(f"{v}, {dv} = table(p, {o}, {n}, {x})")
+        return v, dv
 
     def x(self, state: str) -> str:
         """One of the component's own states."""

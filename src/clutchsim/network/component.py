@@ -156,7 +156,7 @@ class Component:
         return []
 
     def pack(self) -> dict[str, float | np.ndarray]:
-        """The values its equations read (``e.par``/``e.table``): its parameters, plus
+        """The values its equations read (``e.par``/``e.lookup``): its parameters, plus
         anything derived from them (tables as 1-D arrays)."""
         return dict(self.values)
 

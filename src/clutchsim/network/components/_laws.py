@@ -1,7 +1,7 @@
 """Laws the actuation and control components share (each written once): the PI law with
-back-calculation anti-windup (launch controller, driver model), the rate-limited first
-order lag (hydraulic and electromechanical actuators) and the check of a key that names a
-signal.
+back-calculation anti-windup and the PI controller component around it (launch
+controller, driver model), the rate-limited first order lag and the actuator component
+(hydraulic and electromechanical actuators) and the check of a key that names a signal.
 
 PI law.
 ``raw = ff + kp·e + ki·I``, ``u = clip(raw, u_min, u_max)`` and ``dI/dt = e + (u − raw)/
@@ -13,6 +13,7 @@ limit as soon as the error changes sign (no wind-up).
 
 from __future__ import annotations
 
+from ..component import Component
 from ..spec import Param
 
 #: the parameters of the law (the components add their own)
@@ -48,6 +49,29 @@ def emit_pi(e, err: str, err_parts, ff: str, ff_parts, lo: str, hi: str,
     return u, parts
 
 
+class PIController(Component):
+    """A PI controller (:func:`emit_pi`) of the speed of the sensor flange ``a`` relative
+    to ``b`` (no torque, no inertia; ``b`` grounded when unconnected): the ``target``
+    signal and an optional ``feedforward`` signal in, one signal out
+    (:meth:`emit_output`).  Subclasses set ``target`` and ``feedforward``."""
+
+    flanges = ("a", "b")
+    grounded = ("b",)
+    signal_keys = ("target", "feedforward")
+
+    def inputs(self):
+        return (self.target,) + ((self.feedforward,) if self.feedforward else ())
+
+    def emit_output(self, e, signal: str, err: str, err_parts, ff: str, ff_parts, lo: str,
+                    hi: str) -> None:
+        """The law (:func:`emit_pi`, arguments as there) as the output ``signal`` with its
+        partials."""
+        u, parts = emit_pi(e, err, err_parts, ff, ff_parts, lo, hi)
+        e.signal(signal, u)
+        for key, d in parts:
+            e.dsignal(signal, key, d)
+
+
 def emit_rate_limited_lag(e, state: str, rate: str, limit: str | None, gain: str,
                           inputs) -> None:
     """``d(state)/dt = clip(rate, −limit, limit)`` (no clip with ``limit`` None), where
@@ -64,11 +88,30 @@ def emit_rate_limited_lag(e, state: str, rate: str, limit: str | None, gain: str
         e.dderiv(state, key, f"{g} * {gain} * ({d})")
 
 
-def signal_arg(owner: str, key: str, value, what: str, *, optional: bool = False):
+class Actuator(Component):
+    """An actuator: no flanges, the ``command`` signal in (``what`` it is: the message of
+    :func:`signal_arg`), its signals out from its own states (no feed-through)."""
+
+    flanges = ()
+    feedthrough = False
+    signal_keys = ("command",)
+
+    def __init__(self, name, command: str, what: str, **values):
+        super().__init__(name, **values)
+        self.command = signal_arg(self.label, "command", command, what)
+
+    def inputs(self):
+        return (self.command,)
+
+
+def signal_arg(owner: str, key: str, value, what: str | None = None, *,
+               optional: bool = False):
     """``value`` if it names a signal (or is None where ``optional``), else a ValueError
-    naming ``owner``, ``key``, the value and what the signal is."""
+    naming ``owner``, ``key``, the value and what the signal is (without ``what``: an
+    input signal)."""
     if value is None and optional:
         return None
     if not isinstance(value, str) or not value:
-        raise ValueError(f"{owner}: {key} = {value!r} must name a signal ({what})")
+        raise ValueError(f"{owner}: {key} = {value!r} must name "
+                         + (f"a signal ({what})" if what else "an input signal"))
     return value

@@ -80,9 +80,7 @@ class TorqueConverter(Component):
 
     def _capacity(self, e, nu: str, tag: str) -> tuple[str, str]:
         """``g(ν) = f(ν)/K(ν)²`` and ``dg/dν`` (locals suffixed ``tag``)."""
-        o, n = e.table("K_table")
-        k, dk = e.tmp(f"k{tag}"), e.tmp(f"dk{tag}")
-        e.line(f"{k}, {dk} = table(p, {o}, {n}, {nu})")
+        k, dk = e.lookup("K_table", nu, f"k{tag}")
         nc = e.par("nu_c")
         f = e.let(f"f{tag}", f"1.0 if {nu} <= {nc} else (1.0 - {nu}) / (1.0 - {nc})")
         df = e.let(f"df{tag}", f"0.0 if {nu} <= {nc} else -1.0 / (1.0 - {nc})")
@@ -100,9 +98,7 @@ class TorqueConverter(Component):
         on = e.let("on", f"{hi} > {W_EPS!r}")
         nu = e.let("nu", f"{lo} / {hi} if {on} else 1.0")
         g, dg = self._capacity(e, nu, "")
-        o, n = e.table("TR_table")
-        tr, dtr = e.tmp("tr"), e.tmp("dtr")
-        e.line(f"{tr}, {dtr} = table(p, {o}, {n}, {nu})")
+        tr, dtr = e.lookup("TR_table", nu, "tr")
         e.line(f"if not {drive}:\n    {tr} = 1.0\n    {dtr} = 0.0")
         # magnitude T = hi²·g(ν) and its partials by the fast (hi) and slow (lo) side
         T = e.let("T", f"{hi} * {hi} * {g} if {on} else 0.0")

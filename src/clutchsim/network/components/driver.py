@@ -12,19 +12,15 @@ reads as its ``throttle``.
 
 from __future__ import annotations
 
-from ..component import Component
 from ..spec import Param
-from ._laws import PI_PARAMS, emit_pi, signal_arg
+from ._laws import PI_PARAMS, PIController, signal_arg
 
 
-class Driver(Component):
+class Driver(PIController):
     """Speed-tracking driver (see the module docstring)."""
 
     kind = "driver"
     title = "driver model: PI throttle from a target speed profile"
-    flanges = ("a", "b")
-    grounded = ("b",)
-    signal_keys = ("target", "feedforward")
     params = (
         *PI_PARAMS,
         Param("radius", "m", "speed per sensor speed: the wheel radius (1: the target is "
@@ -40,9 +36,6 @@ class Driver(Component):
 
     def options(self):
         return (self.target, self.feedforward)
-
-    def inputs(self):
-        return (self.target,) + ((self.feedforward,) if self.feedforward else ())
 
     def input_units(self):
         return {self.target: "m/s", **({self.feedforward: "-"} if self.feedforward else {})}
@@ -62,7 +55,4 @@ class Driver(Component):
             ff, ff_parts = e.u(self.feedforward), e.du(self.feedforward)
         else:
             ff, ff_parts = "0.0", []
-        u, parts = emit_pi(e, err, err_parts, ff, ff_parts, "0.0", "1.0")
-        e.signal("throttle", u)
-        for key, d in parts:
-            e.dsignal("throttle", key, d)
+        self.emit_output(e, "throttle", err, err_parts, ff, ff_parts, "0.0", "1.0")

@@ -25,6 +25,7 @@ from ..component import Component
 from ..spec import Param, check_table, table_entry
 from ..wear import WearLaw
 from ._faults import FaultPhase
+from ._laws import signal_arg
 
 #: the tables of a friction element and the least value each may hold: a clamp force
 #: and a friction coefficient's factor are never negative (the one place these rules live:
@@ -92,9 +93,7 @@ class _FrictionElement(FaultPhase, Component):
                  fault_input=None, **values):
         super().__init__(name, **values)
         o = self.label
-        if fault_input is not None and (not isinstance(fault_input, str) or not fault_input):
-            raise ValueError(f"{o}: fault_input = {fault_input!r} must name an input signal")
-        self.fault_input = fault_input
+        self.fault_input = signal_arg(o, "fault_input", fault_input, optional=True)
         self.runout = None
         if runout is not None:
             amp, order = (float(v) for v in runout)
@@ -383,29 +382,22 @@ class _FrictionElement(FaultPhase, Component):
             e.line(f"{dx} = 1.0")
         self._partials = []
         if self.clamp_table is not None:
-            o, n = e.table("clamp_table")
-            act = e.tmp("act")
-            e.line(f"{act}, {e.tmp('dact')} = table(p, {o}, {n}, {x} * (1.0 + "
-                   f"{e.par('installed_shift')}))")
-            e.line(f"{dx} = {dx} * {e.tmp('dact')} * (1.0 + {e.par('installed_shift')})")
+            act, dact = e.lookup("clamp_table", f"{x} * (1.0 + {e.par('installed_shift')})",
+                                 "act")
+            e.line(f"{dx} = {dx} * {dact} * (1.0 + {e.par('installed_shift')})")
         else:
             act = x
         e.line(f"{sc} = {act} if {act} > 0.0 else 0.0")
         e.line(f"{dx} = {dx} if {act} > 0.0 else 0.0")
         dth = None
         if self.mu_temperature is not None:
-            o, n = e.table("mu_temperature")
-            th = e.theta(self.heat[0][0])
-            mt, dmt = e.tmp("mt"), e.tmp("dmt")
-            e.line(f"{mt}, {dmt} = table(p, {o}, {n}, {th})")
+            mt, dmt = e.lookup("mu_temperature", e.theta(self.heat[0][0]), "mt")
             dth = e.let("dsc_th", f"{sc} * {dmt}")
             e.line(f"{sc} = {sc} * {mt}")
             e.line(f"{dx} = {dx} * {mt}")
         dsl = None
         if self.mu_slip is not None:
-            o, n = e.table("mu_slip")
-            ms, dms = e.tmp("ms"), e.tmp("dms")
-            e.line(f"{ms}, {dms} = table(p, {o}, {n}, abs({s}))")
+            ms, dms = e.lookup("mu_slip", f"abs({s})", "ms")
             dsl = e.let("dsc_s", f"{sc} * {dms} * (1.0 if {s} >= 0.0 else -1.0)")
             if dth is not None:
                 e.line(f"{dth} = {dth} * {ms}")

@@ -18,19 +18,15 @@ the mechanical energy balance.
 
 from __future__ import annotations
 
-from ..component import Component
 from ..spec import Param
-from ._laws import emit_rate_limited_lag, signal_arg
+from ._laws import Actuator, emit_rate_limited_lag
 
 
-class HydraulicActuator(Component):
+class HydraulicActuator(Actuator):
     """Dead time + rate-limited lag + piston (see the module docstring)."""
 
     kind = "hydraulic_actuator"
     title = "hydraulic actuator: dead time, rate-limited pressure lag, piston force"
-    flanges = ()
-    feedthrough = False
-    signal_keys = ("command",)
     params = (
         Param("time_constant", "s", "first-order lag of the line pressure", low=0.0,
               strict=True),
@@ -48,8 +44,7 @@ class HydraulicActuator(Component):
     )
 
     def __init__(self, name, command: str, **values):
-        super().__init__(name, **values)
-        self.command = signal_arg(self.label, "command", command, "the pressure command [Pa]")
+        super().__init__(name, command, "the pressure command [Pa]", **values)
         if self.stages != int(self.stages):
             raise ValueError(f"{self.label}: stages = {self.stages:g} must be an integer")
 
@@ -59,9 +54,6 @@ class HydraulicActuator(Component):
 
     def options(self):
         return (self.command, self.n_stages, self.rate_limit > 0.0)
-
-    def inputs(self):
-        return (self.command,)
 
     def input_units(self):
         return {self.command: "Pa"}

@@ -16,22 +16,18 @@ clipped to ``[u_min, u_max]``.  Signal ``<name>.command`` (in ``command_unit``).
 
 from __future__ import annotations
 
-from ..component import Component
 from ..spec import Param
-from ._laws import PI_PARAMS, emit_pi, signal_arg
+from ._laws import PI_PARAMS, PIController, signal_arg
 
 #: units a controller's command may carry (what actuators and clutches read)
 COMMAND_UNITS = ("-", "N", "Pa", "m")
 
 
-class LaunchController(Component):
+class LaunchController(PIController):
     """PI launch controller (see the module docstring)."""
 
     kind = "launch_controller"
     title = "PI launch controller of slip or engine speed (anti-windup, feed-forward)"
-    flanges = ("a", "b")
-    grounded = ("b",)
-    signal_keys = ("target", "feedforward")
     params = (
         *PI_PARAMS,
         Param("k_ff", "[command]/(N·m)", "feed-forward gain on the engine torque",
@@ -60,9 +56,6 @@ class LaunchController(Component):
     def options(self):
         return (self.target, self.feedforward, self.command_unit)
 
-    def inputs(self):
-        return (self.target,) + ((self.feedforward,) if self.feedforward else ())
-
     def input_units(self):
         return {self.target: "rad/s", **({self.feedforward: "N·m"} if self.feedforward
                                          else {})}
@@ -83,8 +76,5 @@ class LaunchController(Component):
             ff_parts = e.chain(self.feedforward, P("k_ff"))
         else:
             ff, ff_parts = P("offset"), []
-        u, parts = emit_pi(e, err, err_parts, ff, ff_parts, P("u_min"), P("u_max"))
-        e.signal("command", u)
-        for key, d in parts:
-            e.dsignal("command", key, d)
+        self.emit_output(e, "command", err, err_parts, ff, ff_parts, P("u_min"), P("u_max"))
         e.output(f"error_{self.name}", "rad/s", err)

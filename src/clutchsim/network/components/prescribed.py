@@ -40,6 +40,7 @@ from typing import ClassVar
 
 from ..component import Component
 from ..spec import DOMAINS, Param
+from ._laws import signal_arg
 
 #: MSL Position's Bessel filter coefficients (s and s² terms)
 BESSEL_AF, BESSEL_BF = 1.3617, 0.6180
@@ -67,9 +68,7 @@ class PrescribedMotion(Component):
             if v is None and self._needs(k):
                 raise ValueError(f"{self.label}: {k} = ... (an input signal) is required "
                                  f"({self.signal_docs[k][0]})")
-            if v is not None and (not isinstance(v, str) or not v):
-                raise ValueError(f"{self.label}: {k} = {v!r} must name an input signal")
-            if v is not None:
+            if signal_arg(self.label, k, v, optional=True) is not None:
                 self.signal_names[k] = v
 
     def _needs(self, key: str) -> bool:

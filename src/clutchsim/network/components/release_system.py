@@ -30,6 +30,7 @@ import numpy as np
 
 from ..component import Component
 from ..spec import Param, table_entry
+from ._laws import signal_arg
 
 
 def monotone_spring(owner: str, key: str, xs, fs, xname: str) -> tuple[np.ndarray, np.ndarray]:
@@ -83,10 +84,7 @@ class ReleaseSystem(Component):
 
     def __init__(self, name, travel: str, cushion, spring=None, **values):
         super().__init__(name, **values)
-        if not isinstance(travel, str) or not travel:
-            raise ValueError(f"{self.label}: travel = {travel!r} must name a signal (the "
-                             "engagement travel [m])")
-        self.travel = travel
+        self.travel = signal_arg(self.label, "travel", travel, "the engagement travel [m]")
         self.cushion = monotone_spring(self.label, "cushion", *cushion, "compression")
         self.spring = (None if spring is None else
                        monotone_spring(self.label, "spring", *spring, "deflection"))
@@ -136,10 +134,7 @@ class ReleaseSystem(Component):
         return [ctx.input0.get(self.travel, 0.0)] if self.has_play else []
 
     def _force(self, e, x):
-        o, n = e.table("characteristic")
-        f, df = e.tmp("f"), e.tmp("df")
-        e.line(f"{f}, {df} = table(p, {o}, {n}, {x} - {e.par('touch_point')})")
-        return f, df
+        return e.lookup("characteristic", f"{x} - {e.par('touch_point')}", "f")
 
     def emit_signals(self, e):
         if self.has_play:

@@ -12,19 +12,15 @@ from __future__ import annotations
 
 import math
 
-from ..component import Component
 from ..spec import Param
-from ._laws import emit_rate_limited_lag, signal_arg
+from ._laws import Actuator, emit_rate_limited_lag
 
 
-class ServoActuator(Component):
+class ServoActuator(Actuator):
     """Position servo (see the module docstring)."""
 
     kind = "electromechanical_actuator"
     title = "electromechanical actuator: position servo with bandwidth and rate limit"
-    flanges = ()
-    feedthrough = False
-    signal_keys = ("command",)
     params = (
         Param("bandwidth", "Hz", "closed-loop bandwidth of the position servo (−3 dB)",
               low=0.0, strict=True),
@@ -33,14 +29,10 @@ class ServoActuator(Component):
     )
 
     def __init__(self, name, command: str, **values):
-        super().__init__(name, **values)
-        self.command = signal_arg(self.label, "command", command, "the position command [m]")
+        super().__init__(name, command, "the position command [m]", **values)
 
     def options(self):
         return (self.command, self.rate_limit > 0.0)
-
-    def inputs(self):
-        return (self.command,)
 
     def input_units(self):
         return {self.command: "m"}

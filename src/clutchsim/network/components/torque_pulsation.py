@@ -81,14 +81,11 @@ class TorquePulsation(Component):
         w = e.let("w", f"{e.w('flange')} - {e.w('support')}")
         arg = e.let("arg", f"{e.par('order')} * {e.x('angle')} + {e.par('phase')}")
         sn, cs = e.let("sn", f"math.sin({arg})"), e.let("cs", f"math.cos({arg})")
-        amp, damp = e.tmp("amp"), e.tmp("damp")
         if self.amplitude_table is not None:
-            o, n = e.table("amplitude_table")
-            e.line(f"{amp}, {damp} = table(p, {o}, {n}, abs({w}))")
+            amp, damp = e.lookup("amplitude_table", f"abs({w})", "amp")
             e.line(f"{damp} = {damp} * (1.0 if {w} >= 0.0 else -1.0)")
         else:
-            e.line(f"{amp} = {e.par('amplitude')}")
-            e.line(f"{damp} = 0.0")
+            amp, damp = e.let("amp", e.par("amplitude")), e.let("damp", "0.0")
         tq = e.let("tq", f"{amp} * {sn}")
         dtw = e.let("dtw", f"{damp} * {sn}")
         dtx = e.let("dtx", f"{amp} * {e.par('order')} * {cs}")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ..component import Component
+from ._laws import signal_arg
 
 
 class TorqueSource(Component):
@@ -16,9 +17,7 @@ class TorqueSource(Component):
 
     def __init__(self, name, input: str, **values):
         super().__init__(name, **values)
-        if not isinstance(input, str) or not input:
-            raise ValueError(f"{self.label}: input = {input!r} must name an input signal")
-        self.input = input
+        self.input = signal_arg(self.label, "input", input)
 
     def options(self):
         return (self.input,)

@@ -7,6 +7,7 @@ from typing import ClassVar
 
 from ..component import Component
 from ..spec import Param
+from ._laws import signal_arg
 
 
 class TranslationalVehicle(Component):
@@ -55,10 +56,9 @@ class TranslationalVehicle(Component):
 
     def __init__(self, name, torque=None, inclination_input=None, **values):
         super().__init__(name, **values)
-        for key, v in (("torque", torque), ("inclination_input", inclination_input)):
-            if v is not None and (not isinstance(v, str) or not v):
-                raise ValueError(f"{self.label}: {key} = {v!r} must name an input signal")
-        self.torque_input, self.incl_input = torque, inclination_input
+        self.torque_input = signal_arg(self.label, "torque", torque, optional=True)
+        self.incl_input = signal_arg(self.label, "inclination_input", inclination_input,
+                                     optional=True)
 
     def options(self):
         return (self.torque_input, self.incl_input)
