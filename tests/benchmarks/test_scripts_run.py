@@ -36,10 +36,11 @@ SMALL = {
 #: left to their own runs (see the module docstring)
 LONG = {"compile_time.py", "rt_fuzz.py", "core_speed.py", "durability_speed.py"}
 
+pytestmark = pytest.mark.skipif(not BENCH.is_dir(),
+                                reason=f"{BENCH} not present (benchmarks are not installed)")
+
 
 def test_every_script_is_run_here_or_named_as_long():
-    if not BENCH.is_dir():
-        pytest.skip(f"{BENCH} not present (benchmarks are not installed)")
     scripts = {p.name for p in BENCH.glob("*.py") if not p.name.startswith("_")}
     assert scripts == set(SMALL) | LONG
 
@@ -47,8 +48,6 @@ def test_every_script_is_run_here_or_named_as_long():
 @pytest.mark.slow
 @pytest.mark.parametrize("script", sorted(SMALL))
 def test_benchmark_script_runs_at_its_smallest(script, tmp_path):
-    if not BENCH.is_dir():
-        pytest.skip(f"{BENCH} not present (benchmarks are not installed)")
     proc = subprocess.run([sys.executable, str(BENCH / script), *SMALL[script]], cwd=tmp_path,
                           capture_output=True, text=True, timeout=600, check=False)
     assert proc.returncode == 0, proc.stderr[-3000:]

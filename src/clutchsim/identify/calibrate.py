@@ -633,8 +633,8 @@ def _input_covariance(problem: _Problem, x: np.ndarray, J: np.ndarray, Hinv: np.
                       rng: np.random.Generator, draws: int = INPUT_DRAWS) -> np.ndarray:
     """The estimates' covariance (scaled coordinates) from the errors of the measured inputs:
     each launch simulated with its clutch travel and engine input (torque or throttle)
-    samples perturbed by their error level (:func:`_input_sigma`), the change of its residual mapped to the parameters
-    by the Gauss–Newton step ``−H⁻¹Jᵀδr``; the second moment over the draws, summed over
+    samples perturbed by their error level (:func:`_input_sigma`), the change of its
+    residual mapped to the parameters by the Gauss–Newton step ``−H⁻¹Jᵀδr``; the second moment over the draws, summed over
     the launches."""
     values = problem.space.to_physical(x)
     data = problem.data

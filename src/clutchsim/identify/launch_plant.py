@@ -37,6 +37,7 @@ import numpy as np
 
 from ..core import simulate
 from ..core.signals import Table
+from ..core.system import closest
 
 __all__ = [
     "ENGINE_INPUT",
@@ -164,7 +165,6 @@ def layout(scenario, model: str | None = None,
 
 def check_signals(system, signals: Mapping[str, str]) -> None:
     """ValueError when a measured speed's signal is not one of ``system``'s."""
-    from ..core.system import closest
     names = tuple(system.output_names) + tuple(system.state_names)
     speeds = [n for n in names if n.startswith(("omega_", "v_"))]
     for measured, name in signals.items():
@@ -192,8 +192,9 @@ class LaunchPlant:
 
     Attributes: ``layout`` (:class:`Layout`), ``engine``, ``scenario`` (the scenario with
     its engine replaced where ``engine`` is "torque"), ``plan`` (its compiled
-    :class:`~clutchsim.scenario.variants.VariantPlan`), ``engine_key`` (the key of the engine inertia's start speed).  Raises ValueError (a
-    scenario the calibration cannot drive, a signal it does not have).
+    :class:`~clutchsim.scenario.variants.VariantPlan`), ``engine_key`` (the key of the
+    engine inertia's start speed).  Raises ValueError (a scenario the calibration cannot
+    drive, a signal it does not have).
     """
 
     def __init__(self, scenario, model: str | None = None, *,

@@ -13,8 +13,8 @@ controller reports (``(T − torque_offset)/torque_scale``); the driver's thrott
 accelerator pedal position it reports (EEC2, 20 Hz).  The channels are named and
 scaled as the J1939 messages of ``examples/calibration/j1939_launch.dbc`` carry them, each
 group at its own rate, and degraded (:class:`Degradation`): white noise, quantisation
-(1 rpm, 0.1 km/h, 1 % torque, 0.4 % pedal, 0.01 mm), and stamps that lag the sampling instant by a random
-delay (the logger stamps a frame when it arrives).
+(1 rpm, 0.1 km/h, 1 % torque, 0.4 % pedal, 0.01 mm), and stamps that lag the sampling
+instant by a random delay (the logger stamps a frame when it arrives).
 """
 
 from __future__ import annotations
