@@ -104,7 +104,7 @@ class _Run:
             return x
 
         temps = [s for s in data if s.startswith("theta_")]
-        self.ev = ev = np.ascontiguousarray(_event_times(res, clutch), dtype=np.float64)
+        self.ev = ev = np.ascontiguousarray(res.events.times(clutch), dtype=np.float64)
         dt = lq.filter_step_s(t) if t.size > 1 else lq.FILTER_DT_S
         wd_sos, wd_zi = lq._wd_sos(dt)
         lp_sos, lp_zi = lq._lowpass_sos(lq.JERK_CUTOFF_HZ, dt)
@@ -326,12 +326,6 @@ def warnings_of(sm: RunSummary, clutch: str, *, expect_lockup: bool = True,
                    "choose a smoother friction model or reset policy; if the fast dynamics is "
                    "real, this warning can be ignored")
     return out
-
-
-def _event_times(res: Result, component: str) -> np.ndarray:
-    """Times [s] of the located events of ``component`` (the network plant declares each
-    event's source, with the components' kinds in ``metadata["kinds"]``)."""
-    return res.events.times(component)
 
 
 def _lockup_time(res: Result, clutch: str) -> float | None:

@@ -138,11 +138,6 @@ class Mode:
     dominant_states: tuple[str, ...]
     participation: tuple[float, ...]
 
-    @property
-    def damped_frequency_hz(self) -> float:
-        """``|Im λ|/2π`` [Hz]."""
-        return abs(self.eigenvalue.imag) / (2.0 * math.pi)
-
     def as_dict(self) -> dict:
         return {"frequency_hz": self.frequency_hz, "damping_ratio": self.damping_ratio,
                 "growth_rate_1_s": self.growth_rate_1_s, "stable": self.stable,

@@ -108,14 +108,6 @@ class ChannelMap:
                        duplicates=self.duplicates)
         return map_log(log, self)
 
-    @property
-    def position_kind(self) -> str | None:
-        """``"travel"`` (m), ``"pedal"`` (fraction) or None without a clutch position."""
-        spec = self.channels.get("clutch_position")
-        if spec is None:
-            return None
-        return "pedal" if spec.unit.strip() == "%" else "travel"
-
 
 def load_channel_map(path: str | Path) -> ChannelMap:
     """Read and check a channel map; ValueError names the file, line, key and rule."""

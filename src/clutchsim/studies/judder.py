@@ -33,12 +33,6 @@ class JudderResult:
     def stable(self) -> bool:
         return all(m.stable for m in self.modes)
 
-    @property
-    def first_mode(self) -> Mode | None:
-        """The oscillatory mode of lowest frequency, or None."""
-        osc = [m for m in self.modes if m.frequency_hz > 0.0]
-        return osc[0] if osc else None
-
     def as_dict(self) -> dict:
         """The JSON document of ``clutchsim judder --json``."""
         return {"kind": "judder", "model": self.model,
