@@ -204,10 +204,9 @@ def resolve_models(models, default: Sequence[str], applicable: Sequence[str] | N
     out: list[ModelEntry] = []
     for label, m in items:
         if isinstance(m, FrictionModel):
-            entry = ModelEntry(label or m.name, m, f"{m.name} (custom parameters)")
-            for set_name in (type(m).default_parameter_set,):
-                if type(m).from_parameters(set_name) == m:
-                    entry = ModelEntry(label or m.name, m, f"{m.name} ({set_name})")
+            set_name = type(m).default_parameter_set
+            desc = set_name if type(m).from_parameters(set_name) == m else "custom parameters"
+            entry = ModelEntry(label or m.name, m, f"{m.name} ({desc})")
         elif isinstance(m, str):
             entry = entry_from_spec(m)
             if label:
