@@ -34,6 +34,17 @@ example wrote (e.g. "stick-slip": the rig's speed sticks near 0 and slips well a
 
 Examples that read the shared data sets (``${CLUTCHSIM_SHARED}``) are skipped, each named,
 when the shared directory is absent.
+
+One run per command line: a command written the same in several sources (``clutchsim fmu
+examples/launch.toml ... --out launch.fmu`` is in README.md, docs/fmu.md, ``clutchsim
+--help`` and ``clutchsim fmu --help``) runs in its *home*, the first source that has it
+(README.md, then docs/ in path order, then the epilogs, ``clutchsim --help`` last), and
+the others name that run instead of repeating it (:func:`_cover`).  Only where that is the
+same run: the same arguments, the same documented exit status, no claim to check, neither
+run reading what an earlier example of its source wrote (no argument that an earlier
+example names), and nothing later in the source that skips it reading what it writes (no
+example naming its output) -- each source runs in a fresh directory of the same contents,
+so such a command does the same thing in both.
 """
 
 from __future__ import annotations
@@ -80,6 +91,7 @@ class Example:
     exit: int = 0
     comment: str = ""            # the comment next to it (claims and exit status)
     skip: str | None = None
+    covered: Example | None = None   # the same run in an earlier source (see _cover)
     results: dict = field(default_factory=dict)
 
 
@@ -158,10 +170,71 @@ def _sources():
         found = _markdown(path)
         if found:
             yield str(path.relative_to(ROOT)), found
-    yield from _epilogs()
+    # the top-level epilog last: its examples are the commands' own (they run in theirs)
+    yield from sorted(_epilogs(), key=lambda item: item[0] == "clutchsim --help")
 
 
-SOURCES = dict(_sources())
+def _words(ex: Example) -> set[str]:
+    """The words of an example, to tell which files it may name."""
+    return set(re.findall(r"[\w./-]+", ex.code if ex.code is not None else " ".join(ex.argv)))
+
+
+def _outputs(ex: Example) -> set[str]:
+    """What a command writes and a later example may read: its ``--out`` value."""
+    argv = ex.argv or []
+    return {argv[k + 1].rstrip("/") for k, a in enumerate(argv[:-1]) if a == "--out"}
+
+
+def _files(words: set[str]) -> set[str]:
+    """The words that may name a file or folder: with a ``/`` or an extension, not a
+    number, not a file of ``examples/`` (never written: each source has its own copy)."""
+    out = set()
+    for w in words:
+        if w.startswith(("-", "examples/")) or re.fullmatch(r"[\d.e+-]+", w):
+            continue
+        if "/" in w or re.search(r"\.[A-Za-z]\w*$", w):
+            out.add(w.rstrip("/"))
+    return out
+
+
+def _overlap(a: set[str], b: set[str]) -> bool:
+    """Does a path of ``a`` name one of ``b``, or a file in it, or the folder it is in?"""
+    return any(x == y or x.startswith(y + "/") or y.startswith(x + "/") for x in a for y in b)
+
+
+def _reads_earlier(examples: list[Example], i: int) -> bool:
+    """May command ``i`` read what an earlier example of its source wrote (name a file or
+    folder that an earlier example names)?"""
+    own = _files(_words(examples[i]))
+    return any(_overlap(own, _files(_words(e))) for e in examples[:i])
+
+
+def _read_later(examples: list[Example], i: int) -> bool:
+    """May a later example of its source read what command ``i`` writes (name its
+    ``--out``)?"""
+    outs = _outputs(examples[i])
+    return any(_overlap(outs, _files(_words(e))) for e in examples[i + 1:])
+
+
+def _same_run(a: Example, b: Example) -> bool:
+    return (a.argv == b.argv and a.exit == b.exit
+            and not any(p in a.comment or p in b.comment for p in CLAIMS))
+
+
+def _cover(sources: dict[str, list[Example]]) -> None:
+    """Mark each command that runs, the same, in an earlier source (see the module
+    docstring): its ``covered`` is that run's example."""
+    homes: dict[tuple, tuple[Example, list[Example], int]] = {}
+    for examples in sources.values():
+        for i, ex in enumerate(examples):
+            if ex.argv is None:
+                continue
+            home = homes.get(tuple(ex.argv))
+            if home is None:
+                homes[tuple(ex.argv)] = (ex, examples, i)
+            elif (_same_run(home[0], ex) and not _reads_earlier(home[1], home[2])
+                  and not _reads_earlier(examples, i) and not _read_later(examples, i)):
+                ex.covered = home[0]
 
 
 def _sized(argv: list[str]) -> list[str]:
@@ -259,6 +332,9 @@ CLAIMS = {
     "end of life": _end_of_life,
 }
 
+SOURCES = dict(_sources())
+_cover(SOURCES)
+
 
 # -- running ------------------------------------------------------------------------------
 
@@ -289,7 +365,7 @@ def _run_source(examples: list[Example], cwd: Path) -> tuple[subprocess.Complete
         (cwd.parent / "shared").symlink_to(shared_dir().resolve(), target_is_directory=True)
     script, cli = [DRIVER.format(timeout=TIMEOUT_S)], []
     for ex in examples:
-        if ex.skip:
+        if ex.skip or ex.covered:
             continue
         if ex.code is not None:
             script.append(ex.code)
@@ -318,7 +394,7 @@ def run_and_check(source: str, tmp_path: Path):
     done, rows = _run_source(examples, tmp_path)
     failures, k = [], 0
     for ex in examples:
-        if ex.skip or ex.code is not None:
+        if ex.skip or ex.covered or ex.code is not None:
             continue
         row = rows.get(k)
         k += 1
@@ -346,10 +422,13 @@ def run_and_check(source: str, tmp_path: Path):
                     except AssertionError as exc:
                         failures.append(f"{ex.where}: claims {phrase!r}: {exc}")
     print(f"\n{source}: {len(examples)} examples in {time.perf_counter() - t0:.1f} s")
-    cli = [ex for ex in examples if ex.code is None and not ex.skip]
+    cli = [ex for ex in examples if ex.code is None and not ex.skip and not ex.covered]
     for k, ex in enumerate(cli):
         if k in rows:
             print(f"  exit {rows[k]['rc']} {rows[k]['wall_s']:6.1f} s  {ex.text[:110]}")
+    for ex in examples:
+        if ex.covered:
+            print(f"  run in {ex.covered.where}: {ex.text[:100]}")
     assert not failures, "\n".join(failures)
     skipped = [f"{ex.where}: {ex.skip}" for ex in examples if ex.skip]
     if skipped:
