@@ -8,6 +8,7 @@ find something new, and ``scripts/fuzz_networks.py`` runs thousands with a seed.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 from pathlib import Path
@@ -24,6 +25,22 @@ _DRIVERS = ("chromedriver", "/usr/lib/chromium/chromedriver")
 _FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
           "--no-first-run", "--disable-component-update", "--disable-sync", "--disable-quic",
           "--window-size=1280,900")
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_sessionstart(session):
+    """Warm numba's cache before the workers start (see the module docstring)."""
+    config = session.config
+    if hasattr(config, "workerinput") or (getattr(config.option, "numprocesses", 0) or 0) < 2:
+        return
+    from clutchsim._jit import cache_dir
+    if not cache_dir or any(Path(cache_dir).glob("*/_driver.integrate-*.nbi")):
+        return
+    from clutchsim.scenario import run_scenario
+    from clutchsim.scenario.warmup import metrics_compiled_beside
+    # only a head start: a launch that fails here fails in its own tests, with a report
+    with contextlib.suppress(Exception), metrics_compiled_beside():
+        run_scenario(None)
 
 
 def _find(names, env):
