@@ -263,24 +263,22 @@ def _c_string(s: str) -> str:
         .replace('"', '\\"') + '"'
 
 
-def _variables(*, states, state_units, y0, nominal, inputs, input_units, u0, outputs,
-               output_units, params, p, events, vr_u, vr_y, vr_p, vr_z) -> list[dict]:
+def _variables(*, states, state_units, y0, inputs, input_units, u0, outputs, output_units,
+               params, p, events, vr_u, vr_y, vr_p, vr_z) -> list[dict]:
     """The FMU's variables, in order: name, value reference, causality, variability,
-    initial, unit, start, the nominal value (a state's, where it is not 1), the value
-    reference of the state a derivative belongs to, the role in the model structure and a
-    description (one list for FMI 2 and FMI 3)."""
+    initial, unit, start, the value reference of the state a derivative belongs to, the
+    role in the model structure and a description (one list for FMI 2 and FMI 3)."""
     out = []
 
     def var(name, vr, causality, variability, initial, unit="", start=None, der=None,
-            role=None, desc="", nominal=None):
+            role=None, desc=""):
         out.append({"name": name, "vr": vr, "causality": causality,
                     "variability": variability, "initial": initial, "unit": unit,
-                    "start": None if start is None else _num(start),
-                    "nominal": None if nominal in (None, 1.0) else _num(nominal), "der": der,
+                    "start": None if start is None else _num(start), "der": der,
                     "role": role, "desc": desc})
 
     for i, (s, u) in enumerate(zip(states, state_units)):
-        var(s, i, "output", "continuous", "exact", u, y0[i], role="state", nominal=nominal[i])
+        var(s, i, "output", "continuous", "exact", u, y0[i], role="state")
     for i, (s, u) in enumerate(zip(states, state_units)):
         var(f"der({s})", len(states) + i, "local", "continuous", "calculated", _deriv_unit(u),
             der=i, role="derivative")
@@ -373,7 +371,7 @@ def _model_description(*, fmi, kind, name, ident, guid, description, t_end, rtol
         index = {v["vr"]: i + 1 for i, v in enumerate(variables)}
         for v in variables:
             sv = ET.SubElement(mv, "ScalarVariable", _attrs(v))
-            real = {"unit": v["unit"], "start": v["start"], "nominal": v["nominal"],
+            real = {"unit": v["unit"], "start": v["start"],
                     "derivative": None if v["der"] is None else str(index[v["der"]])}
             ET.SubElement(sv, "Real", {k: x for k, x in real.items()
                                        if x is not None and not (k == "unit" and x in _DIMLESS)})
@@ -394,7 +392,7 @@ def _model_description(*, fmi, kind, name, ident, guid, description, t_end, rtol
                                       "description": "simulation time"})
         for v in variables:
             a = _attrs(v)
-            for k, x in (("start", v["start"]), ("unit", v["unit"]), ("nominal", v["nominal"]),
+            for k, x in (("start", v["start"]), ("unit", v["unit"]),
                          ("derivative", None if v["der"] is None else str(v["der"]))):
                 if x is not None and not (k == "unit" and x in _DIMLESS):
                     a[k] = x
@@ -446,29 +444,15 @@ def discrete_mask(plan, comps) -> list[int]:
     return mask
 
 
-def state_nominals(plan, comps) -> list[float]:
-    """The nominal value of each state of the plant: the typical magnitude its component
-    declares (:meth:`Component.state_nominals`: a friction model's pre-sliding deflection),
-    1 for the others."""
-    nominal = [1.0] * len(plan.state_names)
-    for c in comps:
-        for key, value in c.state_nominals().items():
-            nominal[plan.state_index[(c.name, key)]] = float(value)
-    return nominal
-
-
-def model_h(title: str, system, u0, p, settable, defines: dict, discrete=None,
-            nominal=None) -> str:
+def model_h(title: str, system, u0, p, settable, defines: dict, discrete=None) -> str:
     """``model.h``: the layout of a printed plant for its C drivers (the FMUs' glue, the
     real-time kernel): sizes ``CS_NX``, ``CS_NU``, ``CS_NY``, ``CS_NZ``, ``CS_NP``, the start
     values ``cs_y0``, ``cs_u0``, ``cs_p0``, which parameters may be set (``cs_p_settable``),
     which states are discrete (``cs_discrete``, :func:`discrete_mask`; none if not given),
-    the states' nominal values (``cs_nominal``, :func:`state_nominals`; 1 if not given),
     the event functions' directions and names, and the driver's own ``defines``."""
     nx, nu, ny = len(system.state_names), len(system.input_names), len(system.output_names)
     nz = len(system.event_names)
     discrete = [0] * nx if discrete is None else discrete
-    nominal = [1.0] * nx if nominal is None else nominal
     return "\n".join([
         f"/* Layout of {title} (clutchsim {__version__}). Do not edit. */",
         f"#define CS_NX {nx}", f"#define CS_NU {nu}", f"#define CS_NY {ny}",
@@ -479,7 +463,6 @@ def model_h(title: str, system, u0, p, settable, defines: dict, discrete=None,
         _c_array("cs_p0", "double", [_num(v) for v in p]),
         _c_array("cs_p_settable", "int", [str(int(v)) for v in settable]),
         _c_array("cs_discrete", "int", [str(int(v)) for v in discrete]),
-        _c_array("cs_nominal", "double", [_num(v) for v in nominal]),
         _c_array("cs_event_dir", "int", [str(int(d)) for d in system.event_directions]),
         f"static const char *cs_event_names[{max(nz, 1)}] = {{"
         + (", ".join(_c_string(e) for e in system.event_names) or "0") + "};", ""])
@@ -573,7 +556,6 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
     ident = _identifier(out)
     p = np.asarray(system.params, dtype=float)
     params = _parameters(plan, comps)
-    nominal = state_nominals(plan, comps)
     nx, nu, ny = len(system.state_names), len(system.input_names), len(system.output_names)
     nz, np_ = len(system.event_names), len(p)
     vr_u, vr_y = 2 * nx, 2 * nx + nu
@@ -593,10 +575,9 @@ def export_fmu(scenario, out, model: str | None = None, *, fmi: str = "2", kind:
                                 "CS_MODEL_EXCHANGE": int(kind in ("me", "both")),
                                 "CS_COSIM": int(kind in ("cs", "both")),
                                 "CS_FIXED_STEP": repr(float(fixed_step or 0.0))},
-                     discrete=discrete_mask(plan, comps), nominal=nominal)
+                     discrete=discrete_mask(plan, comps))
     variables = _variables(
         states=system.state_names, state_units=system.state_units, y0=system.y0,
-        nominal=nominal,
         inputs=system.input_names, input_units=system.input_units,
         u0=[u0[n] for n in system.input_names], outputs=system.output_names,
         output_units=system.output_units, params=params, p=p, events=system.event_names,

@@ -267,12 +267,9 @@ static int core_get_indicators(Instance *m, double g[], size_t n) {
     return ST_OK;
 }
 
-/* The states' nominal values (cs_nominal: the typical magnitudes their components declare,
-   1 for the others; modelDescription.xml gives the same): an importer scales its absolute
-   tolerances with them. */
 static void core_nominals(double x[], size_t n) {
     size_t i;
-    for (i = 0; i < n && i < CS_NX; i++) x[i] = cs_nominal[i];
+    for (i = 0; i < n; i++) x[i] = 1.0;
 }
 
 /* ---------------------------------------------------------------- directional derivatives

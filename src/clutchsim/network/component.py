@@ -175,15 +175,6 @@ class Component:
         own = {s.name for s in self.states}
         return [k for k, _, unit in self.state_layout() if unit == "-" and k not in own]
 
-    def state_nominals(self) -> dict[str, float]:
-        """Keys (of :meth:`state_layout`) of its states whose typical magnitude is not of
-        order 1, with that magnitude (> 0, in the state's unit): a pre-sliding deflection
-        of 1e-3 rad or 1e-5 m.  An FMU declares them as the states' nominal values
-        (``nominal`` in modelDescription.xml, ``fmi2GetNominalsOfContinuousStates``), which
-        an importer scales its absolute tolerances with (FMPy's CVode: ``rtol·nominal``).
-        The others are nominal 1.  None by default."""
-        return {}
-
     def initial_speeds(self) -> dict[str, float]:
         """Initial speed [rad/s] it prescribes at its flanges (inertias)."""
         return {}

@@ -17,7 +17,6 @@ and free (a state ``<name>.locked``); the generated plant solves their stick tor
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 
@@ -329,13 +328,6 @@ class _FrictionElement(FaultPhase, Component):
         if self.runout is not None:
             out.append(("runout", f"angle_{self.name}", "rad"))
         return out
-
-    def state_nominals(self):
-        """The friction model's own state scales (:meth:`FrictionModel.typical_scales`: a
-        bristle's or an elastic slip's deflection), for its continuous states."""
-        discrete = set(self.discrete_states())
-        return {f"z{i}": float(s) for i, s in enumerate(self.model.typical_scales().states)
-                if f"z{i}" not in discrete and math.isfinite(s) and s > 0.0}
 
     def _slip0(self, ctx) -> float:
         return ctx.speed(self.name, self.side_b) - ctx.speed(self.name, self.side_a)
