@@ -2,6 +2,8 @@
 and co-simulation), switch times, the energy balance, and the printed C against the
 compiled plant on random states."""
 
+import contextlib
+
 import numpy as np
 
 from clutchsim.fmu import CPlant, input_table
@@ -53,14 +55,39 @@ def _inputs(path):
     return [v.name for v in md.modelVariables if v.causality == "input"]
 
 
-def simulate(path, scenario, names, rtol, dt_out, record_events=False):
+@contextlib.contextmanager
+def _inputs_in_rhs():
+    """FMPy's CVode with the inputs set at every right-hand-side evaluation, as FMI's Model
+    Exchange expects of an importer.  FMPy's own sets them only in CVode's root function
+    (after each internal step and at the output points), so over a step the FMU sees the
+    inputs of the step's start: a lag of one internal step, the largest error of a ramped
+    input's run once CVode's steps grow (rtol 1e-6).  Only ``CVodeSolver.f`` changes;
+    FMPy's ``simulate_fmu`` builds its solver from ``fmpy.sundials`` at each call."""
+    from fmpy import sundials
+    base = sundials.CVodeSolver
+
+    class Solver(base):
+        def f(self, t, y, ydot, user_data):
+            self.input.apply(t)
+            return base.f(self, t, y, ydot, user_data)
+
+    sundials.CVodeSolver = Solver
+    try:
+        yield
+    finally:
+        sundials.CVodeSolver = base
+
+
+def simulate(path, scenario, names, rtol, dt_out, record_events=False, inputs_in_rhs=False):
     """The FMU as Model Exchange under FMPy's CVode, fed the scenario's inputs (named:
-    FMPy runs a file with both interfaces as co-simulation unless told)."""
-    return fmpy().simulate_fmu(str(path), fmi_type="ModelExchange", solver="CVode", relative_tolerance=rtol,
-                               output_interval=dt_out, output=names,
-                               record_events=record_events,
-                               input=input_table(scenario, dt=dt_out / 2,
-                                                 names=_inputs(path)))
+    FMPy runs a file with both interfaces as co-simulation unless told); with
+    ``inputs_in_rhs``, set at every right-hand-side evaluation (:func:`_inputs_in_rhs`)."""
+    with _inputs_in_rhs() if inputs_in_rhs else contextlib.nullcontext():
+        return fmpy().simulate_fmu(str(path), fmi_type="ModelExchange", solver="CVode",
+                                   relative_tolerance=rtol, output_interval=dt_out,
+                                   output=names, record_events=record_events,
+                                   input=input_table(scenario, dt=dt_out / 2,
+                                                     names=_inputs(path)))
 
 
 def simulate_cs(path, scenario, names, rtol, dt_out):
