@@ -90,7 +90,7 @@ def main(argv=None) -> int:
     ap.add_argument("--step", type=float, default=1e-3)
     ap.add_argument("--budget", type=float, default=20.0, help="µs")
     args = ap.parse_args(argv)
-    from clutchsim.cgen.compiler import CFLAGS, find_compiler
+    from clutchsim._cc import CFLAGS, find_compiler
     from clutchsim.fmu.realtime import export_realtime, sampled_inputs
     from clutchsim.scenario import resolve_scenario
     work = Path(tempfile.mkdtemp(prefix="rt_step."))

@@ -36,7 +36,8 @@ ROOT = "clutchsim"
 
 #: Floors, bottom up.  A package may import from its own floor and the floors below.
 #: Where the top-level modules that are not named in the issue go, and why:
-#:  - ``_version``, ``progress``: no clutchsim imports; utilities.
+#:  - ``_version``, ``progress``, ``_cc`` (the system C compiler): no clutchsim imports;
+#:    utilities.
 #:  - ``params``: TOML data only (no Python), beside the utilities.
 #:  - ``signal_expr`` (the signal expression language over core.signals), ``data``
 #:    (measurement files; uses core.system.closest), ``rig`` (the one-DOF test rig built
@@ -52,7 +53,7 @@ ROOT = "clutchsim"
 #:    call it.  It sits on the floor above analysis: computing never imports it (core,
 #:    network, analysis are below it), and the writers above may draw.
 FLOORS: tuple[tuple[str, ...], ...] = (
-    ("_util", "_jit", "_version", "progress", "params"),
+    ("_util", "_jit", "_cc", "_version", "progress", "params"),
     ("friction",),
     ("core",),
     ("cgen", "signal_expr", "data", "rig"),

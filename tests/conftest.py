@@ -102,15 +102,15 @@ def drop_c_compiler(monkeypatch, tmp_path):
     raises what it raises on a machine without one) and empties the table of generated
     plants into ``tmp_path``: the next generated plant goes the numba fallback's way.  It
     returns ``tmp_path``."""
-    from clutchsim import rig
-    from clutchsim.cgen import NoCompilerError, compiler, loader
+    from clutchsim import _cc, rig
+    from clutchsim.cgen import NoCompilerError, loader
     from clutchsim.network import plant as network_plant
 
     def no_compiler():
         raise NoCompilerError("no C compiler found (looked for cc, gcc, clang on the PATH)")
 
     def drop():
-        monkeypatch.setattr(compiler, "find_compiler", no_compiler)
+        monkeypatch.setattr(_cc, "find_compiler", no_compiler)
         monkeypatch.setattr(loader, "module_dir", lambda kind: tmp_path)
         monkeypatch.setattr(loader, "_LOADED", {})
         monkeypatch.setattr(loader, "_FALLBACK_LOGGED", set())

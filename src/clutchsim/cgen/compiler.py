@@ -1,7 +1,8 @@
-"""The system C compiler, and a generated plant compiled to a shared library.
+"""A generated plant compiled to a shared library.
 
-:func:`find_compiler` looks for the compiler (``$CC``, then ``cc``, ``gcc``, ``clang``);
-:func:`compile_shared` builds a shared library from C sources.
+:func:`find_compiler` (``$CC``, then ``cc``, ``gcc``, ``clang``) and :func:`compile_shared`
+(a shared library from C sources) come from :mod:`clutchsim._cc`, where the integration
+engine (:mod:`clutchsim.core.cengine`) finds them too.
 :func:`build_plant_library` prints a generated plant module as C (:mod:`clutchsim.cgen.cprint`)
 with two faces per entry point: ``cs_<f>`` with C pointers (for Python through
 :mod:`ctypes`, and for the FMU glue) and ``nb_<f>`` with numba's calling convention, which the
@@ -21,29 +22,18 @@ import ctypes
 import functools
 import os
 import shutil
-import subprocess
 import tempfile
 from pathlib import Path
 
 import numpy as np
 from numba import types
 
+from .._cc import CompilerError, NoCompilerError, compile_shared, find_compiler
 from ..core.system import FACTOR_SIG, JAC_SIG, KERNEL_SIG, RESET_SIG, SOLVE_SIG, NativeFunction
 from .cprint import A1, A2, D, I, print_c
 
 __all__ = ["PLANT_ENTRIES", "CPlant", "CompilerError", "NoCompilerError", "build_plant_library",
            "check_numba_abi", "compile_shared", "find_compiler", "numba_entries"]
-
-#: names looked for, in this order, after $CC
-COMPILERS = ("cc", "gcc", "clang")
-#: flags: ISO C99, no fused multiply-add (numba does not contract either), position
-#: independent, optimised; calls between the library's own functions bound at link time
-#: (``-fno-semantic-interposition``: the numba entries inline the plant's) and math
-#: functions that do not set ``errno`` (the results are the same; numba does not set it
-#: either): the default launch's loop 4.20 -> 3.94 ms against ``-O2`` (minima of 300)
-CFLAGS = ("-std=c99", "-O3", "-fno-semantic-interposition", "-fno-math-errno", "-fPIC",
-          "-ffp-contract=off", "-fno-fast-math", "-Wall",
-          "-Wno-unused-variable", "-Wno-unused-but-set-variable", "-Wno-unused-function")
 
 #: the plant's entry points and their argument types (clutchsim.core.system protocol)
 PLANT_ENTRIES = {
@@ -62,52 +52,6 @@ _SIGS = {n: {"reset": RESET_SIG, "jac": JAC_SIG, "factor": FACTOR_SIG,
              "solve": SOLVE_SIG}.get(n, KERNEL_SIG) for n in PLANT_ENTRIES}
 #: the entry points that return an integer (the others return nothing)
 RETURNS_INT = tuple(n for n, sig in _SIGS.items() if sig.return_type != types.void)
-
-
-class CompilerError(RuntimeError):
-    """The compiler rejected the printed program."""
-
-
-class NoCompilerError(CompilerError, LookupError):
-    """No C compiler on this machine (the message says what was looked for)."""
-
-
-def find_compiler() -> str:
-    """Path of the system C compiler (``$CC``, else the first of :data:`COMPILERS` on the
-    ``PATH``); :class:`NoCompilerError` saying what was looked for when there is none, or
-    when ``$CC`` names no executable (the user chose that compiler: another one is never
-    used in its place)."""
-    cc = os.environ.get("CC")
-    tried = []
-    if cc:
-        found = shutil.which(cc)
-        if found:
-            return found
-        raise NoCompilerError(
-            f"CC={cc!r} is not an executable compiler (not found, or not executable, on the "
-            "PATH): set CC to the path of a C compiler, or unset it to use the first of "
-            f"{', '.join(COMPILERS)} on the PATH")
-    for name in COMPILERS:
-        found = shutil.which(name)
-        if found:
-            return found
-        tried.append(name)
-    raise NoCompilerError(
-        f"no C compiler found (looked for {', '.join(tried)} on the PATH); install one, "
-        "e.g. `apt-get install gcc` (Debian/Ubuntu), `dnf install gcc` (Fedora) or "
-        "`xcode-select --install` (macOS), or set CC to its path")
-
-
-def compile_shared(sources: list[Path], out: Path, include: list[Path] = ()) -> Path:
-    """Compile C ``sources`` into the shared library ``out`` with the system compiler."""
-    cc = find_compiler()
-    cmd = [cc, *CFLAGS, "-shared", "-o", str(out), *[f"-I{d}" for d in include],
-           *map(str, sources), "-lm"]
-    proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
-    if proc.returncode != 0:
-        raise CompilerError(f"{Path(cc).name} failed on the printed plant (exit "
-                            f"{proc.returncode}): {proc.stderr.strip()[:1500]}")
-    return out
 
 
 #: numba's data model of each argument kind, flattened: (C parameters, the expression the
@@ -285,4 +229,5 @@ class CPlant:
         check_numba_abi()
         sig = _SIGS[name]
         address = ctypes.cast(getattr(self.lib, f"nb_{name}"), ctypes.c_void_p).value
-        return NativeFunction(address, sig, getattr(self, name), keep=self)
+        c_address = ctypes.cast(getattr(self.lib, f"cs_{name}"), ctypes.c_void_p).value
+        return NativeFunction(address, sig, getattr(self, name), keep=self, c_address=c_address)

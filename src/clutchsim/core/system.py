@@ -161,13 +161,16 @@ class NativeFunction(WrapperAddressProtocol):
     pointer, then the shape and the strides, one per dimension).  ``call`` runs the same
     function from Python (``ctypes``), so a native plant function is called like a compiled
     one: ``f(t, y, u, p, out)``.  ``keep`` holds what must outlive the address (the loaded
-    library).
+    library).  ``c_address``: the same function with plain C pointers (the ``cs_`` entry of
+    a printed plant), which the C engine calls (:mod:`clutchsim.core.cengine`); 0 where
+    there is none.
     """
 
-    def __init__(self, address: int, sig, call, keep=None):
+    def __init__(self, address: int, sig, call, keep=None, c_address: int = 0):
         if not address:
             raise ValueError(f"native function of {sig}: null address")
         self.address = int(address)
+        self.c_address = int(c_address or 0)
         self.sig = sig
         self._call = call
         self._keep = keep
