@@ -6,8 +6,9 @@ timed with the thread's CPU time (``time.thread_time_ns``), which a shared machi
 distorts less than wall time, and reported as the minimum over ``--calls`` calls (after
 one warm-up call), in milliseconds:
 
-* ``integrator_ms``: the compiled loop alone (``clutchsim.core.simulate._integrate``,
-  timed by a wrapper around it);
+* ``integrator_ms``: the compiled loop alone (``clutchsim.core.simulate._run_loop``: the
+  C engine, or the numba loop where the engine does not run the plant; timed by a wrapper
+  around it);
 * ``simulate_python_ms``: ``simulate`` minus its compiled loop (option packing, the
   outcome and message, the result's columns and events);
 * ``warnings_ms``: ``launch_warnings`` (lock-up hold test, ringing test, step rate);
@@ -82,15 +83,15 @@ def main():
     from clutchsim.scenario import run as run_mod
 
     inner: list[int] = []
-    raw = sim_mod._integrate
+    raw = sim_mod._run_loop
 
-    def timed(args, fixed_key=None):
+    def timed(prep, args):
         t0 = time.thread_time_ns()
-        out = raw(args, fixed_key)
+        out = raw(prep, args)
         inner.append(time.thread_time_ns() - t0)
         return out
 
-    sim_mod._integrate = timed
+    sim_mod._run_loop = timed
 
     sc = resolve_scenario(None)
     model = sc.models[0] if sc.models else None

@@ -2,8 +2,10 @@
 
 A sweep runs one system hundreds of times with other parameter vectors and initial
 states.  :func:`launch_batch` runs a chunk of them in one call of a compiled loop: for
-each variant the integrator (:func:`clutchsim.core.loop.integrate`, the loop
-:func:`clutchsim.core.simulate` calls) and then the launch kernel
+each variant the integrator (the C engine where it runs the plant,
+:func:`clutchsim.core.cengine.integrate_nb`, else the numba loop
+:func:`clutchsim.core.loop.integrate`: the loops :func:`clutchsim.core.simulate` runs, with
+the same bits) and then the launch kernel
 (:func:`clutchsim.analysis._kernels.launch_kernel`, the one :func:`~clutchsim.analysis.
 launch_metrics.analyse_run` calls) on the run's own output arrays, keeping only the numbers a
 sweep's table row needs: the integrator's end code and counters, the kernel's values and
@@ -32,6 +34,7 @@ import numpy as np
 from .._jit import jit
 from ..core import System
 from ..core import loop as drv
+from ..core.cengine import batch_engine_for, integrate_nb
 from ..core.compile_notice import compile_notice
 from ..core.loop import now
 from ..core.result import apply_violations
@@ -74,19 +77,29 @@ def _column(ys, us, outs, n, src, j, empty):
 def _run_batch(fns, tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs, fopt, iopt,
                cols, mine, empty2, wd_sos, wd_zi, lp_sos, lp_zi, dt_s, max_samples, lock_slip,
                hold, window, engage_rel, area, band_lo, band_hi, judder_slip, inv_el,
-               inv_speeds, inv_wf, inv_passive, rtol, atol, K, I, F, V):
+               inv_speeds, inv_wf, inv_passive, rtol, atol, K, I, F, V, c_eng, c_free, c_plant,
+               c_rows):
     """Run each row of ``Y0``/``P`` and write its kernel values to ``K``, its counters and
     end to ``I``, its times, energy balance and compiled wall time to ``F``, its physics
     checks' table to ``V`` (see :func:`launch_batch`).  ``P`` is overwritten (a plant may switch its values at
-    scheduled events)."""
+    scheduled events).  ``c_eng``, ``c_free``, ``c_plant``: the C engine
+    (:class:`clutchsim.core.cengine.BatchEngine`), ``c_eng`` None for the numba loop;
+    ``c_rows``: the engine's first rows per run."""
     empty = empty2[:, 0]
     n_losses = len(ENERGY_STATES) - 1
     losses = np.empty(n_losses)
     for r in range(Y0.shape[0]):
         start = now()
-        (code, t_end, kk, ii, ts, ys, us, outs, ev_t, ev_k, _ev_a, st, h_small,
-         wall) = drv.integrate(fns, tab, mopt, ctrl, t0, t1, Y0[r], P[r], bank, bps, ev_dir,
-                               n_outputs, fopt, iopt)
+        # the C engine where it runs the plant (c_eng a function value), else the numba
+        # loop (c_eng None: numba compiles only the branch of its type)
+        if c_eng is None:
+            (code, t_end, kk, ii, ts, ys, us, outs, ev_t, ev_k, _ev_a, st, h_small,
+             wall) = drv.integrate(fns, tab, mopt, ctrl, t0, t1, Y0[r], P[r], bank, bps,
+                                   ev_dir, n_outputs, fopt, iopt)
+        else:
+            (code, t_end, kk, ii, ts, ys, us, outs, ev_t, ev_k, _ev_a, st, h_small,
+             wall) = integrate_nb(c_eng, c_free, c_plant, tab, mopt, ctrl, t0, t1, Y0[r],
+                                  P[r], bank, bps, ev_dir, n_outputs, fopt, iopt, c_rows)
         n = ts.shape[0]
         # the plant's physics checks on the run's rows (network/invariants.py)
         scan(ts, ys, outs, inv_el, inv_speeds, inv_wf, inv_passive, rtol, atol, V[r])
@@ -271,10 +284,18 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
         inv_el, inv_speeds, inv_wf, inv_passive, inv_rows = (
             np.zeros((0, 7), dtype=np.int64), np.zeros(0, dtype=np.int64), -1, False, N_CHECKS)
     V = np.empty((n, inv_rows, N_R))
+    eng = batch_engine_for(a, system.n_states)
+    c_eng = (eng.integrate, eng.free, eng.plant) if eng is not None else (
+        None, None, np.zeros(7, dtype=np.int64))
+    # the engine's first rows: the output grid and 256 more, as the numba loop's
+    dt_out = float(opts.dt_out)
+    c_rows = 256 + (int(min((t1 - t0) / dt_out + 2.0, 1e6, max(int(opts.max_output), 0)))
+                    if dt_out > 0 else 3840)
     args = (a[0], a[1], a[2], a[3], t0, t1, Y0, P, a[8], a[9], a[10], a[11], a[12], a[13],
             cols, mine, np.empty((0, 1)), *_kernel_constants(float(area)), inv_el, inv_speeds,
-            inv_wf, inv_passive, float(opts.rtol), float(opts.atol), K, iv, fv, V)
-    _entry(prep.fixed_key, args)(*args)
+            inv_wf, inv_passive, float(opts.rtol), float(opts.atol), K, iv, fv, V, *c_eng,
+            c_rows)
+    _entry((prep.fixed_key, eng is not None), args)(*args)
     kinds = system.metadata.get("kinds", {})
     has_slip = f"w_slip_{clutch}" in (*system.state_names, *system.input_names,
                                        *system.output_names)

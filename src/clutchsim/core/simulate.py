@@ -14,6 +14,7 @@ import numba
 import numpy as np
 
 from . import _driver as drv
+from .cengine import engine_for
 from .compile_notice import compile_notice
 from .controllers import StepController
 from .methods import EXPLICIT, get_method
@@ -23,7 +24,7 @@ from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
 from .system import System, call_jac, closest, factor_size, has_jacobian, kernels
 
-__all__ = ["RunEnd", "interrupts_deferred", "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
+__all__ = ["RunEnd", "compile_numba_loop", "interrupts_deferred", "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
 
 def _check_span(t_span) -> tuple[float, float]:
     try:
@@ -212,6 +213,14 @@ def _integrate(args, fixed_key=None):
     return out
 
 
+def _run_loop(prep, args):
+    """The integration loop on ``args`` (a run of ``prep``): the C engine where it runs
+    this plant, else the numba loop (a plant beyond the engine's bounds, too)."""
+    engine = prep.engine()
+    out = engine(args) if engine is not None else None
+    return out if out is not None else _integrate(args, prep.fixed_key)
+
+
 class _Prepared:
     """The arguments of the integration loop that depend only on the plant type, the
     input signals, the span, the solver and the options, built once for runs that share
@@ -220,7 +229,7 @@ class _Prepared:
     option vectors, and their fingerprint for :func:`_integrate`.  The loop only reads
     them."""
 
-    __slots__ = ("args", "chatter_window", "fixed_key", "refs")
+    __slots__ = ("_engine", "args", "chatter_window", "fixed_key", "refs")
 
     def __init__(self, system: System, signals, t0: float, t1: float, solver: str,
                  opts: SolverOptions, refs: tuple):
@@ -248,6 +257,14 @@ class _Prepared:
                                if i not in (6, 7))
         self.chatter_window = float(fopt[drv.O_CHATTER_WINDOW])
         self.refs = refs        # what the key names by identity, kept alive with it
+        self._engine = False    # not looked for yet
+
+    def engine(self):
+        """The C engine for these runs (:mod:`clutchsim.core.cengine`), or None: they
+        take the numba loop."""
+        if self._engine is False:
+            self._engine = engine_for(self.args)
+        return self._engine
 
     @property
     def options(self) -> SolverOptions:
@@ -359,11 +376,12 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     iopt = prep.args[13].copy()
     args = prep.args[:6] + (y_init, system.params.copy()) + prep.args[8:13] + (iopt,)
     with compile_notice(type(system.tag), system.name) as first:
-        if first:
+        engine = prep.engine()
+        if first and engine is None:
             _load_or_compile(args)
     with interrupts_deferred(iopt):
         (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
-         wall) = _integrate(args, prep.fixed_key)
+         wall) = _run_loop(prep, args)
     end = run_end(system, opts, solver, prep.chatter_window, int(code), float(t_end), int(k),
                   int(i), ts.shape[0], float(ts[-1]))
     events = Events(ev_t, ev_k, ev_a, system.event_names, system.event_sources, ACTION_WORDS)
@@ -546,6 +564,18 @@ def run_stats(st, h_small: float, wall: float) -> Stats:
                  lu_decompositions=int(st[drv.S_LU]), events=int(st[drv.S_EVENTS]),
                  min_step_s=float(h_small) if math.isfinite(h_small) else 0.0,
                  wall_s=float(wall), event_evals=int(st[drv.S_EV_CALLS]))
+
+
+def compile_numba_loop(system: System, t_span, inputs: Mapping | None = None, *,
+                       solver: str = DEFAULT_METHOD, options: SolverOptions | None = None
+                       ) -> None:
+    """Compile, or load from numba's cache, the numba loop for runs of ``system`` (which
+    the C engine takes where the plant is printed C, :mod:`clutchsim.core.cengine`): for a
+    caller that will run it (a sweep's batch kernel) or that warms the cache for worker
+    processes."""
+    prep = prepare_runs(system, t_span, inputs, solver=solver, options=options)
+    y0 = np.ascontiguousarray(system.y0, dtype=float)
+    _load_or_compile(prep.args[:6] + (y0, system.params.copy()) + prep.args[8:])
 
 
 def prepare_runs(system: System, t_span, inputs: Mapping | None = None, *,

@@ -1,0 +1,327 @@
+"""The C engine: the integration loop in C (``engine.c``), for plants printed as C.
+
+A run of a plant whose functions are all printed C (:class:`~.system.NativeFunction` with
+a ``c_address``: the networks and the friction rig, :mod:`clutchsim.cgen`) goes through
+``engine.c``, called through :mod:`ctypes`; other plants (hand-written numba plants, and
+every generated plant on a machine without a C compiler) go through the numba loop
+(:mod:`._driver`).  The two are the same loop, line by line, and give the same bits
+(``tests/core/testcengine.py`` compares them on the examples); the C one takes the
+default launch's loop in about 0.6 of the numba loop's time (``benchmarks/
+engine_compare.py``): no function values to unbox, no reference counts, plain pointers.
+Its call does not hold the GIL, so threads run engines side by side.
+
+The engine is compiled once per machine (about a second) into clutchsim's cache directory,
+under the hash of its source and the compiler flags; a second process loads it.  Where it
+cannot be compiled or loaded, that is said once (logger ``clutchsim``) and every run takes
+the numba loop.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import logging
+import os
+import shutil
+import tempfile
+import threading
+import weakref
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+from numba import types
+from numba.core.types import WrapperAddressProtocol
+
+from .. import _cc
+from .._jit import cache_dir, jit
+from . import _driver as drv
+
+__all__ = ["BatchEngine", "available", "batch_engine_for", "engine_for", "integrate_nb"]
+
+log = logging.getLogger("clutchsim")
+
+SOURCE = Path(__file__).with_name("engine.c")
+#: cl_integrate's statuses beyond clutchsim.core.status.Code
+UNSUPPORTED, NO_MEMORY = -1, -2
+_P, _I, _I64, _D = ctypes.c_void_p, ctypes.c_int, ctypes.c_int64, ctypes.c_double
+#: cl_integrate's argument types (engine.c): 7 plant functions; the tableau (7 arrays, s,
+#: nh); mopt, ctrl, t0, t1, y0, n, p, bank, n_in, bps, n_bps, ev_dir, n_ev, n_outputs,
+#: fopt, iopt; the rows (4 arrays, cap), the log (3 arrays, cap), stats, res, mem
+_ARGTYPES = ([_P] * 7 + [_P] * 7 + [_I, _I] + [_P, _P, _D, _D, _P, _I, _P, _P, _I, _P, _I,
+             _P, _I, _I, _P, _P] + [_P] * 4 + [_I64] + [_P] * 3 + [_I64] + [_P] * 3)
+#: the plant functions in the order cl_integrate takes them, as kernels() gives them
+_ORDER = (0, 1, 2, 3, 4, 5, 6)   # rhs, events, reset, outputs, jac, factor, solve
+_EVENT_CAP = 256
+#: engine.c's bounds on a plant (MAXN, MAXS, MAXEV, MAXOUT, MAXF, MAXRING): beyond them a
+#: run takes the numba loop
+MAX_STATES, MAX_STAGES, MAX_EVENTS, MAX_OUTPUTS, MAX_FACTOR, MAX_CHATTER = (
+    64, 16, 128, 512, 8192, 4096)
+
+_lock = threading.Lock()
+_state: dict = {}
+
+
+def _build() -> Path:
+    """The engine's shared library in the cache directory, compiled if it is not there
+    (atomically: a reader never sees half a library; two processes both succeed)."""
+    text = SOURCE.read_bytes()
+    key = hashlib.sha256(text + repr(_cc.CFLAGS).encode()).hexdigest()[:16]
+    base = Path(cache_dir) if cache_dir else Path(tempfile.gettempdir()) / "clutchsim-net"
+    d = base / "engine"
+    d.mkdir(parents=True, exist_ok=True)
+    lib = d / f"clutchsim-engine-{key}.so"
+    if not lib.exists():
+        tmp = Path(tempfile.mkdtemp(prefix=".build-", dir=d))
+        try:
+            _cc.compile_shared([SOURCE], tmp / lib.name)
+            os.replace(tmp / lib.name, lib)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+    return lib
+
+
+def _library():
+    """The loaded engine (its ``cl_integrate`` with argument types set), or None where it
+    cannot be built or loaded here (said once per process)."""
+    with _lock:
+        if "lib" not in _state:
+            try:
+                lib = ctypes.CDLL(str(_build()))
+                lib.cl_integrate.argtypes = _ARGTYPES
+                lib.cl_integrate.restype = ctypes.c_int
+                lib.cl_free.argtypes = [_P]
+                lib.cl_free.restype = None
+                for name in ("cl_integrate_nb", "cl_free_nb"):
+                    getattr(lib, name)      # (an old library without them: rebuilt on change)
+                _state["lib"] = lib
+            except (_cc.CompilerError, OSError) as exc:
+                _state["lib"] = None
+                log.warning("the C integration engine is not available here, runs take the "
+                            "numba loop (the same results, about 1.6 times its time): %s", exc)
+        return _state["lib"]
+
+
+def available() -> bool:
+    """Can this process run the C engine (compiled or loaded from the cache)?"""
+    return _library() is not None
+
+
+def _addresses(fns, iopt) -> tuple | None:
+    """The C addresses of the plant's functions (``kernels(tag)``), or None unless every
+    one the run calls is printed C: the Jacobian only with an exact one, the factors only
+    with a factor size."""
+    needed = [True, True, True, True, bool(iopt[drv.I_EXACT_JAC]),
+              iopt[drv.I_FACTOR_SIZE] > 0, iopt[drv.I_FACTOR_SIZE] > 0]
+    out = []
+    for f, need in zip(fns, needed):
+        address = getattr(f, "c_address", 0)
+        if need and not address:
+            return None
+        out.append(address or None)
+    return tuple(out)
+
+
+def _fits(args, n_states: int = 0) -> bool:
+    """Is the plant of the loop arguments ``args`` (with ``n_states`` states; the engine
+    checks that number again, a plant beyond it takes the numba loop) within the engine's
+    bounds?"""
+    tab, bank, ev_dir, n_outputs, iopt = args[1], args[8], args[10], args[11], args[13]
+    return (n_states <= MAX_STATES and tab[2].shape[0] <= MAX_STAGES
+            and ev_dir.shape[0] <= MAX_EVENTS and n_outputs <= MAX_OUTPUTS
+            and bank.n_channels <= MAX_STATES and iopt[drv.I_FACTOR_SIZE] <= MAX_FACTOR
+            and iopt[drv.I_CHATTER_N] <= MAX_CHATTER)
+
+
+def _ptr(a: np.ndarray) -> int:
+    return a.__array_interface__["data"][0]
+
+
+def _adopt(lib, address: int, count: int, dtype, shape) -> np.ndarray:
+    """``count`` items at ``address`` (memory the engine handed over) as an array that
+    frees it when it is gone."""
+    dtype = np.dtype(dtype)
+    buf = (ctypes.c_char * max(count * dtype.itemsize, 1)).from_address(address)
+    weakref.finalize(buf, lib.cl_free, address)
+    return np.frombuffer(buf, dtype=dtype, count=count).reshape(shape)
+
+
+class _Engine:
+    """The C engine for one prepared run (the loop's arguments but the initial state, the
+    parameters and the int options): ``engine(args)`` returns what the numba loop's
+    ``integrate(*args)`` returns, or None where the plant is beyond the engine's bounds."""
+
+    __slots__ = ("fixed", "fns", "lib", "n_rows")
+
+    def __init__(self, lib, fns, args):
+        (_, tab, mopt, ctrl, t0, t1, _, _, bank, bps, ev_dir, n_outputs, fopt, iopt) = args
+        keep = [np.ascontiguousarray(x, dtype=np.float64) for x in tab]
+        keep += [np.ascontiguousarray(x, dtype=np.float64) for x in (mopt, ctrl, bank.data,
+                                                                       bps, fopt)]
+        keep.append(np.ascontiguousarray(ev_dir, dtype=np.int64))
+        a, C, c, d, m, e, H, mopt_, ctrl_, bank_, bps_, fopt_, ev_ = keep
+        self.lib = lib
+        self.fns = fns
+        dt_out = float(fopt[drv.O_DT_OUT])
+        # rows for the output grid and 256 more (events), as the numba loop allocates them
+        # (core/_driver.py); every step a row: 4096 to start with; the engine grows both
+        max_output = max(int(iopt[drv.I_MAX_OUTPUT]), 0)
+        self.n_rows = (256 + int(min((t1 - t0) / dt_out + 2.0, 1e6, max_output))
+                       if dt_out > 0 else 4096)
+        #: (arguments after the functions up to y0, then bank to iopt) and what they point to
+        self.fixed = (
+            (*map(_ptr, (a, C, c, d, m, e, H)), c.shape[0], H.shape[0], _ptr(mopt_),
+             _ptr(ctrl_), float(t0), float(t1)),
+            (_ptr(bank_), int(bank.n_channels), _ptr(bps_), bps_.shape[0], _ptr(ev_),
+             ev_.shape[0], int(n_outputs), _ptr(fopt_)),
+            keep)
+
+    def __call__(self, args):
+        y0, p, iopt = args[6], args[7], args[13]
+        head, mid, _ = self.fixed
+        n, n_in, n_out_cols = y0.shape[0], mid[1], mid[6]
+        cap = self.n_rows
+        rows = (np.empty(cap), np.empty((cap, n)), np.empty((cap, n_in)),
+                np.empty((cap, n_out_cols)))
+        ev = (np.empty(_EVENT_CAP), np.empty(_EVENT_CAP, dtype=np.int64),
+              np.empty(_EVENT_CAP, dtype=np.int64))
+        stats = np.zeros(drv.N_STATS, dtype=np.int64)
+        res = np.zeros(5)
+        mem = np.zeros(9, dtype=np.int64)
+        status = self.lib.cl_integrate(
+            *self.fns, *head, _ptr(y0), n, _ptr(p), *mid, _ptr(iopt), *map(_ptr, rows), cap,
+            *map(_ptr, ev), _EVENT_CAP, _ptr(stats), _ptr(res), _ptr(mem))
+        if status == UNSUPPORTED:
+            return None
+        k, ne = int(stats[drv.S_OUTPUT]), int(stats[drv.S_EVENTS])
+        if mem[0]:
+            widths = (1, n, n_in, n_out_cols)
+            rows = tuple(_adopt(self.lib, int(mem[1 + j]), k * w, np.float64,
+                                (k,) if j == 0 else (k, w)) for j, w in enumerate(widths))
+        if mem[5]:
+            ev = tuple(_adopt(self.lib, int(mem[6 + j]), ne, dt, (ne,))
+                       for j, dt in enumerate((np.float64, np.int64, np.int64)))
+        if status == NO_MEMORY:
+            raise MemoryError("the integration engine could not grow its output rows or "
+                              f"event log beyond {k} rows and {ne} events")
+        ts, ys, us, outs = rows
+        return (status, float(res[0]), int(res[3]), int(res[4]), ts[:k], ys[:k], us[:k],
+                outs[:k], ev[0][:ne], ev[1][:ne], ev[2][:ne], stats, float(res[1]),
+                float(res[2]))
+
+
+def engine_for(args):
+    """The C engine for runs with the loop arguments ``args`` (those of a prepared run,
+    :func:`clutchsim.core.simulate.prepare_runs`), or None where they take the numba loop:
+    a plant function that is not printed C, or no engine on this machine."""
+    fns = _addresses(args[0], args[13])
+    if fns is None or not _fits(args):
+        return None
+    lib = _library()
+    if lib is None:
+        return None
+    return _Engine(lib, fns, args)
+
+
+_I64T = types.int64
+#: cl_integrate_nb's signature (engine.c): every integer and pointer an int64, t0 and t1
+ENGINE_SIG = _I64T(*([_I64T] * 18 + [types.float64] * 2 + [_I64T] * 24))
+FREE_SIG = types.void(_I64T)
+
+
+class _Address(WrapperAddressProtocol):
+    """A function of the engine's library as a numba function value of signature ``sig``
+    (all its arguments scalars: numba calls it as a plain C function)."""
+
+    def __init__(self, address: int, sig, keep):
+        self.address, self.sig, self.keep = int(address), sig, keep
+
+    def __wrapper_address__(self):
+        return self.address
+
+    def signature(self):
+        return self.sig
+
+
+class BatchEngine(NamedTuple):
+    """What a loop compiled by numba needs to run the C engine
+    (:mod:`clutchsim.analysis.launch_batch`): ``integrate`` (``cl_integrate_nb``) and
+    ``free`` (``cl_free_nb``) as function values, and the C addresses of the plant's seven
+    functions (0 where the run does not call one)."""
+
+    integrate: object
+    free: object
+    plant: np.ndarray
+
+
+def batch_engine_for(args, n_states: int) -> BatchEngine | None:
+    """The C engine for compiled callers of runs with the loop arguments ``args`` of a
+    plant of ``n_states`` states, or None where those runs take the numba loop (as
+    :func:`engine_for`)."""
+    fns = _addresses(args[0], args[13])
+    if fns is None or not _fits(args, n_states):
+        return None
+    lib = _library()
+    if lib is None:
+        return None
+    address = ctypes.cast(lib.cl_integrate_nb, ctypes.c_void_p).value
+    free = ctypes.cast(lib.cl_free_nb, ctypes.c_void_p).value
+    return BatchEngine(_Address(address, ENGINE_SIG, lib), _Address(free, FREE_SIG, lib),
+                       np.array([f or 0 for f in fns], dtype=np.int64))
+
+
+@jit(inline="always")
+def _a(x):
+    """The address of the array ``x``'s data, as the engine's int64."""
+    return np.int64(x.ctypes.data)
+
+
+@jit
+def integrate_nb(eng, free, plant, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir,
+                 n_outputs, fopt, iopt, cap):
+    """One run of the C engine from numba (``eng``, ``free``, ``plant``: a
+    :class:`BatchEngine`), with the numba loop's arguments after its plant functions and
+    ``cap`` rows to start with; returns what ``core.loop.integrate`` returns.  Where the run
+    outgrew the rows or the event log, the engine's own memory is freed and the run made
+    again with room for all of it (the same run: the parameters are restored first)."""
+    n = y0.shape[0]
+    n_in = bank.n_channels
+    p0 = p.copy()
+    ecap = 256
+    while True:
+        ts = np.empty(cap)
+        ys = np.empty((cap, n))
+        us = np.empty((cap, n_in))
+        outs = np.empty((cap, n_outputs))
+        ev_t = np.empty(ecap)
+        ev_k = np.empty(ecap, dtype=np.int64)
+        ev_a = np.empty(ecap, dtype=np.int64)
+        stats = np.zeros(drv.N_STATS, dtype=np.int64)
+        res = np.zeros(5)
+        mem = np.zeros(9, dtype=np.int64)
+        code = eng(plant[0], plant[1], plant[2], plant[3], plant[4], plant[5], plant[6],
+                   _a(tab[0]), _a(tab[1]), _a(tab[2]), _a(tab[3]), _a(tab[4]), _a(tab[5]),
+                   _a(tab[6]), np.int64(tab[2].shape[0]), np.int64(tab[6].shape[0]),
+                   _a(mopt), _a(ctrl), t0, t1, _a(y0), np.int64(n), _a(p), _a(bank.data),
+                   np.int64(n_in), _a(bps), np.int64(bps.shape[0]), _a(ev_dir),
+                   np.int64(ev_dir.shape[0]), np.int64(n_outputs), _a(fopt), _a(iopt),
+                   _a(ts), _a(ys), _a(us), _a(outs), np.int64(cap), _a(ev_t), _a(ev_k),
+                   _a(ev_a), np.int64(ecap), _a(stats), _a(res), _a(mem))
+        if mem[0] == 0 and mem[5] == 0:
+            break
+        for j in range(1, 5):
+            if mem[0] != 0 and mem[j] != 0:
+                free(mem[j])
+        for j in range(6, 9):
+            if mem[5] != 0 and mem[j] != 0:
+                free(mem[j])
+        if code == NO_MEMORY:
+            raise MemoryError("the integration engine could not grow its rows or event log")
+        cap = max(2 * cap, stats[drv.S_OUTPUT] * 2 + 16)
+        ecap = max(2 * ecap, stats[drv.S_EVENTS] * 2 + 16)
+        for i in range(p.shape[0]):
+            p[i] = p0[i]
+    k = stats[drv.S_OUTPUT]
+    ne = stats[drv.S_EVENTS]
+    return (code, res[0], np.int64(res[3]), np.int64(res[4]), ts[:k], ys[:k], us[:k],
+            outs[:k], ev_t[:ne], ev_k[:ne], ev_a[:ne], stats, res[1], res[2])
