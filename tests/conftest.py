@@ -36,10 +36,20 @@ def pytest_sessionstart(session):
     from clutchsim._jit import cache_dir
     if not cache_dir or any(Path(cache_dir).glob("*/_driver.integrate-*.nbi")):
         return
-    from clutchsim.scenario import run_scenario
+    from clutchsim.scenario import load_scenario, run_scenario
     from clutchsim.scenario.warmup import metrics_compiled_beside
-    # only a head start: a launch that fails here fails in its own tests, with a report
-    with contextlib.suppress(Exception), metrics_compiled_beside():
+    # only a head start: a launch that fails here fails in its own tests, with a report.
+    # The numba loop (hand-written plants, a sweep's batches, the tests of the C engine)
+    # compiles here while a child compiles both signatures of the metrics; the default
+    # launch then builds the C engine and its plant.
+    with contextlib.suppress(Exception), metrics_compiled_beside(batch=True, single=True):
+        from clutchsim.core.simulate import compile_numba_loop
+        sc = load_scenario(None)
+        system = sc.system(sc.models[0])
+        compile_numba_loop(system, (0.0, sc.t_end),
+                           {n: sc.inputs[n] for n in system.input_names},
+                           solver=sc.solver, options=sc.options)
+    with contextlib.suppress(Exception):
         run_scenario(None)
 
 

@@ -37,6 +37,8 @@ def fake_spawn(monkeypatch):
     _FakeProcess.made = []
     monkeypatch.setattr(warmup.multiprocessing, "get_context", lambda kind: _FakeContext)
     monkeypatch.setattr(warmup.os, "cpu_count", lambda: 2)
+    # single runs in the numba loop (no C engine): their process compiles it
+    monkeypatch.setattr(warmup.cengine, "available", lambda: False)
     return _FakeProcess.made
 
 
@@ -72,6 +74,19 @@ def test_the_child_is_stopped_when_the_block_raises(fake_spawn, monkeypatch):
     with pytest.raises(KeyboardInterrupt), warmup.metrics_compiled_beside():
         raise KeyboardInterrupt
     assert fake_spawn[0].events == ["start", "terminate", "join"]
+
+
+def test_no_child_for_single_runs_in_the_c_engine(fake_spawn, monkeypatch):
+    """With the C engine a single run compiles nothing but the metrics: a child would only
+    compile them a second time, beside the parent."""
+    monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
+    monkeypatch.setattr(warmup.cengine, "available", lambda: True)
+    with warmup.metrics_compiled_beside():
+        pass
+    assert fake_spawn == []
+    with warmup.metrics_compiled_beside(batch=True):     # a batch runs the numba loop
+        pass
+    assert [p.target for p in fake_spawn] == [warmup._compile_batch_metrics]
 
 
 @pytest.mark.parametrize(("cached", "cpus"), [(True, 2), (False, 1)])

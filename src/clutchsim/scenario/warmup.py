@@ -1,15 +1,18 @@
 """Compile the launch metrics in a second process while this one compiles the integrator.
 
-From an empty numba cache (a fresh install, or clutchsim changed) the first launch
-compiles the integrator (~25 s on the 2-core machine) and then the launch-metrics kernel
-(~12 s), one after the other: numba compiles in one thread, under one lock.  The metrics
-need no integrator: the default launch on scipy's reference backend (LSODA) compiles them
-too, into the same on-disk cache, from which this process then loads them (the metrics
-kernel has one signature for every launch: measured, no second compilation).  A sweep's
-batch calls the kernel with the columns of its rows (strided views, another signature):
-for it the child compiles that signature directly.  With the metrics already in the
-cache no second process is started.  The child is stopped when the
-guarded block ends; numba writes a cache file atomically, so stopping it loses nothing.
+From an empty numba cache (a fresh install, or clutchsim changed) a sweep's first batch
+compiles the numba integration loop (~40 s on the 2-core machine; the batch kernel calls
+it) and then the launch-metrics kernel (~20 s), one after the other: numba compiles in one
+thread, under one lock.  The metrics need no integrator: a child process compiles the
+kernel's signature into the same on-disk cache meanwhile, from which this process then
+loads it.  A single run needs no numba loop where the C engine runs it
+(:mod:`clutchsim.core.cengine`: every printed plant, on a machine with a C compiler); its
+process then has nothing to compile beside the metrics, and no child is started.  Without
+the engine a single run compiles the numba loop, and the child runs the default launch on
+scipy's reference backend (LSODA), which compiles the single-run signature of the kernel.
+With the metrics already in the cache no second process is started.  The child is
+stopped when the guarded block ends; numba writes a cache file atomically, so stopping it
+loses nothing.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from .._jit import cache_dir
+from ..core import cengine
 
 __all__ = ["metrics_compiled_beside"]
 
@@ -59,17 +63,33 @@ def _compile_batch_metrics() -> None:
             tuple(numba.typeof(x) for x in kernel_signature_example()))
 
 
+def _compiles_the_loop(batch: bool) -> bool:
+    """Does this process compile the numba loop for the block's runs?  A batch's kernel
+    calls it; single runs only where the C engine is not available."""
+    return batch or not cengine.available()
+
+
+def _compile_both_metrics() -> None:
+    """(In the child.) :func:`_compile_metrics`, then :func:`_compile_batch_metrics`."""
+    _compile_metrics()
+    _compile_batch_metrics()
+
+
 @contextlib.contextmanager
-def metrics_compiled_beside(batch: bool = False) -> Iterator[None]:
+def metrics_compiled_beside(batch: bool = False, single: bool | None = None
+                            ) -> Iterator[None]:
     """Guard a block that runs launches (``batch``: a sweep's batches of launches, whose
-    kernel takes the rows' columns): if the metrics are not compiled yet and a second core
-    exists, a child process compiles them meanwhile (see the module docstring)."""
-    if (os.cpu_count() or 1) < 2 or _metrics_cached():
+    kernel takes the rows' columns; ``single``: single runs too, default ``not batch``): if
+    the metrics are not compiled yet, this process compiles the numba loop and a second
+    core exists, a child process compiles them meanwhile (see the module docstring)."""
+    single = not batch if single is None else single
+    if (os.cpu_count() or 1) < 2 or _metrics_cached() or not _compiles_the_loop(batch):
         yield
         return
+    target = (_compile_both_metrics if batch and single else
+              _compile_batch_metrics if batch else _compile_metrics)
     child = multiprocessing.get_context("spawn").Process(
-        target=_compile_batch_metrics if batch else _compile_metrics,
-        name="clutchsim-metrics-compile", daemon=True)
+        target=target, name="clutchsim-metrics-compile", daemon=True)
     child.start()
     try:
         yield
