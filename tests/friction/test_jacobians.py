@@ -125,7 +125,14 @@ def _piece(m, z, v, F_e, scale):
             return ("stuck", _clip_zone(F_e, scale, m.F_s))
         return ("sliding", z[0], sv)
     if name == "dahl":
-        return (sv, np.sign(1.0 - m.sigma0 * z[0] * sv / m.F_c))
+        r = m.sigma0 * z[0] * sv / m.F_c
+        if m.alpha < 1.0 and abs(1.0 - r) < 1e-3:
+            # (1 - r)^alpha with alpha < 1 has unbounded curvature at the saturation r = 1:
+            # within 1e-3 of it differences are no reference (a stencil of 1e-4 of the
+            # state's scale, 6e-4 from it, was off by 6e-6: found by a random draw).  Every
+            # point here is a piece of its own, so the draw is rejected.
+            return ("near saturation", float(r))
+        return (sv, np.sign(1.0 - r))
     if name == "elastoplastic":
         z_max = _stribeck(m, v, m.F_c, m.F_s, m.v_s) / m.sigma0
         return (sv, np.sign(z[0]), abs(z[0]) <= m.z_ba, abs(z[0]) >= z_max)
