@@ -144,11 +144,14 @@ def _simulate(name):
     return simulate(system, (0.0, sc.t_end), inputs, solver=sc.solver, options=sc.options)
 
 
-def test_a_plant_of_numba_functions_takes_the_numba_loop(drop_c_compiler):
-    """Without a C compiler a network is compiled by numba: its functions have no C
-    address, so its runs take the numba loop, with the engine's result."""
+def test_without_the_engine_runs_take_the_numba_loop_with_the_same_result(monkeypatch):
+    """A machine where the engine cannot be built (no C compiler: its plants are numba's
+    too, tests/cgen) runs every plant in the numba loop, with the engine's results."""
+    import importlib
     via_engine = _simulate("lossy_gear_demo2.toml")
-    drop_c_compiler()
+    monkeypatch.setitem(cengine._state, "lib", None)
+    monkeypatch.setattr(importlib.import_module("clutchsim.core.simulate"), "_PREPARED", {})
+    assert not cengine.available()
     _, args = _args("lossy_gear_demo2.toml")
     assert cengine.engine_for(args) is None
     via_numba = _simulate("lossy_gear_demo2.toml")
@@ -156,6 +159,28 @@ def test_a_plant_of_numba_functions_takes_the_numba_loop(drop_c_compiler):
     for name in via_engine.signals:
         assert np.array_equal(via_engine[name], via_numba[name], equal_nan=True), name
     assert via_engine.stats.steps == via_numba.stats.steps
+
+
+def test_an_engine_that_cannot_be_built_is_said_once(monkeypatch, caplog):
+    from clutchsim import _cc
+
+    def no_compiler():
+        raise _cc.NoCompilerError("no C compiler found (looked for cc, gcc, clang on the PATH)")
+    monkeypatch.setattr(cengine, "_state", {})
+    monkeypatch.setattr(cengine, "_build", no_compiler)
+    with caplog.at_level("WARNING", logger="clutchsim"):
+        assert cengine._library() is None
+        assert cengine._library() is None
+    said = [r.getMessage() for r in caplog.records if "C integration engine" in r.getMessage()]
+    assert len(said) == 1 and "no C compiler found" in said[0] and "numba loop" in said[0]
+
+
+def test_a_plant_of_numba_functions_takes_the_numba_loop():
+    """A hand-written plant's functions are numba's (no C address): the numba loop."""
+    from clutchsim.core.reference_problems import oscillator
+    prep = prepare_runs(oscillator(), (0.0, 1.0), {"F": 0.0})
+    assert cengine.engine_for(prep.args) is None
+    assert simulate(oscillator(), (0.0, 1.0), {"F": 0.0}).status == "completed"
 
 
 def test_a_batch_whose_runs_outgrow_the_engine_s_buffers_gives_the_single_runs_rows():
