@@ -46,3 +46,22 @@ def test_threads_sharing_a_first_call_get_one_notice(caplog):
     for th in threads:
         th.join()
     assert len(_notices(caplog)) == 1
+
+
+def test_the_launch_metrics_kernel_s_first_compilation_is_announced(monkeypatch):
+    """A single run in the C engine compiles nothing that takes long but the launch
+    metrics' kernel (~25 s from an empty cache): that is announced as the integrator's
+    compilation is, so a first `clutchsim run` is not taken for a hang."""
+    import contextlib
+    import importlib
+    lm = importlib.import_module("clutchsim.analysis.launch_metrics")
+    seen = []
+
+    @contextlib.contextmanager
+    def notice(key, what, after=None, subject="the integrator"):
+        seen.append((what, subject))
+        yield True
+    monkeypatch.setattr(lm, "compile_notice", notice)
+    monkeypatch.setattr(lm, "_ENTRY", None)
+    assert lm._kernel_entry() is not None
+    assert seen == [("launch metrics", "the launch-metrics kernel")]

@@ -15,6 +15,7 @@ import numba
 import numpy as np
 
 from ..core import Outcome, Result
+from ..core.compile_notice import compile_notice
 from . import _kernels as _k
 from . import launch_quality as lq
 from .judder_band import JUDDER_BAND_HZ, JUDDER_SLIP_RAD_S
@@ -74,7 +75,9 @@ def _kernel_entry():
         c2 = numba.types.Array(numba.float64, 2, "C")
         f, i = numba.float64, numba.int64
         sig = (a1,) * 11 + (c2,) * 4 + (f, i, f, f, f, f, f, f, f, f)
-        _k.launch_kernel.compile(sig)
+        with compile_notice(("launch_kernel", sig), "launch metrics",
+                            subject="the launch-metrics kernel"):
+            _k.launch_kernel.compile(sig)
         _ENTRY = _k.launch_kernel.overloads[sig].entry_point
     return _ENTRY
 

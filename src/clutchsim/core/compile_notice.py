@@ -2,9 +2,10 @@
 for a hang.
 
 The first simulation of a plant type in a process either loads the compiled integrator
-from numba's on-disk cache (under a second) or, after installing or changing clutchsim,
-compiles it (on a 2-core machine ~25 s for the default method; the integrator is shared by
-all plants, whose own functions are C compiled in under a second).
+from the on-disk cache (under a second) or, after installing or changing clutchsim,
+compiles it: the C engine in about a second for printed plants, the numba loop in ~40 s on
+a 2-core machine for numba plants (shared by all of them).  The launch metrics' kernel
+compiles once too (~25 s), at the first launch analysed.
 Nothing can be printed from inside numba's compiler, so a timer thread logs one line if the
 guarded block is still running after :data:`NOTICE_AFTER_S` seconds.  numba gives no
 progress hook for this, hence the timer.  The caller guards only the loading or compiling
@@ -33,7 +34,8 @@ _started: set = set()    # keys whose first call has begun in this process
 
 
 @contextmanager
-def compile_notice(key: Hashable, what: str, after: float | None = None) -> Iterator[bool]:
+def compile_notice(key: Hashable, what: str, after: float | None = None,
+                   subject: str = "the integrator") -> Iterator[bool]:
     """Log (INFO, logger ``clutchsim``) one line if the first block guarded for ``key`` in
     this process takes longer than ``after`` seconds (default :data:`NOTICE_AFTER_S`).
 
@@ -47,6 +49,8 @@ def compile_notice(key: Hashable, what: str, after: float | None = None) -> Iter
         Named in the message, e.g. the system's name.
     after : float, optional
         Delay [s] before the notice.
+    subject : str
+        What compiles, named in the message.
     """
     with _lock:
         first = key not in _started
@@ -55,7 +59,7 @@ def compile_notice(key: Hashable, what: str, after: float | None = None) -> Iter
         yield False
         return
     where = f" in {cache_dir}" if cache_dir else ""
-    message = (f"{what}: compiling the integrator (the first run after installing or "
+    message = (f"{what}: compiling {subject} (the first run after installing or "
                f"changing clutchsim; about half a minute on two cores, then cached on "
                f"disk{where})...")
     timer = threading.Timer(NOTICE_AFTER_S if after is None else after, log.info,
