@@ -131,11 +131,13 @@ def test_bad_batches_are_refused_with_the_variant_and_entry():
 
 def test_the_warmup_compiles_the_kernel_signature_a_batch_calls():
     """``kernel_signature_example`` (what the warm-up compiles in a second process) has the
-    types the batch passes: the run's time column (the integrator's ``ts[:n]``), the
-    columns ``_column`` cuts from its rows, the constants the batch passes on."""
+    types the batch passes: the run's time column (the integrator's ``ts[:n]``), contiguous
+    copies of the columns ``_column`` cuts from its rows, the constants the batch passes
+    on; and that is the single run's specialisation (one compilation for both)."""
     import numba
 
     from clutchsim.analysis import launch_batch as lb
+    from clutchsim.analysis.launch_metrics import kernel_signature
 
     example = lb.kernel_signature_example()
 
@@ -143,13 +145,17 @@ def test_the_warmup_compiles_the_kernel_signature_a_batch_calls():
     def first_rows(a, n):           # as the integrator returns its rows
         return a[:n]
 
+    @numba.njit
+    def copied_column(rows, n):     # as the batch passes a column on
+        return np.ascontiguousarray(lb._column(rows, rows, rows, n, 0, 1, rows[:0, 0]))
+
     first_rows(np.zeros(3), 2)
     assert numba.typeof(example[0]) == first_rows.nopython_signatures[0].return_type
-    rows = np.zeros((3, 2))
-    lb._column(rows, rows, rows, 2, 0, 1, np.zeros((2, 2))[:, 0])
-    column = lb._column.nopython_signatures[-1].return_type
+    copied_column(np.zeros((3, 2)), 2)
+    column = copied_column.nopython_signatures[0].return_type
     assert all(numba.typeof(x) == column for x in example[1:10])
     assert numba.typeof(example[10]) == numba.typeof(np.empty(0))     # the clutch's events
     assert [numba.typeof(x) for x in example[11:]] == \
         [numba.typeof(x) for x in lb._kernel_constants(1.0)]
+    assert tuple(numba.typeof(x) for x in example) == kernel_signature()
     assert len(example) == lb._k.launch_kernel.py_func.__code__.co_argcount

@@ -34,7 +34,7 @@ import numpy as np
 from .._jit import jit
 from ..core import System
 from ..core import loop as drv
-from ..core.cengine import batch_engine_for, integrate_nb
+from ..core.cengine import batch_engine_for
 from ..core.compile_notice import compile_notice
 from ..core.loop import now
 from ..core.result import apply_violations
@@ -90,16 +90,10 @@ def _run_batch(fns, tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs
     losses = np.empty(n_losses)
     for r in range(Y0.shape[0]):
         start = now()
-        # the C engine where it runs the plant (c_eng a function value), else the numba
-        # loop (c_eng None: numba compiles only the branch of its type)
-        if c_eng is None:
-            (code, t_end, kk, ii, ts, ys, us, outs, ev_t, ev_k, _ev_a, st, h_small,
-             wall) = drv.integrate(fns, tab, mopt, ctrl, t0, t1, Y0[r], P[r], bank, bps,
-                                   ev_dir, n_outputs, fopt, iopt)
-        else:
-            (code, t_end, kk, ii, ts, ys, us, outs, ev_t, ev_k, _ev_a, st, h_small,
-             wall) = integrate_nb(c_eng, c_free, c_plant, tab, mopt, ctrl, t0, t1, Y0[r],
-                                  P[r], bank, bps, ev_dir, n_outputs, fopt, iopt, c_rows)
+        # the C engine where it runs the plant, else the numba loop (c_eng None)
+        (code, t_end, kk, ii, ts, ys, us, outs, ev_t, ev_k, _ev_a, st, h_small,
+         wall) = drv.run_loop(c_eng, c_free, c_plant, fns, tab, mopt, ctrl, t0, t1, Y0[r],
+                              P[r], bank, bps, ev_dir, n_outputs, fopt, iopt, c_rows)
         n = ts.shape[0]
         # the plant's physics checks on the run's rows (network/invariants.py)
         scan(ts, ys, outs, inv_el, inv_speeds, inv_wf, inv_passive, rtol, atol, V[r])
@@ -114,16 +108,18 @@ def _run_batch(fns, tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs
                 ev[n_mine] = ev_t[e]
                 n_mine += 1
         c = cols
+        # contiguous copies of the columns: the single run's specialisation of the kernel
+        # (launch_metrics._kernel_entry)
         k, _aw = _k.launch_kernel(
-            ts, _column(ys, us, outs, n, c[0, 0], c[0, 1], empty),
-            _column(ys, us, outs, n, c[1, 0], c[1, 1], empty),
-            _column(ys, us, outs, n, c[2, 0], c[2, 1], empty),
-            _column(ys, us, outs, n, c[3, 0], c[3, 1], empty),
-            _column(ys, us, outs, n, c[4, 0], c[4, 1], empty),
-            _column(ys, us, outs, n, c[5, 0], c[5, 1], empty),
-            _column(ys, us, outs, n, c[6, 0], c[6, 1], empty),
-            _column(ys, us, outs, n, c[7, 0], c[7, 1], empty),
-            _column(ys, us, outs, n, c[8, 0], c[8, 1], empty), ev,
+            ts, np.ascontiguousarray(_column(ys, us, outs, n, c[0, 0], c[0, 1], empty)),
+            np.ascontiguousarray(_column(ys, us, outs, n, c[1, 0], c[1, 1], empty)),
+            np.ascontiguousarray(_column(ys, us, outs, n, c[2, 0], c[2, 1], empty)),
+            np.ascontiguousarray(_column(ys, us, outs, n, c[3, 0], c[3, 1], empty)),
+            np.ascontiguousarray(_column(ys, us, outs, n, c[4, 0], c[4, 1], empty)),
+            np.ascontiguousarray(_column(ys, us, outs, n, c[5, 0], c[5, 1], empty)),
+            np.ascontiguousarray(_column(ys, us, outs, n, c[6, 0], c[6, 1], empty)),
+            np.ascontiguousarray(_column(ys, us, outs, n, c[7, 0], c[7, 1], empty)),
+            np.ascontiguousarray(_column(ys, us, outs, n, c[8, 0], c[8, 1], empty)), ev,
             wd_sos, wd_zi, lp_sos, lp_zi, dt_s, max_samples, lock_slip, hold, window,
             engage_rel, area, band_lo, band_hi, judder_slip)
         b = 9       # the energy accounts' columns
@@ -198,7 +194,7 @@ def kernel_signature_example() -> tuple:
     the kernel for them in a second process puts the batch's specialisation in numba's
     cache (:mod:`clutchsim.scenario.warmup`).  ``tests/sweep`` checks that a batch uses
     this very signature."""
-    column = np.zeros((2, 2))[:, 0]      # a column of the rows: a strided view
+    column = np.zeros(2)         # a column of the rows, copied contiguous
     return (np.zeros(2), *([column] * 9), np.zeros(0), *_kernel_constants(math.nan))
 
 

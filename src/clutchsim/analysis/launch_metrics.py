@@ -64,17 +64,27 @@ _EMPTY = np.empty(0)
 _EMPTY.flags.writeable = False
 
 
+def kernel_signature() -> tuple:
+    """The argument types of the launch kernel's one specialisation: eleven contiguous
+    columns (the run's times, its signals, the clutch's events), the four filter arrays,
+    the constants."""
+    a1 = numba.types.Array(numba.float64, 1, "C")
+    c2 = numba.types.Array(numba.float64, 2, "C")
+    f, i = numba.float64, numba.int64
+    return (a1,) * 11 + (c2,) * 4 + (f, i, f, f, f, f, f, f, f, f)
+
+
 def _kernel_entry():
-    """The compiled :func:`~clutchsim.analysis._kernels.launch_kernel` for arrays of any
-    layout (a result's columns are strided views of the integrator's output blocks),
-    called directly: one specialisation, and no typing of its 25 arguments per call (so
-    :class:`_Run` checks the arrays' dtype and shape itself)."""
+    """The compiled :func:`~clutchsim.analysis._kernels.launch_kernel` for contiguous
+    arrays, called directly: one specialisation, and no typing of its 25 arguments per call
+    (so :class:`_Run` checks the arrays' dtype and shape itself).  A result's columns are
+    strided views of the integrator's output blocks; they are copied (about 10 µs a run):
+    with strided arguments a dozen of the kernel's helpers compiled twice, once for them
+    and once for the kernel's own arrays, and a sweep's batch, which passes contiguous
+    copies too, shares this specialisation instead of compiling its own."""
     global _ENTRY
     if _ENTRY is None:
-        a1 = numba.types.Array(numba.float64, 1, "A")
-        c2 = numba.types.Array(numba.float64, 2, "C")
-        f, i = numba.float64, numba.int64
-        sig = (a1,) * 11 + (c2,) * 4 + (f, i, f, f, f, f, f, f, f, f)
+        sig = kernel_signature()
         with compile_notice(("launch_kernel", sig), "launch metrics",
                             subject="the launch-metrics kernel"):
             _k.launch_kernel.compile(sig)
@@ -104,7 +114,7 @@ class _Run:
             if x.dtype != np.float64 or x.shape != t.shape:
                 raise ValueError(f"signal {name!r} of dtype {x.dtype} and shape {x.shape} "
                                  f"does not match the result's times {t.shape}")
-            return x
+            return np.ascontiguousarray(x)
 
         temps = [s for s in data if s.startswith("theta_")]
         self.ev = ev = np.ascontiguousarray(res.events.times(clutch), dtype=np.float64)
@@ -114,7 +124,7 @@ class _Run:
         area = lq.lining_area_mm2(*lining) if lining is not None else math.nan
         lo, hi = JUDDER_BAND_HZ
         self.k, self.aw = _kernel_entry()(
-            t, col("a_vehicle"), col(f"T_friction_{clutch}"), col(f"w_slip_{clutch}"),
+            np.ascontiguousarray(t), col("a_vehicle"), col(f"T_friction_{clutch}"), col(f"w_slip_{clutch}"),
             col(f"capacity_{clutch}"), col(f"{clutch}.locked"), col(f"P_{clutch}"),
             col("omega_engine"), col(f"T_{clutch}"), col(temps[0]) if temps else _EMPTY, ev,
             wd_sos, wd_zi, lp_sos, lp_zi, lq.FILTER_DT_S, lq.FILTER_MAX_SAMPLES, LOCK_SLIP,
