@@ -40,9 +40,9 @@ def pytest_sessionstart(session):
     from clutchsim.scenario.warmup import metrics_compiled_beside
     # only a head start: a launch that fails here fails in its own tests, with a report.
     # The numba loop (hand-written plants, a sweep's batches, the tests of the C engine)
-    # compiles here while a child compiles both signatures of the metrics; the default
-    # launch then builds the C engine and its plant.
-    with contextlib.suppress(Exception), metrics_compiled_beside(batch=True, single=True):
+    # compiles here while a child compiles the metrics kernel; the default launch then
+    # builds the C engine and its plant.
+    with contextlib.suppress(Exception), metrics_compiled_beside(batch=True):
         from clutchsim.core.simulate import compile_numba_loop
         sc = load_scenario(None)
         system = sc.system(sc.models[0])

@@ -1,15 +1,16 @@
 """Compile the launch metrics in a second process while this one compiles the integrator.
 
 From an empty numba cache (a fresh install, or clutchsim changed) a sweep's first batch
-compiles the numba integration loop (~40 s on the 2-core machine; the batch kernel calls
-it) and then the launch-metrics kernel (~20 s), one after the other: numba compiles in one
-thread, under one lock.  The metrics need no integrator: a child process compiles the
-kernel's signature into the same on-disk cache meanwhile, from which this process then
-loads it.  A single run needs no numba loop where the C engine runs it
+compiles its batch loop (and, for a plant the C engine does not run, the numba
+integration loop, ~40 s on the 2-core machine) and the launch-metrics kernel (~25 s), one
+after the other: numba compiles in one thread, under one lock.  The metrics need no
+integrator: a child process compiles the kernel's one signature (single runs and batches
+pass it contiguous columns) into the same on-disk cache meanwhile, from which this process
+then loads it.  A single run needs no numba loop where the C engine runs it
 (:mod:`clutchsim.core.cengine`: every printed plant, on a machine with a C compiler); its
 process then has nothing to compile beside the metrics, and no child is started.  Without
 the engine a single run compiles the numba loop, and the child runs the default launch on
-scipy's reference backend (LSODA), which compiles the single-run signature of the kernel.
+scipy's reference backend (LSODA), which compiles the kernel.
 With the metrics already in the cache no second process is started.  The child is
 stopped when the guarded block ends; numba writes a cache file atomically, so stopping it
 loses nothing.
@@ -52,7 +53,8 @@ def _compile_metrics() -> None:
 
 def _compile_batch_metrics() -> None:
     """(In the child.) Compile the launch kernel for the types a sweep's batch calls it
-    with (nothing runs); as :func:`_compile_metrics`, a failure costs only time."""
+    with, those of a single run too (nothing runs); as :func:`_compile_metrics`, a failure
+    costs only time."""
     logging.getLogger("clutchsim").setLevel(logging.CRITICAL)
     with contextlib.suppress(BaseException):
         import numba
@@ -69,27 +71,17 @@ def _compiles_the_loop(batch: bool) -> bool:
     return batch or not cengine.available()
 
 
-def _compile_both_metrics() -> None:
-    """(In the child.) :func:`_compile_metrics`, then :func:`_compile_batch_metrics`."""
-    _compile_metrics()
-    _compile_batch_metrics()
-
-
 @contextlib.contextmanager
-def metrics_compiled_beside(batch: bool = False, single: bool | None = None
-                            ) -> Iterator[None]:
-    """Guard a block that runs launches (``batch``: a sweep's batches of launches, whose
-    kernel takes the rows' columns; ``single``: single runs too, default ``not batch``): if
-    the metrics are not compiled yet, this process compiles the numba loop and a second
-    core exists, a child process compiles them meanwhile (see the module docstring)."""
-    single = not batch if single is None else single
+def metrics_compiled_beside(batch: bool = False) -> Iterator[None]:
+    """Guard a block that runs launches (``batch``: a sweep's batches of launches): if the
+    metrics are not compiled yet, this process compiles the numba loop and a second core
+    exists, a child process compiles them meanwhile (see the module docstring)."""
     if (os.cpu_count() or 1) < 2 or _metrics_cached() or not _compiles_the_loop(batch):
         yield
         return
-    target = (_compile_both_metrics if batch and single else
-              _compile_batch_metrics if batch else _compile_metrics)
     child = multiprocessing.get_context("spawn").Process(
-        target=target, name="clutchsim-metrics-compile", daemon=True)
+        target=_compile_batch_metrics if batch else _compile_metrics,
+        name="clutchsim-metrics-compile", daemon=True)
     child.start()
     try:
         yield
