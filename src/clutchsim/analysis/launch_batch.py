@@ -34,7 +34,7 @@ import numpy as np
 from .._jit import jit
 from ..core import System
 from ..core import loop as drv
-from ..core.cengine import batch_engine_for
+from ..core.cengine import batch_engine_for, first_rows
 from ..core.compile_notice import compile_notice
 from ..core.loop import now
 from ..core.result import apply_violations
@@ -283,10 +283,7 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
     eng = batch_engine_for(a, system.n_states)
     c_eng = (eng.integrate, eng.free, eng.plant) if eng is not None else (
         None, None, np.zeros(7, dtype=np.int64))
-    # the engine's first rows: the output grid and 256 more, as the numba loop's
-    dt_out = float(opts.dt_out)
-    c_rows = 256 + (int(min((t1 - t0) / dt_out + 2.0, 1e6, max(int(opts.max_output), 0)))
-                    if dt_out > 0 else 3840)
+    c_rows = first_rows(t0, t1, float(opts.dt_out), int(opts.max_output))
     args = (a[0], a[1], a[2], a[3], t0, t1, Y0, P, a[8], a[9], a[10], a[11], a[12], a[13],
             cols, mine, np.empty((0, 1)), *_kernel_constants(float(area)), inv_el, inv_speeds,
             inv_wf, inv_passive, float(opts.rtol), float(opts.atol), K, iv, fv, V, *c_eng,

@@ -37,7 +37,7 @@ from .. import _cc
 from .._jit import cache_dir, jit
 from . import _driver as drv
 
-__all__ = ["BatchEngine", "available", "batch_engine_for", "engine_for", "integrate_nb"]
+__all__ = ["BatchEngine", "available", "batch_engine_for", "engine_for", "first_rows", "integrate_nb"]
 
 log = logging.getLogger("clutchsim")
 
@@ -50,8 +50,6 @@ _P, _I, _I64, _D = ctypes.c_void_p, ctypes.c_int, ctypes.c_int64, ctypes.c_doubl
 #: fopt, iopt; the rows (4 arrays, cap), the log (3 arrays, cap), stats, res, mem
 _ARGTYPES = ([_P] * 7 + [_P] * 7 + [_I, _I] + [_P, _P, _D, _D, _P, _I, _P, _P, _I, _P, _I,
              _P, _I, _I, _P, _P] + [_P] * 4 + [_I64] + [_P] * 3 + [_I64] + [_P] * 3)
-#: the plant functions in the order cl_integrate takes them, as kernels() gives them
-_ORDER = (0, 1, 2, 3, 4, 5, 6)   # rhs, events, reset, outputs, jac, factor, solve
 _EVENT_CAP = 256
 #: engine.c's bounds on a plant (MAXN, MAXS, MAXEV, MAXOUT, MAXF, MAXRING): beyond them a
 #: run takes the numba loop
@@ -92,8 +90,6 @@ def _library():
                 lib.cl_integrate.restype = ctypes.c_int
                 lib.cl_free.argtypes = [_P]
                 lib.cl_free.restype = None
-                for name in ("cl_integrate_nb", "cl_free_nb"):
-                    getattr(lib, name)      # (an old library without them: rebuilt on change)
                 _state["lib"] = lib
             except (_cc.CompilerError, OSError) as exc:
                 _state["lib"] = None
@@ -133,6 +129,26 @@ def _fits(args, n_states: int = 0) -> bool:
             and iopt[drv.I_CHATTER_N] <= MAX_CHATTER)
 
 
+def first_rows(t0: float, t1: float, dt_out: float, max_output: int) -> int:
+    """The rows a run's first buffers hold: the output grid and 256 more (events), as the
+    numba loop allocates them (core/_driver.py); with every step a row, 4,096.  The engine
+    grows them where a run needs more."""
+    if dt_out > 0:
+        return 256 + int(min((t1 - t0) / dt_out + 2.0, 1e6, max(max_output, 0)))
+    return 4096
+
+
+def _ready(args, n_states: int = 0):
+    """``(library, plant addresses)`` for runs with the loop arguments ``args``, or None
+    where they take the numba loop: a plant function the run calls that is not printed C,
+    a plant beyond the engine's bounds, no engine on this machine."""
+    fns = _addresses(args[0], args[13])
+    if fns is None or not _fits(args, n_states):
+        return None
+    lib = _library()
+    return None if lib is None else (lib, fns)
+
+
 def _ptr(a: np.ndarray) -> int:
     return a.__array_interface__["data"][0]
 
@@ -162,12 +178,8 @@ class _Engine:
         a, C, c, d, m, e, H, mopt_, ctrl_, bank_, bps_, fopt_, ev_ = keep
         self.lib = lib
         self.fns = fns
-        dt_out = float(fopt[drv.O_DT_OUT])
-        # rows for the output grid and 256 more (events), as the numba loop allocates them
-        # (core/_driver.py); every step a row: 4096 to start with; the engine grows both
-        max_output = max(int(iopt[drv.I_MAX_OUTPUT]), 0)
-        self.n_rows = (256 + int(min((t1 - t0) / dt_out + 2.0, 1e6, max_output))
-                       if dt_out > 0 else 4096)
+        self.n_rows = first_rows(t0, t1, float(fopt[drv.O_DT_OUT]),
+                                 int(iopt[drv.I_MAX_OUTPUT]))
         #: (arguments after the functions up to y0, then bank to iopt) and what they point to
         self.fixed = (
             (*map(_ptr, (a, C, c, d, m, e, H)), c.shape[0], H.shape[0], _ptr(mopt_),
@@ -214,13 +226,8 @@ def engine_for(args):
     """The C engine for runs with the loop arguments ``args`` (those of a prepared run,
     :func:`clutchsim.core.simulate.prepare_runs`), or None where they take the numba loop:
     a plant function that is not printed C, or no engine on this machine."""
-    fns = _addresses(args[0], args[13])
-    if fns is None or not _fits(args):
-        return None
-    lib = _library()
-    if lib is None:
-        return None
-    return _Engine(lib, fns, args)
+    ready = _ready(args)
+    return None if ready is None else _Engine(*ready, args)
 
 
 _I64T = types.int64
@@ -258,12 +265,10 @@ def batch_engine_for(args, n_states: int) -> BatchEngine | None:
     """The C engine for compiled callers of runs with the loop arguments ``args`` of a
     plant of ``n_states`` states, or None where those runs take the numba loop (as
     :func:`engine_for`)."""
-    fns = _addresses(args[0], args[13])
-    if fns is None or not _fits(args, n_states):
+    ready = _ready(args, n_states)
+    if ready is None:
         return None
-    lib = _library()
-    if lib is None:
-        return None
+    lib, fns = ready
     address = ctypes.cast(lib.cl_integrate_nb, ctypes.c_void_p).value
     free = ctypes.cast(lib.cl_free_nb, ctypes.c_void_p).value
     return BatchEngine(_Address(address, ENGINE_SIG, lib), _Address(free, FREE_SIG, lib),
