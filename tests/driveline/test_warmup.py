@@ -89,6 +89,30 @@ def test_no_child_for_single_runs_in_the_c_engine(fake_spawn, monkeypatch):
     assert [p.target for p in fake_spawn] == [warmup._compile_batch_metrics]
 
 
+def test_work_first_starts_the_child_and_waits_for_it(fake_spawn, monkeypatch):
+    """The demo's drift test runs first: the kernel compiles beside it even with the C
+    engine, and the launches wait for the child instead of compiling the kernel again."""
+    monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
+    monkeypatch.setattr(warmup.cengine, "available", lambda: True)
+    with warmup.metrics_compiled_beside(work_first=True) as beside:
+        assert beside.started
+        assert fake_spawn[0].target is warmup._compile_batch_metrics   # the kernel only
+        beside.wait()
+        assert fake_spawn[0].events == ["start", "join"]
+        fake_spawn[0].events.remove("start")                     # the child has ended
+        beside.wait()                                            # a second wait: no join
+        assert fake_spawn[0].events == ["join"]
+    assert fake_spawn[0].events == ["join", "join"]              # not terminated
+
+
+def test_waiting_without_a_child_returns_at_once(fake_spawn, monkeypatch):
+    monkeypatch.setattr(warmup, "_metrics_cached", lambda: True)
+    with warmup.metrics_compiled_beside(work_first=True) as beside:
+        assert not beside.started
+        beside.wait()
+    assert fake_spawn == []
+
+
 @pytest.mark.parametrize(("cached", "cpus"), [(True, 2), (False, 1)])
 def test_no_child_with_the_metrics_cached_or_one_core(fake_spawn, monkeypatch, cached, cpus):
     monkeypatch.setattr(warmup, "_metrics_cached", lambda: cached)

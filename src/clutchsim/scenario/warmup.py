@@ -11,6 +11,10 @@ then loads it.  A single run needs no numba loop where the C engine runs it
 process then has nothing to compile beside the metrics, and no child is started.  Without
 the engine a single run compiles the numba loop, and the child runs the default launch on
 scipy's reference backend (LSODA), which compiles the kernel.
+A block with other work before its first launch (the demo's drift test) starts the child
+in any case (``work_first``) and waits for it (:meth:`Beside.wait`) before its launches,
+where it would otherwise compile the kernel itself, beside the child: from an empty cache
+the demo's kernel then compiles while its drift test runs.
 With the metrics already in the cache no second process is started.  The child is
 stopped when the guarded block ends; numba writes a cache file atomically, so stopping it
 loses nothing.
@@ -28,7 +32,9 @@ from pathlib import Path
 from .._jit import cache_dir
 from ..core import cengine
 
-__all__ = ["metrics_compiled_beside"]
+log = logging.getLogger("clutchsim")
+
+__all__ = ["Beside", "metrics_compiled_beside"]
 
 #: the model of the child's launch (any model compiles the same metrics kernel)
 _MODEL = "mykhailevych2020"
@@ -71,20 +77,42 @@ def _compiles_the_loop(batch: bool) -> bool:
     return batch or not cengine.available()
 
 
+class Beside:
+    """The child compiling the launch metrics beside a block, if one was started."""
+
+    def __init__(self, child=None):
+        self._child = child
+
+    @property
+    def started(self) -> bool:
+        return self._child is not None
+
+    def wait(self) -> None:
+        """Wait until the child has compiled the metrics (or failed: this process then
+        compiles them itself), instead of compiling them beside it."""
+        if self._child is not None and self._child.is_alive():
+            log.info("launch metrics: waiting for the kernel compiling in a second process")
+            self._child.join()
+
+
 @contextlib.contextmanager
-def metrics_compiled_beside(batch: bool = False) -> Iterator[None]:
+def metrics_compiled_beside(batch: bool = False, *, work_first: bool = False
+                            ) -> Iterator[Beside]:
     """Guard a block that runs launches (``batch``: a sweep's batches of launches): if the
-    metrics are not compiled yet, this process compiles the numba loop and a second core
-    exists, a child process compiles them meanwhile (see the module docstring)."""
-    if (os.cpu_count() or 1) < 2 or _metrics_cached() or not _compiles_the_loop(batch):
-        yield
+    metrics are not compiled yet, a second core exists and this process compiles the numba
+    loop meanwhile or has other work to do first (``work_first``, then call
+    :meth:`Beside.wait` before the launches), a child process compiles them meanwhile (see
+    the module docstring)."""
+    if ((os.cpu_count() or 1) < 2 or _metrics_cached()
+            or not (work_first or _compiles_the_loop(batch))):
+        yield Beside()
         return
+    target = _compile_batch_metrics if batch or work_first else _compile_metrics
     child = multiprocessing.get_context("spawn").Process(
-        target=_compile_batch_metrics if batch else _compile_metrics,
-        name="clutchsim-metrics-compile", daemon=True)
+        target=target, name="clutchsim-metrics-compile", daemon=True)
     child.start()
     try:
-        yield
+        yield Beside(child)
     finally:
         if child.is_alive():
             child.terminate()
