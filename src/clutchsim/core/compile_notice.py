@@ -35,7 +35,8 @@ _started: set = set()    # keys whose first call has begun in this process
 
 @contextmanager
 def compile_notice(key: Hashable, what: str, after: float | None = None,
-                   subject: str = "the integrator") -> Iterator[bool]:
+                   subject: str = "the integrator",
+                   takes: str = "about half a minute on two cores") -> Iterator[bool]:
     """Log (INFO, logger ``clutchsim``) one line if the first block guarded for ``key`` in
     this process takes longer than ``after`` seconds (default :data:`NOTICE_AFTER_S`).
 
@@ -51,6 +52,8 @@ def compile_notice(key: Hashable, what: str, after: float | None = None,
         Delay [s] before the notice.
     subject : str
         What compiles, named in the message.
+    takes : str
+        How long it takes from an empty cache, said in the message.
     """
     with _lock:
         first = key not in _started
@@ -60,8 +63,7 @@ def compile_notice(key: Hashable, what: str, after: float | None = None,
         return
     where = f" in {cache_dir}" if cache_dir else ""
     message = (f"{what}: compiling {subject} (the first run after installing or "
-               f"changing clutchsim; about half a minute on two cores, then cached on "
-               f"disk{where})...")
+               f"changing clutchsim; {takes}, then cached on disk{where})...")
     timer = threading.Timer(NOTICE_AFTER_S if after is None else after, log.info,
                             args=(message,))
     timer.daemon = True

@@ -375,7 +375,9 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     # and its own int options: their stop flag is this run's (interrupts_deferred)
     iopt = prep.args[13].copy()
     args = prep.args[:6] + (y_init, system.params.copy()) + prep.args[8:13] + (iopt,)
-    with compile_notice(type(system.tag), system.name) as first:
+    with compile_notice(type(system.tag), system.name,
+                        takes=("a few seconds for the C engine, about half a minute on two "
+                               "cores for the numba loop")) as first:
         engine = prep.engine()
         if first and engine is None:
             _load_or_compile(args)
