@@ -10,28 +10,21 @@ STAMP_ALL := $(VENV)/.installed-all-$(HASH)
 
 .PHONY: demo test bench clean
 
-# pip byte-compiles every module of every package it installs, one file at a time (11 of
-# the 18 s of the demo's install, measured): both installs skip it and compile after, the
-# full install on every core, the demo beside its run.
+# The venv is made without pip and filled by scripts/venv-install.sh (uv, else pip): the
+# demo's install took ~5 s where venv, ensurepip and pip took ~29 s (session 31).
 $(BIN)/python:
-	$(PY) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet "pip>=21.3"
+	$(PY) -m venv --without-pip $(VENV)
 
 $(STAMP_RUN): $(BIN)/python pyproject.toml
-	if [ ! -f $(STAMP_ALL) ]; then $(BIN)/python -m pip install --quiet --no-compile -e ".[plot]"; fi
+	if [ ! -f $(STAMP_ALL) ]; then sh scripts/venv-install.sh $(PY) $(VENV) plot; fi
 	rm -f $(VENV)/.installed-run-* && touch $(STAMP_RUN)
 
-# (as with pip, a file no Python reads, a package's template, is not an error)
 $(STAMP_ALL): $(BIN)/python pyproject.toml
-	$(BIN)/python -m pip install --quiet --no-compile -e ".[dev]"
-	$(BIN)/python -m compileall -q -j 0 $(VENV)/lib > /dev/null || true
+	sh scripts/venv-install.sh $(PY) $(VENV) dev compile
 	rm -f $(VENV)/.installed-* && touch $(STAMP_ALL) $(STAMP_RUN)
 
-# the bytecode the demo's install skipped is compiled beside the demo, on the core that
-# waits while the other compiles the integrator (numba, ~25 s from an empty cache)
 demo: $(STAMP_RUN)
-	nice -n 19 $(BIN)/python -m compileall -q $(VENV)/lib > /dev/null 2>&1 & \
-	$(BIN)/clutchsim demo --out clutchsim-out/demo; rc=$$?; wait; exit $$rc
+	$(BIN)/clutchsim demo --out clutchsim-out/demo
 
 test: $(STAMP_ALL)
 	$(BIN)/python -m pytest -n 2 --dist loadfile --durations=15
