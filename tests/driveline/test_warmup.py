@@ -105,6 +105,20 @@ def test_work_first_starts_the_child_and_waits_for_it(fake_spawn, monkeypatch):
     assert fake_spawn[0].events == ["join", "join"]              # not terminated
 
 
+def test_the_first_launch_analysed_waits_for_the_child(fake_spawn, monkeypatch):
+    """Within the block the kernel is not compiled a second time beside the child: the
+    first analysis joins the child, then loads the kernel (here from the suite's cache)."""
+    import importlib
+    lm = importlib.import_module("clutchsim.analysis.launch_metrics")
+    monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
+    monkeypatch.setattr(lm, "_ENTRY", None)
+    with warmup.metrics_compiled_beside(work_first=True):
+        assert fake_spawn[0].events == ["start"]
+        assert lm._kernel_entry() is not None
+        assert fake_spawn[0].events == ["start", "join"]
+    assert lm._WAIT is None
+
+
 def test_waiting_without_a_child_returns_at_once(fake_spawn, monkeypatch):
     monkeypatch.setattr(warmup, "_metrics_cached", lambda: True)
     with warmup.metrics_compiled_beside(work_first=True) as beside:

@@ -5,8 +5,9 @@ This module reads results only; running a scenario is :mod:`clutchsim.scenario.r
 
 from __future__ import annotations
 
+import contextlib
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import replace
 from types import MappingProxyType
 from typing import NamedTuple
@@ -22,7 +23,7 @@ from .judder_band import JUDDER_BAND_HZ, JUDDER_SLIP_RAD_S
 
 __all__ = ["DT_OUT_MAX_S", "ENERGY_STATES", "LAUNCH_DRIVES", "LOCK_HOLD", "LOCK_SLIP",
            "STEP_RATE_LIMIT", "RunSummary", "analyse_run", "energy_balance", "grid_problem",
-           "is_launch", "launch_metrics", "launch_warnings", "metrics_of",
+           "is_launch", "kernel_compiled_elsewhere", "launch_metrics", "launch_warnings", "metrics_of",
            "shaft_torque_metrics", "warnings_of", "with_weighted_acceleration"]
 
 #: energy-account states of a launch driveline (integrals) [J]: the work put in, then the
@@ -85,6 +86,8 @@ def _kernel_entry():
     global _ENTRY
     if _ENTRY is None:
         sig = kernel_signature()
+        if _WAIT is not None:
+            _WAIT()
         with compile_notice(("launch_kernel", sig), "launch metrics",
                             subject="the launch-metrics kernel"):
             _k.launch_kernel.compile(sig)
@@ -93,6 +96,22 @@ def _kernel_entry():
 
 
 _ENTRY = None
+_WAIT: Callable[[], None] | None = None
+
+
+@contextlib.contextmanager
+def kernel_compiled_elsewhere(wait: Callable[[], None]) -> Iterator[None]:
+    """Within the block, the launch kernel is being compiled into numba's on-disk cache by
+    another process (:func:`clutchsim.scenario.warmup.metrics_compiled_beside`): the first
+    run analysed here calls ``wait()`` (which returns when that process has ended) and
+    then loads the kernel from the cache, instead of compiling it a second time beside
+    it.  Runs before that compile and integrate meanwhile."""
+    global _WAIT
+    previous, _WAIT = _WAIT, wait
+    try:
+        yield
+    finally:
+        _WAIT = previous
 
 
 class _Run:

@@ -12,9 +12,10 @@ process then has nothing to compile beside the metrics, and no child is started.
 the engine a single run compiles the numba loop, and the child runs the default launch on
 scipy's reference backend (LSODA), which compiles the kernel.
 A block with other work before its first launch (the demo's drift test) starts the child
-in any case (``work_first``) and waits for it (:meth:`Beside.wait`) before its launches,
-where it would otherwise compile the kernel itself, beside the child: from an empty cache
-the demo's kernel then compiles while its drift test runs.
+in any case (``work_first``).  Within the block the first launch analysed waits for the
+child (:func:`~clutchsim.analysis.launch_metrics.kernel_compiled_elsewhere`) where it would
+otherwise compile the kernel itself, beside the child; its simulation runs meanwhile.  From
+an empty cache the demo's kernel compiles while its drift test and first launch run.
 With the metrics already in the cache no second process is started.  The child is
 stopped when the guarded block ends; numba writes a cache file atomically, so stopping it
 loses nothing.
@@ -30,6 +31,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from .._jit import cache_dir
+from ..analysis.launch_metrics import kernel_compiled_elsewhere
 from ..core import cengine
 
 log = logging.getLogger("clutchsim")
@@ -100,9 +102,9 @@ def metrics_compiled_beside(batch: bool = False, *, work_first: bool = False
                             ) -> Iterator[Beside]:
     """Guard a block that runs launches (``batch``: a sweep's batches of launches): if the
     metrics are not compiled yet, a second core exists and this process compiles the numba
-    loop meanwhile or has other work to do first (``work_first``, then call
-    :meth:`Beside.wait` before the launches), a child process compiles them meanwhile (see
-    the module docstring)."""
+    loop meanwhile or has other work to do first (``work_first``), a child process compiles
+    them meanwhile, and the first launch analysed waits for it (see the module
+    docstring)."""
     if ((os.cpu_count() or 1) < 2 or _metrics_cached()
             or not (work_first or _compiles_the_loop(batch))):
         yield Beside()
@@ -111,8 +113,10 @@ def metrics_compiled_beside(batch: bool = False, *, work_first: bool = False
     child = multiprocessing.get_context("spawn").Process(
         target=target, name="clutchsim-metrics-compile", daemon=True)
     child.start()
+    beside = Beside(child)
     try:
-        yield Beside(child)
+        with kernel_compiled_elsewhere(beside.wait):
+            yield beside
     finally:
         if child.is_alive():
             child.terminate()
