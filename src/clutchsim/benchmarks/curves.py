@@ -28,7 +28,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from ..core import Ramp, Sine
 from ..rig import run_rig
@@ -58,6 +57,9 @@ def curve_metrics(model) -> dict:
     i = int(np.argmin(f))
     minimum = None
     if 0 < i < v.size - 1 and f[i] < min(f[0], f[-1]) - 1e-9 * abs(f[0]):
+        # here, not at the top: every command that imports the benchmarks (the demo's drift
+        # test) would import scipy.optimize (~300 modules) for this one call
+        from scipy.optimize import minimize_scalar
         lo, up = math.log(v[i - 1]), math.log(v[i + 1])
         opt = minimize_scalar(lambda s: float(model.steady_state_force(math.exp(s))),
                               bounds=(lo, up), method="bounded",
