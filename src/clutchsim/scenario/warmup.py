@@ -8,7 +8,10 @@ integrator: a child process compiles the kernel's one signature (single runs and
 pass it contiguous columns) into the same on-disk cache meanwhile, from which this process
 then loads it.  A single run needs no numba loop where the C engine runs it
 (:mod:`clutchsim.core.cengine`: every printed plant, on a machine with a C compiler); its
-process then has nothing to compile beside the metrics, and no child is started.  Without
+process then has nothing to compile beside the metrics, and no child is started (measured,
+session 31: a fresh `clutchsim run` with a child that the first analysis waits for took
+45–53 s, without one 43–46 s; the child's start and the two cores shared cost more than the
+few seconds of plant and engine building it overlaps).  Without
 the engine a single run compiles the numba loop, and the child runs the default launch on
 scipy's reference backend (LSODA), which compiles the kernel.
 A block with other work before its first launch (the demo's drift test) starts the child
