@@ -23,12 +23,13 @@ $(STAMP_ALL): $(BIN)/python pyproject.toml
 	sh scripts/venv-install.sh $(PY) $(VENV) dev compile
 	rm -f $(VENV)/.installed-* && touch $(STAMP_ALL) $(STAMP_RUN)
 
-# the bytecode the demo's install skipped is compiled beside the demo at the lowest priority
-# (where the interpreter may not write it, PYTHONDONTWRITEBYTECODE, every later process
-# would compile its imports again, ~2.5 s)
+# the demo's install writes no bytecode: the interpreter writes each module's on its first
+# import.  (Compiled beside the demo at the lowest priority it cost the demo 10 s, session
+# 31: both cores are busy, one with the drift test, one compiling the launch metrics.  Where
+# PYTHONDONTWRITEBYTECODE is set, later processes compile their imports, ~2.5 s, until
+# `make test` installs everything compiled.)
 demo: $(STAMP_RUN)
-	nice -n 19 $(BIN)/python -m compileall -q $(VENV)/lib > /dev/null 2>&1 & \
-	$(BIN)/clutchsim demo --out clutchsim-out/demo; rc=$$?; wait; exit $$rc
+	$(BIN)/clutchsim demo --out clutchsim-out/demo
 
 test: $(STAMP_ALL)
 	$(BIN)/python -m pytest -n 2 --dist loadfile --durations=15

@@ -8,8 +8,8 @@
 # ~22 s, from an empty package cache (session 31); uv puts pip into the venv too, for the
 # user.  Where uv cannot be installed or cannot reach an index (it does not read pip's
 # configuration), pip installs instead, the same packages.  "compile" compiles every
-# installed module's bytecode (the test suite's ~1,700 imports); without it the caller
-# compiles it (the Makefile: beside the demo, at the lowest priority).
+# installed module's bytecode (the test suite's ~1,700 imports); without it the
+# interpreter writes each module's on its first import.
 set -u
 py=$1 venv=$2 extras=$3 compile=${4:-}
 uv_opt="" pip_opt="--no-compile"
