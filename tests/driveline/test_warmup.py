@@ -13,6 +13,7 @@ class _FakeProcess:
     def __init__(self, target, name, daemon):
         self.target, self.name, self.daemon = target, name, daemon
         self.events: list[str] = []
+        self.timeouts: list = []
         _FakeProcess.made.append(self)
 
     def start(self):
@@ -24,8 +25,9 @@ class _FakeProcess:
     def terminate(self):
         self.events.append("terminate")
 
-    def join(self):
+    def join(self, timeout=None):
         self.events.append("join")
+        self.timeouts.append(timeout)
 
 
 class _FakeContext:
@@ -117,6 +119,18 @@ def test_the_first_launch_analysed_waits_for_the_child(fake_spawn, monkeypatch):
         assert lm._kernel_entry() is not None
         assert fake_spawn[0].events == ["start", "join"]
     assert lm._WAIT is None
+
+
+def test_a_child_that_hangs_does_not_hang_the_run(fake_spawn, monkeypatch, caplog):
+    """The wait is bounded: past it, this process compiles the kernel itself (said in the
+    log) and the block's end stops the child."""
+    monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
+    with warmup.metrics_compiled_beside(work_first=True) as beside, \
+            caplog.at_level("INFO", logger="clutchsim"):
+        beside.wait(timeout=2.0)          # the fake child never ends
+    assert fake_spawn[0].timeouts[0] == 2.0
+    assert fake_spawn[0].events == ["start", "join", "terminate", "join"]
+    assert "has not compiled the kernel in 2 s; compiling it here" in caplog.text
 
 
 def test_waiting_without_a_child_returns_at_once(fake_spawn, monkeypatch):

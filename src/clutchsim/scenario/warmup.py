@@ -82,6 +82,11 @@ def _compiles_the_loop(batch: bool) -> bool:
     return batch or not cengine.available()
 
 
+#: seconds the first analysis waits for the child at most (the kernel compiles in ~25 s on
+#: the 2-core machine, 35 s beside other work)
+WAIT_S = 600.0
+
+
 class Beside:
     """The child compiling the launch metrics beside a block, if one was started."""
 
@@ -92,12 +97,17 @@ class Beside:
     def started(self) -> bool:
         return self._child is not None
 
-    def wait(self) -> None:
+    def wait(self, timeout: float = WAIT_S) -> None:
         """Wait until the child has compiled the metrics (or failed: this process then
-        compiles them itself), instead of compiling them beside it."""
+        compiles them itself), instead of compiling them beside it; at most ``timeout``
+        seconds (a child that hangs does not hang the run: this process then compiles
+        them itself, and the child is stopped with the block)."""
         if self._child is not None and self._child.is_alive():
             log.info("launch metrics: waiting for the kernel compiling in a second process")
-            self._child.join()
+            self._child.join(timeout)
+            if self._child.is_alive():
+                log.warning("launch metrics: the second process has not compiled the kernel "
+                            "in %.0f s; compiling it here", timeout)
 
 
 @contextlib.contextmanager
