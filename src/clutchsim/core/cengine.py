@@ -10,7 +10,7 @@ default launch's loop in about 0.6 of the numba loop's time (``benchmarks/
 engine_compare.py``): no function values to unbox, no reference counts, plain pointers.
 Its call does not hold the GIL, so threads run engines side by side.
 
-The engine is compiled once per machine (about a second) into clutchsim's cache directory,
+The engine is compiled once per machine (3–4 s) into clutchsim's cache directory,
 under the hash of its source and the compiler flags; a second process loads it.  Where it
 cannot be compiled or loaded, that is said once (logger ``clutchsim``) and every run takes
 the numba loop.

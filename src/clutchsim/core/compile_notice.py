@@ -3,7 +3,7 @@ for a hang.
 
 The first simulation of a plant type in a process either loads the compiled integrator
 from the on-disk cache (under a second) or, after installing or changing clutchsim,
-compiles it: the C engine in about a second for printed plants, the numba loop in ~40 s on
+compiles it: the C engine in 3–4 s for printed plants, the numba loop in ~40 s on
 a 2-core machine for numba plants (shared by all of them).  The launch metrics' kernel
 compiles once too (~25 s), at the first launch analysed.
 Nothing can be printed from inside numba's compiler, so a timer thread logs one line if the
