@@ -76,6 +76,40 @@ def _block_sum(a, lo, n):
 
 
 @jit
+def extreme(x, largest):
+    """``np.max(x)`` (``largest``) or ``np.min(x)`` of a non-empty ``x``, as numba computes
+    them: the first NaN, else the first of the largest (smallest) values."""
+    m = x[0]
+    if math.isnan(m):
+        return m
+    for i in range(1, x.size):
+        v = x[i]
+        if math.isnan(v):
+            return v
+        if (v > m) if largest else (v < m):
+            m = v
+    return m
+
+
+@jit
+def amax_abs_dev(x, ref):
+    """``np.max(np.abs(x - ref))`` of a non-empty ``x``."""
+    d = np.empty(x.size)
+    for i in range(x.size):
+        d[i] = abs(x[i] - ref)
+    return extreme(d, True)
+
+
+@jit
+def fill(n, v):
+    """``np.full(n, v)``."""
+    out = np.empty(n)
+    for i in range(n):
+        out[i] = v
+    return out
+
+
+@jit
 def pairwise_sum(a, lo, n):
     """``np.sum(a[lo:lo + n])`` with numpy's pairwise summation (same bits): blocks of at
     most 128, above that the sum of the two halves (the first a multiple of 8 long),
@@ -340,7 +374,7 @@ def weighted(t, a, dt_s, max_samples, sos, zi):
     """``launch_quality.weighted_acceleration_mps2`` (``sos``, ``zi``: W_d for the grid's
     step ``tu[1] - tu[0]``)."""
     if t.size < 2 or t[-1] <= t[0]:
-        return np.zeros(t.size)
+        return fill(t.size, 0.0)
     tu, au = _filter_grid(t, a, dt_s, max_samples)
     return _weighted_on(t, tu, au, sos, zi)
 
@@ -362,7 +396,7 @@ def _gradient(tu, af):
 def _jerk_on(tu, au, sos, zi):
     n = tu.size
     if n < 3:
-        return np.zeros(n)
+        return fill(n, 0.0)
     af = filtfilt(sos, zi, au) if n > 3 * (2 * sos.shape[0] + 1) else au
     return _gradient(tu, af)
 
@@ -442,6 +476,21 @@ def _sign(x):
 
 
 @jit
+def _searchsorted(a, v):
+    """``np.searchsorted(a, v)`` (side 'left', NaN sorted last) on a sorted ``a``."""
+    lo, hi = 0, a.size
+    v_nan = math.isnan(v)
+    while lo < hi:
+        mid = lo + ((hi - lo) >> 1)
+        m = a[mid]
+        if m < v or (v_nan and not math.isnan(m)):
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@jit
 def lockup_time(t_s, slip, engaged, locked, ev, lock_slip):
     """``launch_quality.lockup_time_s`` (``engaged`` 0/1, ``locked`` empty when the model
     has no flag); NaN without lock-up."""
@@ -451,24 +500,28 @@ def lockup_time(t_s, slip, engaged, locked, ev, lock_slip):
         return np.nan
     t, w = take(t_s, idx), take(slip, idx)
     if locked.size:
-        lk = take(locked, idx) > 0.5
         for i in range(1, n):
-            if lk[i] and not lk[i - 1]:
+            if locked[idx[i]] > 0.5 and not locked[idx[i - 1]] > 0.5:
                 e = _event_in(ev, t[i - 1], t[i])
                 return t[i] if math.isnan(e) else e
-        if lk[0] and lk[n - 1]:
+        if locked[idx[0]] > 0.5 and locked[idx[n - 1]] > 0.5:
             return t[0]
-    eng = take(engaged, idx) > 0.5
-    a = np.abs(w)
-    if not eng[n - 1] or a[n - 1] >= lock_slip:
+    a = np.empty(n)
+    for i in range(n):
+        a[i] = abs(w[i])
+    if not engaged[idx[n - 1]] > 0.5 or a[n - 1] >= lock_slip:
         return np.nan
     start = -1
+    first = -1                      # np.argmax of the engaged flags: the first set
     for i in range(n):
-        if eng[i] and a[i] >= lock_slip:
-            start = i
+        if engaged[idx[i]] > 0.5:
+            if first < 0:
+                first = i
+            if a[i] >= lock_slip:
+                start = i
     slipped = start >= 0
     if not slipped:
-        start = int(np.argmax(eng))
+        start = max(first, 0)
     if w[start] == 0:
         return t[start]
     s0 = _sign(w[start])
@@ -476,7 +529,7 @@ def lockup_time(t_s, slip, engaged, locked, ev, lock_slip):
         s = _sign(w[j + 1])
         if s != s0 or math.isnan(s0):
             tz = t[j] + (t[j + 1] - t[j]) * w[j] / (w[j] - w[j + 1])
-            k = np.searchsorted(t, tz)
+            k = _searchsorted(t, tz)
             e = _event_in(ev, t[max(k - 1, 0)], t[min(k, n - 1)])
             return tz if math.isnan(e) else e
     if not slipped:
@@ -525,7 +578,7 @@ def lockup_shock(t_s, a, t_lock, window):
         return np.nan
     ref = _window_mean(tb, ab, lo, t_lock)
     aw = interp(_window(t, t_lock, hi), t, al)
-    return np.max(np.abs(aw - ref))
+    return amax_abs_dev(aw, ref)
 
 
 @jit
@@ -542,7 +595,7 @@ def dip_flare(t_s, omega, t_start, t_end):
         n[i] = omega[idx[i]] * 30.0 / math.pi
     hi = t[-1] if math.isnan(t_end) else min(t_end, t[-1])
     nw = interp(_window(t, t_start, hi), t, n)
-    return nw[0] - np.min(nw), np.max(nw) - nw[0]
+    return nw[0] - extreme(nw, False), extreme(nw, True) - nw[0]
 
 
 @jit
@@ -584,7 +637,7 @@ def judder(t_s, torque, cap, w, lo, hi, slip):
     n0 = t_s.size
     if n0 < 3:
         return np.nan
-    cmax = np.max(cap)
+    cmax = extreme(cap, True)
     if cmax <= 0:
         return np.nan
     first, last, count = -1, -1, 0
@@ -609,7 +662,9 @@ def judder(t_s, torque, cap, w, lo, hi, slip):
     x = interp(tl, t_s, torque)
     tmean = pairwise_sum(tl, 0, n) / n
     xmean = pairwise_sum(x, 0, n) / n
-    tc = tl - tmean
+    tc = np.empty(n)
+    for i in range(n):
+        tc[i] = tl[i] - tmean
     cx = 0.0
     cc = 0.0
     for i in range(n):
@@ -631,7 +686,7 @@ def held(t, w, cap, locked, lock_slip, hold):
             return True
     if w.size == 0 or cap.size == 0 or n < 2:
         return False
-    cmax = np.max(cap)
+    cmax = extreme(cap, True)
     if not cmax > 0:
         return False
     start = -1
@@ -661,18 +716,18 @@ def launch_kernel(t, a, tf, w, cap, locked, p, omega, tj, theta, ev, wd_sos, wd_
     ``ev`` the times of the clutch's events.  Returns ``(k, aw)``: ``k`` the values at
     the ``K_*`` slots (NaN where none), ``aw`` the weighted acceleration (empty without
     ``a``)."""
-    k = np.full(N_K, np.nan)
+    k = fill(N_K, np.nan)
     n = t.size
     aw = np.empty(0)
     if theta.size:
-        k[K_THETA_MAX] = np.max(theta)
+        k[K_THETA_MAX] = extreme(theta, True)
     if omega.size:
-        k[K_OMEGA_MIN] = np.min(omega) * 30 / math.pi
-        k[K_OMEGA_MAX] = np.max(omega) * 30 / math.pi
+        k[K_OMEGA_MIN] = extreme(omega, False) * 30 / math.pi
+        k[K_OMEGA_MAX] = extreme(omega, True) * 30 / math.pi
     if n < 2:
         return k, aw
     has_wc = w.size > 0 and cap.size > 0
-    cmax = np.max(cap) if cap.size else 0.0
+    cmax = extreme(cap, True) if cap.size else 0.0
     # lock-up (launch_metrics._lockup_time), only for a clutch that held (else the
     # last sample of a slip that just fell through lock_slip at the run's end would count)
     k[K_HELD] = 1.0 if held(t, w, cap, locked, lock_slip, hold) else 0.0
@@ -693,20 +748,22 @@ def launch_kernel(t, a, tf, w, cap, locked, p, omega, tj, theta, ev, wd_sos, wd_
             aw = interp(t, tu, wg)
             jk = _gradient(tu, af)
         else:
-            aw = _weighted_on(t, tu, au, wd_sos, wd_zi) if t[-1] > t[0] else np.zeros(n)
+            aw = _weighted_on(t, tu, au, wd_sos, wd_zi) if t[-1] > t[0] else fill(n, 0.0)
             jk = _jerk_on(tu, au, lp_sos, lp_zi)
         k[K_VDV] = vdv(t, aw)
         k[K_AW_RMS] = rms(t, aw)
-        k[K_JERK_PEAK] = np.max(np.abs(jk))
+        k[K_JERK_PEAK] = amax_abs_dev(jk, 0.0)
         k[K_JERK_RMS] = rms(tu, jk)
         k[K_SHOCK] = lockup_shock(t, a, t_lock, window)
     if p.size:
-        pa = np.abs(p)
+        pa = np.empty(p.size)
+        for i in range(p.size):
+            pa[i] = abs(p[i])
         e = trapezoid(pa, t)
         k[K_SLIP_ENERGY] = e
         if not math.isnan(area):
             k[K_E_DENS] = e / area
-            k[K_P_DENS] = np.max(pa) / area
+            k[K_P_DENS] = extreme(pa, True) / area
     if omega.size:
         dip, flare = dip_flare(t, omega, k[K_ENGAGE], t_lock)
         k[K_DIP] = dip
