@@ -672,6 +672,17 @@ static double now_s(void) {
         memcpy(R.o + n_out * n_outputs, out, n_outputs * sizeof(double)); \
         n_out++; } while (0)
 
+/* The step ended on a breakpoint of the inputs (at t): the next breakpoint after t is the
+   next stop, and the step restarts as at a discontinuity (f0, the Jacobian and its
+   factors are stale; an event may have jumped). */
+#define PASS_BREAKPOINT() do { \
+        ib++; \
+        while (ib < n_bps && bps[ib] <= t) ib++; \
+        f0_valid = 0; \
+        jac_valid = 0; \
+        lu_h = 0.0; \
+        check_jump = 1; } while (0)
+
 /* One run: integrate's arguments (core/_driver.py) after the plant's functions: the tableau
    (a, C: s x s; c, d, m, e: s; H: nh x s), mopt, ctrl, the span, y0 (n), p, the signal
    bank's data (n_in channels), the breakpoints, the event directions (n_ev), n_outputs,
@@ -840,14 +851,7 @@ int cl_integrate(kern_t rhs, kern_t events, reset_t reset, kern_t outputs, jac_t
         if (stop_at_event) t_stop = t_event_stop;
         if (t_stop - t <= h_floor) {
             t = t_stop;
-            if (t_stop < t1) {
-                ib++;
-                while (ib < n_bps && bps[ib] <= t) ib++;
-                f0_valid = 0;
-                jac_valid = 0;
-                lu_h = 0.0;
-                check_jump = 1;
-            }
+            if (t_stop < t1) PASS_BREAKPOINT();
             continue;
         }
         if (restart) {
@@ -1155,14 +1159,7 @@ int cl_integrate(kern_t rhs, kern_t events, reset_t reset, kern_t outputs, jac_t
         have_history = 1;
         if (!w_method || jac_age >= jac_max_age) jac_valid = 0;
         h = h_next;
-        if (hit && t_stop < t1 && !stop_at_event) {
-            ib++;
-            while (ib < n_bps && bps[ib] <= t) ib++;
-            f0_valid = 0;
-            jac_valid = 0;
-            lu_h = 0.0;
-            check_jump = 1;
-        }
+        if (hit && t_stop < t1 && !stop_at_event) PASS_BREAKPOINT();
     }
     if (dt_out > 0 && status == DONE && n_out < max_output && R.t[n_out - 1] < t) {
         inputs_at(x, t, t);

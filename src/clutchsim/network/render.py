@@ -147,6 +147,11 @@ class _PlantRenderer:
         return (f"{self.kernel(c, kind)}(p[{o}:{o + npar}], y[{iz}:{iz + nz}], s{e}, "
                 f"{fe_arg}, sc{e}, {dz}{extra})")
 
+    def force(self, c, fe_arg):
+        """Expression: the friction force of element ``c`` (its kernel with the stick force
+        ``fe_arg``), plus the drag of an open element that declares one."""
+        return f"{self.fcall('friction_force', c, fe_arg)}{self.drag(c)}"
+
     def drag(self, c):
         e = self.P.fe_index[c.name]
         if getattr(c, "has_drag", False):
@@ -194,7 +199,7 @@ class _PlantRenderer:
             e = P.fe_index[c.name]
             if c.name in P.sw_index:
                 continue
-            L.append(f"fT{e} = {self.fcall('friction_force', c, '0.0')}{self.drag(c)}")
+            L.append(f"fT{e} = {self.force(c, '0.0')}")
             L.append(f"Fe{e} = 0.0")
             L.append(f"sh{e} = 0.0")
         tsum = {}
@@ -304,8 +309,7 @@ class _PlantRenderer:
             if _lossy(c):
                 L.append(f"F1_{e} = 0.0")
             else:
-                L.append(f"F1_{e} = 0.0 if lk{e} else "
-                         f"{self.fcall('friction_force', c, '0.0')}{self.drag(c)}")
+                L.append(f"F1_{e} = 0.0 if lk{e} else {self.force(c, '0.0')}")
         # generalised forces with the pass-1 forces of the free elements
         for k in range(nv):
             terms = [f"F1_{P.fe_index[c.name]} * {self.slip_row(i, k)}" for i, c in enumerate(P.sw)
@@ -342,8 +346,7 @@ class _PlantRenderer:
                 if _lossy(c):
                     inner.append(f"fT{e} = F1_{e}")
                 else:
-                    inner.append(f"fT{e} = {self.fcall('friction_force', c, f'Fe{e}')}"
-                                 f"{self.drag(c)}")
+                    inner.append(f"fT{e} = {self.force(c, f'Fe{e}')}")
                 L += lines + _ind(inner)
             else:
                 L.append(f"Fe{e} = 0.0")

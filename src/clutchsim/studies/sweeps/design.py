@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
+from typing import ClassVar
 
 import numpy as np
 
@@ -76,61 +77,72 @@ class Values:
         return ",".join(repr(float(v)) for v in self.items)
 
 
+class _Random:
+    """A distribution of random samples given by two numbers: ``name(p, q)``, the fields
+    in their order."""
+
+    name: ClassVar[str]
+
+    def _two(self) -> tuple[float, float]:
+        p, q = fields(self)
+        return getattr(self, p.name), getattr(self, q.name)
+
+    def _require(self, ok: bool, rule: str) -> None:
+        if not ok:
+            p, q = self._two()
+            raise SweepError(f"{self.name}({p:g}, {q:g}): needs {rule}")
+
+    def text(self) -> str:
+        p, q = self._two()
+        return f"{self.name}({p!r},{q!r})"
+
+
 @dataclass(frozen=True)
-class Uniform:
+class Uniform(_Random):
     """Random samples, uniform on [a, b]."""
 
     a: float
     b: float
+    name: ClassVar[str] = "uniform"
 
     def __post_init__(self):
-        if not self.a <= self.b:
-            raise SweepError(f"uniform({self.a:g}, {self.b:g}): needs a <= b")
+        self._require(self.a <= self.b, "a <= b")
 
     def draw(self, rng, n):
         return rng.uniform(self.a, self.b, n)
 
-    def text(self) -> str:
-        return f"uniform({self.a!r},{self.b!r})"
-
 
 @dataclass(frozen=True)
-class LogUniform:
+class LogUniform(_Random):
     """Random samples whose logarithm is uniform on [log a, log b] (a, b > 0)."""
 
     a: float
     b: float
+    name: ClassVar[str] = "loguniform"
 
     def __post_init__(self):
-        if not 0 < self.a <= self.b:
-            raise SweepError(f"loguniform({self.a:g}, {self.b:g}): needs 0 < a <= b")
+        self._require(0 < self.a <= self.b, "0 < a <= b")
 
     def draw(self, rng, n):
         return np.exp(rng.uniform(math.log(self.a), math.log(self.b), n))
 
-    def text(self) -> str:
-        return f"loguniform({self.a!r},{self.b!r})"
-
 
 @dataclass(frozen=True)
-class Normal:
+class Normal(_Random):
     """Random samples, normal with mean ``mu`` and standard deviation ``sigma``."""
 
     mu: float
     sigma: float
+    name: ClassVar[str] = "normal"
 
     def __post_init__(self):
-        if not self.sigma >= 0:
-            raise SweepError(f"normal({self.mu:g}, {self.sigma:g}): needs sigma >= 0")
+        self._require(self.sigma >= 0, "sigma >= 0")
 
     def draw(self, rng, n):
         return rng.normal(self.mu, self.sigma, n)
 
-    def text(self) -> str:
-        return f"normal({self.mu!r},{self.sigma!r})"
 
-
-_RANDOM = {"uniform": Uniform, "loguniform": LogUniform, "normal": Normal}
+_RANDOM = {d.name: d for d in (Uniform, LogUniform, Normal)}
 _SPEC_HELP = ("LO:HI:N (grid), V1,V2,... (values), uniform(A,B), loguniform(A,B) or "
               "normal(MU,SIGMA) (random, with samples)")
 
