@@ -117,3 +117,33 @@ def test_bank_assigns_each_channel_the_sum_of_its_terms(counts, t):
     for ch, value in zip(channels, u):
         want = sum((float(s(t)[0]) for s in ch.parts), 0.0)
         assert value == pytest.approx(want, rel=1e-12, abs=1e-12)
+
+
+_SIGNALS = st.one_of(
+    st.builds(Constant, st.floats(-5, 5)),
+    st.builds(Step, st.floats(-1, 3), st.floats(-5, 5)),
+    st.builds(Ramp, st.floats(-1, 3), st.floats(1e-3, 2), st.floats(-5, 5)),
+    st.builds(Sine, st.floats(-5, 5), st.floats(0.01, 20)),
+    st.builds(Pulse, st.floats(-5, 5), st.floats(5, 95), st.floats(0.05, 2),
+              horizon=st.just(5.0)),
+    st.lists(st.floats(-5, 5), min_size=1, max_size=20).map(
+        lambda v: Table(np.linspace(0.0, 3.0, len(v)), v)))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(_SIGNALS, min_size=1, max_size=4),
+       st.lists(st.floats(-1.0, 5.0), min_size=1, max_size=30))
+def test_a_signal_is_evaluated_by_the_engine_as_by_the_numba_loop(parts, times):
+    # Signal.__call__ runs the C engine's input evaluation where the engine is available;
+    # the numba loop's (and the scipy backend's) must give the same bits, at every kind
+    # of signal, on and off its breakpoints
+    from clutchsim.core import cengine
+    from clutchsim.core.signals import Sum, _eval_series, build_bank
+    sig = Sum(tuple(parts))
+    t = np.array(sorted(times + list(sig.breakpoints())[:10]))
+    if not cengine.available():
+        pytest.skip("the C engine is not available here (no C compiler)")
+    got = sig(t)
+    want = np.empty_like(t)
+    _eval_series(build_bank([sig]), t, want)
+    assert np.array_equal(got, want), np.nonzero(got != want)

@@ -37,7 +37,8 @@ from .. import _cc
 from .._jit import cache_dir, jit
 from . import _driver as drv
 
-__all__ = ["BatchEngine", "available", "batch_engine_for", "engine_for", "first_rows", "integrate_nb"]
+__all__ = ["BatchEngine", "available", "batch_engine_for", "engine_for", "eval_series", "first_rows",
+           "integrate_nb"]
 
 log = logging.getLogger("clutchsim")
 
@@ -90,6 +91,8 @@ def _library():
                 lib.cl_integrate.restype = ctypes.c_int
                 lib.cl_free.argtypes = [_P]
                 lib.cl_free.restype = None
+                lib.cl_eval_series.argtypes = [_P, _I, _P, _P, _P]
+                lib.cl_eval_series.restype = None
                 _state["lib"] = lib
             except (_cc.CompilerError, OSError) as exc:
                 _state["lib"] = None
@@ -101,6 +104,20 @@ def _library():
 def available() -> bool:
     """Can this process run the C engine (compiled or loaded from the cache)?"""
     return _library() is not None
+
+
+def eval_series(bank: np.ndarray, n_channels: int, t: np.ndarray, out: np.ndarray) -> bool:
+    """The first channel of the signal bank ``bank`` (``n_channels`` channels) at each of
+    the contiguous float64 times ``t`` into ``out`` (:meth:`clutchsim.core.signals.Signal.
+    __call__`), by the engine's own input evaluation; False where the engine is not
+    available (the caller evaluates with the numba loop's, the same bits)."""
+    lib = _library()
+    if lib is None:
+        return False
+    u = np.zeros(max(n_channels, 1))
+    lib.cl_eval_series(bank.ctypes.data, t.size, t.ctypes.data, u.ctypes.data,
+                       out.ctypes.data)
+    return True
 
 
 def _addresses(fns, iopt) -> tuple | None:

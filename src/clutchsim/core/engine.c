@@ -1185,6 +1185,17 @@ end:
     return status;
 }
 
+/* The bank's first channel at each of the n_t times t into out (Signal.__call__, the
+   numba loop's _eval_series in core/signals.py): u is the caller's room for the bank's
+   channels, at least one */
+void cl_eval_series(const double *bank, int n_t, const double *t, double *u, double *out) {
+    int i;
+    for (i = 0; i < n_t; i++) {
+        eval_inputs(bank, t[i], t[i], u);
+        out[i] = u[0];
+    }
+}
+
 /* Memory of the engine's own that a run handed over (cl_integrate's mem) */
 void cl_free(void *ptr) { free(ptr); }
 

@@ -68,10 +68,15 @@ class Signal:
 
     def __call__(self, t) -> np.ndarray:
         """Evaluate at times ``t`` [s] (right-continuous at jumps)."""
+        from .cengine import eval_series  # (cengine imports the numba loop, which imports this)
+
         bank = build_bank([self])
         t = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
         out = np.empty_like(t)
-        _eval_series(bank, t, out)      # one compiled call, not one per time
+        # one compiled call, not one per time: the C engine's evaluation where it runs (the
+        # numba one took ~6 s to compile, the first check of a plant's Jacobian paid it)
+        if not eval_series(bank.data, bank.n_channels, t, out):
+            _eval_series(bank, t, out)
         return out
 
     def _encode(self) -> tuple[int, list[float], np.ndarray | None, np.ndarray | None]:
