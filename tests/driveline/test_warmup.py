@@ -165,3 +165,17 @@ def test_the_child_swallows_a_failure(monkeypatch):
         warmup._compile_metrics()
     finally:
         logger.setLevel(level)      # the child silences the logger: not this process's
+
+
+def test_the_child_compiles_the_energy_balance_a_run_calls():
+    # the child compiles energy_balance for energy_balance_signature(); a run that called
+    # it with other types would compile it again, in series, after the wait
+    import importlib
+
+    from clutchsim.analysis import _kernels as _k
+    from clutchsim.scenario import load_scenario, run_scenario
+    lm = importlib.import_module("clutchsim.analysis.launch_metrics")  # (the package's
+    # launch_metrics is the function)
+    res = run_scenario(load_scenario(None)).result
+    lm.energy_balance(res)
+    assert lm.energy_balance_signature() in _k.energy_balance.signatures

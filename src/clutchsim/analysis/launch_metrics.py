@@ -75,6 +75,13 @@ def kernel_signature() -> tuple:
     return (a1,) * 11 + (c2,) * 4 + (f, i, f, f, f, f, f, f, f, f)
 
 
+def energy_balance_signature() -> tuple:
+    """The argument types :func:`energy_balance` calls the compiled balance with: the work
+    put in, then the losses, the kinetic and the spring energies as contiguous arrays."""
+    a1 = numba.types.Array(numba.float64, 1, "C")
+    return (numba.float64, a1, a1, a1)
+
+
 def _kernel_entry():
     """The compiled :func:`~clutchsim.analysis._kernels.launch_kernel` for contiguous
     arrays, called directly: one specialisation, and no typing of its 25 arguments per call
@@ -169,6 +176,7 @@ def energy_balance(res: Result) -> dict:
     - W_sync``; ``energy_balance_rel = |residual| / max(|W_in|, E_kinetic(0), max E_kinetic)``.
     """
     out = {k: float(res[k][-1]) for k in ENERGY_STATES}
+    # (the types of energy_balance_signature: a child compiles it from an empty cache)
     d_ke, d_pe, resid, scale = _k.energy_balance(
         out["W_in"], np.array([out[k] for k in ENERGY_STATES[1:]]),
         np.ascontiguousarray(res["E_kinetic"]), np.ascontiguousarray(res["E_spring"]))

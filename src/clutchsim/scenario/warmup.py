@@ -64,16 +64,18 @@ def _compile_metrics() -> None:
 
 def _compile_batch_metrics() -> None:
     """(In the child.) Compile the launch kernel for the types a sweep's batch calls it
-    with, those of a single run too (nothing runs); as :func:`_compile_metrics`, a failure
-    costs only time."""
+    with, those of a single run too, then the energy balance for a single run's (nothing
+    runs); as :func:`_compile_metrics`, a failure costs only time."""
     logging.getLogger("clutchsim").setLevel(logging.CRITICAL)
     with contextlib.suppress(BaseException):
         import numba
 
         from ..analysis import _kernels
         from ..analysis.launch_batch import kernel_signature_example
+        from ..analysis.launch_metrics import energy_balance_signature
         _kernels.launch_kernel.compile(
             tuple(numba.typeof(x) for x in kernel_signature_example()))
+        _kernels.energy_balance.compile(energy_balance_signature())
 
 
 def _compiles_the_loop(batch: bool) -> bool:
