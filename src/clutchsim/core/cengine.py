@@ -8,7 +8,9 @@ every generated plant on a machine without a C compiler) go through the numba lo
 (``tests/core/testcengine.py`` compares them on the examples); the C one takes the
 default launch's loop in about 0.6 of the numba loop's time (``benchmarks/
 engine_compare.py``): no function values to unbox, no reference counts, plain pointers.
-Its call does not hold the GIL, so threads run engines side by side.
+Its call does not hold the GIL, so threads run engines side by side.  Its evaluation of
+the input signals also serves :meth:`clutchsim.core.signals.Signal.__call__`
+(:func:`eval_series`).
 
 The engine is compiled once per machine (3–4 s) into clutchsim's cache directory,
 under the hash of its source and the compiler flags; a second process loads it.  Where it

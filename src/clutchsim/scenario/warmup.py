@@ -84,8 +84,8 @@ def _compiles_the_loop(batch: bool) -> bool:
     return batch or not cengine.available()
 
 
-#: seconds the first analysis waits for the child at most (the kernel compiles in ~25 s on
-#: the 2-core machine, 35 s beside other work)
+#: seconds the first analysis waits for the child at most (the kernel compiles in ~22 s on
+#: the 2-core machine, 17–24 s beside the demo's drift test; session 32)
 WAIT_S = 600.0
 
 
