@@ -54,8 +54,11 @@ def _run_demo(out: Path, claimed, plots: bool) -> dict:
         drift = run_benchmark("drift")
         write_outputs(drift, part / "drift")
         scenario = load_scenario(None)
-        for model in DEMO_MODELS:   # their plants compile while the metrics' child runs
-            scenario.system(model)  # (the first launch's analysis waits for it)
+        # the launches' plants compile while the metrics' child runs; write_runs then
+        # simulates, draws the figures, and only then analyses (the first analysis waits
+        # for the child)
+        for model in DEMO_MODELS:
+            scenario.system(model)
         launch = write_runs(scenario, DEMO_MODELS, part / "launch", plots=plots)
         summary = {
             "kind": "demo",

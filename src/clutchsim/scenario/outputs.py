@@ -69,7 +69,7 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
     after each model.  The caller makes the directory atomic (see
     :meth:`clutchsim._util.OutputDir.build`).
     """
-    from .run import is_launch, run_scenario
+    from .run import analyse_system, default_model, is_launch, simulate_system
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     models = list(models) or [None]
@@ -81,17 +81,24 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
                       "the key", "scenario.compare")
     key = "models" if launch else "runs"
     summary: dict = {"kind": "run", "scenario": scenario.name, "file": scenario.file, key: {}}
-    runs = {}
+    # every model simulated, then the figures (they need only the results), then the
+    # metrics: a first run's metrics kernel compiles, or is waited for, after the figures
+    sims = []
     for i, m in enumerate(models):
         if progress is not None:
             progress(i, len(models))
         log.info("running %s with %s ...", scenario.name, m or "its own model")
-        lr = run_scenario(scenario, m)
-        if launch:
-            label, doc = lr.model, lr.metrics
-        else:
-            label = scenario.name if len(models) == 1 else (lr.model or str(m))
-            doc = network_summary(lr.result)
+        m = default_model(scenario, m)
+        system = scenario.system(m)
+        sims.append((m, system, simulate_system(scenario, system)))
+    if plots:
+        _run_figures(scenario, {_label(scenario, system, m, len(models), launch): res
+                                for m, system, res in sims}, directory, launch)
+    runs = {}
+    for m, system, res in sims:
+        lr = analyse_system(scenario, system, m, res)
+        label = _label(scenario, system, m, len(models), launch)
+        doc = lr.metrics if launch else network_summary(lr.result)
         runs[label] = lr.result
         summary[key][label] = doc
         suffix = "" if len(models) == 1 else f"_{lr.model}"
@@ -109,11 +116,19 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
                                                          default=float)))
     if getattr(scenario, "text", None):
         atomic_write(directory / "scenario.toml", lambda p: Path(p).write_text(scenario.text))
-    if plots:
-        _run_figures(scenario, runs, directory, launch)
     if scenario.compare:
         _compare_launch(scenario, runs, summary, directory, plots)
     return summary
+
+
+def _label(scenario, system, model, n_models: int, launch: bool) -> str:
+    """The name of a run in the summary and its figures' files: the clutch's model for a
+    launch (:class:`~clutchsim.scenario.run.LaunchResult`'s ``model``), else the scenario's
+    name for one run and the model's for several."""
+    name = system.metadata["models"].get(scenario.clutch, model or "")
+    if launch:
+        return name
+    return scenario.name if n_models == 1 else (name or str(model))
 
 
 def file_label(label: str) -> str:

@@ -24,9 +24,9 @@ from ..analysis.launch_metrics import (
 from ..core import Result, SolverOptions, simulate
 from .loader import resolve_scenario
 
-__all__ = ["LAUNCH_DRIVES", "LaunchResult", "batch_reason", "engine_max_speed",
-           "expects_lockup", "is_launch", "lining_geometry", "run_batch", "run_scenario",
-           "shaft_ratio", "surface_node"]
+__all__ = ["LAUNCH_DRIVES", "LaunchResult", "analyse_system", "batch_reason", "default_model",
+           "engine_max_speed", "expects_lockup", "is_launch", "lining_geometry", "run_batch",
+           "run_scenario", "run_system", "shaft_ratio", "simulate_system", "surface_node"]
 
 @dataclass(frozen=True)
 class LaunchResult:
@@ -56,21 +56,41 @@ def run_scenario(scenario=None, model: str | None = None, *, overrides=None,
         Replace the scenario's solver settings.
     """
     scenario = resolve_scenario(scenario, overrides)
-    if model is None and scenario.models:
-        model = scenario.models[0]
+    model = default_model(scenario, model)
     system = scenario.system(model)
     return run_system(scenario, system, model, solver=solver, options=options)
+
+
+def default_model(scenario, model: str | None) -> str | None:
+    """``model``, else the first of ``scenario.models`` (None: the element's own model)."""
+    if model is None and scenario.models:
+        return scenario.models[0]
+    return model
 
 
 def run_system(scenario, system, model: str | None = None, *, solver: str | None = None,
                options: SolverOptions | None = None) -> LaunchResult:
     """Simulate ``system`` (built from ``scenario``, possibly with other parameter values)
-    with the scenario's inputs, span and solver, and compute the launch metrics."""
+    with the scenario's inputs, span and solver, and compute the launch metrics
+    (:func:`simulate_system`, then :func:`analyse_system`)."""
+    res = simulate_system(scenario, system, solver=solver, options=options)
+    return analyse_system(scenario, system, model, res)
+
+
+def simulate_system(scenario, system, *, solver: str | None = None,
+                    options: SolverOptions | None = None) -> Result:
+    """The result of ``system`` (built from ``scenario``) over the scenario's span, with
+    its inputs and solver (or ``solver``, ``options``), before its analysis."""
     inputs = {n: scenario.inputs[n] for n in system.input_names}
     opts = options if options is not None else scenario.options
     _check_grid(scenario, opts)
-    res = simulate(system, (0.0, scenario.t_end), inputs, solver=solver or scenario.solver,
-                   options=opts)
+    return simulate(system, (0.0, scenario.t_end), inputs, solver=solver or scenario.solver,
+                    options=opts)
+
+
+def analyse_system(scenario, system, model: str | None, res: Result) -> LaunchResult:
+    """The run ``res`` of ``system`` (:func:`simulate_system`) with its launch metrics and
+    warnings, those of its shaft and of its controllers."""
     name = system.metadata["models"].get(scenario.clutch, model or "")
     res, metrics = analyse_run(res, scenario.clutch,
                                expect_lockup=expects_lockup(scenario, system.metadata["kinds"]),
