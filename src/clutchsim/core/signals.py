@@ -74,7 +74,7 @@ class Signal:
         t = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
         out = np.empty_like(t)
         # one compiled call, not one per time: the C engine's evaluation where it runs (the
-        # numba one took ~6 s to compile, the first check of a plant's Jacobian paid it)
+        # numba one took ~3 s to compile, the first check of a plant's Jacobian paid it)
         if not eval_series(bank.data, bank.n_channels, t, out):
             _eval_series(bank, t, out)
         return out

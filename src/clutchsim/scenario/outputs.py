@@ -90,14 +90,13 @@ def write_runs(scenario, models, directory: str | Path, *, plots: bool = True,
         log.info("running %s with %s ...", scenario.name, m or "its own model")
         m = default_model(scenario, m)
         system = scenario.system(m)
-        sims.append((m, system, simulate_system(scenario, system)))
-    if plots:
-        _run_figures(scenario, {_label(scenario, system, m, len(models), launch): res
-                                for m, system, res in sims}, directory, launch)
-    runs = {}
-    for m, system, res in sims:
-        lr = analyse_system(scenario, system, m, res)
         label = _label(scenario, system, m, len(models), launch)
+        sims.append((label, m, system, simulate_system(scenario, system)))
+    if plots:
+        _run_figures(scenario, {label: res for label, _, _, res in sims}, directory, launch)
+    runs = {}
+    for label, m, system, res in sims:
+        lr = analyse_system(scenario, system, m, res)
         doc = lr.metrics if launch else network_summary(lr.result)
         runs[label] = lr.result
         summary[key][label] = doc
@@ -125,7 +124,8 @@ def _label(scenario, system, model, n_models: int, launch: bool) -> str:
     """The name of a run in the summary and its figures' files: the clutch's model for a
     launch (:class:`~clutchsim.scenario.run.LaunchResult`'s ``model``), else the scenario's
     name for one run and the model's for several."""
-    name = system.metadata["models"].get(scenario.clutch, model or "")
+    from .run import model_name
+    name = model_name(scenario, system, model)
     if launch:
         return name
     return scenario.name if n_models == 1 else (name or str(model))

@@ -25,8 +25,8 @@ from ..core import Result, SolverOptions, simulate
 from .loader import resolve_scenario
 
 __all__ = ["LAUNCH_DRIVES", "LaunchResult", "analyse_system", "batch_reason", "default_model",
-           "engine_max_speed", "expects_lockup", "is_launch", "lining_geometry", "run_batch",
-           "run_scenario", "run_system", "shaft_ratio", "simulate_system", "surface_node"]
+           "engine_max_speed", "expects_lockup", "is_launch", "lining_geometry", "model_name",
+           "run_batch", "run_scenario", "run_system", "shaft_ratio", "simulate_system", "surface_node"]
 
 @dataclass(frozen=True)
 class LaunchResult:
@@ -68,6 +68,12 @@ def default_model(scenario, model: str | None) -> str | None:
     return model
 
 
+def model_name(scenario, system, model: str | None) -> str:
+    """The friction model on ``scenario.clutch`` in ``system`` (``model``, or ``""``
+    where the system names none): :class:`LaunchResult`'s ``model``."""
+    return system.metadata["models"].get(scenario.clutch, model or "")
+
+
 def run_system(scenario, system, model: str | None = None, *, solver: str | None = None,
                options: SolverOptions | None = None) -> LaunchResult:
     """Simulate ``system`` (built from ``scenario``, possibly with other parameter values)
@@ -91,7 +97,7 @@ def simulate_system(scenario, system, *, solver: str | None = None,
 def analyse_system(scenario, system, model: str | None, res: Result) -> LaunchResult:
     """The run ``res`` of ``system`` (:func:`simulate_system`) with its launch metrics and
     warnings, those of its shaft and of its controllers."""
-    name = system.metadata["models"].get(scenario.clutch, model or "")
+    name = model_name(scenario, system, model)
     res, metrics = analyse_run(res, scenario.clutch,
                                expect_lockup=expects_lockup(scenario, system.metadata["kinds"]),
                                friction=_is_friction_clutch(scenario),
