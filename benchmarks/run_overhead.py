@@ -6,9 +6,8 @@ timed with the thread's CPU time (``time.thread_time_ns``), which a shared machi
 distorts less than wall time, and reported as the minimum over ``--calls`` calls (after
 one warm-up call), in milliseconds:
 
-* ``integrator_ms``: the compiled loop alone (``clutchsim.core.simulate._run_loop``: the
-  C engine, or the numba loop where the engine does not run the plant; timed by a wrapper
-  around it);
+* ``integrator_ms``: the C engine's call alone (the callable
+  ``clutchsim.core.cengine.engine_for`` returns; timed by a wrapper around it);
 * ``simulate_python_ms``: ``simulate`` minus its compiled loop (option packing, the
   outcome and message, the result's columns and events);
 * ``warnings_ms``: ``launch_warnings`` (lock-up hold test, ringing test, step rate);
@@ -83,15 +82,19 @@ def main():
     from clutchsim.scenario import run as run_mod
 
     inner: list[int] = []
-    raw = sim_mod._run_loop
+    raw = sim_mod.ce.engine_for
 
-    def timed(prep, args):
-        t0 = time.thread_time_ns()
-        out = raw(prep, args)
-        inner.append(time.thread_time_ns() - t0)
-        return out
+    def timed_engine_for(args, n_states):
+        engine = raw(args, n_states)
 
-    sim_mod._run_loop = timed
+        def timed(a):
+            t0 = time.thread_time_ns()
+            out = engine(a)
+            inner.append(time.thread_time_ns() - t0)
+            return out
+        return timed
+
+    sim_mod.ce.engine_for = timed_engine_for      # before the first run prepares its engine
 
     sc = resolve_scenario(None)
     model = sc.models[0] if sc.models else None
@@ -197,7 +200,7 @@ def _sweep_parts(run_mod, dm) -> dict:
     variants.VariantPlan.values = timer(variants.VariantPlan.values, parts["values"])
     run_mod.run_batch = timer(run_mod.run_batch, parts["run_batch"])
     entry = batch._entry
-    batch._entry = lambda key, args: timer(entry(key, args), parts["loop"])
+    batch._entry = lambda args: timer(entry(args), parts["loop"])
     return parts
 
 

@@ -26,7 +26,7 @@ import numba
 import numpy as np
 from _common import emit
 
-from clutchsim.core._linalg import invert_iteration_matrix, solve_into_row
+from clutchsim.core.cengine import dense_linalg
 from clutchsim.core.methods import get_method
 from clutchsim.core.system import call_jac, has_jacobian, plant_functions
 
@@ -67,20 +67,25 @@ def _loop_jac(f, n, t, y, u, p, J):
 
 
 @numba.njit
-def _loop_inverse(J, n, M, piv, nd):
+def _loop_inverse(invert, J, n, M, piv, nd):
+    # the engine's own inverse (engine.c), called through its address as the step calls it
     s = 0.0
+    m = J.shape[0]
     for _ in range(n):
         J[0, 0] += 1e-14
-        invert_iteration_matrix(J, 1.0e3, M, piv, nd)
+        invert(np.int64(J.ctypes.data), 1.0e3, np.int64(M.ctypes.data),
+               np.int64(piv.ctypes.data), m, nd)
         s += M[0, 0]
     return s
 
 
 @numba.njit
-def _loop_solve(M, b, X, n, nd):
+def _loop_solve(solve, M, b, X, n, nd):
+    m = M.shape[0]
     for _ in range(n):
         b[0] += 1e-14
-        solve_into_row(M, b, X, 0, nd)
+        solve(np.int64(M.ctypes.data), np.int64(b.ctypes.data), np.int64(X.ctypes.data), 0,
+              m, nd)
     return X[0, 0]
 
 
@@ -126,10 +131,11 @@ def _costs(system, y, u, n=100_000):
     piv = np.empty(ns, dtype=np.int64)
     b = np.ones(ns)
     X = np.empty((1, ns))
-    _loop_inverse(J, 10, M, piv, nd)
-    out["inverse_ns"] = _best_ns(_loop_inverse, (J, n, M, piv, nd), n)
-    _loop_solve(M, b, X, 10, nd)
-    out["solve_ns"] = _best_ns(_loop_solve, (M, b, X, n, nd), n)
+    invert, solve = dense_linalg()
+    _loop_inverse(invert, J, 10, M, piv, nd)
+    out["inverse_ns"] = _best_ns(_loop_inverse, (invert, J, n, M, piv, nd), n)
+    _loop_solve(solve, M, b, X, 10, nd)
+    out["solve_ns"] = _best_ns(_loop_solve, (solve, M, b, X, n, nd), n)
     out["linear_solver"] = "dense inverse"
     if fns.factor_size:
         F = np.empty(fns.factor_size)

@@ -29,26 +29,17 @@ _FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-background-n
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_sessionstart(session):
-    """Warm numba's cache before the workers start (see the module docstring)."""
+    """Before the workers start, compile the C engine, the default launch's plant and the
+    launch-metrics kernel (~22 s) once, into the caches the workers then load from, instead
+    of each worker compiling them beside the other."""
     config = session.config
     if hasattr(config, "workerinput") or (getattr(config.option, "numprocesses", 0) or 0) < 2:
         return
     from clutchsim._jit import cache_dir
-    if not cache_dir or any(Path(cache_dir).glob("*/_driver.integrate-*.nbi")):
+    if not cache_dir or any(Path(cache_dir).glob("*/*.launch_kernel-*.nbi")):
         return
-    from clutchsim.scenario import load_scenario, run_scenario
-    from clutchsim.scenario.warmup import metrics_compiled_beside
-    # only a head start: a launch that fails here fails in its own tests, with a report.
-    # The numba loop (hand-written plants, a sweep's batches, the tests of the C engine)
-    # compiles here while a child compiles the metrics kernel; the default launch then
-    # builds the C engine and its plant.
-    with contextlib.suppress(Exception), metrics_compiled_beside(batch=True):
-        from clutchsim.core.simulate import compile_numba_loop
-        sc = load_scenario(None)
-        system = sc.system(sc.models[0])
-        compile_numba_loop(system, (0.0, sc.t_end),
-                           {n: sc.inputs[n] for n in system.input_names},
-                           solver=sc.solver, options=sc.options)
+    from clutchsim.scenario import run_scenario
+    # only a head start: a launch that fails here fails in its own tests, with a report
     with contextlib.suppress(Exception):
         run_scenario(None)
 

@@ -100,8 +100,8 @@ def _defer_blas_import() -> None:
     ``numba.np.arraymath``, which calls ``numba.np.linalg.ensure_blas()`` at import to set
     its ``_HAVE_BLAS`` flag, and that imports ``scipy.linalg`` (and with it
     scipy's array-API layer, ``numpy.f2py`` and ``numpy.testing``), whether or not any
-    compiled function uses linear algebra; clutchsim's do not (``core/_linalg.py`` is its
-    own small dense solver).  For that one call the flag is answered by finding
+    compiled function uses linear algebra; clutchsim's do not (the C engine has its own
+    small dense solver).  For that one call the flag is answered by finding
     ``scipy.linalg.cython_blas`` on disk; every later call (when a function that does use
     ``np.linalg`` or ``np.dot`` is compiled) runs numba's own check, imports included.
     numba has no option for this, hence the narrow patch of one function.

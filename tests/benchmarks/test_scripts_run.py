@@ -32,7 +32,6 @@ SMALL = {
     "sweep_throughput.py": ["--runs", "8", "--scaling-runs", "4", "--no-dask"],
     "uq_study.py": ["--runs", "16", "--sobol-base", "4", "--only", "grade_low"],
     "calibration_coverage.py": ["--trials", "1", "--launches", "1"],
-    "engine_compare.py": ["--calls", "2"],
 }
 #: left to their own runs (see the module docstring)
 LONG = {"compile_time.py", "rt_fuzz.py", "core_speed.py", "durability_speed.py"}

@@ -162,7 +162,7 @@ def test_a_deferred_signal_stops_the_loop_and_is_delivered_after_it(python_sigin
     import numpy as np
 
     from clutchsim.cli import Terminated, _install_sigterm
-    from clutchsim.core import _driver as drv
+    from clutchsim.core import cengine as drv
     from clutchsim.core.simulate import interrupts_deferred
     iopt = np.zeros(drv.N_IOPT, dtype=np.int64)
     with pytest.raises(KeyboardInterrupt), interrupts_deferred(iopt):

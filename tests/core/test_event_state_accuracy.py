@@ -1,7 +1,7 @@
 """The state an event leaves has the method's accuracy, not the dense output's.
 
 A step that finds an event inside it is taken again, ending where the event was located
-(core/_driver.py, ``may_retry``).  Restarting from the dense output instead injects its
+(core/engine.c, ``may_retry``).  Restarting from the dense output instead injects its
 error at every event that ends a step; on a stiff component that error is far above the
 tolerance (the dense output of a Rosenbrock method is not stiffly accurate).  Measured on
 the stiff tracker below (λ = 1e6, an event every π/2 s, 10 s), largest error over the

@@ -161,18 +161,3 @@ def test_bad_jacobian_policy_is_named():
         JacobianPolicy(max_age=0)
 
 
-def test_stiffly_accurate_rows_are_derived_from_the_tableau():
-    """The stage arguments and solution that the step builds from the previous one (rows of
-    ``a`` that extend the previous row by a 1, and ``m`` extending the last row): RODAS4's
-    last stage and solution, RODAS5P's last two stages and solution, none in ROS34PW2."""
-    from clutchsim.core._engine import stiffly_accurate_rows
-
-    def rows(name):
-        a, _C, c, _d, m, _e, _H = get_method(name).packed()
-        ext = np.full(c.shape[0] + 1, 7, dtype=np.int64)
-        stiffly_accurate_rows(a, m, ext)
-        return [int(v) for v in ext]
-
-    assert rows("rodas4") == [0, 0, 0, 0, 0, 1, 1]
-    assert rows("rodas5p") == [0, 0, 0, 0, 0, 0, 1, 1, 1]
-    assert rows("ros34pw2") == [0, 0, 0, 0, 0]

@@ -1,7 +1,7 @@
 """An event function that passes zero and comes back within a moment far shorter than a
 step (a freewheel that locks for microseconds where the drive torque changes sign):
 both ends of the step and every uniform sample inside it have one sign, so only the
-search for the bottom of the valley finds the crossing (``core/_driver.py``,
+search for the bottom of the valley finds the crossing (``core/engine.c``,
 ``_sharpen``).  Here the bouncing ball with gravity reversed, thrown down toward the
 floor so that it turns only ``eps`` below it: the impact (the downward crossing of the
 height) and the upward crossing a few microseconds later lie inside one step of a

@@ -1,6 +1,6 @@
 """An event function that a reset places exactly on zero, and that then leaves zero in its
 own direction, is already past its crossing: it fires where the step starts
-(core/_driver.py; docs/core.md).  The plant: a free point ``y`` at rest; at t = 0.5 the
+(core/engine.c; docs/core.md).  The plant: a free point ``y`` at rest; at t = 0.5 the
 event "release" (k = 1) sets the mode to 1, from which on ``y' = -1`` and the event
 "stop" (k = 0, direction -1, ``g = y``) is armed; before, ``g = 1`` (not armed).  The stop's
 function is placed on 0 by the release and goes down at once: the stop fires at 0.5 and

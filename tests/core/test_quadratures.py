@@ -7,22 +7,29 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from clutchsim.core import simulate
-from clutchsim.core._linalg import invert_iteration_matrix, solve_into_row
+from clutchsim.core import cengine, simulate
+
+_ENGINE = pytest.mark.skipif(not cengine.available(),
+                             reason="no C compiler to build the C engine here")
 
 
 def _stage_solve(J, inv_gh, nd, b, rows=3, r=1):
-    """Invert, then solve into row ``r`` of a stage array; returns (ok, that array)."""
+    """The engine's inverse (engine.c: ``invert``), then its solve into row ``r`` of a
+    stage array (``solve_into_row``); returns (ok, that array)."""
+    lib = cengine._library()
     n = J.shape[0]
+    J = np.ascontiguousarray(J, dtype=float)
+    b = np.ascontiguousarray(b, dtype=float)
     M = np.empty((n, n))
     piv = np.empty(n, dtype=np.int64)
-    ok = invert_iteration_matrix(J, inv_gh, M, piv, nd)
+    ok = lib.cl_invert_nb(J.ctypes.data, inv_gh, M.ctypes.data, piv.ctypes.data, n, nd)
     K = np.full((rows, n), 7.0)
     if ok:
-        solve_into_row(M, b, K, r, nd)
-    return ok, K
+        lib.cl_solve_into_row_nb(M.ctypes.data, b.ctypes.data, K.ctypes.data, r, n, nd)
+    return bool(ok), K
 
 
+@_ENGINE
 @pytest.mark.parametrize("nd", [5, 3, 1])
 def test_block_inverse_solves_the_full_iteration_matrix(nd):
     # J with zero columns for the quadrature states: M = I/(gamma h) - J is block lower
@@ -40,6 +47,7 @@ def test_block_inverse_solves_the_full_iteration_matrix(nd):
     np.testing.assert_array_equal(K[[0, 2]], 7.0)       # the other rows are untouched
 
 
+@_ENGINE
 @settings(max_examples=200, deadline=None)
 @given(n=st.integers(1, 16), data=st.data(), seed=st.integers(0, 2**32 - 1),
        log_gh=st.floats(-5.0, 1.0), scale=st.floats(0.01, 1e4))
@@ -60,6 +68,7 @@ def test_stage_solve_equals_a_dense_solve_of_the_whole_matrix(n, data, seed, log
     np.testing.assert_array_equal(np.delete(K, r, axis=0), 7.0)
 
 
+@_ENGINE
 @settings(max_examples=60, deadline=None)
 @given(n=st.integers(1, 12), data=st.data(), seed=st.integers(0, 2**32 - 1),
        kind=st.sampled_from(["zero row", "zero column", "nan"]))

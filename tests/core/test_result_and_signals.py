@@ -133,10 +133,10 @@ _SIGNALS = st.one_of(
 @settings(max_examples=200, deadline=None)
 @given(st.lists(_SIGNALS, min_size=1, max_size=4),
        st.lists(st.floats(-1.0, 5.0), min_size=1, max_size=30))
-def test_a_signal_is_evaluated_by_the_engine_as_by_the_numba_loop(parts, times):
+def test_a_signal_is_evaluated_by_the_engine_as_by_numba(parts, times):
     # Signal.__call__ runs the C engine's input evaluation where the engine is available;
-    # the numba loop's (and the scipy backend's) must give the same bits, at every kind
-    # of signal, on and off its breakpoints
+    # numba's (without an engine, and the scipy backend's) must give the same bits, at
+    # every kind of signal, on and off its breakpoints
     from clutchsim.core import cengine
     from clutchsim.core.signals import Sum, _eval_series, build_bank
     sig = Sum(tuple(parts))

@@ -39,8 +39,6 @@ def fake_spawn(monkeypatch):
     _FakeProcess.made = []
     monkeypatch.setattr(warmup.multiprocessing, "get_context", lambda kind: _FakeContext)
     monkeypatch.setattr(warmup.os, "cpu_count", lambda: 2)
-    # single runs in the numba loop (no C engine): their process compiles it
-    monkeypatch.setattr(warmup.cengine, "available", lambda: False)
     return _FakeProcess.made
 
 
@@ -56,49 +54,38 @@ def test_the_cache_holds_the_metrics_when_their_index_file_is_there(tmp_path, mo
     assert not warmup._metrics_cached()
 
 
-def test_a_cold_cache_starts_the_child_and_stops_it_with_the_block(fake_spawn, monkeypatch):
+def test_a_sweep_s_cold_cache_starts_the_child_and_stops_it_with_the_block(fake_spawn,
+                                                                           monkeypatch):
     monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
-    with warmup.metrics_compiled_beside():
+    with warmup.metrics_compiled_beside(batch=True):
         assert [p.events for p in fake_spawn] == [["start"]]
     assert fake_spawn[0].events == ["start", "terminate", "join"]
     assert fake_spawn[0].daemon and fake_spawn[0].target is warmup._compile_metrics
 
 
-def test_a_sweep_s_child_compiles_the_batch_signature(fake_spawn, monkeypatch):
-    monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
-    with warmup.metrics_compiled_beside(batch=True):
-        pass
-    assert fake_spawn[0].target is warmup._compile_batch_metrics
-
-
 def test_the_child_is_stopped_when_the_block_raises(fake_spawn, monkeypatch):
     monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
-    with pytest.raises(KeyboardInterrupt), warmup.metrics_compiled_beside():
+    with pytest.raises(KeyboardInterrupt), warmup.metrics_compiled_beside(batch=True):
         raise KeyboardInterrupt
     assert fake_spawn[0].events == ["start", "terminate", "join"]
 
 
-def test_no_child_for_single_runs_in_the_c_engine(fake_spawn, monkeypatch):
-    """With the C engine a single run compiles nothing but the metrics: a child would only
-    compile them a second time, beside the parent."""
+def test_no_child_for_single_runs(fake_spawn, monkeypatch):
+    """A single run compiles nothing but the metrics (the C engine runs the plant): a
+    child would only compile them a second time, beside the parent."""
     monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
-    monkeypatch.setattr(warmup.cengine, "available", lambda: True)
     with warmup.metrics_compiled_beside():
         pass
     assert fake_spawn == []
-    with warmup.metrics_compiled_beside(batch=True):     # a batch runs the numba loop
-        pass
-    assert [p.target for p in fake_spawn] == [warmup._compile_batch_metrics]
 
 
 def test_work_first_starts_the_child_and_waits_for_it(fake_spawn, monkeypatch):
     """The demo's drift test runs first: the kernel compiles beside it even with the C
     engine, and the launches wait for the child instead of compiling the kernel again."""
     monkeypatch.setattr(warmup, "_metrics_cached", lambda: False)
-    monkeypatch.setattr(warmup.cengine, "available", lambda: True)
     with warmup.metrics_compiled_beside(work_first=True) as beside:
         assert beside.started
-        assert fake_spawn[0].target is warmup._compile_batch_metrics   # the kernel only
+        assert fake_spawn[0].target is warmup._compile_metrics   # the kernel only
         beside.wait()
         assert fake_spawn[0].events == ["start", "join"]
         fake_spawn[0].events.remove("start")                     # the child has ended
@@ -145,20 +132,20 @@ def test_waiting_without_a_child_returns_at_once(fake_spawn, monkeypatch):
 def test_no_child_with_the_metrics_cached_or_one_core(fake_spawn, monkeypatch, cached, cpus):
     monkeypatch.setattr(warmup, "_metrics_cached", lambda: cached)
     monkeypatch.setattr(warmup.os, "cpu_count", lambda: cpus)
-    with warmup.metrics_compiled_beside():
+    with warmup.metrics_compiled_beside(batch=True):
         pass
     assert fake_spawn == []
 
 
 def test_the_child_swallows_a_failure(monkeypatch):
     """What the child runs never raises: a failure only costs the parent the compile."""
-    import importlib
     import logging
+
+    from clutchsim.analysis import launch_batch
 
     def broken(*args, **kwargs):
         raise RuntimeError("boom")
-    monkeypatch.setattr(importlib.import_module("clutchsim.scenario.run"), "run_scenario",
-                        broken)
+    monkeypatch.setattr(launch_batch, "kernel_signature_example", broken)
     logger = logging.getLogger("clutchsim")
     level = logger.level
     try:

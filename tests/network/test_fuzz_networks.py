@@ -166,7 +166,7 @@ def test_a_freewheel_beside_a_stiff_stribeck_clutch_never_slides_backwards():
     longer than that: its first sample already showed the slip past zero, so the stop was
     due at once, locked it at the same instant at its limit, and break-away and stop
     alternated there until it was left sliding backwards (0.0016 rad/s, 11 times the
-    tolerance).  The step is now first taken again shorter (core/_driver.py, ``probes``):
+    tolerance).  The step is now first taken again shorter (core/engine.c, ``probes``):
     the slide is seen, its stop located a moment later, and time goes on."""
     from _fuzz import LOOSE, Case, run
 
@@ -257,7 +257,7 @@ def test_a_stiff_contact_entered_after_long_free_flight_releases_on_time():
     contact lasts 3 ms.  The step after the contact's event kept that size and damped the
     whole bounce out: at rtol 1e-7 the third release came 19 ms late (0.3027 s, not
     0.28318 s) and the final speeds 0.079 rad/s off.  After a reset the next step is capped
-    by a starting step for the new state (core/_driver.py)."""
+    by a starting step for the new state (core/engine.c)."""
     import numpy as np
     from _fuzz import LOOSE, TIGHT, Case, run
 

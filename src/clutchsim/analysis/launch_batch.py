@@ -2,10 +2,8 @@
 
 A sweep runs one system hundreds of times with other parameter vectors and initial
 states.  :func:`launch_batch` runs a chunk of them in one call of a compiled loop: for
-each variant the integrator (the C engine where it runs the plant,
-:func:`clutchsim.core.cengine.integrate_nb`, else the numba loop
-:func:`clutchsim.core.loop.integrate`: the loops :func:`clutchsim.core.simulate` runs, with
-the same bits) and then the launch kernel
+each variant the integrator (the C engine, :func:`clutchsim.core.cengine.integrate_nb`:
+the one :func:`clutchsim.core.simulate` runs, with the same bits) and then the launch kernel
 (:func:`clutchsim.analysis._kernels.launch_kernel`, the one :func:`~clutchsim.analysis.
 launch_metrics.analyse_run` calls) on the run's own output arrays, keeping only the numbers a
 sweep's table row needs: the integrator's end code and counters, the kernel's values and
@@ -32,11 +30,10 @@ import numba
 import numpy as np
 
 from .._jit import jit
-from ..core import System
-from ..core import loop as drv
-from ..core.cengine import batch_engine_for, first_rows
+from ..core import System, cengine
+from ..core._clock import now
+from ..core.cengine import N_STATS, batch_engine_for, first_rows, integrate_nb
 from ..core.compile_notice import compile_notice
-from ..core.loop import now
 from ..core.result import apply_violations
 from ..core.simulate import prepare_runs, run_end, run_stats
 from ..network.invariants import N_CHECKS, N_R, scan
@@ -52,9 +49,9 @@ __all__ = ["batch_supported", "kernel_signature_example", "launch_batch"]
 _KERNEL_SIGNALS = ("a_vehicle", "T_friction_{c}", "w_slip_{c}", "capacity_{c}", "{c}.locked",
                    "P_{c}", "omega_engine", "T_{c}", "theta")
 _ENERGY_SIGNALS = (*ENERGY_STATES, "E_kinetic", "E_spring")
-#: slots of a run's integer results (after the integrator's counters, ``core.loop.S_*``)
-I_CODE, I_K, I_I, I_ROWS = drv.N_STATS, drv.N_STATS + 1, drv.N_STATS + 2, drv.N_STATS + 3
-N_I = drv.N_STATS + 4
+#: slots of a run's integer results (after the engine's counters, ``cengine.S_*``)
+I_CODE, I_K, I_I, I_ROWS = N_STATS, N_STATS + 1, N_STATS + 2, N_STATS + 3
+N_I = N_STATS + 4
 #: slots of a run's float results
 F_T_END, F_H_SMALL, F_WALL, F_T_FIRST, F_T_LAST, F_ENERGY, F_LOOP = range(7)
 N_F = 7
@@ -74,7 +71,7 @@ def _column(ys, us, outs, n, src, j, empty):
 
 
 @jit
-def _run_batch(fns, tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs, fopt, iopt,
+def _run_batch(tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs, fopt, iopt,
                cols, mine, empty2, wd_sos, wd_zi, lp_sos, lp_zi, dt_s, max_samples, lock_slip,
                hold, window, engage_rel, area, band_lo, band_hi, judder_slip, inv_el,
                inv_speeds, inv_wf, inv_passive, rtol, atol, K, I, F, V, c_eng, c_free, c_plant,
@@ -83,17 +80,16 @@ def _run_batch(fns, tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs
     end to ``I``, its times, energy balance and compiled wall time to ``F``, its physics
     checks' table to ``V`` (see :func:`launch_batch`).  ``P`` is overwritten (a plant may switch its values at
     scheduled events).  ``c_eng``, ``c_free``, ``c_plant``: the C engine
-    (:class:`clutchsim.core.cengine.BatchEngine`), ``c_eng`` None for the numba loop;
-    ``c_rows``: the engine's first rows per run."""
+    (:class:`clutchsim.core.cengine.BatchEngine`); ``c_rows``: the engine's first rows
+    per run."""
     empty = empty2[:, 0]
     n_losses = len(ENERGY_STATES) - 1
     losses = np.empty(n_losses)
     for r in range(Y0.shape[0]):
         start = now()
-        # the C engine where it runs the plant, else the numba loop (c_eng None)
         (code, t_end, kk, ii, ts, ys, us, outs, ev_t, ev_k, _ev_a, st, h_small,
-         wall) = drv.run_loop(c_eng, c_free, c_plant, fns, tab, mopt, ctrl, t0, t1, Y0[r],
-                              P[r], bank, bps, ev_dir, n_outputs, fopt, iopt, c_rows)
+         wall) = integrate_nb(c_eng, c_free, c_plant, tab, mopt, ctrl, t0, t1, Y0[r], P[r],
+                              bank, bps, ev_dir, n_outputs, fopt, iopt, c_rows)
         n = ts.shape[0]
         # the plant's physics checks on the run's rows (network/invariants.py)
         scan(ts, ys, outs, inv_el, inv_speeds, inv_wf, inv_passive, rtol, atol, V[r])
@@ -133,7 +129,7 @@ def _run_batch(fns, tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs
         # shapes (~1.8 s of the batch's first compilation, measured)
         for j in range(k.shape[0]):
             K[r, j] = k[j]
-        for j in range(drv.N_STATS):
+        for j in range(N_STATS):
             I[r, j] = st[j]
         I[r, I_CODE] = code
         I[r, I_K] = kk
@@ -148,23 +144,17 @@ def _run_batch(fns, tab, mopt, ctrl, t0, t1, Y0, P, bank, bps, ev_dir, n_outputs
         F[r, F_LOOP] = now() - start
 
 
-#: the fingerprint of the loop's fixed arguments (``prepare_runs(...).fixed_key``) ->
-#: the compiled batch loop for them, called directly (numba's dispatcher would type all
-#: 34 arguments again on every call)
-_ENTRIES: dict = {}
-
-
-def _entry(key, args):
-    entry = _ENTRIES.get(key)
-    if entry is None:
-        sig = tuple(numba.typeof(x) for x in args)
-        with compile_notice(("launch_batch", sig), "a sweep's batch of launches") as first:
-            if first or sig not in _run_batch.overloads:
-                _run_batch.compile(sig)
-        entry = _run_batch.overloads[sig].entry_point
-        if len(_ENTRIES) < 64:
-            _ENTRIES[key] = entry
-    return entry
+def _entry(args):
+    """The compiled batch loop for the types of ``args`` (compiled, or loaded from numba's
+    cache, the first time), to call directly: the batch's arguments are typed once per
+    call here, not by numba's dispatcher on top."""
+    sig = tuple(numba.typeof(x) for x in args)
+    cres = _run_batch.overloads.get(sig)
+    if cres is None:
+        with compile_notice(("launch_batch", sig), "a sweep's batch of launches"):
+            _run_batch.compile(sig)
+        cres = _run_batch.overloads[sig]
+    return cres.entry_point
 
 
 def _columns(system: System, clutch: str) -> np.ndarray | None:
@@ -211,8 +201,12 @@ def _kernel_constants(area: float) -> tuple:
 
 def batch_supported(system: System, t_span, clutch: str) -> str:
     """Why runs of ``system`` over ``t_span`` cannot be batched ("" when they can): the
-    energy accounts the batch reads, and one filter step for every span a run may end
-    with (a run that stops early has a shorter one)."""
+    C engine (the batch calls it), the energy accounts the batch reads, and one filter
+    step for every span a run may end with (a run that stops early has a shorter one)."""
+    if not cengine.available():
+        return "the C engine is not available here"
+    if system.n_states > cengine.MAX_STATES:
+        return f"{system.n_states} states, beyond the C engine's {cengine.MAX_STATES}"
     return _unsupported(_columns(system, clutch), t_span)
 
 
@@ -281,14 +275,14 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
             np.zeros((0, 7), dtype=np.int64), np.zeros(0, dtype=np.int64), -1, False, N_CHECKS)
     V = np.empty((n, inv_rows, N_R))
     eng = batch_engine_for(a, system.n_states)
-    c_eng = (eng.integrate, eng.free, eng.plant) if eng is not None else (
-        None, None, np.zeros(7, dtype=np.int64))
+    if eng is None:
+        raise ValueError(f"{system.name}: cannot run a batch: {prep.why_not()}")
     c_rows = first_rows(t0, t1, float(opts.dt_out), int(opts.max_output))
-    args = (a[0], a[1], a[2], a[3], t0, t1, Y0, P, a[8], a[9], a[10], a[11], a[12], a[13],
+    args = (a[1], a[2], a[3], t0, t1, Y0, P, a[8], a[9], a[10], a[11], a[12], a[13],
             cols, mine, np.empty((0, 1)), *_kernel_constants(float(area)), inv_el, inv_speeds,
-            inv_wf, inv_passive, float(opts.rtol), float(opts.atol), K, iv, fv, V, *c_eng,
+            inv_wf, inv_passive, float(opts.rtol), float(opts.atol), K, iv, fv, V, *eng,
             c_rows)
-    _entry((prep.fixed_key, eng is not None), args)(*args)
+    _entry(args)(*args)
     kinds = system.metadata.get("kinds", {})
     has_slip = f"w_slip_{clutch}" in (*system.state_names, *system.input_names,
                                        *system.output_names)
@@ -304,7 +298,7 @@ def launch_batch(system: System, t_span, inputs, params: np.ndarray, y0: np.ndar
                 checks.violations(V[r]), end.outcome, end.message, end.warnings)
             end = end._replace(outcome=outcome, message=message, warnings=warns,
                                **({"event": "", "event_source": source} if source else {}))
-        sm = RunSummary.of(end, run_stats(i[:drv.N_STATS], float(f[F_H_SMALL]),
+        sm = RunSummary.of(end, run_stats(i[:N_STATS], float(f[F_H_SMALL]),
                                           float(f[F_WALL])),
                            kinds, int(i[I_ROWS]), float(f[F_T_LAST] - f[F_T_FIRST]), has_slip,
                            K[r], float(f[F_ENERGY]))

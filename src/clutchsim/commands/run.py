@@ -80,7 +80,6 @@ def _run(args, out) -> int:
     from ..report import build_report
     from ..scenario import load_scenario
     from ..scenario.outputs import write_runs
-    from ..scenario.warmup import metrics_compiled_beside
     sc = scenario_with_options(load_scenario(args.scenario, overrides=args.set), args.option)
     models = args.model or list(sc.models) or [None]
     if len(set(models)) != len(models):
@@ -90,8 +89,7 @@ def _run(args, out) -> int:
     bar = progress_for(args, "models", tick=1.0)
     try:
         with out.build() as part:
-            with metrics_compiled_beside():
-                summary = write_runs(sc, models, part, plots=not args.no_plots, progress=bar)
+            summary = write_runs(sc, models, part, plots=not args.no_plots, progress=bar)
             summary["failed"] = [n for n, m in _runs(summary).items() if not m["completed"]]
             atomic_write(part / "summary.json", lambda p: p.write_text(
                 json.dumps(summary, indent=2, allow_nan=False, default=float)))

@@ -1,21 +1,21 @@
-"""The C engine: the integration loop in C (``engine.c``), for plants printed as C.
+"""The C engine: the integration loop (``engine.c``), called through :mod:`ctypes`.
 
-A run of a plant whose functions are all printed C (:class:`~.system.NativeFunction` with
-a ``c_address``: the networks and the friction rig, :mod:`clutchsim.cgen`) goes through
-``engine.c``, called through :mod:`ctypes`; other plants (hand-written numba plants, and
-every generated plant on a machine without a C compiler) go through the numba loop
-(:mod:`._driver`).  The two are the same loop, line by line, and give the same bits
-(``tests/core/testcengine.py`` compares them on the examples); the C one takes the
-default launch's loop in about 0.6 of the numba loop's time (``benchmarks/
-engine_compare.py``): no function values to unbox, no reference counts, plain pointers.
-Its call does not hold the GIL, so threads run engines side by side.  Its evaluation of
-the input signals also serves :meth:`clutchsim.core.signals.Signal.__call__`
-(:func:`eval_series`).
+Every run of a compiled method goes through ``engine.c``: the plant's functions reach it
+as C functions (:func:`clutchsim.core._cfunctions.c_functions`: a printed plant's own, a
+numba plant's adapters).  The engine owns step-size control, the Jacobian and
+iteration-matrix reuse, breakpoints, event location on the dense output, reset maps,
+output rows, and the guards that end every run (steps, wall time, step floor, chatter);
+the method is data (the packed tableau of :mod:`clutchsim.core.methods`).  Its call does
+not hold the GIL, so threads run engines side by side; a sweep's batch calls it from
+numba (:func:`integrate_nb`).  Its evaluation of the input signals also serves
+:meth:`clutchsim.core.signals.Signal.__call__` (:func:`eval_series`).
 
 The engine is compiled once per machine (3–4 s) into clutchsim's cache directory,
 under the hash of its source and the compiler flags; a second process loads it.  Where it
-cannot be compiled or loaded, that is said once (logger ``clutchsim``) and every run takes
-the numba loop.
+cannot be compiled or loaded (no C compiler), that is said once (logger ``clutchsim``)
+and runs take scipy's reference backend (:mod:`clutchsim.core.scipy_backend`), each
+result saying so; so does a plant beyond the engine's bounds (:data:`MAX_STATES` and the
+others below).
 """
 
 from __future__ import annotations
@@ -37,10 +37,26 @@ from numba.core.types import WrapperAddressProtocol
 
 from .. import _cc
 from .._jit import cache_dir, jit
-from . import _driver as drv
 
-__all__ = ["BatchEngine", "available", "batch_engine_for", "engine_for", "eval_series", "first_rows",
-           "integrate_nb"]
+__all__ = ["BatchEngine", "available", "batch_engine_for", "beyond_bounds", "dense_linalg",
+           "engine_for", "eval_series", "first_rows", "integrate_nb"]
+
+# The slots of the engine's packed arguments, as engine.c numbers them (its enums).
+#: float options
+(O_RTOL, O_ATOL, O_H0, O_HMAX, O_HMIN, O_WALL, O_CHATTER_WINDOW, O_DT_OUT, O_EVENT_TOL,
+ O_LU_REUSE) = range(10)
+N_FOPT = 10
+#: int options; ``iopt[I_STOP]`` is the one the engine reads while it runs: set to 1 (by
+#: the signal watcher of ``simulate``), the run stops within 256 steps
+(I_MAX_STEPS, I_CHATTER_N, I_MAX_OUTPUT, I_QUADRATURES, I_EXACT_JAC, I_JAC_MAX_AGE,
+ I_FACTOR_SIZE, I_STOP) = range(8)
+N_IOPT = 8
+#: method scalars
+M_FAMILY, M_GAMMA, M_Q, M_DENSE, M_W, M_FSAL = range(6)
+N_MOPT = 6
+#: statistics
+S_STEPS, S_REJECTED, S_RHS, S_JAC, S_LU, S_EVENTS, S_OUTPUT, S_EV_CALLS = range(8)
+N_STATS = 8
 
 log = logging.getLogger("clutchsim")
 
@@ -55,7 +71,7 @@ _ARGTYPES = ([_P] * 7 + [_P] * 7 + [_I, _I] + [_P, _P, _D, _D, _P, _I, _P, _P, _
              _P, _I, _I, _P, _P] + [_P] * 4 + [_I64] + [_P] * 3 + [_I64] + [_P] * 3)
 _EVENT_CAP = 256
 #: engine.c's bounds on a plant (MAXN, MAXS, MAXEV, MAXOUT, MAXF, MAXRING): beyond them a
-#: run takes the numba loop
+#: run takes scipy's reference backend
 MAX_STATES, MAX_STAGES, MAX_EVENTS, MAX_OUTPUTS, MAX_FACTOR, MAX_CHATTER = (
     64, 16, 128, 512, 8192, 4096)
 
@@ -95,11 +111,15 @@ def _library():
                 lib.cl_free.restype = None
                 lib.cl_eval_series.argtypes = [_P, _I, _P, _P, _P]
                 lib.cl_eval_series.restype = None
+                lib.cl_invert_nb.argtypes = [_I64, _D, _I64, _I64, _I64, _I64]
+                lib.cl_invert_nb.restype = _I64
+                lib.cl_solve_into_row_nb.argtypes = [_I64] * 6
+                lib.cl_solve_into_row_nb.restype = None
                 _state["lib"] = lib
             except (_cc.CompilerError, OSError) as exc:
                 _state["lib"] = None
-                log.warning("the C integration engine is not available here, runs take the "
-                            "numba loop (the same results, about 1.6 times its time): %s", exc)
+                log.warning("the C integration engine is not available here, runs take "
+                            "scipy's reference backend (slower, and its own numbers): %s", exc)
         return _state["lib"]
 
 
@@ -112,7 +132,7 @@ def eval_series(bank: np.ndarray, n_channels: int, t: np.ndarray, out: np.ndarra
     """The first channel of the signal bank ``bank`` (``n_channels`` channels) at each of
     the contiguous float64 times ``t`` into ``out`` (:meth:`clutchsim.core.signals.Signal.
     __call__`), by the engine's own input evaluation; False where the engine is not
-    available (the caller evaluates with the numba loop's, the same bits)."""
+    available (the caller evaluates with numba's, the same bits)."""
     lib = _library()
     if lib is None:
         return False
@@ -122,50 +142,34 @@ def eval_series(bank: np.ndarray, n_channels: int, t: np.ndarray, out: np.ndarra
     return True
 
 
-def _addresses(fns, iopt) -> tuple | None:
-    """The C addresses of the plant's functions (``kernels(tag)``), or None unless every
-    one the run calls is printed C: the Jacobian only with an exact one, the factors only
-    with a factor size."""
-    needed = [True, True, True, True, bool(iopt[drv.I_EXACT_JAC]),
-              iopt[drv.I_FACTOR_SIZE] > 0, iopt[drv.I_FACTOR_SIZE] > 0]
-    out = []
-    for f, need in zip(fns, needed):
-        address = getattr(f, "c_address", 0)
-        if need and not address:
-            return None
-        out.append(address or None)
-    return tuple(out)
-
-
-def _fits(args, n_states: int = 0) -> bool:
-    """Is the plant of the loop arguments ``args`` (with ``n_states`` states; the engine
-    checks that number again, a plant beyond it takes the numba loop) within the engine's
-    bounds?"""
+def beyond_bounds(args, n_states: int) -> str:
+    """Why the engine cannot run a plant of ``n_states`` states with the loop arguments
+    ``args`` (its bounds: :data:`MAX_STATES` and the others), or "" where it can."""
     tab, bank, ev_dir, n_outputs, iopt = args[1], args[8], args[10], args[11], args[13]
-    return (n_states <= MAX_STATES and tab[2].shape[0] <= MAX_STAGES
-            and ev_dir.shape[0] <= MAX_EVENTS and n_outputs <= MAX_OUTPUTS
-            and bank.n_channels <= MAX_STATES and iopt[drv.I_FACTOR_SIZE] <= MAX_FACTOR
-            and iopt[drv.I_CHATTER_N] <= MAX_CHATTER)
+    over = [(what, got, most) for what, got, most in (
+        ("states", n_states, MAX_STATES), ("stages of the method", tab[2].shape[0], MAX_STAGES),
+        ("event functions", ev_dir.shape[0], MAX_EVENTS), ("outputs", n_outputs, MAX_OUTPUTS),
+        ("inputs", bank.n_channels, MAX_STATES),
+        ("floats of the plant's factors", int(iopt[I_FACTOR_SIZE]), MAX_FACTOR),
+        ("chatter_events", int(iopt[I_CHATTER_N]), MAX_CHATTER)) if got > most]
+    return "; ".join(f"{got} {what}, beyond the C engine's {most}" for what, got, most in over)
 
 
 def first_rows(t0: float, t1: float, dt_out: float, max_output: int) -> int:
-    """The rows a run's first buffers hold: the output grid and 256 more (events), as the
-    numba loop allocates them (core/_driver.py); with every step a row, 4,096.  The engine
-    grows them where a run needs more."""
+    """The rows a run's first buffers hold: the output grid and 256 more (events); with
+    every step a row, 4,096.  The engine grows them where a run needs more."""
     if dt_out > 0:
         return 256 + int(min((t1 - t0) / dt_out + 2.0, 1e6, max(max_output, 0)))
     return 4096
 
 
-def _ready(args, n_states: int = 0):
-    """``(library, plant addresses)`` for runs with the loop arguments ``args``, or None
-    where they take the numba loop: a plant function the run calls that is not printed C,
-    a plant beyond the engine's bounds, no engine on this machine."""
-    fns = _addresses(args[0], args[13])
-    if fns is None or not _fits(args, n_states):
+def _ready(args, n_states: int):
+    """The engine's library for runs with the loop arguments ``args`` (``args[0]``: the
+    plant's C functions) of a plant of ``n_states`` states, or None where they cannot
+    take it: no engine on this machine, or a plant beyond its bounds."""
+    if args[0] is None or beyond_bounds(args, n_states):
         return None
-    lib = _library()
-    return None if lib is None else (lib, fns)
+    return _library()
 
 
 def _ptr(a: np.ndarray) -> int:
@@ -183,22 +187,23 @@ def _adopt(lib, address: int, count: int, dtype, shape) -> np.ndarray:
 
 class _Engine:
     """The C engine for one prepared run (the loop's arguments but the initial state, the
-    parameters and the int options): ``engine(args)`` returns what the numba loop's
-    ``integrate(*args)`` returns, or None where the plant is beyond the engine's bounds."""
+    parameters and the int options): ``engine(args)`` runs it on ``args`` and returns
+    ``(code, t_end, info_k, info_i, ts, ys, us, outs, ev_t, ev_k, ev_a, stats, h_smallest,
+    wall)``."""
 
     __slots__ = ("fixed", "fns", "lib", "n_rows")
 
-    def __init__(self, lib, fns, args):
-        (_, tab, mopt, ctrl, t0, t1, _, _, bank, bps, ev_dir, n_outputs, fopt, iopt) = args
+    def __init__(self, lib, args):
+        (fns, tab, mopt, ctrl, t0, t1, _, _, bank, bps, ev_dir, n_outputs, fopt, iopt) = args
         keep = [np.ascontiguousarray(x, dtype=np.float64) for x in tab]
         keep += [np.ascontiguousarray(x, dtype=np.float64) for x in (mopt, ctrl, bank.data,
                                                                        bps, fopt)]
         keep.append(np.ascontiguousarray(ev_dir, dtype=np.int64))
         a, C, c, d, m, e, H, mopt_, ctrl_, bank_, bps_, fopt_, ev_ = keep
         self.lib = lib
-        self.fns = fns
-        self.n_rows = first_rows(t0, t1, float(fopt[drv.O_DT_OUT]),
-                                 int(iopt[drv.I_MAX_OUTPUT]))
+        self.fns = tuple(f or None for f in fns)
+        self.n_rows = first_rows(t0, t1, float(fopt[O_DT_OUT]),
+                                 int(iopt[I_MAX_OUTPUT]))
         #: (arguments after the functions up to y0, then bank to iopt) and what they point to
         self.fixed = (
             (*map(_ptr, (a, C, c, d, m, e, H)), c.shape[0], H.shape[0], _ptr(mopt_),
@@ -216,15 +221,16 @@ class _Engine:
                 np.empty((cap, n_out_cols)))
         ev = (np.empty(_EVENT_CAP), np.empty(_EVENT_CAP, dtype=np.int64),
               np.empty(_EVENT_CAP, dtype=np.int64))
-        stats = np.zeros(drv.N_STATS, dtype=np.int64)
+        stats = np.zeros(N_STATS, dtype=np.int64)
         res = np.zeros(5)
         mem = np.zeros(9, dtype=np.int64)
         status = self.lib.cl_integrate(
             *self.fns, *head, _ptr(y0), n, _ptr(p), *mid, _ptr(iopt), *map(_ptr, rows), cap,
             *map(_ptr, ev), _EVENT_CAP, _ptr(stats), _ptr(res), _ptr(mem))
-        if status == UNSUPPORTED:
-            return None
-        k, ne = int(stats[drv.S_OUTPUT]), int(stats[drv.S_EVENTS])
+        if status == UNSUPPORTED:     # engine_for checked the bounds: a bug if it happens
+            raise RuntimeError("the C engine refused a plant within its bounds (states "
+                               f"{n}, inputs {n_in}, outputs {n_out_cols})")
+        k, ne = int(stats[S_OUTPUT]), int(stats[S_EVENTS])
         if mem[0]:
             widths = (1, n, n_in, n_out_cols)
             rows = tuple(_adopt(self.lib, int(mem[1 + j]), k * w, np.float64,
@@ -241,12 +247,13 @@ class _Engine:
                 float(res[2]))
 
 
-def engine_for(args):
+def engine_for(args, n_states: int):
     """The C engine for runs with the loop arguments ``args`` (those of a prepared run,
-    :func:`clutchsim.core.simulate.prepare_runs`), or None where they take the numba loop:
-    a plant function that is not printed C, or no engine on this machine."""
-    ready = _ready(args)
-    return None if ready is None else _Engine(*ready, args)
+    :func:`clutchsim.core.simulate.prepare_runs`) of a plant of ``n_states`` states, or
+    None where they cannot take it (no engine on this machine, a plant beyond its bounds:
+    :func:`beyond_bounds`)."""
+    lib = _ready(args, n_states)
+    return None if lib is None else _Engine(lib, args)
 
 
 _I64T = types.int64
@@ -282,16 +289,32 @@ class BatchEngine(NamedTuple):
 
 def batch_engine_for(args, n_states: int) -> BatchEngine | None:
     """The C engine for compiled callers of runs with the loop arguments ``args`` of a
-    plant of ``n_states`` states, or None where those runs take the numba loop (as
+    plant of ``n_states`` states, or None where they cannot take it (as
     :func:`engine_for`)."""
-    ready = _ready(args, n_states)
-    if ready is None:
+    lib = _ready(args, n_states)
+    if lib is None:
         return None
-    lib, fns = ready
     address = ctypes.cast(lib.cl_integrate_nb, ctypes.c_void_p).value
     free = ctypes.cast(lib.cl_free_nb, ctypes.c_void_p).value
     return BatchEngine(_Address(address, ENGINE_SIG, lib), _Address(free, FREE_SIG, lib),
-                       np.array([f or 0 for f in fns], dtype=np.int64))
+                       np.array(args[0], dtype=np.int64))
+
+
+#: cl_invert_nb's and cl_solve_into_row_nb's signatures (engine.c)
+INVERT_SIG = _I64T(_I64T, types.float64, _I64T, _I64T, _I64T, _I64T)
+SOLVE_ROW_SIG = types.void(*([_I64T] * 6))
+
+
+def dense_linalg():
+    """``(invert, solve_into_row)``: the engine's dense inverse of the leading block of a
+    step's iteration matrix ``c·I − J`` and its stage solve into a row (engine.c's
+    ``cl_invert_nb``, ``cl_solve_into_row_nb``) as numba function values of addresses and
+    sizes, for tests and ``benchmarks/step_cost.py``; None where there is no engine."""
+    lib = _library()
+    if lib is None:
+        return None
+    return tuple(_Address(ctypes.cast(f, ctypes.c_void_p).value, sig, lib) for f, sig in (
+        (lib.cl_invert_nb, INVERT_SIG), (lib.cl_solve_into_row_nb, SOLVE_ROW_SIG)))
 
 
 @jit(inline="always")
@@ -304,8 +327,8 @@ def _a(x):
 def integrate_nb(eng, free, plant, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev_dir,
                  n_outputs, fopt, iopt, cap):
     """One run of the C engine from numba (``eng``, ``free``, ``plant``: a
-    :class:`BatchEngine`), with the numba loop's arguments after its plant functions and
-    ``cap`` rows to start with; returns what ``core.loop.integrate`` returns.  Where the run
+    :class:`BatchEngine`), with the loop arguments after the plant's functions and
+    ``cap`` rows to start with; returns what :class:`_Engine` returns.  Where the run
     outgrew the rows or the event log, the engine's own memory is freed and the run made
     again with room for all of it (the same run: the parameters are restored first)."""
     n = y0.shape[0]
@@ -320,7 +343,7 @@ def integrate_nb(eng, free, plant, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev
         ev_t = np.empty(ecap)
         ev_k = np.empty(ecap, dtype=np.int64)
         ev_a = np.empty(ecap, dtype=np.int64)
-        stats = np.zeros(drv.N_STATS, dtype=np.int64)
+        stats = np.zeros(N_STATS, dtype=np.int64)
         res = np.zeros(5)
         mem = np.zeros(9, dtype=np.int64)
         code = eng(plant[0], plant[1], plant[2], plant[3], plant[4], plant[5], plant[6],
@@ -341,11 +364,11 @@ def integrate_nb(eng, free, plant, tab, mopt, ctrl, t0, t1, y0, p, bank, bps, ev
                 free(mem[j])
         if code == NO_MEMORY:
             raise MemoryError("the integration engine could not grow its rows or event log")
-        cap = max(2 * cap, stats[drv.S_OUTPUT] * 2 + 16)
-        ecap = max(2 * ecap, stats[drv.S_EVENTS] * 2 + 16)
+        cap = max(2 * cap, stats[S_OUTPUT] * 2 + 16)
+        ecap = max(2 * ecap, stats[S_EVENTS] * 2 + 16)
         for i in range(p.shape[0]):
             p[i] = p0[i]
-    k = stats[drv.S_OUTPUT]
-    ne = stats[drv.S_EVENTS]
+    k = stats[S_OUTPUT]
+    ne = stats[S_EVENTS]
     return (code, res[0], np.int64(res[3]), np.int64(res[4]), ts[:k], ys[:k], us[:k],
             outs[:k], ev_t[:ne], ev_k[:ne], ev_a[:ne], stats, res[1], res[2])

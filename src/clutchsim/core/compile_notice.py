@@ -1,16 +1,16 @@
 """Tell the user when a first call is slow because numba is compiling, so it is not taken
 for a hang.
 
-The first simulation of a plant type in a process either loads the compiled integrator
-from the on-disk cache (under a second) or, after installing or changing clutchsim,
-compiles it: the C engine in 3–4 s for printed plants, the numba loop in ~40 s on
-a 2-core machine for numba plants (shared by all of them).  The launch metrics' kernel
-compiles once too (~25 s), at the first launch analysed.
+The first simulation of a plant type in a process either loads what it runs from the
+on-disk caches (under a second) or, after installing or changing clutchsim, compiles it:
+the C engine in 3–4 s (once per machine), a printed plant in 0.2–0.8 s, a numba plant's
+functions and their C adapters in about a second.  The launch metrics' kernel compiles
+once too (~22 s), at the first launch analysed.
 Nothing can be printed from inside numba's compiler, so a timer thread logs one line if the
 guarded block is still running after :data:`NOTICE_AFTER_S` seconds.  numba gives no
 progress hook for this, hence the timer.  The caller guards only the loading or compiling
-(``simulate`` asks numba for the integrator's specialisation before it runs it), so a run
-that is merely long is not announced as compiling.
+(``simulate`` prepares the plant's C functions and the engine before it runs them), so a
+run that is merely long is not announced as compiling.
 """
 
 from __future__ import annotations

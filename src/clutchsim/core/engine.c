@@ -1,21 +1,17 @@
-/* The integration loop of clutchsim in C (clutchsim/core/engine.c): the engine of native
-   runs of plants printed as C (clutchsim.cgen), called through ctypes by
-   clutchsim/core/cengine.py.
+/* The integration loop of clutchsim in C (clutchsim/core/engine.c): the engine of every
+   run of a compiled method, called through ctypes by clutchsim/core/cengine.py (and from
+   numba by a sweep's batch, cl_integrate_nb).
 
-   It is a line-by-line port of the numba loop (core/_driver.py `integrate`, with
-   _engine.py's steps, Jacobian and dense output, _linalg.py's inverse and the inputs of
-   signals.py): the same arithmetic in the same order, so the two give the same bits
-   (tests/core/testcengine.py runs both on the examples and compares every output row,
-   event and counter).  What it saves is the numba loop's own cost: the default launch's
-   loop in 0.59 of the time on the same arguments (benchmarks/engine_compare.py).  Keep the
-   two in step until the numba loop is deleted (issue 41): a change to one is a change to
-   both, and the comparison test says where they part.
+   It began as a line-by-line port of the numba loop that clutchsim had before (deleted in
+   issue 41): the same arithmetic in the same order, the same bits on every example
+   (tests/core/test_cengine.py compares the engine's runs with that loop's, recorded).
 
    The plant's functions arrive as C function pointers (the `cs_` entries of a printed
    plant).  Output rows and the event log are written into the caller's arrays; when those
    are full the engine continues in memory of its own (malloc, doubled as needed), which
    the caller takes over and releases with cl_free.  The sizes of the plant are bounded by
-   the constants below (a larger plant returns UNSUPPORTED and runs in the numba loop). */
+   the constants below (a larger plant returns UNSUPPORTED: cengine.py runs it on scipy's
+   reference backend). */
 
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L   /* clock_gettime under -std=c99 */
@@ -37,7 +33,7 @@ enum { DONE = 0, EVENT_STOP = 1, EVENT_FAIL = 2, MAX_STEPS = 3, WALL_TIME = 4,
        STEP_COLLAPSE = 5, CHATTER = 6, NON_FINITE = 7, JAC_NON_FINITE = 8 };
 enum { UNSUPPORTED = -1, NO_MEMORY = -2 };
 enum { A_CONTINUE = 0, A_STATE_CHANGED = 1, A_STOP = 2, A_FAIL = 3, A_PASS = 4 };
-/* core/_driver.py: slots of the statistics and of the option vectors */
+/* slots of the statistics and of the option vectors (cengine.py's S_*, O_*, I_*, M_*) */
 enum { S_STEPS, S_REJECTED, S_RHS, S_JAC, S_LU, S_EVENTS, S_OUTPUT, S_EV_CALLS, N_STATS };
 enum { O_RTOL, O_ATOL, O_H0, O_HMAX, O_HMIN, O_WALL, O_CHATTER_WINDOW, O_DT_OUT,
        O_EVENT_TOL, O_LU_REUSE };
@@ -68,7 +64,7 @@ enum { DENSE_HERMITE = 0, DENSE_STAGES = 1, DENSE_POLY = 2 };
 static inline double pmax(double a, double b) { return b > a ? b : a; }
 static inline double pmin(double a, double b) { return b < a ? b : a; }
 
-/* ---- inputs (signals.py) ---- */
+/* ---- inputs (the signal bank of signals.py) ---- */
 static inline int interval(const double *a, int o, int n, double x) {
     int lo, hi, i;
     if (n <= SMALL_TABLE) {
@@ -241,7 +237,7 @@ static double starting_step(Ctx *x, double t, const double *y, const double *f0,
     return pmin(pmin(100 * h, h1), h_max);
 }
 
-/* ---- linear algebra (_linalg.py) ---- */
+/* ---- linear algebra ---- */
 static int invert(const double *J, double c, double *M, int64_t *piv, int n, int nd) {
     int i, j, k;
     for (i = 0; i < n; i++) {
@@ -291,7 +287,7 @@ static void solve_into_row(const double *M, const double *b, double *X, int r, i
     }
 }
 
-/* ---- steps (_engine.py) ---- */
+/* ---- steps ---- */
 static int jacobian(Ctx *x, double t, const double *y, double t_ref, const double *f0,
                     double atol_over_rtol, double *ytmp, double *ftmp, double *J, double *dfdt,
                     int exact) {
@@ -683,7 +679,7 @@ static double now_s(void) {
         lu_h = 0.0; \
         check_jump = 1; } while (0)
 
-/* One run: integrate's arguments (core/_driver.py) after the plant's functions: the tableau
+/* One run: after the plant's functions the tableau
    (a, C: s x s; c, d, m, e: s; H: nh x s), mopt, ctrl, the span, y0 (n), p, the signal
    bank's data (n_in channels), the breakpoints, the event directions (n_ev), n_outputs,
    fopt, iopt (iopt[I_STOP] is read while the loop runs: another thread sets it to stop the
@@ -1185,9 +1181,9 @@ end:
     return status;
 }
 
-/* The bank's first channel at each of the n_t times t into out (Signal.__call__, the
-   numba loop's _eval_series in core/signals.py): u is the caller's room for the bank's
-   channels, at least one */
+/* The bank's first channel at each of the n_t times t into out (Signal.__call__; numba's
+   _eval_series in core/signals.py where there is no engine): u is the caller's room for
+   the bank's channels, at least one */
 void cl_eval_series(const double *bank, int n_t, const double *t, double *u, double *out) {
     int i;
     for (i = 0; i < n_t; i++) {
@@ -1232,3 +1228,18 @@ int64_t cl_integrate_nb(int64_t rhs, int64_t events, int64_t reset, int64_t outp
 
 /* cl_free for a caller in numba (a function value of one 64-bit integer) */
 void cl_free_nb(int64_t ptr) { free((void *)(intptr_t)ptr); }
+
+/* The dense inverse of the leading nd x nd block of c·I − J (n x n, the rest the
+   quadratures' diagonal; returns 0 where a pivot is zero or NaN) and a stage solve with it
+   into row r of X (rows of n), as a step makes them: for the tests of the linear algebra
+   and benchmarks/step_cost.py.  Pointers and integers as 64-bit integers (a numba function
+   value of scalars, as cl_integrate_nb). */
+int64_t cl_invert_nb(int64_t J, double c, int64_t M, int64_t piv, int64_t n, int64_t nd) {
+    return invert((const double *)(intptr_t)J, c, (double *)(intptr_t)M,
+                  (int64_t *)(intptr_t)piv, (int)n, (int)nd);
+}
+
+void cl_solve_into_row_nb(int64_t M, int64_t b, int64_t X, int64_t r, int64_t n, int64_t nd) {
+    solve_into_row((const double *)(intptr_t)M, (const double *)(intptr_t)b,
+                   (double *)(intptr_t)X, (int)r, (int)n, (int)nd);
+}

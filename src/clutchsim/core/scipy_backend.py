@@ -129,12 +129,43 @@ def simulate_scipy(system, t0, t1, y0, signals, bank, bps, solver, opts):
             if k < 0:
                 return after, None
 
+    def fire_at_start(t, y, t_ref, left_ref):
+        """Fire what is due where a piece starts (``fire_due``'s return): at the initial
+        time a directional event whose function starts on its post-crossing side (as if it
+        had come from the mirror image), at a breakpoint an event whose function the
+        inputs' jump crossed (its values on the left, with ``left_ref``'s inputs)."""
+        call_events(tag, t, y, inputs_at(t, t_ref), p, g)
+        now = g + side * band
+        if left_ref is None:
+            before = now.copy()
+            for j in range(n_ev):
+                d = system.event_directions[j]
+                if (d == -1 and now[j] < 0.0) or (d == 1 and now[j] > 0.0):
+                    before[j] = -now[j]
+        else:
+            call_events(tag, t, y, inputs_at(t, left_ref), p, g)
+            before = g + side * band
+        k = next((j for j in range(n_ev)
+                  if _crossed(before[j], now[j], system.event_directions[j])), -1)
+        return fire_due(k, t, y, t_ref, before, now) if k >= 0 else (None, None)
+
     armed_after = None      # the banded event values the last reset left (see fire_due)
+    left_ref = None         # the inputs' side left of the piece's start (None at t0)
     for a, b in itertools.pairwise(edges):
         t_ref = 0.5 * (a + b)
         if t >= b:
+            left_ref = t_ref
             continue
         rhs = make_rhs(t_ref)
+        if t == a and n_ev:
+            armed, end = fire_at_start(t, y, t_ref, left_ref)
+            if end is not None:
+                status, message, ended_by, source = end
+                break
+            if armed is not None:
+                armed_after = armed
+                mute_until = t + 1e-10 * max(1.0, abs(t))
+        left_ref = t_ref
         while t < b:
             if armed_after is not None and t >= mute_until:
                 # an event that crossed while the events were muted, just after the one

@@ -24,6 +24,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._jit import jit
+from .cengine import eval_series
 
 __all__ = [
     "Constant",
@@ -68,8 +69,6 @@ class Signal:
 
     def __call__(self, t) -> np.ndarray:
         """Evaluate at times ``t`` [s] (right-continuous at jumps)."""
-        from .cengine import eval_series  # (cengine imports the numba loop, which imports this)
-
         bank = build_bank([self])
         t = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
         out = np.empty_like(t)

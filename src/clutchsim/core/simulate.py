@@ -10,11 +10,10 @@ import threading
 from collections.abc import Mapping
 from typing import ClassVar, NamedTuple
 
-import numba
 import numpy as np
 
-from . import _driver as drv
-from .cengine import engine_for
+from . import cengine as ce
+from ._cfunctions import c_functions
 from .compile_notice import compile_notice
 from .controllers import StepController
 from .methods import EXPLICIT, get_method
@@ -22,9 +21,9 @@ from .options import DEFAULT_METHOD, SolverOptions, check_solver
 from .result import Events, Result, Stats, assemble
 from .signals import Signal, as_signal, build_bank
 from .status import ACTION_WORDS, OUTCOME_OF_CODE, Code, Outcome
-from .system import System, call_jac, closest, factor_size, has_jacobian, kernels
+from .system import System, call_jac, closest, factor_size, has_jacobian
 
-__all__ = ["RunEnd", "compile_numba_loop", "interrupts_deferred", "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
+__all__ = ["RunEnd", "interrupts_deferred", "prepare_runs", "resolve_inputs", "run_end", "run_stats", "simulate"]
 
 def _check_span(t_span) -> tuple[float, float]:
     try:
@@ -126,13 +125,13 @@ def _method_data(solver: str, opts: SolverOptions):
     data = _METHOD_DATA.get(solver)
     if data is None:
         tab = tuple(np.ascontiguousarray(x, dtype=np.float64) for x in m.packed())
-        mopt = np.zeros(drv.N_MOPT)
-        mopt[drv.M_FAMILY] = m.family
-        mopt[drv.M_GAMMA] = getattr(m, "gamma", 0.0)
-        mopt[drv.M_Q] = m.embedded_order + 1
-        mopt[drv.M_DENSE] = m.dense
-        mopt[drv.M_W] = m.w_method
-        mopt[drv.M_FSAL] = getattr(m, "fsal", False)
+        mopt = np.zeros(ce.N_MOPT)
+        mopt[ce.M_FAMILY] = m.family
+        mopt[ce.M_GAMMA] = getattr(m, "gamma", 0.0)
+        mopt[ce.M_Q] = m.embedded_order + 1
+        mopt[ce.M_DENSE] = m.dense
+        mopt[ce.M_W] = m.w_method
+        mopt[ce.M_FSAL] = getattr(m, "fsal", False)
         data = _METHOD_DATA[solver] = (tab, mopt)
     if opts.controller is not None:
         return data[0], data[1], opts.controller.packed()
@@ -166,105 +165,55 @@ def check_jacobian(system: System, y, signals, t0: float = 0.0) -> None:
     _CHECKED_JACOBIANS.add(system.tag)
 
 
-def _load_or_compile(args) -> None:
-    """Get the plant's functions and the integrator's specialisation for ``args`` ready
-    (from numba's cache or by compiling), so that only this, not the run, is timed by
-    :func:`compile_notice`."""
-    for fn in args[0]:      # the plant's function values: compile (or load) each one
-        fn.__wrapper_address__()
-    drv.integrate.compile(tuple(numba.typeof(a) for a in args))
-
-
-#: argument fingerprint -> the compiled specialisation of the integration loop for it
-_ENTRIES: dict = {}
-
-
-def _fingerprint(a):
-    """What decides numba's type of an argument of the loop, computed cheaply: for
-    arrays their dtype, dimensions, layout and write flag; a tuple of function values by
-    identity (the cached tuple of a plant type, :func:`clutchsim.core.system.kernels`)."""
-    if isinstance(a, np.ndarray):
-        return (a.dtype.num, a.ndim, a.flags.c_contiguous, a.flags.writeable)
-    if isinstance(a, tuple):
-        if a and not isinstance(a[0], (np.ndarray, tuple, float, int)):
-            return ("fn", id(a))
-        return tuple(_fingerprint(x) for x in a)
-    return type(a)
-
-
-def _integrate(args, fixed_key=None):
-    """``drv.integrate(*args)``, calling the compiled specialisation directly once numba
-    has chosen it for arguments of these types: numba's own choice types every argument
-    again on each call, ~0.3-0.6 ms for the tuple of function values, as much as a tenth
-    of a launch.  ``fixed_key``: the fingerprint of every argument but the initial state
-    and the parameter vector (``args[6]``, ``args[7]``), computed once by
-    :func:`_prepare`."""
-    if fixed_key is None:
-        fixed_key = tuple(_fingerprint(a) for i, a in enumerate(args) if i not in (6, 7))
-    key = (fixed_key, _fingerprint(args[6]), _fingerprint(args[7]))
-    entry = _ENTRIES.get(key)
-    if entry is not None:
-        return entry(*args)
-    out = drv.integrate(*args)
-    sig = tuple(numba.typeof(a) for a in args)
-    cres = drv.integrate.overloads.get(sig)
-    if cres is not None and len(_ENTRIES) < 64:
-        _ENTRIES[key] = cres.entry_point
-    return out
-
-
-def _run_loop(prep, args):
-    """The integration loop on ``args`` (a run of ``prep``): the C engine where it runs
-    this plant, else the numba loop (a plant beyond the engine's bounds, too)."""
-    engine = prep.engine()
-    out = engine(args) if engine is not None else None
-    return out if out is not None else _integrate(args, prep.fixed_key)
-
-
 class _Prepared:
-    """The arguments of the integration loop that depend only on the plant type, the
-    input signals, the span, the solver and the options, built once for runs that share
-    them (a sweep's variants: one plant type, the scenario's own signal and option
-    objects): the signal bank and breakpoints, the method's tableau and controller, the
-    option vectors, and their fingerprint for :func:`_integrate`.  The loop only reads
-    them."""
+    """The arguments of the C engine that depend only on the plant type, the input
+    signals, the span, the solver and the options, built once for runs that share them (a
+    sweep's variants: one plant type, the scenario's own signal and option objects): the
+    plant's C functions, the signal bank and breakpoints, the method's tableau and
+    controller, the option vectors.  The engine only reads them."""
 
-    __slots__ = ("_engine", "args", "chatter_window", "fixed_key", "refs")
+    __slots__ = ("_engine", "args", "chatter_window", "n_states", "refs")
 
     def __init__(self, system: System, signals, t0: float, t1: float, solver: str,
                  opts: SolverOptions, refs: tuple):
         tab, mopt, ctrl = _method_data(solver, opts)
-        fopt = np.zeros(drv.N_FOPT)
-        fopt[drv.O_RTOL], fopt[drv.O_ATOL] = opts.rtol, opts.atol
-        fopt[drv.O_H0], fopt[drv.O_HMAX], fopt[drv.O_HMIN] = opts.h0, opts.h_max, opts.h_min
-        fopt[drv.O_WALL] = opts.wall_time
-        fopt[drv.O_CHATTER_WINDOW] = opts.chatter_window_for(t1 - t0)
-        fopt[drv.O_DT_OUT] = opts.dt_out
-        fopt[drv.O_EVENT_TOL] = opts.event_tol
-        fopt[drv.O_LU_REUSE] = opts.jacobian.lu_reuse
-        iopt = np.zeros(drv.N_IOPT, dtype=np.int64)
-        iopt[drv.I_MAX_STEPS], iopt[drv.I_CHATTER_N] = opts.max_steps, opts.chatter_events
-        iopt[drv.I_MAX_OUTPUT], iopt[drv.I_QUADRATURES] = opts.max_output, system.quadratures
-        iopt[drv.I_EXACT_JAC] = has_jacobian(system.tag)
-        iopt[drv.I_JAC_MAX_AGE] = opts.jacobian.max_age
-        iopt[drv.I_FACTOR_SIZE] = factor_size(system.tag)
+        fopt = np.zeros(ce.N_FOPT)
+        fopt[ce.O_RTOL], fopt[ce.O_ATOL] = opts.rtol, opts.atol
+        fopt[ce.O_H0], fopt[ce.O_HMAX], fopt[ce.O_HMIN] = opts.h0, opts.h_max, opts.h_min
+        fopt[ce.O_WALL] = opts.wall_time
+        fopt[ce.O_CHATTER_WINDOW] = opts.chatter_window_for(t1 - t0)
+        fopt[ce.O_DT_OUT] = opts.dt_out
+        fopt[ce.O_EVENT_TOL] = opts.event_tol
+        fopt[ce.O_LU_REUSE] = opts.jacobian.lu_reuse
+        iopt = np.zeros(ce.N_IOPT, dtype=np.int64)
+        iopt[ce.I_MAX_STEPS], iopt[ce.I_CHATTER_N] = opts.max_steps, opts.chatter_events
+        iopt[ce.I_MAX_OUTPUT], iopt[ce.I_QUADRATURES] = opts.max_output, system.quadratures
+        iopt[ce.I_EXACT_JAC] = has_jacobian(system.tag)
+        iopt[ce.I_JAC_MAX_AGE] = opts.jacobian.max_age
+        iopt[ce.I_FACTOR_SIZE] = factor_size(system.tag)
         ev_dir = np.array(system.event_directions, dtype=np.int64)
-        #: the loop's arguments with None for the initial state and the parameters
-        self.args = (kernels(system.tag), tab, mopt, ctrl, t0, t1, None, None,
-                     build_bank(signals), _breakpoints(signals, t0, t1), ev_dir,
-                     len(system.output_names), fopt, iopt)
-        self.fixed_key = tuple(_fingerprint(a) for i, a in enumerate(self.args)
-                               if i not in (6, 7))
-        self.chatter_window = float(fopt[drv.O_CHATTER_WINDOW])
+        #: the engine's arguments with None for the initial state and the parameters; the
+        #: plant's C functions None where there is no engine to call them
+        self.args = (c_functions(system) if ce.available() else None, tab, mopt, ctrl, t0,
+                     t1, None, None, build_bank(signals), _breakpoints(signals, t0, t1),
+                     ev_dir, len(system.output_names), fopt, iopt)
+        self.n_states = system.n_states
+        self.chatter_window = float(fopt[ce.O_CHATTER_WINDOW])
         self.refs = refs        # what the key names by identity, kept alive with it
         self._engine = False    # not looked for yet
 
     def engine(self):
-        """The C engine for these runs (:mod:`clutchsim.core.cengine`), or None: they
-        take the numba loop."""
+        """The C engine for these runs (:mod:`clutchsim.core.cengine`), or None where they
+        cannot take it (:meth:`why_not`)."""
         if self._engine is False:
-            self._engine = engine_for(self.args)
+            self._engine = ce.engine_for(self.args, self.n_states)
         return self._engine
+
+    def why_not(self) -> str:
+        """Why these runs cannot take the C engine ("" where they can)."""
+        if self.args[0] is None:
+            return "the C engine is not available here (see the log: no C compiler?)"
+        return ce.beyond_bounds(self.args, self.n_states)
 
     @property
     def options(self) -> SolverOptions:
@@ -284,8 +233,8 @@ def _prepare(system: System, signals, t0: float, t1: float, solver: str,
     the signals are the very objects of an earlier run (identity, so nothing is
     compared or hashed by value; the entry keeps them alive, so an id is never reused
     while it is cached)."""
-    key = (type(system.tag), system.quadratures, system.event_directions,
-           len(system.output_names), solver, t0, t1, id(opts), *map(id, signals))
+    key = (type(system.tag), system.n_states, system.params.size, system.quadratures,
+           system.event_directions, len(system.output_names), solver, t0, t1, id(opts), *map(id, signals))
     hit = _PREPARED.get(key)
     if hit is not None:
         return hit
@@ -314,7 +263,7 @@ def _prepared(system: System, signals, t0: float, t1: float, solver: str,
     """:func:`_prepare`, with the plant's registered Jacobian checked at ``y`` the first
     time the plant type runs."""
     prep = _prepare(system, signals, t0, t1, solver, opts)
-    if prep.args[13][drv.I_EXACT_JAC] and system.tag not in _CHECKED_JACOBIANS:
+    if prep.args[13][ce.I_EXACT_JAC] and system.tag not in _CHECKED_JACOBIANS:
         check_jacobian(system, y, signals, t0)
     return prep
 
@@ -364,26 +313,20 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
                          f"{float(system.params[bad[0]])} must be finite")
     signals = resolve_inputs(system, inputs)
     if solver.startswith("scipy-"):
-        bps = _breakpoints(signals, t0, t1)
-        bank = build_bank(signals)
-        from .scipy_backend import simulate_scipy
-        return simulate_scipy(system, t0, t1, y_init, signals, bank, bps, solver, opts)
-
-    prep = _prepared(system, signals, t0, t1, solver, opts, y_init)
-    # the wall time is measured inside the compiled loop: it excludes JIT compilation
+        return _reference_run(system, t0, t1, y_init, signals, solver, opts)
+    with compile_notice(type(system.tag), system.name, subject="the plant's C functions",
+                        takes="a few seconds"):
+        prep = _prepared(system, signals, t0, t1, solver, opts, y_init)
+        engine = prep.engine()
+    if engine is None:
+        return _without_engine(system, t0, t1, y_init, signals, solver, opts, prep.why_not())
     # a copy: a plant may switch its values at scheduled events (a gear shift)
     # and its own int options: their stop flag is this run's (interrupts_deferred)
     iopt = prep.args[13].copy()
     args = prep.args[:6] + (y_init, system.params.copy()) + prep.args[8:13] + (iopt,)
-    with compile_notice(type(system.tag), system.name,
-                        takes=("a few seconds for the C engine, about half a minute on two "
-                               "cores for the numba loop")) as first:
-        engine = prep.engine()
-        if first and engine is None:
-            _load_or_compile(args)
     with interrupts_deferred(iopt):
         (code, t_end, k, i, ts, ys, us, outs, ev_t, ev_k, ev_a, st, h_small,
-         wall) = _run_loop(prep, args)
+         wall) = engine(args)
     end = run_end(system, opts, solver, prep.chatter_window, int(code), float(t_end), int(k),
                   int(i), ts.shape[0], float(ts[-1]))
     events = Events(ev_t, ev_k, ev_a, system.event_names, system.event_sources, ACTION_WORDS)
@@ -391,6 +334,27 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
                     run_stats(st, h_small, wall), events, solver, event=end.event,
                     warnings=end.warnings, event_source=end.event_source,
                     tolerances=(opts.rtol, opts.atol))
+
+
+def _reference_run(system, t0, t1, y_init, signals, solver: str, opts) -> Result:
+    from .scipy_backend import simulate_scipy
+    return simulate_scipy(system, t0, t1, y_init, signals, build_bank(signals),
+                          _breakpoints(signals, t0, t1), solver, opts)
+
+
+#: the reference method that stands in for a compiled one without the engine
+_STAND_IN = {True: "scipy-rk45", False: "scipy-radau"}
+
+
+def _without_engine(system, t0, t1, y_init, signals, solver: str, opts, why: str) -> Result:
+    """A run of ``solver`` that cannot take the C engine (``why``), on scipy's reference
+    backend (RK45 for an explicit method, Radau for the others), saying so."""
+    stand_in = _STAND_IN[get_method(solver).family == EXPLICIT]
+    result = _reference_run(system, t0, t1, y_init, signals, stand_in, opts)
+    return result.with_warnings(
+        f"integrated by scipy's {stand_in.removeprefix('scipy-').upper()} (the reference "
+        f"backend: slower, and within the tolerances of {solver}, not its numbers), not "
+        f"by {solver}: {why}")
 
 
 #: the signals a run of the compiled loop defers (:func:`interrupts_deferred`)
@@ -426,7 +390,7 @@ class _Watcher:
             data = os.read(self.r, 64)
             iopt = self.iopt
             if iopt is not None and any(b in self.stops for b in data):
-                iopt[drv.I_STOP] = 1
+                iopt[ce.I_STOP] = 1
 
 
 _WATCHER: list = []
@@ -478,11 +442,10 @@ def interrupts_deferred(iopt):
     """Deliver SIGINT and SIGTERM after the compiled loop returns, not inside it, and stop
     the loop when they arrive.
 
-    Python runs a signal's handler between two bytecodes of the main thread, and the
-    compiled loop runs bytecode now and then (numba looks up the plant's function values
-    through Python); a ``KeyboardInterrupt`` raised there is lost inside numba and comes
-    out as ``SystemError: ... returned a result with an exception set``, or as an
-    unrelated ``TypeError``.  So each of the two signals' handlers gets a front
+    Python runs a signal's handler between two bytecodes of the main thread: not while the
+    engine runs (its call does not return to Python), and inside a sweep's compiled batch
+    loop a ``KeyboardInterrupt`` is lost inside numba and comes out as ``SystemError: ...
+    returned a result with an exception set``, or as an unrelated ``TypeError``.  So each of the two signals' handlers gets a front
     (:func:`_front`, installed once and again whenever someone has set another handler;
     it stays and passes signals on, so that a run costs no system call) that only takes
     note while the block runs; the loop's stop flag ``iopt[I_STOP]`` is set at once (by
@@ -521,7 +484,7 @@ def interrupts_deferred(iopt):
         if watcher is not None:
             watcher.iopt = None
         _Deferral.running = None
-        iopt[drv.I_STOP] = 0
+        iopt[ce.I_STOP] = 0
         if _Deferral.caught:
             s = _Deferral.caught[0]
             _deliver(behind[s], s)
@@ -559,30 +522,18 @@ def run_end(system: System, opts: SolverOptions, solver: str, chatter_window: fl
 
 
 def run_stats(st, h_small: float, wall: float) -> Stats:
-    """The :class:`Stats` of a run from the compiled loop's counters (``st``, indexed by
-    ``_driver.S_*``), its smallest step and its wall time."""
-    return Stats(steps=int(st[drv.S_STEPS]), rejected=int(st[drv.S_REJECTED]),
-                 rhs_evals=int(st[drv.S_RHS]), jacobians=int(st[drv.S_JAC]),
-                 lu_decompositions=int(st[drv.S_LU]), events=int(st[drv.S_EVENTS]),
+    """The :class:`Stats` of a run from the engine's counters (``st``, indexed by
+    ``cengine.S_*``), its smallest step and its wall time."""
+    return Stats(steps=int(st[ce.S_STEPS]), rejected=int(st[ce.S_REJECTED]),
+                 rhs_evals=int(st[ce.S_RHS]), jacobians=int(st[ce.S_JAC]),
+                 lu_decompositions=int(st[ce.S_LU]), events=int(st[ce.S_EVENTS]),
                  min_step_s=float(h_small) if math.isfinite(h_small) else 0.0,
-                 wall_s=float(wall), event_evals=int(st[drv.S_EV_CALLS]))
-
-
-def compile_numba_loop(system: System, t_span, inputs: Mapping | None = None, *,
-                       solver: str = DEFAULT_METHOD, options: SolverOptions | None = None
-                       ) -> None:
-    """Compile, or load from numba's cache, the numba loop for runs of ``system`` (which
-    the C engine takes where the plant is printed C, :mod:`clutchsim.core.cengine`): for a
-    caller that will run it (a sweep's batch kernel) or that warms the cache for worker
-    processes."""
-    prep = prepare_runs(system, t_span, inputs, solver=solver, options=options)
-    y0 = np.ascontiguousarray(system.y0, dtype=float)
-    _load_or_compile(prep.args[:6] + (y0, system.params.copy()) + prep.args[8:])
+                 wall_s=float(wall), event_evals=int(st[ce.S_EV_CALLS]))
 
 
 def prepare_runs(system: System, t_span, inputs: Mapping | None = None, *,
                  solver: str = DEFAULT_METHOD, options: SolverOptions | None = None):
-    """The arguments of the compiled loop (:func:`clutchsim.core.loop.integrate`) for
+    """The arguments of the C engine (:func:`clutchsim.core.cengine.integrate_nb`) for
     runs of ``system`` and of its variants (other parameter vectors and initial states of
     the same layout: :meth:`System.with_values`) over ``t_span`` with ``inputs``: for a
     caller that runs many variants from its own compiled loop (a sweep's chunk,
@@ -590,11 +541,10 @@ def prepare_runs(system: System, t_span, inputs: Mapping | None = None, *,
     initial state and the parameter vector (``args[6]``, ``args[7]``);
     ``.chatter_window`` is what :func:`run_end` needs.  The system, span, solver and
     options are checked as :func:`simulate` checks them (compiled methods only), and the
-    plant's functions are compiled or loaded."""
+    plant's C functions are compiled or loaded (``.args[0]``; None where there is no
+    engine here).  ``.engine()`` is None where the runs cannot take the engine, and
+    ``.why_not()`` says why."""
     opts, t0, t1 = _checked(system, t_span, solver, options)
     if solver.startswith("scipy-"):
         raise ValueError(f"solver {solver!r}: a batch of runs needs a compiled method")
-    prep = _prepared(system, resolve_inputs(system, inputs), t0, t1, solver, opts, system.y0)
-    for fn in prep.args[0]:
-        fn.__wrapper_address__()
-    return prep
+    return _prepared(system, resolve_inputs(system, inputs), t0, t1, solver, opts, system.y0)

@@ -31,15 +31,14 @@ where ``t`` is time [s], ``y`` the state vector, ``u`` the input vector and ``p`
 parameter vector (all arrays float64, C-contiguous).  It registers them under a *tag
 type* (a ``NamedTuple`` subclass) with :func:`register_system`.
 
-The plant's functions reach the integrators as first-class numba function values of fixed
-signatures (:data:`KERNEL_SIG`, :data:`RESET_SIG`, :data:`JAC_SIG`, :data:`FACTOR_SIG`,
-:data:`SOLVE_SIG`; :func:`kernels`), so the
-integrators are compiled, and cached on disk, once for all plants: a new plant only
-compiles its own functions (seconds) instead of the integrators (~25 s on the 2-core
-machine).  Each call is indirect (not inlined): 1.3 % of the default launch.  A plant
-family with variants (the rig, one per friction model) registers one tag per variant with
-functions that fold the variant in (closures over a constant compiled under their own
-names), not a run-time dispatch.
+The plant's functions reach the integrators as C functions (the C engine,
+:mod:`clutchsim.core.cengine`): a printed plant's own (:class:`NativeFunction`), or for
+numba functions an adapter per function (:mod:`clutchsim.core._cfunctions`) that views the
+engine's pointers as the arrays of the signatures :data:`KERNEL_SIG`, :data:`RESET_SIG`,
+:data:`JAC_SIG`, :data:`FACTOR_SIG` and :data:`SOLVE_SIG`.  A plant family with variants
+(the rig, one per friction model) registers one tag per variant with functions that fold
+the variant in (closures over a constant compiled under their own names), not a run-time
+dispatch.
 
 The core knows nothing of friction: only these functions.
 """
@@ -48,18 +47,16 @@ from __future__ import annotations
 
 import copy
 import difflib
-import threading
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
-import numba.experimental.function_type  # noqa: F401  (registers typeof for _Kernel)
+import numba.experimental.function_type  # noqa: F401  (typeof of function values)
 import numpy as np
 from numba import types
 from numba.core.errors import NumbaExperimentalFeatureWarning
 from numba.core.types import WrapperAddressProtocol
-from numba.extending import overload
 
 from .._jit import jit
 from .status import Action
@@ -74,10 +71,6 @@ __all__ = [
     "System",
     "closest",
     "register_system",
-    "system_events",
-    "system_outputs",
-    "system_reset",
-    "system_rhs",
 ]
 
 #: reset actions (see :class:`~clutchsim.core.status.Action`), as plain names for plants
@@ -103,7 +96,8 @@ class _Functions(NamedTuple):
 _REGISTRY: dict[type, _Functions] = {}
 
 # numba marks first-class function types experimental and warns at each use; clutchsim
-# relies on them on purpose (see _Kernel) and covers them with its own tests.
+# relies on them on purpose (a printed plant's functions, the engine called from a
+# sweep's batch: cengine.BatchEngine) and covers them with its own tests.
 warnings.filterwarnings("ignore", category=NumbaExperimentalFeatureWarning,
                         message="First-class function type")
 
@@ -118,37 +112,6 @@ JAC_SIG = types.void(types.float64, _ARRAY, _ARRAY, _ARRAY, types.float64[:, ::1
 FACTOR_SIG = types.int64(types.float64, types.float64[:, ::1], _ARRAY)
 #: signature of solve: (F, b, X, r) -> None, writes row r of X
 SOLVE_SIG = types.void(_ARRAY, _ARRAY, types.float64[:, ::1], types.int64)
-
-
-class _Kernel(WrapperAddressProtocol):
-    """One compiled plant function passed to the integrators as a function value.
-
-    numba types an object of this class as a first-class ``FunctionType`` of its
-    signature, not as the particular function: the integrator is then compiled (and cached
-    on disk) once for every plant, instead of once per plant type (~25 s each).  The
-    price: each call goes through numba's C wrapper and cannot be inlined (1.3 % of the
-    default launch), and unboxing the function values is part of the 40–56 µs an
-    integrator call costs beyond its own loop (numba looks each address up through
-    Python; measured in session 13, docs/performance.md).  numba types an object
-    by signature alone only through this protocol; a compiled function passed as itself
-    is specialised on, which recompiles the integrator per plant.
-    """
-
-    def __init__(self, dispatcher, sig):
-        self.dispatcher = dispatcher
-        self.sig = sig
-        self._address = None
-
-    def __wrapper_address__(self):
-        if self._address is None:
-            self.dispatcher.compile(self.sig.args)
-            cres = self.dispatcher.get_compile_result(self.sig)
-            self._address = cres.library.get_pointer_to_function(
-                cres.fndesc.llvm_cfunc_wrapper_name)
-        return self._address
-
-    def signature(self):
-        return self.sig
 
 
 class NativeFunction(WrapperAddressProtocol):
@@ -185,26 +148,6 @@ class NativeFunction(WrapperAddressProtocol):
         return self._call(*args)
 
 
-_kernel_lock = threading.Lock()
-_KERNELS: dict[type, tuple] = {}
-
-
-def kernels(tag):
-    """What the integrators receive for ``tag``: the tuple (rhs, events, reset, outputs,
-    jac, factor, solve) of :class:`_Kernel` function values."""
-    fns = _REGISTRY[type(tag)]
-    with _kernel_lock:
-        out = _KERNELS.get(type(tag))
-        if out is None:
-            out = tuple(f if isinstance(f, NativeFunction) else _Kernel(f, sig)
-                        for f, sig in ((fns.rhs, KERNEL_SIG), (fns.events, KERNEL_SIG),
-                                       (fns.reset, RESET_SIG), (fns.outputs, KERNEL_SIG),
-                                       (fns.jac, JAC_SIG), (fns.factor, FACTOR_SIG),
-                                       (fns.solve, SOLVE_SIG)))
-            _KERNELS[type(tag)] = out
-    return out
-
-
 def plant_functions(tag):
     """The compiled functions registered for ``tag``: a named tuple (rhs, events, reset,
     outputs, jac, has_jac, factor, solve, factor_size), e.g. to time a plant alone in a
@@ -221,11 +164,6 @@ def factor_size(tag) -> int:
     """Floats of the factors of the plant's own iteration-matrix solver (0: it has none,
     the integrators invert densely)."""
     return _REGISTRY[type(tag)].factor_size
-
-
-def _is_kernel_tuple(tag) -> bool:
-    return (isinstance(tag, types.BaseTuple) and len(tag) == 7
-            and all(isinstance(t, types.FunctionType) for t in tag))
 
 
 @jit
@@ -288,105 +226,6 @@ def register_system(tag: type, *, rhs, events=None, reset=None, outputs=None,
                                 factor or _no_factor, solve or _no_solve,
                                 int(factor_size))
     return tag
-
-
-def system_rhs(fns, t, y, u, p, dy):
-    """Compiled-only: the plant's right-hand side (``fns``: the tuple of :func:`kernels`)."""
-    raise NotImplementedError("system_rhs is only callable from compiled code")
-
-
-def system_events(fns, t, y, u, p, g):
-    """Compiled-only: the plant's event functions."""
-    raise NotImplementedError("system_events is only callable from compiled code")
-
-
-def system_reset(fns, t, y, u, p, k):
-    """Compiled-only: the plant's reset map."""
-    raise NotImplementedError("system_reset is only callable from compiled code")
-
-
-def system_outputs(fns, t, y, u, p, out):
-    """Compiled-only: the plant's algebraic outputs."""
-    raise NotImplementedError("system_outputs is only callable from compiled code")
-
-
-def system_jac(fns, t, y, u, p, J):
-    """Compiled-only: the plant's exact Jacobian (a no-op for plants without one)."""
-    raise NotImplementedError("system_jac is only callable from compiled code")
-
-
-def system_factor(fns, c, J, F):
-    """Compiled-only: the plant's factorisation of ``c·I − J`` (0 for plants without
-    one)."""
-    raise NotImplementedError("system_factor is only callable from compiled code")
-
-
-def system_solve(fns, F, b, X, r):
-    """Compiled-only: ``X[r] = M⁻¹·b`` with the factors of :func:`system_factor`."""
-    raise NotImplementedError("system_solve is only callable from compiled code")
-
-
-@overload(system_rhs, jit_options={"cache": True})
-def _ol_rhs(fns, t, y, u, p, dy):
-    if _is_kernel_tuple(fns):
-        def impl(fns, t, y, u, p, dy):
-            fns[0](t, y, u, p, dy)
-        return impl
-    return None
-
-
-@overload(system_events, jit_options={"cache": True})
-def _ol_events(fns, t, y, u, p, g):
-    if _is_kernel_tuple(fns):
-        def impl(fns, t, y, u, p, g):
-            fns[1](t, y, u, p, g)
-        return impl
-    return None
-
-
-@overload(system_reset, jit_options={"cache": True})
-def _ol_reset(fns, t, y, u, p, k):
-    if _is_kernel_tuple(fns):
-        def impl(fns, t, y, u, p, k):
-            return fns[2](t, y, u, p, k)
-        return impl
-    return None
-
-
-@overload(system_outputs, jit_options={"cache": True})
-def _ol_outputs(fns, t, y, u, p, out):
-    if _is_kernel_tuple(fns):
-        def impl(fns, t, y, u, p, out):
-            fns[3](t, y, u, p, out)
-        return impl
-    return None
-
-
-@overload(system_jac, jit_options={"cache": True})
-def _ol_jac(fns, t, y, u, p, J):
-    if _is_kernel_tuple(fns):
-        def impl(fns, t, y, u, p, J):
-            fns[4](t, y, u, p, J)
-        return impl
-    return None
-
-
-@overload(system_factor, jit_options={"cache": True})
-def _ol_factor(fns, c, J, F):
-    if _is_kernel_tuple(fns):
-        def impl(fns, c, J, F):
-            return fns[5](c, J, F)
-        return impl
-    return None
-
-
-@overload(system_solve, jit_options={"cache": True})
-def _ol_solve(fns, F, b, X, r):
-    if _is_kernel_tuple(fns):
-        def impl(fns, F, b, X, r):
-            fns[6](F, b, X, r)
-        return impl
-    return None
 
 
 # Python-callable entry points (the scipy reference backend, linearisation, checks, tests):

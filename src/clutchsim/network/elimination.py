@@ -1,8 +1,8 @@
 """Straight-line elimination of a network plant's iteration matrix, generated per topology.
 
 Every stage of a Rosenbrock step solves a system with ``M = c·I − J`` (``c = 1/(γh)``).
-The integrators' default (:mod:`clutchsim.core._linalg`) inverts ``M`` densely; a
-driveline's Jacobian is sparse (33 of the 100 entries of the default launch's implicit
+The integrators' default (``invert`` in the C engine, ``core/engine.c``) inverts ``M``
+densely; a driveline's Jacobian is sparse (33 of the 100 entries of the default launch's implicit
 block), and its pattern is fixed by the topology.  :func:`elimination_source` writes, for
 one pattern, the two functions of the plant protocol (:mod:`clutchsim.core.system`):
 
@@ -20,7 +20,7 @@ substitution each, ``x_q = (b_q + J[q, :nd]·x) / c``, as in the dense path.
 The order is minimum degree on the symmetrised pattern, ties broken towards states whose
 derivative does not depend on themselves (a spring's twist: its pivot is exactly ``c``).
 Measured on the default launch's pattern (AMD EPYC, 2 cores; numba, straight-line against
-the dense Gauss–Jordan of :mod:`~clutchsim.core._linalg`): the factorisation takes ~31 ns
+the dense Gauss–Jordan of the numba loop the C engine replaced): the factorisation takes ~31 ns
 against ~520 ns for the dense inverse, a stage solve ~17 against ~53 ns.  Index arrays
 (a generic sparse LU) lost to the dense code at this size (session 13,
 ``docs/performance.md``); written out per topology they do not.  No library writes this:

@@ -1,19 +1,14 @@
 """Compile the launch metrics in a second process while this one compiles the integrator.
 
 From an empty numba cache (a fresh install, or clutchsim changed) a sweep's first batch
-compiles its batch loop (and, for a plant the C engine does not run, the numba
-integration loop, ~40 s on the 2-core machine) and the launch-metrics kernel (~25 s), one
-after the other: numba compiles in one thread, under one lock.  The metrics need no
-integrator: a child process compiles the kernel's one signature (single runs and batches
-pass it contiguous columns) into the same on-disk cache meanwhile, from which this process
-then loads it.  A single run needs no numba loop where the C engine runs it
-(:mod:`clutchsim.core.cengine`: every printed plant, on a machine with a C compiler); its
-process then has nothing to compile beside the metrics, and no child is started (measured,
-session 31: a fresh `clutchsim run` with a child that the first analysis waits for took
-45–53 s, without one 43–46 s; the child's start and the two cores shared cost more than the
-few seconds of plant and engine building it overlaps).  Without
-the engine a single run compiles the numba loop, and the child runs the default launch on
-scipy's reference backend (LSODA), which compiles the kernel.
+compiles its batch loop and the launch-metrics kernel (~22 s) it calls: numba compiles in
+one thread, under one lock.  The metrics need no integrator: a child process compiles the
+kernel's one signature (single runs and batches pass it contiguous columns) into the same
+on-disk cache meanwhile, from which this process then loads it.  A single run has nothing
+to compile beside the metrics (the C engine runs the plant: :mod:`clutchsim.core.cengine`),
+and no child is started (measured, session 31: a fresh `clutchsim run` with a child that
+the first analysis waits for took 45–53 s, without one 43–46 s; the child's start and the
+two cores shared cost more than the few seconds of plant and engine building it overlaps).
 A block with other work before its first launch (the demo's drift test) starts the child
 in any case (``work_first``).  Within the block the first launch analysed waits for the
 child (:func:`~clutchsim.analysis.launch_metrics.kernel_compiled_elsewhere`) where it would
@@ -35,14 +30,10 @@ from pathlib import Path
 
 from .._jit import cache_dir
 from ..analysis.launch_metrics import kernel_compiled_elsewhere
-from ..core import cengine
 
 log = logging.getLogger("clutchsim")
 
 __all__ = ["Beside", "metrics_compiled_beside"]
-
-#: the model of the child's launch (any model compiles the same metrics kernel)
-_MODEL = "mykhailevych2020"
 
 
 def _metrics_cached() -> bool:
@@ -53,19 +44,10 @@ def _metrics_cached() -> bool:
 
 
 def _compile_metrics() -> None:
-    """(In the child.) Run the default launch once on LSODA; nothing is kept.  A failure or
-    an interrupt changes nothing but the time the parent takes."""
-    logging.getLogger("clutchsim").setLevel(logging.CRITICAL)
-    with contextlib.suppress(BaseException):    # the parent then compiles them itself
-        from .loader import load_scenario
-        from .run import run_scenario
-        run_scenario(load_scenario(None), _MODEL, solver="scipy-lsoda")
-
-
-def _compile_batch_metrics() -> None:
     """(In the child.) Compile the launch kernel for the types a sweep's batch calls it
     with, those of a single run too, then the energy balance for a single run's (nothing
-    runs); as :func:`_compile_metrics`, a failure costs only time."""
+    runs; nothing is kept).  A failure or an interrupt changes nothing but the time the
+    parent takes."""
     logging.getLogger("clutchsim").setLevel(logging.CRITICAL)
     with contextlib.suppress(BaseException):
         import numba
@@ -76,12 +58,6 @@ def _compile_batch_metrics() -> None:
         _kernels.launch_kernel.compile(
             tuple(numba.typeof(x) for x in kernel_signature_example()))
         _kernels.energy_balance.compile(energy_balance_signature())
-
-
-def _compiles_the_loop(batch: bool) -> bool:
-    """Does this process compile the numba loop for the block's runs?  A batch's kernel
-    calls it; single runs only where the C engine is not available."""
-    return batch or not cengine.available()
 
 
 #: seconds the first analysis waits for the child at most (the kernel compiles in ~22 s on
@@ -116,17 +92,16 @@ class Beside:
 def metrics_compiled_beside(batch: bool = False, *, work_first: bool = False
                             ) -> Iterator[Beside]:
     """Guard a block that runs launches (``batch``: a sweep's batches of launches): if the
-    metrics are not compiled yet, a second core exists and this process compiles the numba
+    metrics are not compiled yet, a second core exists and this process compiles a batch
     loop meanwhile or has other work to do first (``work_first``), a child process compiles
     them meanwhile, and the first launch analysed waits for it (see the module
     docstring)."""
     if ((os.cpu_count() or 1) < 2 or _metrics_cached()
-            or not (work_first or _compiles_the_loop(batch))):
+            or not (work_first or batch)):
         yield Beside()
         return
-    target = _compile_batch_metrics if batch or work_first else _compile_metrics
     child = multiprocessing.get_context("spawn").Process(
-        target=target, name="clutchsim-metrics-compile", daemon=True)
+        target=_compile_metrics, name="clutchsim-metrics-compile", daemon=True)
     child.start()
     beside = Beside(child)
     try:

@@ -1,6 +1,6 @@
 """The integration methods of clutchsim, each one tableau of coefficients (data, not code).
 
-Two families run on the one compiled step loop of :mod:`clutchsim.core._driver`:
+Two families run on the one step loop of the C engine (:mod:`clutchsim.core.cengine`):
 
 * :class:`RosenbrockTableau`: linearly implicit (Rosenbrock and Rosenbrock-W) methods in
   the transformed form of Hairer & Wanner (*Solving ODEs II*, §IV.7, eq. 7.25)::
@@ -31,7 +31,7 @@ from ._order import order_residuals
 
 __all__ = ["METHODS", "ExplicitTableau", "RosenbrockTableau", "get_method", "register_method"]
 
-#: dense-output forms (see ``_engine.dense_eval``)
+#: dense-output forms (see ``dense_eval`` in ``core/engine.c``)
 DENSE_HERMITE = 0      # cubic Hermite through both step ends and their slopes
 DENSE_STAGES = 1       # Rosenbrock continuous extension from the stages (rows of H)
 DENSE_POLY = 2         # explicit RK: y0 + Σ_k θ^(k+1) h Σ_i P[i, k] K_i
