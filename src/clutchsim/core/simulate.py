@@ -314,7 +314,7 @@ def simulate(system: System, t_span, inputs: Mapping | None = None, *, y0=None,
     signals = resolve_inputs(system, inputs)
     if solver.startswith("scipy-"):
         return _reference_run(system, t0, t1, y_init, signals, solver, opts)
-    with compile_notice(type(system.tag), system.name, subject="the plant's C functions",
+    with compile_notice(type(system.tag), system.name, subject="the plant and the integrator",
                         takes="a few seconds"):
         prep = _prepared(system, signals, t0, t1, solver, opts, y_init)
         engine = prep.engine()
