@@ -49,3 +49,38 @@ def emit(result: dict) -> None:
     result = {**result, "cpu": result.get("cpu") or cpu_model(),
               "load_end": list(os.getloadavg())}
     print(json.dumps(result))
+
+
+def c_function_values(system) -> dict:
+    """``{name: function value}`` of the plant's rhs, events, outputs, jac, factor and solve
+    (those the run calls) at their C addresses, as the engine calls them
+    (:func:`clutchsim.core._cfunctions.c_functions`), for timing loops compiled by numba.
+    Every pointer argument is a 64-bit integer (``np.int64(a.ctypes.data)``): on x86-64 and
+    AArch64 a pointer and a 64-bit integer travel in the same register (engine.c's
+    signatures, pointers spelled int64)."""
+    from numba import types
+    from numba.core.types import WrapperAddressProtocol
+
+    from clutchsim.core._cfunctions import c_functions
+
+    i64, f64 = types.int64, types.float64
+    sigs = {"rhs": types.void(f64, i64, i64, i64, i64),
+            "events": types.void(f64, i64, i64, i64, i64),
+            "outputs": types.void(f64, i64, i64, i64, i64),
+            "jac": types.void(f64, i64, i64, i64, i64, i64),
+            "factor": types.intc(f64, i64, i64, i64),
+            "solve": types.void(i64, i64, i64, i64, i64)}
+
+    class Value(WrapperAddressProtocol):
+        def __init__(self, address, sig):
+            self.address, self.sig = address, sig
+
+        def __wrapper_address__(self):
+            return self.address
+
+        def signature(self):
+            return self.sig
+
+    addresses = dict(zip(("rhs", "events", "reset", "outputs", "jac", "factor", "solve"),
+                         c_functions(system)))
+    return {n: Value(addresses[n], sig) for n, sig in sigs.items() if addresses[n]}

@@ -36,7 +36,7 @@ import time
 
 import numba
 import numpy as np
-from _common import emit
+from _common import c_function_values, emit
 from _launch_plain import SPEEDS
 from step_cost import accounts
 
@@ -99,12 +99,18 @@ def _row(name, overrides, ref, repeats, same_model=True, dt_out=None):
             "accounts": accounts(s, get_method(sc.solver).stages, system, kind)}
 
 
+@numba.njit(inline="always")
+def _a(x):
+    return np.int64(x.ctypes.data)
+
+
 @numba.njit
 def _call_in_loop(f, n, t, y, u, p, dy):
+    # f: the C function at its address, pointers as int64 (_common.c_function_values)
     s = 0.0
     for _ in range(n):
         y[0] += 1e-12            # keep the compiler from hoisting the call
-        f(t, y, u, p, dy)
+        f(t, _a(y), _a(u), _a(p), _a(dy))
         s += dy[0]
     return s
 
@@ -114,7 +120,7 @@ def _jac_in_loop(f, n, t, y, u, p, J):
     s = 0.0
     for _ in range(n):
         y[0] += 1e-12
-        f(t, y, u, p, J)
+        f(t, _a(y), _a(u), _a(p), _a(J), J.shape[1])
         s += J[0, 0]
     return s
 
@@ -134,11 +140,12 @@ def _plant_ns(n: int = 200_000) -> dict:
     y = np.array([res[name][i] for name in system.state_names])
     u = np.array([res[name][i] for name in system.input_names])
     out = {}
-    cases = [("rhs", fns.rhs, np.empty(y.size), _call_in_loop, n),
-             ("events", fns.events, np.empty(len(system.event_names)), _call_in_loop, n),
-             ("outputs", fns.outputs, np.empty(len(system.output_names)), _call_in_loop, n)]
+    cf = c_function_values(system)      # the C functions, as the engine calls them
+    cases = [("rhs", cf["rhs"], np.empty(y.size), _call_in_loop, n),
+             ("events", cf["events"], np.empty(len(system.event_names)), _call_in_loop, n),
+             ("outputs", cf["outputs"], np.empty(len(system.output_names)), _call_in_loop, n)]
     if fns.has_jac:
-        cases.append(("jac", fns.jac, np.zeros((y.size, y.size)), _jac_in_loop, n // 10))
+        cases.append(("jac", cf["jac"], np.zeros((y.size, y.size)), _jac_in_loop, n // 10))
     for name, fn, buf, loop, calls in cases:
         loop(fn, 10, 0.9, y, u, system.params, buf)
         best = np.inf

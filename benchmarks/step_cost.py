@@ -24,11 +24,16 @@ import time
 
 import numba
 import numpy as np
-from _common import emit
+from _common import c_function_values, emit
 
 from clutchsim.core.cengine import dense_linalg
 from clutchsim.core.methods import get_method
 from clutchsim.core.system import call_jac, has_jacobian, plant_functions
+
+
+@numba.njit(inline="always")
+def _a(x):
+    return np.int64(x.ctypes.data)
 
 
 @numba.njit
@@ -36,7 +41,7 @@ def _loop_rhs(f, n, t, y, u, p, out):
     s = 0.0
     for _ in range(n):
         y[0] += 1e-14
-        f(t, y, u, p, out)
+        f(t, _a(y), _a(u), _a(p), _a(out))
         s += out[0] if out.size else 0.0
     return s
 
@@ -46,7 +51,7 @@ def _loop_factor(f, n, c, J, F):
     s = 0
     for _ in range(n):
         J[0, 0] += 1e-14
-        s += f(c, J, F)
+        s += f(c, _a(J), J.shape[1], _a(F))
     return s
 
 
@@ -54,7 +59,7 @@ def _loop_factor(f, n, c, J, F):
 def _loop_factor_solve(f, n, F, b, X):
     for _ in range(n):
         b[0] += 1e-14
-        f(F, b, X, 0)
+        f(_a(F), _a(b), _a(X), X.shape[1], 0)
     return X[0, 0]
 
 
@@ -62,7 +67,7 @@ def _loop_factor_solve(f, n, F, b, X):
 def _loop_jac(f, n, t, y, u, p, J):
     for _ in range(n):
         y[0] += 1e-14
-        f(t, y, u, p, J)
+        f(t, _a(y), _a(u), _a(p), _a(J), J.shape[1])
     return J[0, 0]
 
 
@@ -100,23 +105,24 @@ def _best_ns(fn, args, n):
 
 def _costs(system, y, u, n=100_000):
     tag, p = system.tag, system.params
-    fns = plant_functions(tag)     # the compiled functions, as the integrators call them
+    fns = plant_functions(tag)
+    cf = c_function_values(system)     # the C functions, as the engine calls them
     ns = system.n_states
     nd = ns - system.quadratures
     out = {}
     dy = np.empty(ns)
-    _loop_rhs(fns.rhs, 10, 0.5, y.copy(), u, p, dy)
-    out["rhs_ns"] = _best_ns(_loop_rhs, (fns.rhs, n, 0.5, y.copy(), u, p, dy), n)
+    _loop_rhs(cf["rhs"], 10, 0.5, y.copy(), u, p, dy)
+    out["rhs_ns"] = _best_ns(_loop_rhs, (cf["rhs"], n, 0.5, y.copy(), u, p, dy), n)
     g = np.empty(system.n_events)
     if system.n_events:
-        _loop_rhs(fns.events, 10, 0.5, y.copy(), u, p, g)
-        out["events_ns"] = _best_ns(_loop_rhs, (fns.events, n, 0.5, y.copy(), u, p, g), n)
+        _loop_rhs(cf["events"], 10, 0.5, y.copy(), u, p, g)
+        out["events_ns"] = _best_ns(_loop_rhs, (cf["events"], n, 0.5, y.copy(), u, p, g), n)
     else:
         out["events_ns"] = 0.0
     J = np.zeros((ns, ns))
     if has_jacobian(tag):
-        _loop_jac(fns.jac, 10, 0.5, y.copy(), u, p, J)
-        out["jacobian_ns"] = _best_ns(_loop_jac, (fns.jac, n, 0.5, y.copy(), u, p, J), n)
+        _loop_jac(cf["jac"], 10, 0.5, y.copy(), u, p, J)
+        out["jacobian_ns"] = _best_ns(_loop_jac, (cf["jac"], n, 0.5, y.copy(), u, p, J), n)
     else:   # forward differences: nd right-hand sides
         out["jacobian_ns"] = nd * out["rhs_ns"]
     out["jacobian_kind"] = "exact" if has_jacobian(tag) else "finite differences"
@@ -139,10 +145,11 @@ def _costs(system, y, u, n=100_000):
     out["linear_solver"] = "dense inverse"
     if fns.factor_size:
         F = np.empty(fns.factor_size)
-        if _loop_factor(fns.factor, 10, 1e3, J, F) == 10:
-            out["factor_ns"] = _best_ns(_loop_factor, (fns.factor, n, 1e3, J, F), n)
-            _loop_factor_solve(fns.solve, 10, F, b, X)
-            out["factor_solve_ns"] = _best_ns(_loop_factor_solve, (fns.solve, n, F, b, X), n)
+        if _loop_factor(cf["factor"], 10, 1e3, J, F) == 10:
+            out["factor_ns"] = _best_ns(_loop_factor, (cf["factor"], n, 1e3, J, F), n)
+            _loop_factor_solve(cf["solve"], 10, F, b, X)
+            out["factor_solve_ns"] = _best_ns(_loop_factor_solve, (cf["solve"], n, F, b, X),
+                                              n)
             out["linear_solver"] = "plant's factors"
     return out
 

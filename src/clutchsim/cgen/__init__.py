@@ -5,8 +5,8 @@ system C compiler.
   friction kernels it calls, one subset of Python, read through :mod:`ast`);
 * :mod:`clutchsim.cgen.compiler` — the system C compiler; :func:`build_plant_library`
   writes a plant's shared library, :class:`CPlant` loads one: Python callables for checks
-  and tools, and :class:`~clutchsim.core.system.NativeFunction` values (numba's calling
-  convention) that the integrators call directly.
+  and tools, and :class:`~clutchsim.core.system.NativeFunction` values (the C addresses)
+  that the C engine calls directly.
 
 Two users: the network plants clutchsim integrates (:mod:`clutchsim.network.codegen`, a
 new topology compiles in about a second instead of numba's 10–40 s) and the FMU export

@@ -4,36 +4,28 @@
 (a shared library from C sources) come from :mod:`clutchsim._cc`, where the integration
 engine (:mod:`clutchsim.core.cengine`) finds them too.
 :func:`build_plant_library` prints a generated plant module as C (:mod:`clutchsim.cgen.cprint`)
-with two faces per entry point: ``cs_<f>`` with C pointers (for Python through
-:mod:`ctypes`, and for the FMU glue) and ``nb_<f>`` with numba's calling convention, which the
-integrators call as a first-class function value (:class:`~clutchsim.core.system.NativeFunction`):
-no numba compilation at all for a new topology.  :class:`CPlant` loads such a library.
-
-numba's calling convention for a function value is not documented as a C interface, so
-:func:`numba_entries` writes it out from numba's own data model (an array argument is its
-structure's members, in order: meminfo, parent, item count, item size, data, shape,
-strides) and ``tests/cgen/test_native.py`` checks it by calling a printed function from a
-compiled loop on every run of the suite.
+with one entry point ``cs_<f>`` per function, of C pointers: the C engine calls it
+(:class:`~clutchsim.core.system.NativeFunction` carries its address), Python through
+:mod:`ctypes`, and the FMU glue directly; no numba compilation at all for a new topology.
+:class:`CPlant` loads such a library.
 """
 
 from __future__ import annotations
 
 import ctypes
-import functools
 import os
 import shutil
 import tempfile
 from pathlib import Path
 
 import numpy as np
-from numba import types
 
 from .._cc import CompilerError, NoCompilerError, compile_shared, find_compiler
-from ..core.system import FACTOR_SIG, JAC_SIG, KERNEL_SIG, RESET_SIG, SOLVE_SIG, NativeFunction
+from ..core.system import NativeFunction
 from .cprint import A1, A2, D, I, print_c
 
 __all__ = ["PLANT_ENTRIES", "CPlant", "CompilerError", "NoCompilerError", "build_plant_library",
-           "check_numba_abi", "compile_shared", "find_compiler", "numba_entries"]
+           "compile_shared", "find_compiler"]
 
 #: the plant's entry points and their argument types (clutchsim.core.system protocol)
 PLANT_ENTRIES = {
@@ -47,78 +39,16 @@ PLANT_ENTRIES = {
 }
 #: the entry points a plant may lack (its solver of the iteration matrix)
 OPTIONAL_ENTRIES = ("factor", "solve")
-#: numba signature of each entry point
-_SIGS = {n: {"reset": RESET_SIG, "jac": JAC_SIG, "factor": FACTOR_SIG,
-             "solve": SOLVE_SIG}.get(n, KERNEL_SIG) for n in PLANT_ENTRIES}
 #: the entry points that return an integer (the others return nothing)
-RETURNS_INT = tuple(n for n, sig in _SIGS.items() if sig.return_type != types.void)
-
-
-#: numba's data model of each argument kind, flattened: (C parameters, the expression the
-#: ``cs_`` entry receives)
-_NB_ARG = {
-    D: ("double {n}", "{n}"),
-    I: ("int64_t {n}", "(int){n}"),
-    A1: (("void *{n}_mi, void *{n}_pa, int64_t {n}_ni, int64_t {n}_is, double *{n}, "
-         "int64_t {n}_s0, int64_t {n}_t0"), "{n}"),
-    A2: (("void *{n}_mi, void *{n}_pa, int64_t {n}_ni, int64_t {n}_is, double *{n}, "
-         "int64_t {n}_s0, int64_t {n}_s1, int64_t {n}_t0, int64_t {n}_t1"), "{n}, (int){n}_s1"),
-}
-
-
-#: numba's LLVM value types of the argument kinds, pointers written ``ptr``: what
-#: :data:`_NB_ARG` spells out member by member
-_NB_VALUE_TYPES = {
-    D: "double",
-    I: "i64",
-    A1: "{ptr, ptr, i64, i64, ptr, [1 x i64], [1 x i64]}",
-    A2: "{ptr, ptr, i64, i64, ptr, [2 x i64], [2 x i64]}",
-}
-
-
-@functools.cache
-def check_numba_abi() -> None:
-    """Raise :class:`CompilerError` unless this numba passes each argument kind as
-    :func:`numba_entries` receives it (its array data model could change with a release):
-    the plant is then compiled by numba instead of called wrongly.  Checked once per
-    process."""
-    import re
-
-    import numba
-    from numba.core.datamodel import default_manager
-    kinds = {D: types.float64, I: types.int64, A1: types.float64[::1],
-             A2: types.float64[:, ::1]}
-    for kind, t in kinds.items():
-        got = re.sub(r"[\w.]+\*", "ptr", str(default_manager.lookup(t).get_value_type()))
-        if got != _NB_VALUE_TYPES[kind]:
-            raise CompilerError(f"numba {numba.__version__} passes {t} as {got}, not as "
-                                f"{_NB_VALUE_TYPES[kind]}, which the printed plant's numba "
-                                "entry points are written for")
-
-
-def numba_entries(entries: dict[str, tuple]) -> str:
-    """C source of ``nb_<f>`` for each entry ``f`` (argument kinds as :data:`PLANT_ENTRIES`):
-    numba's calling convention for a first-class function value, calling ``cs_<f>``.  An
-    entry that returns (:data:`RETURNS_INT`) returns ``int64_t``; the others ``void``."""
-    out = ["#include <stdint.h>", ""]
-    for name, kinds in entries.items():
-        names = [f"a{i}" for i in range(len(kinds))]
-        params = ", ".join(_NB_ARG[k][0].format(n=n) for k, n in zip(kinds, names))
-        args = ", ".join(_NB_ARG[k][1].format(n=n) for k, n in zip(kinds, names))
-        if name in RETURNS_INT:
-            out += [f"int64_t nb_{name}({params}) {{", f"    return (int64_t)cs_{name}({args});",
-                    "}"]
-        else:
-            out += [f"void nb_{name}({params}) {{", f"    cs_{name}({args});", "}"]
-    return "\n".join(out) + "\n"
+RETURNS_INT = ("reset", "factor")
 
 
 def build_plant_library(module, out: Path, entries: dict[str, tuple] | None = None):
     """Print the generated plant ``module`` as C (``entries``: name -> argument kinds,
-    default :data:`PLANT_ENTRIES`) with its numba entry points and compile it into the
-    shared library ``out``, atomically (a reader never sees a half-written library; two
-    processes building the same one both succeed); returns the printed
-    :class:`~clutchsim.cgen.cprint.CProgram` (without the numba entry points).  Raises
+    default :data:`PLANT_ENTRIES`) and compile it into the shared library ``out``,
+    atomically (a reader never sees a half-written library; two processes building the
+    same one both succeed); returns the printed
+    :class:`~clutchsim.cgen.cprint.CProgram`.  Raises
     :class:`~clutchsim.cgen.cprint.CPrintError`, :class:`NoCompilerError`,
     :class:`CompilerError`."""
     entries = dict(entries or PLANT_ENTRIES)
@@ -127,7 +57,7 @@ def build_plant_library(module, out: Path, entries: dict[str, tuple] | None = No
     out.parent.mkdir(parents=True, exist_ok=True)
     d = Path(tempfile.mkdtemp(prefix=".build-", dir=out.parent))
     try:
-        (d / "plant.c").write_text(program.source + "\n" + numba_entries(entries))
+        (d / "plant.c").write_text(program.source)
         compile_shared([d / "plant.c"], d / out.name)
         os.replace(d / out.name, out)
     finally:
@@ -141,7 +71,7 @@ class CPlant:
     ``rhs(t, y, u, p, dy)``, ``events``, ``outputs``, ``reset(t, y, u, p, k) -> action`` and
     ``jac(t, y, u, p, J)`` are callable from Python (arrays float64, C-contiguous);
     :meth:`native` gives the same function as a
-    :class:`~clutchsim.core.system.NativeFunction` for the integrators.
+    :class:`~clutchsim.core.system.NativeFunction` for the C engine.
 
     ``CPlant(plan)`` prints and compiles ``plan``'s module into a temporary library (for
     checking the printed C against the plant clutchsim runs); ``CPlant.load(path)`` loads a
@@ -223,11 +153,6 @@ class CPlant:
         self.lib.cs_solve(F, b, X, X.shape[1], int(r))
 
     def native(self, name: str):
-        """Entry ``name`` as a function value for the integrators (its ``nb_`` face);
-        :class:`CompilerError` when this numba passes arguments otherwise
-        (:func:`check_numba_abi`)."""
-        check_numba_abi()
-        sig = _SIGS[name]
-        address = ctypes.cast(getattr(self.lib, f"nb_{name}"), ctypes.c_void_p).value
+        """Entry ``name`` for the integrators: its C address, callable from Python."""
         c_address = ctypes.cast(getattr(self.lib, f"cs_{name}"), ctypes.c_void_p).value
-        return NativeFunction(address, sig, getattr(self, name), keep=self, c_address=c_address)
+        return NativeFunction(c_address, getattr(self, name), keep=self)

@@ -27,12 +27,15 @@ import os
 import shutil
 import tempfile
 import threading
+import warnings
 import weakref
 from pathlib import Path
 from typing import NamedTuple
 
+import numba.experimental.function_type  # noqa: F401  (typeof of function values)
 import numpy as np
 from numba import types
+from numba.core.errors import NumbaExperimentalFeatureWarning
 from numba.core.types import WrapperAddressProtocol
 
 from .. import _cc
@@ -59,6 +62,12 @@ S_STEPS, S_REJECTED, S_RHS, S_JAC, S_LU, S_EVENTS, S_OUTPUT, S_EV_CALLS = range(
 N_STATS = 8
 
 log = logging.getLogger("clutchsim")
+
+# numba marks first-class function types experimental and warns at each use; clutchsim
+# relies on them on purpose (the engine called from a sweep's batch: BatchEngine) and
+# covers them with its own tests.
+warnings.filterwarnings("ignore", category=NumbaExperimentalFeatureWarning,
+                        message="First-class function type")
 
 SOURCE = Path(__file__).with_name("engine.c")
 #: cl_integrate's statuses beyond clutchsim.core.status.Code

@@ -47,16 +47,12 @@ from __future__ import annotations
 
 import copy
 import difflib
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
-import numba.experimental.function_type  # noqa: F401  (typeof of function values)
 import numpy as np
 from numba import types
-from numba.core.errors import NumbaExperimentalFeatureWarning
-from numba.core.types import WrapperAddressProtocol
 
 from .._jit import jit
 from .status import Action
@@ -95,12 +91,6 @@ class _Functions(NamedTuple):
 
 _REGISTRY: dict[type, _Functions] = {}
 
-# numba marks first-class function types experimental and warns at each use; clutchsim
-# relies on them on purpose (a printed plant's functions, the engine called from a
-# sweep's batch: cengine.BatchEngine) and covers them with its own tests.
-warnings.filterwarnings("ignore", category=NumbaExperimentalFeatureWarning,
-                        message="First-class function type")
-
 _ARRAY = types.float64[::1]
 #: signature of rhs, events and outputs: (t, y, u, p, out) -> None
 KERNEL_SIG = types.void(types.float64, _ARRAY, _ARRAY, _ARRAY, _ARRAY)
@@ -114,35 +104,22 @@ FACTOR_SIG = types.int64(types.float64, types.float64[:, ::1], _ARRAY)
 SOLVE_SIG = types.void(_ARRAY, _ARRAY, types.float64[:, ::1], types.int64)
 
 
-class NativeFunction(WrapperAddressProtocol):
-    """A plant function compiled outside numba (a C shared library, :mod:`clutchsim.cgen`),
-    as a function value the integrators call directly.
+class NativeFunction:
+    """A plant function compiled outside numba (a C shared library, :mod:`clutchsim.cgen`).
 
-    ``address`` is a function with numba's calling convention for a first-class function
-    of signature ``sig``: scalars as themselves, each array argument as the members of
-    numba's array structure in order (meminfo, parent, item count, item size, data
-    pointer, then the shape and the strides, one per dimension).  ``call`` runs the same
+    ``c_address`` is the function with plain C pointers (the ``cs_`` entry of a printed
+    plant), which the C engine calls (:mod:`clutchsim.core.cengine`); ``call`` runs the same
     function from Python (``ctypes``), so a native plant function is called like a compiled
     one: ``f(t, y, u, p, out)``.  ``keep`` holds what must outlive the address (the loaded
-    library).  ``c_address``: the same function with plain C pointers (the ``cs_`` entry of
-    a printed plant), which the C engine calls (:mod:`clutchsim.core.cengine`); 0 where
-    there is none.
+    library).
     """
 
-    def __init__(self, address: int, sig, call, keep=None, c_address: int = 0):
-        if not address:
-            raise ValueError(f"native function of {sig}: null address")
-        self.address = int(address)
-        self.c_address = int(c_address or 0)
-        self.sig = sig
+    def __init__(self, c_address: int, call, keep=None):
+        if not c_address:
+            raise ValueError("native function: null address")
+        self.c_address = int(c_address)
         self._call = call
         self._keep = keep
-
-    def __wrapper_address__(self):
-        return self.address
-
-    def signature(self):
-        return self.sig
 
     def __call__(self, *args):
         return self._call(*args)
