@@ -305,11 +305,11 @@ class _PlantRenderer:
              f"shl = local_empty({m})"]
         for i, c in enumerate(P.sw):
             e = P.fe_index[c.name]
-            L.append(f"lk{e} = {self.lock_test(c)}")
+            L.append(f"locked{e} = {self.lock_test(c)}")
             if _lossy(c):
                 L.append(f"F1_{e} = 0.0")
             else:
-                L.append(f"F1_{e} = 0.0 if lk{e} else {self.force(c, '0.0')}")
+                L.append(f"F1_{e} = 0.0 if locked{e} else {self.force(c, '0.0')}")
         # generalised forces with the pass-1 forces of the free elements
         for k in range(nv):
             terms = [f"F1_{P.fe_index[c.name]} * {self.slip_row(i, k)}" for i, c in enumerate(P.sw)
@@ -329,15 +329,15 @@ class _PlantRenderer:
         for i, c in enumerate(P.sw):
             e = P.fe_index[c.name]
             if c in need_hyp:
-                skip = f"lk{e}"
+                skip = f"locked{e}"
                 if not full and _stick_slip(c):
                     skip += f" or y[{P.state_index[(c.name, 'z0')]}] != 0.0"
-                lines = [f"if {skip}:", f"    fT{e} = 0.0 if lk{e} else F1_{e}\n    Fe{e} = 0.0",
+                lines = [f"if {skip}:", f"    fT{e} = 0.0 if locked{e} else F1_{e}\n    Fe{e} = 0.0",
                          "else:"]
                 inner = []
                 for j, c2 in enumerate(P.sw):
                     e2 = P.fe_index[c2.name]
-                    inner.append(f"act[{j}] = 1.0 if ({j} == {i} or lk{e2}) else 0.0")
+                    inner.append(f"act[{j}] = 1.0 if ({j} == {i} or locked{e2}) else 0.0")
                     inner.append(f"rr[{j}] = " + " + ".join(
                         f"{self.slip_row(j, k)} * aG{k}" for k in range(nv))
                         + f" + F1_{e} * p[{P.off_S + j * m + i}]")
@@ -350,9 +350,9 @@ class _PlantRenderer:
                 L += lines + _ind(inner)
             else:
                 L.append(f"Fe{e} = 0.0")
-                L.append(f"fT{e} = 0.0 if lk{e} else F1_{e}")
+                L.append(f"fT{e} = 0.0 if locked{e} else F1_{e}")
         for k in range(nv):
-            terms = [f"(0.0 if lk{P.fe_index[c.name]} else fT{P.fe_index[c.name]}) * "
+            terms = [f"(0.0 if locked{P.fe_index[c.name]} else fT{P.fe_index[c.name]}) * "
                      f"{self.slip_row(i, k)}" for i, c in enumerate(P.sw)]
             L.append(f"F{k} = F{k} - ({' + '.join(terms)})")
         for k in range(nv):
@@ -361,7 +361,7 @@ class _PlantRenderer:
         for i, c in enumerate(P.sw):
             e = P.fe_index[c.name]
             L.append(f"sh{e} = shl[{i}]")
-            L.append(f"if lk{e}:")
+            L.append(f"if locked{e}:")
             L.append(f"    fT{e} = tau[{i}]")
             L.append(f"    Fe{e} = tau[{i}]")
             if not _lossy(c):
@@ -374,7 +374,7 @@ class _PlantRenderer:
         P, m, nv = self.P, self.m, self.nv
         L = []
         for i, c in enumerate(P.sw):
-            L.append(f"act[{i}] = 1.0 if lk{P.fe_index[c.name]} else 0.0")
+            L.append(f"act[{i}] = 1.0 if locked{P.fe_index[c.name]} else 0.0")
             L.append(f"rr[{i}] = " + " + ".join(f"{self.slip_row(i, k)} * {acc(k)}"
                                                 for k in range(nv)))
         L.append(f"lock_solve(p, {P.off_S}, {m}, act, rr, tau, shl)")
@@ -417,7 +417,7 @@ class _PlantRenderer:
             b.append(f"G{k} = G{k} - F1_{e} * {self.slip_row(i, k)}")
         L = [f"F1_{e} = 0.0", f"dLT{e} = 0.0", f"dLs{e} = 0.0"]
         L += [f"xu{e}_{k} = 0.0" for k in range(nv)]
-        L += [f"if not lk{e}:"] + _ind(b)
+        L += [f"if not locked{e}:"] + _ind(b)
         self.imports.add(("clutchsim.network._kernels", "lossy_coeffs"))
         self.imports.add(("clutchsim.network._kernels", "lossy_solve"))
         return L
@@ -441,7 +441,7 @@ class _PlantRenderer:
                     continue
                 e2 = P.fe_index[c2.name]
                 f1 = f"F1_{e2}" if free_f1 else "0.0"
-                applied.append(f"{-float(gv[n])!r} * ({tau}[{j}] if lk{e2} else {f1})")
+                applied.append(f"{-float(gv[n])!r} * ({tau}[{j}] if locked{e2} else {f1})")
             if unit is not None and unit[n] != 0.0:
                 applied.append(f"{-float(unit[n])!r}")
             lines.append(f"Rx{e}_{n} = {self.node_inertia(n)} * ({al}) - ({' + '.join(applied) or '0.0'})")
@@ -810,7 +810,7 @@ class _PlantRenderer:
                         b += self.expand("J", fr, ("w", int(nd)),
                                          f"fT{e} * {float(gv[nd])!r}")
                 continue
-            cond = f"not lk{e}" if c.name in P.sw_index else "True"
+            cond = f"not locked{e}" if c.name in P.sw_index else "True"
             blk = [f"Jz{e} = local_zeros(({nz}, {nz + 1}))", f"dF{e} = local_zeros({nz + 3})",
                    f"dz{e} = local_zeros({max(nz, 1)})",
                    f"{self.fcall('friction_jacobian', c, f'Fe{e}', dz=f'dz{e}[:{nz}]', extra=f', Jz{e}, dF{e}')}",
@@ -955,7 +955,7 @@ class _PlantRenderer:
                       for key, expr in c.scale_partials_of(e)]
             for key, expr in parts:
                 blk += self.expand(f"d1_{e}", 0, key, expr)
-            L += [f"if not lk{e}:"] + _ind(blk)
+            L += [f"if not locked{e}:"] + _ind(blk)
         for c in stick:
             e, _o, _npar, nz, _iz = self.fe_meta(c)
             i = P.sw_index[c.name]
@@ -964,7 +964,7 @@ class _PlantRenderer:
             for k in range(nv):
                 base = " + ".join(f"{P.N(nd, k)} * dTb[{nd}, col]" for nd in range(nn)
                                   if asm.pattern[nd][k]) or "0.0"
-                minus = " + ".join(f"(0.0 if lk{P.fe_index[c2.name]} else {self.slip_row(j, k)} * "
+                minus = " + ".join(f"(0.0 if locked{P.fe_index[c2.name]} else {self.slip_row(j, k)} * "
                                    f"d1_{P.fe_index[c2.name]}[0, col])"
                                    for j, c2 in enumerate(P.sw))
                 col.append(f"gq{k} = {base} - ({minus})")
@@ -972,7 +972,7 @@ class _PlantRenderer:
                 col.append(f"xq{k} = " + self.minv_row(k, lambda j: f"gq{j}"))
             for j, c2 in enumerate(P.sw):
                 e2 = P.fe_index[c2.name]
-                col.append(f"act[{j}] = 1.0 if ({j} == {i} or lk{e2}) else 0.0")
+                col.append(f"act[{j}] = 1.0 if ({j} == {i} or locked{e2}) else 0.0")
                 col.append(f"rr[{j}] = " + " + ".join(f"{self.slip_row(j, k)} * xq{k}"
                                                       for k in range(nv))
                            + f" + d1_{e}[0, col] * p[{P.off_S + j * m + i}]")
@@ -990,10 +990,10 @@ class _PlantRenderer:
             if getattr(c, "wear", None) is not None:
                 wr = P.state_index[(c.name, "wear")]
                 col.append(f"J[{wr}, col] += kw{e} * sq{e} * vq * s{e}")
-            L += [f"dFe{e} = dF{e}[{nz + 1}] if not lk{e} else 0.0",
+            L += [f"dFe{e} = dF{e}[{nz + 1}] if not locked{e} else 0.0",
                   f"if dFe{e} != 0.0:", f"    for col in range({n}):", *_ind(col, 2)]
         # the lock projection of the columns below marks the locked elements again
-        L += [f"act[{j}] = 1.0 if lk{P.fe_index[c2.name]} else 0.0"
+        L += [f"act[{j}] = 1.0 if locked{P.fe_index[c2.name]} else 0.0"
               for j, c2 in enumerate(P.sw)]
         return L
 
@@ -1085,7 +1085,7 @@ class _PlantRenderer:
                 al = " + ".join(f"{P.N(nd, k)} * da{k}" for k in range(nv)
                                 if asm.pattern[nd][k]) or "0.0"
                 locks = [f"{-float(P.slips[c2.name][nd])!r} * (tau[{j}] if "
-                         f"lk{P.fe_index[c2.name]} else 0.0)"
+                         f"locked{P.fe_index[c2.name]} else 0.0)"
                          for j, c2 in enumerate(P.sw) if P.slips[c2.name][nd] != 0.0]
                 b.append(f"dR{nd} = {self.node_inertia(nd)} * ({al}) - (dTc[{nd}]"
                          + "".join(f" + {x}" for x in locks) + ")")
@@ -1098,7 +1098,7 @@ class _PlantRenderer:
             b += [f"J[{fr}, col] += dL * s{e}" for fr in self.work_rows(c)]
             for nd in np.flatnonzero(gi):
                 b.append(f"dTc[{int(nd)}] += {-float(gi[nd])!r} * dL")
-            L += [f"if not lk{e}:"] + _ind(b)
+            L += [f"if not locked{e}:"] + _ind(b)
         return L
 
     def module(self) -> str:
