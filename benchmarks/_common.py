@@ -59,9 +59,9 @@ def c_function_values(system) -> dict:
     AArch64 a pointer and a 64-bit integer travel in the same register (engine.c's
     signatures, pointers spelled int64)."""
     from numba import types
-    from numba.core.types import WrapperAddressProtocol
 
     from clutchsim.core._cfunctions import c_functions
+    from clutchsim.core.cengine import _Address
 
     i64, f64 = types.int64, types.float64
     sigs = {"rhs": types.void(f64, i64, i64, i64, i64),
@@ -70,17 +70,6 @@ def c_function_values(system) -> dict:
             "jac": types.void(f64, i64, i64, i64, i64, i64),
             "factor": types.intc(f64, i64, i64, i64),
             "solve": types.void(i64, i64, i64, i64, i64)}
-
-    class Value(WrapperAddressProtocol):
-        def __init__(self, address, sig):
-            self.address, self.sig = address, sig
-
-        def __wrapper_address__(self):
-            return self.address
-
-        def signature(self):
-            return self.sig
-
     addresses = dict(zip(("rhs", "events", "reset", "outputs", "jac", "factor", "solve"),
                          c_functions(system)))
-    return {n: Value(addresses[n], sig) for n, sig in sigs.items() if addresses[n]}
+    return {n: _Address(addresses[n], sig, system) for n, sig in sigs.items() if addresses[n]}

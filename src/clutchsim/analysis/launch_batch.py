@@ -30,7 +30,7 @@ import numba
 import numpy as np
 
 from .._jit import jit
-from ..core import System, cengine
+from ..core import System
 from ..core._clock import now
 from ..core.cengine import N_STATS, batch_engine_for, first_rows, integrate_nb
 from ..core.compile_notice import compile_notice
@@ -201,12 +201,10 @@ def _kernel_constants(area: float) -> tuple:
 
 def batch_supported(system: System, t_span, clutch: str) -> str:
     """Why runs of ``system`` over ``t_span`` cannot be batched ("" when they can): the
-    C engine (the batch calls it), the energy accounts the batch reads, and one filter
-    step for every span a run may end with (a run that stops early has a shorter one)."""
-    if not cengine.available():
-        return "the C engine is not available here"
-    if system.n_states > cengine.MAX_STATES:
-        return f"{system.n_states} states, beyond the C engine's {cengine.MAX_STATES}"
+    energy accounts the batch reads, and one filter step for every span a run may end
+    with (a run that stops early has a shorter one).  Whether the runs can take the C
+    engine, which the batch calls, is the prepared runs' to say
+    (``prepare_runs(...).why_not()``; :func:`launch_batch` raises with it)."""
     return _unsupported(_columns(system, clutch), t_span)
 
 

@@ -102,7 +102,7 @@ _ADAPTED: dict = {}
 def _address(f, build, *sizes) -> tuple[int, object]:
     """The C address of plant function ``f``: its own where it is printed C, else that
     of its adapter (``build(f, *sizes)``), with what must stay alive for it."""
-    if isinstance(f, NativeFunction) and f.c_address:
+    if isinstance(f, NativeFunction):
         return f.c_address, f
     if not isinstance(f, CPUDispatcher):
         raise TypeError(f"plant function {f!r} is neither numba-compiled (@numba.njit) nor "

@@ -272,8 +272,9 @@ FREE_SIG = types.void(_I64T)
 
 
 class _Address(WrapperAddressProtocol):
-    """A function of the engine's library as a numba function value of signature ``sig``
-    (all its arguments scalars: numba calls it as a plain C function)."""
+    """A C function at ``address`` as a numba function value of signature ``sig`` (all its
+    arguments scalars: numba calls it as a plain C function); ``keep``: what must outlive
+    the address (the library)."""
 
     def __init__(self, address: int, sig, keep):
         self.address, self.sig, self.keep = int(address), sig, keep

@@ -125,7 +125,17 @@ def batch_reason(scenario, system) -> str:
     if scenario.data["scenario"].get("shaft"):
         return "the shaft's peak torque is read from each run's result"
     from ..analysis.launch_batch import batch_supported
-    return batch_supported(system, (0.0, scenario.t_end), scenario.clutch)
+    why = batch_supported(system, (0.0, scenario.t_end), scenario.clutch)
+    if why:
+        return why
+    if scenario.solver.startswith("scipy-"):
+        return f"solver {scenario.solver!r}: a batch of runs needs a compiled method"
+    # the batch calls the C engine: the reason a run cannot take it (no engine here, a
+    # plant beyond its bounds), the one launch_batch would raise with
+    from ..core.simulate import prepare_runs
+    return prepare_runs(system, (0.0, scenario.t_end),
+                        {n: scenario.inputs[n] for n in system.input_names},
+                        solver=scenario.solver, options=scenario.options).why_not()
 
 
 def run_batch(scenario, system, variants, *, options: SolverOptions | None = None
